@@ -1,0 +1,58 @@
+"""The ``yoyogait`` command line: a thin layer over the library.
+
+Each subcommand lives in its own module and is registered here.  Errors meant
+for the user become one line on stderr and a non-zero exit, never a traceback.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from ..errors import YoyogaitError
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="yoyogait")
+def cli() -> None:
+    """Estimate walking gait (step frequency, speed, Yoyo-model) from motion capture."""
+
+
+def _register() -> None:
+    # Imported here so that a subcommand's heavy imports happen only when the CLI runs.
+    from . import demo_cmd
+
+    cli.add_command(demo_cmd.demo)
+    for name in ("inspect_cmd", "estimate_cmd", "evaluate_cmd"):
+        try:
+            module = __import__(f"{__name__}.{name}", fromlist=["command"])
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__name__}.{name}":
+                raise
+            continue
+        cli.add_command(module.command)
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``yoyogait`` script."""
+    _register()
+    try:
+        cli.main(args=argv, prog_name="yoyogait", standalone_mode=False)
+    except click.exceptions.Abort:
+        click.echo("yoyogait: interrupted", err=True)
+        return 130
+    except click.ClickException as exc:
+        exc.show()
+        return exc.exit_code
+    except (YoyogaitError, ValueError, OSError) as exc:
+        click.echo(f"yoyogait: error: {exc}", err=True)
+        return 2
+    except KeyboardInterrupt:
+        click.echo("yoyogait: interrupted", err=True)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

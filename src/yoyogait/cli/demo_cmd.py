@@ -1,0 +1,1 @@
+"""``yoyogait demo``: the estimator on a synthetic walk (placeholder until the full demo)."""

@@ -1,0 +1,5 @@
+"""Readers of motion-capture files into :class:`Recording`."""
+
+from .recording import Recording
+
+__all__ = ["Recording"]

@@ -1,0 +1,34 @@
+"""Shared fixtures: the project root and the real recordings in ../shared/datasets."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DATASETS = Path(os.environ.get("YOYOGAIT_DATASETS", ROOT.parent / "shared" / "datasets"))
+
+
+def _require_datasets() -> Path:
+    manifest = DATASETS / "manifest.json"
+    if not manifest.is_file():
+        reason = f"real recordings not found: {manifest} is absent (set YOYOGAIT_DATASETS)"
+        if os.environ.get("CI"):
+            pytest.fail(reason + "; CI must have them")
+        pytest.skip(reason)
+    return DATASETS
+
+
+@pytest.fixture(scope="session")
+def datasets_dir() -> Path:
+    """Folder of the real recordings; skips visibly without it, fails under CI."""
+    return _require_datasets()
+
+
+@pytest.fixture(scope="session")
+def manifest(datasets_dir) -> dict:
+    """The parsed manifest.json of the real recordings."""
+    return json.loads((datasets_dir / "manifest.json").read_text())
