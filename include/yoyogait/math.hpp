@@ -1,0 +1,35 @@
+/// @file math.hpp
+/// @brief Small numeric kernels for the per-sample path.
+#pragma once
+
+#include <cmath>
+
+namespace yoyogait {
+
+/// sin(x) and cos(x). For |x| <= pi/4, which covers every walking step frequency at the paper's
+/// 25 Hz (up to 3.1 Hz), the fdlibm kernel polynomials (error below 1 ulp), evaluated in Estrin form
+/// because this call sits on the filter's loop-carried dependency chain; std::sin/std::cos elsewhere.
+inline void sincos(double x, double& s, double& c) noexcept {
+  if (!(std::fabs(x) <= 0.78539816339744830962)) {
+    s = std::sin(x);
+    c = std::cos(x);
+    return;
+  }
+  constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
+                   S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
+                   S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+  constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
+                   C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
+                   C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+  const double z = x * x;
+  const double z2 = z * z;
+  const double z4 = z2 * z2;
+  const double rs = (S2 + z * S3) + z2 * (S4 + z * S5) + z4 * S6;
+  s = x + (z * x) * (S1 + z * rs);
+  const double rc = z * ((C1 + z * C2) + z2 * (C3 + z * C4) + z4 * (C5 + z * C6));
+  const double hz = 0.5 * z;
+  const double w = 1.0 - hz;
+  c = w + (((1.0 - w) - hz) + z * rc);
+}
+
+}  // namespace yoyogait

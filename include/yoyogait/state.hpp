@@ -1,0 +1,47 @@
+/// @file state.hpp
+/// @brief The filter state of the paper (eq. 5) with named entries, and its covariance.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+namespace yoyogait {
+
+/// Index of each entry of the state x = [A1 cos(w k + phi), A1 sin(w k + phi), w, A0] (eq. 5).
+enum StateIndex : std::size_t {
+  kCos = 0,    ///< x1 = A1 cos(w k + phi) [m/s]
+  kSin = 1,    ///< x2 = A1 sin(w k + phi) [m/s]
+  kOmega = 2,  ///< x3 = w, the step frequency in rad/sample
+  kBias = 3,   ///< x4 = A0, the bias of v_x [m/s]
+};
+
+inline constexpr std::size_t kStateDim = 4;
+inline constexpr std::size_t kMeasurementDim = 2;
+
+/// The 4-vector of eq. 5 with accessors, so that code never reads a bare x[2].
+struct State {
+  std::array<double, kStateDim> x{};
+
+  constexpr double& a1_cos() noexcept { return x[kCos]; }
+  constexpr double& a1_sin() noexcept { return x[kSin]; }
+  constexpr double& omega_rad_per_sample() noexcept { return x[kOmega]; }
+  constexpr double& bias_mps() noexcept { return x[kBias]; }
+  constexpr double a1_cos() const noexcept { return x[kCos]; }
+  constexpr double a1_sin() const noexcept { return x[kSin]; }
+  constexpr double omega_rad_per_sample() const noexcept { return x[kOmega]; }
+  constexpr double bias_mps() const noexcept { return x[kBias]; }
+  constexpr double& operator[](std::size_t i) noexcept { return x[i]; }
+  constexpr double operator[](std::size_t i) const noexcept { return x[i]; }
+};
+
+/// A dense 4x4 matrix, row-major; the covariance P and the Jacobian F.
+using Matrix4 = std::array<std::array<double, kStateDim>, kStateDim>;
+
+/// The identity scaled by the diagonal d.
+constexpr Matrix4 diagonal(const std::array<double, kStateDim>& d) noexcept {
+  Matrix4 m{};
+  for (std::size_t i = 0; i < kStateDim; ++i) m[i][i] = d[i];
+  return m;
+}
+
+}  // namespace yoyogait

@@ -1,0 +1,207 @@
+// The estimator of the paper: convergence, eq. 11-12, streaming vs batch, bad input, no allocation.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "yoyogait/estimator.hpp"
+#include "yoyogait/yoyo_model.hpp"
+
+// Count heap allocations, to show that step() makes none.
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace yoyogait;
+
+namespace {
+
+struct Walk {
+  std::vector<double> vx, vz;
+};
+
+// Eq. 3-4 sampled at 25 Hz, optionally with white noise.
+Walk yoyo_walk(double seconds, double f_hz, double R_m, double r_m, double noise = 0.0, unsigned seed = 1) {
+  const double T = 0.04;
+  const auto n = static_cast<std::size_t>(seconds / T);
+  std::vector<double> t(n), f(n, f_hz);
+  for (std::size_t i = 0; i < n; ++i) t[i] = static_cast<double>(i + 1) * T;
+  std::vector<YoyoPoint> pts(n);
+  yoyo_trajectory(YoyoParams{R_m, r_m, 1.0}, t.data(), f.data(), n, 0.0, pts.data());
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> nd(0.0, noise > 0 ? noise : 1.0);
+  Walk w;
+  for (const auto& p : pts) {
+    w.vx.push_back(p.vx_mps + (noise > 0 ? nd(gen) : 0.0));
+    w.vz.push_back(p.vz_mps + (noise > 0 ? nd(gen) : 0.0));
+  }
+  return w;
+}
+
+}  // namespace
+
+TEST(PaperEstimator, ConvergesOnACleanYoyoWalk) {
+  // On eq. 3-4 at 25 Hz (1.8 Hz, R = 0.115 m, r = 0.02 m) the paper preset has f within 1 % and R, r within 5 % after 10 s.
+  const Walk w = yoyo_walk(30.0, 1.8, 0.115, 0.02);
+  Estimator est(EstimatorConfig::paper());
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    const Estimate e = est.step(w.vx[i], w.vz[i]);
+    if (static_cast<double>(i + 1) * 0.04 < 10.0) continue;
+    ASSERT_NEAR(e.step_frequency_hz, 1.8, 0.018) << "sample " << i;
+    ASSERT_NEAR(e.R_m, 0.115, 0.05 * 0.115) << "sample " << i;
+    ASSERT_NEAR(e.r_m, 0.02, 0.05 * 0.02) << "sample " << i;
+  }
+}
+
+TEST(PaperEstimator, StartsFromThePapersInitialState) {
+  // x(0) = [r0 w0, 0, w0, R0 w0] and P0 = I before the first sample.
+  Estimator est(EstimatorConfig::paper());
+  EXPECT_DOUBLE_EQ(est.state().a1_cos(), 0.2 * 0.1);
+  EXPECT_DOUBLE_EQ(est.state().a1_sin(), 0.0);
+  EXPECT_DOUBLE_EQ(est.state().omega_rad_per_sample(), 0.1);
+  EXPECT_DOUBLE_EQ(est.state().bias_mps(), 2.0 * 0.1);
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j) EXPECT_EQ(est.covariance()[i][j], i == j ? 1.0 : 0.0);
+}
+
+TEST(ParameterFilter, HoldsTheInitialValuesForTheFirstNSamples) {
+  // Eq. 11-12 leave R_hat(k) = R_hat(0) for k <= n even with an open gate.
+  ParameterFilter f(10, 0.1, 0.1, 2.0, 0.2);
+  for (int k = 1; k <= 10; ++k) {
+    EXPECT_FALSE(f.update(0.3, 1.0, 0.05));
+    EXPECT_EQ(f.R_hat_mps(), 2.0);
+    EXPECT_EQ(f.r_hat_mps(), 0.2);
+  }
+  EXPECT_TRUE(f.update(0.3, 1.0, 0.05));
+  EXPECT_DOUBLE_EQ(f.R_hat_mps(), (10 * 2.0 + 1.0 / 0.3) / 11.0);
+  EXPECT_DOUBLE_EQ(f.r_hat_mps(), (10 * 0.2 + 0.05 / 0.3) / 11.0);
+}
+
+TEST(ParameterFilter, HoldsWhileTheGateIsClosed) {
+  // R_hat, r_hat keep their value while x3 <= mu_w or x4 <= mu_A0, and average the last n + new when open.
+  ParameterFilter f(3, 0.1, 0.1, 2.0, 0.2);
+  std::vector<double> R{2.0, 2.0, 2.0};  // R_hat(1..3)
+  for (int k = 1; k <= 3; ++k) f.update(0.5, 1.0, 0.1);
+  f.update(0.5, 1.0, 0.1);  // k = 4 > n: open
+  const double R4 = (2.0 + 2.0 + 2.0 + 1.0 / 0.5) / 4.0;
+  EXPECT_DOUBLE_EQ(f.R_hat_mps(), R4);
+  EXPECT_FALSE(f.update(0.1, 1.0, 0.1));  // x3 == mu_w: closed
+  EXPECT_EQ(f.R_hat_mps(), R4);
+  EXPECT_FALSE(f.update(-0.5, 1.0, 0.1));  // negative frequency: closed
+  EXPECT_FALSE(f.update(0.5, 0.05, 0.1));  // bias below mu_A0: closed
+  EXPECT_EQ(f.R_hat_mps(), R4);
+  EXPECT_TRUE(f.update(0.5, 1.5, 0.1));  // window is R_hat(5..7) = R4 held three times
+  EXPECT_DOUBLE_EQ(f.R_hat_mps(), (3 * R4 + 1.5 / 0.5) / 4.0);
+}
+
+TEST(Estimator, RunEqualsStepByStep) {
+  // The batch call gives bit-identical estimates to a loop of step().
+  const Walk w = yoyo_walk(20.0, 1.7, 0.11, 0.025, 0.05);
+  Estimator a, b;
+  std::vector<Estimate> out(w.vx.size());
+  a.run(w.vx.data(), w.vz.data(), w.vx.size(), out.data());
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    const Estimate e = b.step(w.vx[i], w.vz[i]);
+    ASSERT_EQ(e.state.x, out[i].state.x);
+    ASSERT_EQ(e.vx_hat_mps, out[i].vx_hat_mps);
+    ASSERT_EQ(e.R_hat_mps, out[i].R_hat_mps);
+  }
+}
+
+TEST(Estimator, ResetReturnsToTheInitialState) {
+  // After reset() the estimator repeats its first run exactly.
+  const Walk w = yoyo_walk(5.0, 1.7, 0.11, 0.025, 0.05);
+  Estimator est;
+  std::vector<Estimate> first(w.vx.size()), second(w.vx.size());
+  est.run(w.vx.data(), w.vz.data(), w.vx.size(), first.data());
+  est.reset();
+  est.run(w.vx.data(), w.vz.data(), w.vx.size(), second.data());
+  for (std::size_t i = 0; i < w.vx.size(); ++i) ASSERT_EQ(first[i].state.x, second[i].state.x);
+}
+
+TEST(Estimator, NonFiniteSampleSkipsTheUpdate) {
+  // A NaN or infinite sample leaves the pure prediction (eq. 6) and is flagged.
+  Estimator est, ref;
+  for (int i = 0; i < 50; ++i) {
+    est.step(1.2, 0.05 * std::sin(i * 0.4));
+    ref.step(1.2, 0.05 * std::sin(i * 0.4));
+  }
+  const State predicted = transition(ref.state());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Estimate e = est.step(nan, 0.1);
+  EXPECT_EQ(e.status, Status::kRejectedNonFinite);
+  EXPECT_EQ(e.state.x, predicted.x);
+  EXPECT_EQ(est.step(0.1, std::numeric_limits<double>::infinity()).status, Status::kRejectedNonFinite);
+  EXPECT_EQ(est.step(1e4, 0.0).status, Status::kRejectedOutOfRange);
+  EXPECT_EQ(est.step(1.2, 0.0).status, Status::kUpdated);
+}
+
+TEST(Estimator, StateStaysFiniteUnderExtremeInput) {
+  // Huge, tiny and non-finite samples never make the state or covariance non-finite.
+  Estimator est;
+  const double values[] = {1e308, -1e308, 1e-308, std::numeric_limits<double>::quiet_NaN(), 1e200, -3e150, 0.0};
+  for (int round = 0; round < 100; ++round) {
+    for (double v : values) {
+      const Estimate e = est.step(v, -v);
+      for (double x : e.state.x) ASSERT_TRUE(std::isfinite(x));
+      for (const auto& row : est.covariance())
+        for (double p : row) ASSERT_TRUE(std::isfinite(p));
+    }
+  }
+}
+
+TEST(Estimator, StepDoesNotAllocate) {
+  // step() and run() make no heap allocation.
+  const Walk w = yoyo_walk(10.0, 1.8, 0.115, 0.02, 0.05);
+  std::vector<Estimate> out(w.vx.size());
+  Estimator est;
+  const long before = g_allocations.load();
+  for (std::size_t i = 0; i < w.vx.size(); ++i) out[i] = est.step(w.vx[i], w.vz[i]);
+  est.run(w.vx.data(), w.vz.data(), w.vx.size(), out.data());
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+TEST(Estimator, RejectsAnInvalidConfiguration) {
+  // A non-positive sample time, negative noise or too long a window is an error at construction.
+  EstimatorConfig c;
+  c.sample_time_s = 0.0;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig{};
+  c.sample_time_s = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig{};
+  c.v_vz_mps2 = 0.0;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig{};
+  c.q_bias_mps2 = -1.0;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig{};
+  c.smoothing_window_samples = kMaxSmoothingWindow + 1;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  EXPECT_EQ(EstimatorConfig{}.validate(), nullptr);
+}
+
+TEST(Estimator, PredictionAheadFollowsTheModel) {
+  // After convergence on a clean walk, the 0.2 s-ahead prediction matches the walk 0.2 s later.
+  const Walk w = yoyo_walk(30.0, 1.8, 0.115, 0.02);
+  Estimator est;
+  double worst = 0.0;
+  for (std::size_t i = 0; i + 5 < w.vx.size(); ++i) {
+    est.step(w.vx[i], w.vz[i]);
+    if (i < 500) continue;
+    const Velocity v = est.predict_ahead(5.0);
+    worst = std::max({worst, std::fabs(v.vx_mps - w.vx[i + 5]), std::fabs(v.vz_mps - w.vz[i + 5])});
+  }
+  EXPECT_LT(worst, 0.01);
+}
