@@ -153,7 +153,7 @@ NB_MODULE(_core, m) {
       YOYO_FIELD(gate_omega_rad_per_sample) YOYO_FIELD(gate_bias_mps) YOYO_FIELD(max_abs_velocity_mps);
 #undef YOYO_FIELD
 
-  nb::enum_<yoyogait::Status>(m, "Status")
+  nb::enum_<yoyogait::Status>(m, "Status", nb::is_arithmetic())
       .value("UPDATED", yoyogait::Status::kUpdated)
       .value("REJECTED_NON_FINITE", yoyogait::Status::kRejectedNonFinite)
       .value("REJECTED_NUMERICAL", yoyogait::Status::kRejectedNumerical)

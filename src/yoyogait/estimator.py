@@ -173,10 +173,10 @@ class EstimateResult:
 
 
 def _as_signal(name: str, values) -> np.ndarray:
-    arr = np.ascontiguousarray(values, dtype=np.float64)
+    arr = np.asarray(values, dtype=np.float64)
     if arr.ndim != 1:
         raise InputError(f"{name} must be one-dimensional, got shape {arr.shape}")
-    return arr
+    return np.ascontiguousarray(arr)
 
 
 class GaitEstimator:

@@ -1,0 +1,184 @@
+"""The paper's estimator through the Python API: exactness, convergence, gating, forms, bad input."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import yoyogait
+from yoyogait import EstimatorConfig, GaitEstimator, _core
+from yoyogait.estimator import Status
+
+from reference_ekf import reference_paper_estimator
+
+T = 0.04
+
+
+def yoyo_walk(seconds=30.0, f_hz=1.8, R_m=0.115, r_m=0.02, noise=0.0, seed=0):
+    t = np.arange(1, int(round(seconds / T)) + 1) * T
+    m = yoyogait.yoyo_model(t, R_m, r_m, f_hz)
+    rng = np.random.default_rng(seed)
+    return t, m.vx_mps + noise * rng.standard_normal(t.size), m.vz_mps + noise * rng.standard_normal(t.size)
+
+
+def test_native_matches_numpy_reference_to_1e12():
+    """The native core equals an independent numpy implementation of eq. 5-14 to 1e-12 over 10,000 noisy samples."""
+    rng = np.random.default_rng(42)
+    t = np.arange(10_000) * T
+    f = 1.8 + 0.3 * np.sin(2 * np.pi * t / 120.0)
+    m = yoyogait.yoyo_model(t, 0.12, 0.025, f)
+    vx = m.vx_mps + 0.1 * rng.standard_normal(t.size)
+    vz = m.vz_mps + 0.05 * rng.standard_normal(t.size)
+    vx[[500, 501, 7000]] = np.nan  # prediction-only samples take the same path in both
+    ref = reference_paper_estimator(vx, vz)
+    res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz)
+    np.testing.assert_allclose(res.state, ref["state"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.R_hat_mps, ref["R_hat"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.r_hat_mps, ref["r_hat"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.vx_hat, ref["vx_hat"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.vz_hat, ref["vz_hat"], rtol=0, atol=1e-12)
+    assert np.all(res.parameters_updated[:10] == 0)
+    assert res.parameters_updated.sum() > 5000  # the comparison covered the update branch of eq. 11-12
+
+
+def test_paper_preset_converges_on_clean_yoyo_walk():
+    """On eq. 3-4 at 25 Hz (1.8 Hz, R = 0.115 m, r = 0.02 m) f is within 1 % and R_m, r_m within 5 % after 10 s."""
+    t, vx, vz = yoyo_walk()
+    res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz)
+    after = t >= 10.0
+    assert np.all(np.abs(res.step_frequency_hz[after] - 1.8) <= 0.018)
+    assert np.all(np.abs(res.R_m[after] - 0.115) <= 0.05 * 0.115)
+    assert np.all(np.abs(res.r_m[after] - 0.02) <= 0.05 * 0.02)
+    np.testing.assert_allclose(res.omega_rad_s, res.state[:, 2] / T)
+    np.testing.assert_allclose(res.speed_mps, res.R_m * res.omega_rad_s, rtol=1e-12)
+
+
+def test_physical_units_follow_from_the_papers():
+    """R_m = T R_hat, r_m = T r_hat, f = x3 / (2 pi T) on every sample."""
+    _, vx, vz = yoyo_walk(10.0, noise=0.05)
+    res = GaitEstimator().run(vx, vz)
+    np.testing.assert_allclose(res.R_m, T * res.R_hat_mps, rtol=1e-15)
+    np.testing.assert_allclose(res.r_m, T * res.r_hat_mps, rtol=1e-15)
+    np.testing.assert_allclose(res.step_frequency_hz, res.state[:, 2] / (2 * np.pi * T), rtol=1e-15)
+    np.testing.assert_allclose(res.A1_mps, np.hypot(res.state[:, 0], res.state[:, 1]), rtol=1e-14)
+
+
+def test_parameters_hold_while_frequency_below_gate():
+    """While x3 <= mu_w (a 0.3 Hz sway at 1 m/s), R_hat and r_hat keep their last value (eq. 11-12)."""
+    _, vx, vz = yoyo_walk(20.0)
+    _, slow_vx, slow_vz = yoyo_walk(40.0, f_hz=0.3, R_m=0.5, r_m=0.1)
+    res = GaitEstimator(EstimatorConfig.paper()).run(np.concatenate([vx, slow_vx]), np.concatenate([vz, slow_vz]))
+    closed = res.state[:, 2] <= 0.1
+    assert closed[-500:].all(), "the slow sway must bring x3 below mu_w"
+    assert np.all(res.state[-500:, 3] > 0.1), "while A0 stays above mu_A0"
+    changed = np.diff(res.R_hat_mps) != 0
+    assert not np.any((changed | (np.diff(res.r_hat_mps) != 0)) & closed[1:])
+    assert not np.any(res.parameters_updated & closed)
+    assert np.any(changed[: vx.size])
+
+
+def test_parameters_hold_while_standing():
+    """While the person stands, A0 falls to mu_A0 or below and R_hat, r_hat hold (eq. 11-12)."""
+    _, vx, vz = yoyo_walk(20.0)
+    stand = np.zeros(250)
+    res = GaitEstimator(EstimatorConfig.paper()).run(np.concatenate([vx, stand]), np.concatenate([vz, stand]))
+    closed = (res.state[:, 2] <= 0.1) | (res.state[:, 3] <= 0.1)
+    assert closed[-200:].all()
+    assert not np.any((np.diff(res.R_hat_mps) != 0) & closed[1:])
+    assert res.R_hat_mps[-1] == res.R_hat_mps[-200]
+
+
+def test_streaming_batch_and_chunked_agree_bit_for_bit():
+    """step() in a loop, one run() and run() in uneven chunks give identical results."""
+    _, vx, vz = yoyo_walk(20.0, noise=0.08, seed=3)
+    vx[100] = np.nan
+    batch = GaitEstimator().run(vx, vz)
+    est = GaitEstimator()
+    streamed = [est.step(a, b) for a, b in zip(vx, vz)]
+    assert np.array_equal(np.array([e.state for e in streamed]), batch.state)
+    assert np.array_equal(np.array([e.vx_hat for e in streamed]), batch.vx_hat)
+    assert np.array_equal(np.array([e.R_m for e in streamed]), batch.R_m)
+    est = GaitEstimator()
+    edges = [0, 1, 7, 100, 101, 333, vx.size]
+    chunks = [est.run(vx[a:b], vz[a:b]) for a, b in zip(edges[:-1], edges[1:])]
+    for name in ("state", "vx_hat", "vz_hat", "R_m", "r_m", "step_frequency_hz", "status"):
+        assert np.array_equal(np.concatenate([getattr(c, name) for c in chunks]), getattr(batch, name)), name
+
+
+def test_nan_sample_is_prediction_only_and_flagged():
+    """A NaN or infinite sample skips the update and is flagged; the state stays finite."""
+    _, vx, vz = yoyo_walk(5.0, noise=0.05)
+    vx[[10, 20]] = np.nan
+    vz[30] = np.inf
+    res = GaitEstimator().run(vx, vz)
+    assert set(np.flatnonzero(res.status == int(Status.REJECTED_NON_FINITE))) == {10, 20, 30}
+    assert np.all(np.isfinite(res.state))
+    ok = GaitEstimator().run(vx[:10], vz[:10])
+    predicted = _core.transition(ok.state[-1].tolist())
+    np.testing.assert_array_equal(res.state[10], predicted)
+
+
+def test_extreme_values_never_make_state_non_finite():
+    """Huge samples are rejected as out of range and the state and covariance stay finite."""
+    est = GaitEstimator()
+    res = est.run(np.array([1e308, -1e300, 1e5, 1.0, np.nan]), np.array([-1e308, 1e300, 0.0, 0.0, 1.0]))
+    assert list(res.status[:3]) == [int(Status.REJECTED_OUT_OF_RANGE)] * 3
+    assert np.all(np.isfinite(res.state)) and np.all(np.isfinite(est.covariance))
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        ({"sample_time_s": 0.0}, "sample_time_s"),
+        ({"sample_time_s": -0.04}, "sample_time_s"),
+        ({"v_vx_mps2": 0.0}, "v_vx_mps2"),
+        ({"q_omega_rad2": float("nan")}, "q_omega_rad2"),
+        ({"smoothing_window_samples": -1}, "smoothing_window_samples"),
+        ({"smoothing_window_samples": 1000}, "smoothing_window_samples"),
+        ({"smoothing_window_samples": 2.5}, "smoothing_window_samples"),
+        ({"gate_bias_mps": "high"}, "gate_bias_mps"),
+    ],
+)
+def test_invalid_config_is_an_error_at_construction(change, message):
+    """A malformed configuration raises ValueError naming the field when the estimator is built."""
+    cfg = dataclasses.replace(EstimatorConfig.paper(), **change)
+    with pytest.raises(ValueError, match=message):
+        GaitEstimator(cfg)
+
+
+def test_mismatched_or_multidimensional_arrays_raise():
+    """run() raises ValueError naming the problem for arrays of different lengths or wrong dimension."""
+    est = GaitEstimator()
+    with pytest.raises(ValueError, match="same length"):
+        est.run(np.zeros(5), np.zeros(6))
+    with pytest.raises(ValueError, match="vx must be one-dimensional"):
+        est.run(np.zeros((5, 2)), np.zeros(5))
+    with pytest.raises(ValueError, match="vz must be one-dimensional"):
+        est.run(np.zeros(5), 3.0)
+    assert est.sample_count == 0
+
+
+def test_python_config_mirrors_the_cpp_struct():
+    """Every field of the C++ EstimatorConfig has a Python twin with the same default, and no more."""
+    native = _core.EstimatorConfig()
+    native_fields = {n for n in dir(native) if not n.startswith("_") and n not in ("paper", "validate")}
+    py_fields = {f.name for f in dataclasses.fields(EstimatorConfig)}
+    assert native_fields == py_fields
+    paper = EstimatorConfig.paper()
+    for name in py_fields:
+        assert getattr(native, name) == getattr(paper, name), name
+
+
+def test_prediction_ahead_is_aligned_to_the_sample_it_predicts():
+    """On a converged clean walk, the 0.2 s-ahead prediction aligned to its target equals the signal."""
+    t, vx, vz = yoyo_walk(30.0)
+    res = GaitEstimator().run(vx, vz, predict_ahead_s=(0.04, 0.2))
+    pvx, pvz = res.aligned_prediction(0.2)
+    assert np.isnan(pvx[:5]).all() and np.isfinite(pvx[5:]).all()
+    late = t > 20
+    assert np.max(np.abs(pvx[late] - vx[late])) < 0.01
+    assert np.max(np.abs(pvz[late] - vz[late])) < 0.01
+    with pytest.raises(ValueError):
+        res.aligned_prediction(0.5)

@@ -1,0 +1,67 @@
+"""The C++ side: the GoogleTest suite (under ASan/UBSan) and an installed find_package(yoyogait)."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+BUILD = ROOT / "build" / "pytest"
+
+
+def _cmake() -> str:
+    exe = shutil.which("cmake") or str(Path(sys.executable).parent / "cmake")
+    if not Path(exe).exists() and not shutil.which(exe):
+        pytest.fail("cmake is needed to build the C++ tests (pip install '.[test]' brings it)")
+    return exe
+
+
+def _generator() -> list[str]:
+    return ["-G", "Ninja"] if shutil.which("ninja") else []
+
+
+def _run(cmd, **kw) -> subprocess.CompletedProcess:
+    proc = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    if proc.returncode != 0:
+        pytest.fail(f"{' '.join(map(str, cmd))} failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-4000:]}")
+    return proc
+
+
+def test_googletest_suite_passes_under_sanitizers():
+    """Every GoogleTest case of tests/cpp passes in a Debug build with AddressSanitizer and UBSan."""
+    cmake = _cmake()
+    build = BUILD / "gtest"
+    flags = "-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+    _run([cmake, "-S", ROOT, "-B", build, *_generator(), "-DYOYOGAIT_BUILD_TESTS=ON",
+          "-DCMAKE_BUILD_TYPE=Debug", f"-DCMAKE_CXX_FLAGS={flags}"])
+    _run([cmake, "--build", build, "--parallel", str(os.cpu_count() or 2)])
+    exe = next(build.rglob("yoyogait_tests"))
+    proc = _run([exe, "--gtest_brief=0"], env={**os.environ, "ASAN_OPTIONS": "detect_leaks=1"})
+    ran = re.search(r"\[==========\] (\d+) tests? from", proc.stdout)
+    passed = re.search(r"\[  PASSED  \] (\d+) tests?", proc.stdout)
+    assert ran and passed and int(passed.group(1)) == int(ran.group(1)) >= 20, proc.stdout[-2000:]
+    print(f"GoogleTest: {passed.group(1)} C++ tests passed")
+
+
+def test_installed_package_is_found_by_find_package(tmp_path):
+    """cmake --install gives a prefix where find_package(yoyogait) builds and runs examples/cpp."""
+    cmake = _cmake()
+    build = BUILD / "install"
+    prefix = tmp_path / "prefix"
+    _run([cmake, "-S", ROOT, "-B", build, *_generator(), f"-DCMAKE_INSTALL_PREFIX={prefix}"])
+    _run([cmake, "--install", build])
+    assert (prefix / "include" / "yoyogait" / "estimator.hpp").is_file()
+    example = tmp_path / "example"
+    _run([cmake, "-S", ROOT / "examples" / "cpp", "-B", example, *_generator(),
+          f"-DCMAKE_PREFIX_PATH={prefix}", "-DCMAKE_BUILD_TYPE=Release"])
+    _run([cmake, "--build", example])
+    out = _run([next(example.rglob("walk_estimate"))]).stdout
+    f = float(re.search(r"step_frequency_hz=([-\d.]+)", out).group(1))
+    R = float(re.search(r"R_m=([-\d.]+)", out).group(1))
+    assert abs(f - 1.8) < 0.018 and abs(R - 0.115) < 0.006, out
