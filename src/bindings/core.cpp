@@ -4,7 +4,12 @@
 #include <nanobind/stl/array.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <vector>
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
 #include "yoyogait/yoyogait.hpp"
 
@@ -35,25 +40,64 @@ Owned<T> owned(std::size_t rows, std::size_t cols = 0) {
   return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(data, {rows}, owner))};
 }
 
+// One allocation for all the arrays of a run, each a view of it. First touch of fresh pages is
+// what a long run() spends most time on; one large block advised for huge pages faults far less
+// often than many small ones.
+class Block {
+ public:
+  explicit Block(std::size_t bytes) {
+    constexpr std::size_t kHuge = std::size_t{1} << 21;
+    const std::size_t align = bytes >= kHuge ? kHuge : 64;
+    size_ = (bytes + align - 1) / align * align;
+    base_ = static_cast<char*>(std::aligned_alloc(align, size_ ? size_ : align));
+    if (!base_) throw std::bad_alloc();
+#ifdef __linux__
+    if (align == kHuge) madvise(base_, size_, MADV_HUGEPAGE);
+#endif
+    owner_ = nb::capsule(base_, [](void* p) noexcept { std::free(p); });
+  }
+
+  template <class T>
+  Owned<T> take(std::size_t rows, std::size_t cols = 0) {
+    const std::size_t n = cols ? rows * cols : rows;
+    used_ = (used_ + alignof(double) - 1) / alignof(double) * alignof(double);
+    T* data = reinterpret_cast<T*>(base_ + used_);
+    used_ += n * sizeof(T);
+    if (cols) return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<2>>(data, {rows, cols}, owner_))};
+    return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(data, {rows}, owner_))};
+  }
+
+ private:
+  char* base_ = nullptr;
+  std::size_t size_ = 0, used_ = 0;
+  nb::capsule owner_;
+};
+
 nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons) {
   const std::size_t n = vx.shape(0);
   if (vz.shape(0) != n) throw nb::value_error("vx and vz must have the same length");
   const std::size_t nh = horizons.shape(0);
-  auto state = owned<double>(n, yoyogait::kStateDim);
-  auto vx_hat = owned<double>(n), vz_hat = owned<double>(n), R_hat = owned<double>(n), r_hat = owned<double>(n);
-  auto R_m = owned<double>(n), r_m = owned<double>(n), omega = owned<double>(n), f = owned<double>(n);
-  auto f_std = owned<double>(n), speed = owned<double>(n), speed_std = owned<double>(n);
-  auto a0 = owned<double>(n), a1 = owned<double>(n);
-  auto status = owned<std::uint8_t>(n);
-  auto updated = owned<bool>(n);
-  auto pvx = owned<double>(n, nh ? nh : 1), pvz = owned<double>(n, nh ? nh : 1);
+  const std::size_t nhc = nh ? nh : 1;
+  Block block(n * (sizeof(double) * (yoyogait::kStateDim + 13 + 2 * nhc) + 2) + 64);
+  auto state = block.take<double>(n, yoyogait::kStateDim);
+  auto vx_hat = block.take<double>(n), vz_hat = block.take<double>(n), R_hat = block.take<double>(n);
+  auto r_hat = block.take<double>(n), R_m = block.take<double>(n), r_m = block.take<double>(n);
+  auto omega = block.take<double>(n), f = block.take<double>(n), f_std = block.take<double>(n);
+  auto speed = block.take<double>(n), speed_std = block.take<double>(n);
+  auto a0 = block.take<double>(n), a1 = block.take<double>(n);
+  auto pvx = block.take<double>(n, nhc), pvz = block.take<double>(n, nhc);
+  auto status = block.take<std::uint8_t>(n);
+  auto updated = block.take<bool>(n);
   const double* px = vx.data();
   const double* pz = vz.data();
   const double* ph = horizons.data();
   {
     nb::gil_scoped_release release;
+    // A local copy whose address does not escape stays in registers; the output stores could
+    // otherwise alias the estimator's members and force a reload after each one.
+    yoyogait::Estimator local = est;
     for (std::size_t i = 0; i < n; ++i) {
-      const Estimate e = est.step(px[i], pz[i]);
+      const Estimate e = local.step(px[i], pz[i]);
       for (std::size_t j = 0; j < yoyogait::kStateDim; ++j) state.data[i * yoyogait::kStateDim + j] = e.state[j];
       vx_hat.data[i] = e.vx_hat_mps;
       vz_hat.data[i] = e.vz_hat_mps;
@@ -71,11 +115,12 @@ nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, con
       status.data[i] = static_cast<std::uint8_t>(e.status);
       updated.data[i] = e.parameters_updated;
       for (std::size_t j = 0; j < nh; ++j) {
-        const yoyogait::Velocity v = est.predict_ahead(ph[j]);
+        const yoyogait::Velocity v = local.predict_ahead(ph[j]);
         pvx.data[i * nh + j] = v.vx_mps;
         pvz.data[i * nh + j] = v.vz_mps;
       }
     }
+    est = local;
   }
   nb::dict out;
   out["state"] = state.array;

@@ -38,7 +38,7 @@ def main(argv=None) -> int:
     """Entry point of the ``yoyogait`` script."""
     _register()
     try:
-        cli.main(args=argv, prog_name="yoyogait", standalone_mode=False)
+        rv = cli.main(args=argv, prog_name="yoyogait", standalone_mode=False)
     except click.exceptions.Abort:
         click.echo("yoyogait: interrupted", err=True)
         return 130
@@ -51,7 +51,7 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         click.echo("yoyogait: interrupted", err=True)
         return 130
-    return 0
+    return rv if isinstance(rv, int) else 0
 
 
 if __name__ == "__main__":  # pragma: no cover
