@@ -1,0 +1,116 @@
+"""Figures are made, saved, hold the plotted data and say when data are synthetic."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from yoyogait import plots
+from yoyogait import synthetic as sy
+from yoyogait.errors import InputError
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return sy.make_walk(sy.SUBJECTS[0], "3-rectangle")
+
+
+@pytest.fixture(scope="module")
+def fake_result(walk):
+    """An estimator-like result on a 25 Hz grid (truth plus offsets, so lines differ)."""
+    t = np.arange(0.0, walk.truth.time_s[-1], 0.04)
+    tr = walk.truth.at(t)
+    omega = 2 * np.pi * tr.step_frequency_hz
+    state = np.column_stack([0.2 * np.cos(tr.theta_rad), 0.2 * np.sin(tr.theta_rad), omega * 0.04,
+                             tr.speed_mps])
+    return t, tr, SimpleNamespace(
+        state=state, vx_hat=tr.vx_path_mps + 0.05, vz_hat=tr.vz_mps - 0.02, R_m=tr.R_m * 1.05,
+        r_m=tr.r_m * 0.9, step_frequency_hz=-tr.step_frequency_hz, omega_rad_s=-omega,
+        A0_mps=tr.speed_mps, A1_mps=tr.r_m * omega, speed_mps=tr.speed_mps,
+    )
+
+
+def suptitle(fig):
+    return fig.get_suptitle() if hasattr(fig, "get_suptitle") else fig._suptitle.get_text()
+
+
+def lines_by_label(fig):
+    return {line.get_label(): line for ax in fig.axes for line in ax.get_lines()}
+
+
+def test_parameter_figure_plots_fig3_panels(walk, fake_result, tmp_path):
+    """Fig. 3: |f| against DFT average and truth, R and r estimated and true, A0 and A1; PNG saved."""
+    t, tr, result = fake_result
+    out = tmp_path / "figs" / "params.png"
+    fig = plots.parameter_figure(t, result, measured_vz_mps=tr.vz_mps, truth=walk.truth,
+                                 title="walk 3, subject 1", path=out)
+    assert isinstance(fig, Figure) and len(fig.axes) == 3
+    assert out.is_file() and out.stat().st_size > 10_000
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    lines = lines_by_label(fig)
+    np.testing.assert_allclose(lines["estimate |f|"].get_ydata(), np.abs(result.step_frequency_hz))
+    np.testing.assert_allclose(lines["reference"].get_xdata(), walk.truth.time_s)
+    np.testing.assert_allclose(lines["R est."].get_ydata(), result.R_m)
+    np.testing.assert_allclose(lines["r true"].get_ydata(), walk.truth.r_m)
+    np.testing.assert_allclose(lines["A1 (amplitude)"].get_ydata(), result.A1_mps)
+    dft = [label for label in lines if label.startswith("DFT average")]
+    assert len(dft) == 1
+    f_dft = lines[dft[0]].get_ydata()[0]
+    assert f_dft == pytest.approx(np.mean(tr.step_frequency_hz[tr.walking]), abs=0.05)
+    assert "synthetic" in suptitle(fig).lower()
+
+
+def test_parameter_figure_from_state_and_explicit_arrays():
+    """Without A0/A1 fields the panels come from the EKF state; explicit arrays replace result fields."""
+    t = np.linspace(0, 10, 251)
+    state = np.column_stack([0.3 * np.cos(t), 0.4 * np.sin(t), np.full(t.size, 0.4), np.full(t.size, 1.2)])
+    fig = plots.parameter_figure(t, SimpleNamespace(state=state, R_m=np.full(t.size, 0.3)),
+                                 step_frequency_hz=np.full(t.size, 1.7), R_m=np.full(t.size, 0.12),
+                                 dft_step_frequency_hz=1.75, title="real walk")
+    lines = lines_by_label(fig)
+    np.testing.assert_allclose(lines["A0 (bias)"].get_ydata(), 1.2)
+    np.testing.assert_allclose(lines["A1 (amplitude)"].get_ydata(), np.hypot(0.3 * np.cos(t), 0.4 * np.sin(t)))
+    np.testing.assert_allclose(lines["R est."].get_ydata(), 0.12)
+    assert lines["DFT average (1.75 Hz)"].get_ydata()[0] == 1.75
+    assert "synthetic" not in suptitle(fig).lower()
+
+
+def test_velocity_figure_plots_measured_and_reconstructed(walk, fake_result, tmp_path):
+    """Fig. 4: measured and reconstructed v_x (top) and v_z (bottom) over time; PNG saved."""
+    t, tr, result = fake_result
+    out = tmp_path / "velocity.png"
+    fig = plots.velocity_figure(t, tr.vx_path_mps, tr.vz_mps, result,
+                                title=plots.recording_title(walk.recording, "velocities"), path=out)
+    assert out.is_file() and out.stat().st_size > 10_000
+    top, bottom = fig.axes
+    (mx, rx), (mz, rz) = top.get_lines(), bottom.get_lines()
+    np.testing.assert_allclose(mx.get_ydata(), tr.vx_path_mps)
+    np.testing.assert_allclose(rx.get_ydata(), result.vx_hat)
+    np.testing.assert_allclose(mz.get_ydata(), tr.vz_mps)
+    np.testing.assert_allclose(rz.get_ydata(), result.vz_hat)
+    np.testing.assert_allclose(rz.get_xdata(), t)
+    assert "synthetic" in suptitle(fig).lower()
+
+
+def test_synthetic_flag_forces_the_word_into_the_title():
+    """A synthetic figure says so even when the given title does not."""
+    t = np.arange(5.0)
+    fig = plots.velocity_figure(t, t, t, vx_hat_mps=t, vz_hat_mps=t, title="walk 1", synthetic=True)
+    assert suptitle(fig).lower().startswith("synthetic")
+    assert "walk 1" in suptitle(fig)
+
+
+def test_recording_title_names_real_and_synthetic_sources(walk):
+    """Titles from a recording say synthetic for synthetic walks and give the file for real ones."""
+    assert "synthetic" in plots.recording_title(walk.recording).lower()
+    real = SimpleNamespace(source="c3d_org_samples/MAC_Walk1.c3d", metadata={})
+    assert plots.recording_title(real, "Fig. 3") == "Fig. 3 - c3d_org_samples/MAC_Walk1.c3d"
+
+
+def test_arrays_of_the_wrong_length_are_refused():
+    """An estimate not on the time grid is an input error, not a misleading figure."""
+    with pytest.raises(InputError, match="vx_hat"):
+        plots.velocity_figure(np.arange(5.0), np.zeros(5), np.zeros(5), vx_hat_mps=np.zeros(4))
