@@ -1,0 +1,141 @@
+"""``yoyogait inspect FILE``: what a motion-capture file holds and what the velocity pipeline makes of it."""
+
+from __future__ import annotations
+
+import json
+
+import click
+import numpy as np
+
+
+def inspect_file(path: str, *, point=None, up_axis=None, length_unit_m=None, rate_hz=None,
+                 forward: str = "norm") -> dict:
+    """Everything ``inspect`` prints, as a dict (computed before anything is printed)."""
+    from .. import events, points, spectral
+    from ..errors import InputError
+    from ..io import read
+    from ..velocities import gait_velocities
+
+    rec = read(path, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
+    velocities = gait_velocities(rec, point=point, up_axis=up_axis, forward=forward)
+    report: dict = {
+        "file": rec.source,
+        "format": rec.format,
+        "rate_hz": rec.rate_hz,
+        "frames": rec.n_frames,
+        "duration_s": rec.duration_s,
+        "length_unit": rec.metadata.get("length_unit_from", ""),
+        "points": list(rec.point_names),
+        "up_axis": velocities.up_axis,
+        "up_axis_from": points.resolve_up_axis(rec, up_axis)[1],
+        "point": velocities.point,
+        "hand": None,
+        "feet": {},
+        "walking_s": velocities.walking_s,
+        "walking_from": "",
+        "mean_speed_mps": None,
+        "mean_signed_speed_mps": None,
+        "step_frequency_hz": None,
+        "events_step_frequency_hz": None,
+        "steps": 0,
+        "dft": None,
+    }
+    if rec.velocities is None:
+        try:
+            report["hand"] = list(points.find_hand(rec.point_names).names)
+        except InputError:  # no hand is not an error for inspect
+            report["hand"] = None
+        report["feet"] = events.feet_of(rec)
+    report["walking_from"] = "foot contacts" if report["feet"] else "pelvis speed"
+    if report["feet"]:
+        ev = events.detect_gait_events(rec, up_axis=velocities.up_axis)
+        report["steps"] = int(len(ev.step_start_s))
+        if len(ev.step_start_s):
+            report["events_step_frequency_hz"] = ev.mean_step_frequency_hz
+        if len(ev.contacts_s) == 0:
+            report["walking_from"] = "pelvis speed (no foot contact found)"
+
+    walking = velocities.walking & velocities.finite
+    if walking.any():
+        report["mean_speed_mps"] = float(np.mean(velocities.vx[walking]))
+        report["mean_signed_speed_mps"] = float(np.mean(velocities.vx_signed[walking]))
+    try:
+        check = spectral.dft_check(velocities)
+    except InputError as exc:  # too little walking for a DFT: say so instead of failing
+        report["dft_note"] = str(exc).split(": ", 1)[-1]
+    else:
+        report["step_frequency_hz"] = check.step_frequency_hz
+        report["dft"] = {
+            "step_frequency_hz": check.step_frequency_hz,
+            "vertical_frequency_hz": check.vertical_frequency_hz,
+            "forward_frequency_hz": check.forward_frequency_hz,
+            "phase_offset_deg": check.phase_offset_deg,
+            "offset_sign": check.offset_sign,
+            "model_offset_deg": check.model_offset_deg,
+            "start_s": check.start_s,
+            "end_s": check.end_s,
+            "summary": check.summary(),
+        }
+    return report
+
+
+def _fmt(value, unit: str, digits: int = 2) -> str:
+    return "n/a" if value is None else f"{value:.{digits}f} {unit}"
+
+
+@click.command(name="inspect")
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--point", default=None, help="Point to follow: a name, 'pelvis' (default) or 'hand'; "
+              "several names separated by commas are averaged.")
+@click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Override the up axis.")
+@click.option("--length-unit-m", type=float, default=None, help="Metres per file length unit (BVH, or to override).")
+@click.option("--rate-hz", type=float, default=None, help="Sample rate for a file without one.")
+@click.option("--forward", type=click.Choice(["norm", "heading"]), default="norm", show_default=True,
+              help="Forward velocity: 2-norm of the horizontal velocity (paper) or signed along the heading.")
+@click.option("--all-points", is_flag=True, help="List every point name.")
+@click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
+def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, as_json) -> None:
+    """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
+    mean speed, dominant step frequency and the DFT check of the Yoyo-model."""
+    if point is not None and "," in point:
+        point = [p.strip() for p in point.split(",") if p.strip()]
+    report = inspect_file(file, point=point, up_axis=up_axis, length_unit_m=length_unit_m,
+                          rate_hz=rate_hz, forward=forward)
+    if as_json:
+        click.echo(json.dumps(report, indent=1, default=float))
+        return
+    names = report["points"]
+    shown = names if all_points or len(names) <= 12 else names[:12] + [f"... ({len(names) - 12} more)"]
+    rate = f"{report['rate_hz']:g} Hz" if report["rate_hz"] else "irregular"
+    lines = [
+        ("file", f"{report['file']} ({report['format'].upper()})"),
+        ("rate", f"{rate}, {report['frames']} frames, {report['duration_s']:.2f} s"),
+        ("length unit", report["length_unit"]),
+        ("points", f"{len(names)}: {', '.join(shown)}" if names else "none (ready velocities)"),
+        ("up axis", f"{report['up_axis']} ({report['up_axis_from']})"),
+        ("followed", report["point"]),
+    ]
+    if report["format"] != "csv" or names:
+        lines.append(("hand", ", ".join(report["hand"]) if report["hand"] else "none found"))
+        feet = ", ".join(f"{side} {name}" for side, name in report["feet"].items())
+        lines.append(("feet", feet or "none found"))
+    lines.append(("walking", f"{report['walking_s']:.2f} s (from {report['walking_from']})"))
+    speed = _fmt(report["mean_speed_mps"], "m/s")
+    if report["mean_signed_speed_mps"] is not None and forward == "norm":
+        speed += f" (2-norm; {report['mean_signed_speed_mps']:.2f} m/s signed along the heading)"
+    lines.append(("mean speed", speed + (" while walking" if report["mean_speed_mps"] is not None else "")))
+    step = _fmt(report["step_frequency_hz"], "Hz")
+    step += " (DFT of the vertical velocity)" if report["step_frequency_hz"] is not None else f" ({report.get('dft_note', '')})"
+    if report["events_step_frequency_hz"] is not None:
+        step += f"; foot contacts: {report['events_step_frequency_hz']:.2f} Hz over {report['steps']} steps"
+    lines.append(("step frequency", step))
+    if report["dft"]:
+        d = report["dft"]
+        lines.append(("DFT peaks", f"vertical {d['vertical_frequency_hz']:.2f} Hz, forward "
+                      f"{d['forward_frequency_hz']:.2f} Hz over {d['start_s']:.2f}-{d['end_s']:.2f} s"))
+        lead = "forward leads vertical" if d["phase_offset_deg"] >= 0 else "forward lags vertical"
+        lines.append(("phase offset", f"{d['phase_offset_deg']:+.0f} deg (forward - vertical, {d['offset_sign']}: "
+                      f"{lead}); Yoyo-model {d['model_offset_deg']:+.0f} deg"))
+    width = max(len(k) for k, _ in lines) + 2
+    for key, value in lines:
+        click.echo(f"{key:<{width}}{value}")
