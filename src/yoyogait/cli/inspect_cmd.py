@@ -29,6 +29,7 @@ def inspect_file(path: str, *, point=None, up_axis=None, length_unit_m=None, rat
         "up_axis": velocities.up_axis,
         "up_axis_from": points.resolve_up_axis(rec, up_axis)[1],
         "point": velocities.point,
+        "pelvis": None,
         "hand": None,
         "feet": {},
         "walking_s": velocities.walking_s,
@@ -40,20 +41,24 @@ def inspect_file(path: str, *, point=None, up_axis=None, length_unit_m=None, rat
         "steps": 0,
         "dft": None,
     }
-    if rec.velocities is None:
+    if rec.velocities is None:  # a followed point other than the pelvis, no hand: not errors for inspect
+        try:
+            report["pelvis"] = points.find_pelvis(rec.point_names).label
+        except InputError:
+            pass
         try:
             report["hand"] = list(points.find_hand(rec.point_names).names)
-        except InputError:  # no hand is not an error for inspect
-            report["hand"] = None
+        except InputError:
+            pass
         report["feet"] = events.feet_of(rec)
-    report["walking_from"] = "foot contacts" if report["feet"] else "pelvis speed"
-    if report["feet"]:
+    report["walking_from"] = "pelvis speed"
+    if report["feet"] and report["pelvis"]:
         ev = events.detect_gait_events(rec, up_axis=velocities.up_axis)
         report["steps"] = int(len(ev.step_start_s))
         if len(ev.step_start_s):
             report["events_step_frequency_hz"] = ev.mean_step_frequency_hz
-        if len(ev.contacts_s) == 0:
-            report["walking_from"] = "pelvis speed (no foot contact found)"
+        if len(ev.contacts_s):
+            report["walking_from"] = "foot contacts"
 
     walking = velocities.walking & velocities.finite
     if walking.any():
@@ -72,6 +77,7 @@ def inspect_file(path: str, *, point=None, up_axis=None, length_unit_m=None, rat
             "phase_offset_deg": check.phase_offset_deg,
             "offset_sign": check.offset_sign,
             "model_offset_deg": check.model_offset_deg,
+            "verdict": check.verdict,
             "start_s": check.start_s,
             "end_s": check.end_s,
             "summary": check.summary(),
@@ -113,9 +119,12 @@ def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, a
         ("length unit", report["length_unit"]),
         ("points", f"{len(names)}: {', '.join(shown)}" if names else "none (ready velocities)"),
         ("up axis", f"{report['up_axis']} ({report['up_axis_from']})"),
-        ("followed", report["point"]),
     ]
-    if report["format"] != "csv" or names:
+    if names:
+        lines.append(("pelvis", report["pelvis"] or "none found"))
+    if report["point"] != report["pelvis"]:
+        lines.append(("followed", report["point"]))
+    if names:
         lines.append(("hand", ", ".join(report["hand"]) if report["hand"] else "none found"))
         feet = ", ".join(f"{side} {name}" for side, name in report["feet"].items())
         lines.append(("feet", feet or "none found"))
@@ -135,7 +144,7 @@ def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, a
                       f"{d['forward_frequency_hz']:.2f} Hz over {d['start_s']:.2f}-{d['end_s']:.2f} s"))
         lead = "forward leads vertical" if d["phase_offset_deg"] >= 0 else "forward lags vertical"
         lines.append(("phase offset", f"{d['phase_offset_deg']:+.0f} deg (forward - vertical, {d['offset_sign']}: "
-                      f"{lead}); Yoyo-model {d['model_offset_deg']:+.0f} deg"))
+                      f"{lead}); Yoyo-model {d['model_offset_deg']:+.0f} deg: {d['verdict']}"))
     width = max(len(k) for k, _ in lines) + 2
     for key, value in lines:
         click.echo(f"{key:<{width}}{value}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -37,12 +38,92 @@ class Recording:
 
     def point(self, name: str) -> np.ndarray:
         """Trajectory (frames x 3) of the point called ``name``."""
+        return self.positions_m[:, self.index_of(name), :]
+
+    def index_of(self, name: str) -> int:
+        """Column of ``name`` in ``positions_m``; the error lists the points there are."""
         from ..errors import InputError
 
         try:
-            return self.positions_m[:, self.point_names.index(name), :]
+            return self.point_names.index(name)
         except ValueError:
             raise InputError(
                 f"no point {name!r} in {self.source or 'the recording'}; "
-                f"available: {', '.join(self.point_names)}"
+                f"available: {', '.join(self.point_names) or '(none)'}"
             ) from None
+
+    def points(self, names) -> np.ndarray:
+        """Trajectories (frames x len(names) x 3) of several points, in the order given."""
+        return self.positions_m[:, [self.index_of(n) for n in names], :]
+
+    @property
+    def format(self) -> str:
+        """Which reader made this recording ("c3d", "trc", "bvh", "csv"), "" if none."""
+        return str(self.metadata.get("format", ""))
+
+    @property
+    def velocities(self) -> dict | None:
+        """Ready velocities from a velocity CSV: {"vx": ..., "vz": ...} in m/s, else None.
+
+        Such a recording has no points; :func:`yoyogait.gait_velocities` resamples
+        these instead of differentiating positions.
+        """
+        return self.metadata.get("velocities_mps")
+
+    def visible(self) -> np.ndarray:
+        """Bool frames x points: True where the point has a position."""
+        return np.all(np.isfinite(self.positions_m), axis=2)
+
+
+#: Metres per length unit, by the names files use for them.
+LENGTH_UNITS_M = {
+    "m": 1.0,
+    "meter": 1.0,
+    "meters": 1.0,
+    "metre": 1.0,
+    "metres": 1.0,
+    "dm": 0.1,
+    "cm": 0.01,
+    "mm": 0.001,
+    "in": 0.0254,
+    "inch": 0.0254,
+    "inches": 0.0254,
+    "ft": 0.3048,
+    "feet": 0.3048,
+}
+
+
+def length_unit_m(name: str, source: str = "") -> float:
+    """Metres per unit for a unit name such as "mm"; InputError if unknown."""
+    from ..errors import InputError
+
+    key = str(name).strip().lower()
+    if key not in LENGTH_UNITS_M:
+        raise InputError(
+            f"{source or 'file'}: unknown length unit {name!r} "
+            f"(known: {', '.join(sorted(set(LENGTH_UNITS_M)))}); pass length_unit_m="
+        )
+    return LENGTH_UNITS_M[key]
+
+
+def check_readable(path) -> Path:
+    """The path as a Path if it names a non-empty regular file, else InputError.
+
+    Readers call this first so that a missing or empty file gets one clear
+    sentence instead of a parser error from deep inside a library.
+    """
+    from ..errors import InputError
+
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"{p}: no such file")
+    if not p.is_file():
+        raise InputError(f"{p}: not a regular file")
+    if p.stat().st_size == 0:
+        raise InputError(f"{p}: the file is empty")
+    return p
+
+
+def uniform_time(n_frames: int, rate_hz: float, start_s: float = 0.0) -> np.ndarray:
+    """Timestamps of ``n_frames`` samples at ``rate_hz`` from ``start_s``."""
+    return start_s + np.arange(n_frames, dtype=float) / float(rate_hz)

@@ -1,0 +1,183 @@
+"""C3D files (Vicon, Qualisys, Motion Analysis, Codamotion, ...) through ``ezc3d``.
+
+* Length unit from ``POINT:UNITS`` (mm when the parameter is absent, the
+  format's default; ``length_unit_m=`` overrides).
+* A point is missing where its residual is negative (the C3D convention) or
+  where all three coordinates are exactly zero (what several systems write
+  for an occluded marker); both become NaN.
+* Points that are not positions (the angles, forces, moments, powers and
+  scalars a modelling step stores in the POINT group, listed in
+  ``POINT:ANGLES`` etc.) are left out; their names go to
+  ``metadata["excluded_points"]``.  Modelled positions (e.g. Plug-in Gait's
+  PELO or a CGM pelvis origin) stay.
+* The up axis comes from ``POINT:Y_SCREEN`` when it names a positive axis
+  (it is the axis drawn upwards on screen), else it is left to detection.
+* ezc3d quietly reads what there is of a truncated file, so the frame count
+  the header promises is checked against the file size.
+"""
+
+from __future__ import annotations
+
+import struct
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .recording import Recording, check_readable, length_unit_m as unit_of, uniform_time
+
+__all__ = ["read_c3d"]
+
+#: POINT parameters that list points whose values are not positions.
+NON_POSITION_GROUPS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
+
+
+def read_c3d(path, *, length_unit_m: float | None = None, rate_hz: float | None = None,
+             keep_non_positions: bool = False) -> Recording:
+    """Read the 3D points of a C3D file.
+
+    ``keep_non_positions`` keeps the model outputs that are angles, forces, ...
+    (scaled as if they were lengths, which is only useful for inspection).
+    """
+    import ezc3d
+
+    p = check_readable(path)
+    try:
+        c = ezc3d.c3d(str(p), extract_forceplat_data=False)
+    except (RuntimeError, OSError, ValueError, IndexError) as exc:
+        raise InputError(f"{p}: not a readable C3D file ({_first_line(exc)})") from None
+
+    point_group = c["parameters"].get("POINT", {})
+    scale = _param(point_group, "SCALE")
+    _check_not_truncated(p, float(scale[0]) if scale else None)
+    data = c["data"]["points"]  # 4 x points x frames
+    n_points, n_frames = data.shape[1], data.shape[2]
+    if n_frames == 0:
+        raise InputError(f"{p}: the C3D file holds no frames")
+    if n_points == 0:
+        raise InputError(f"{p}: the C3D file holds no 3D points")
+
+    names = _labels(point_group, n_points)
+    xyz = np.transpose(data[:3], (2, 1, 0)).astype(float)  # frames x points x 3
+    residuals = np.asarray(c["data"]["meta_points"]["residuals"]).reshape(n_points, n_frames).T
+    missing = (residuals < 0) | np.all(xyz == 0.0, axis=2) | ~np.all(np.isfinite(xyz), axis=2)
+    xyz[missing] = np.nan
+
+    metadata: dict = {"format": "c3d"}
+    units = _param(point_group, "UNITS")
+    if length_unit_m is not None:
+        scale_m = float(length_unit_m)
+        metadata["length_unit_from"] = "override"
+    elif units:
+        scale_m = unit_of(units[0], str(p))
+        metadata["length_unit_from"] = f"POINT:UNITS = {units[0].strip()}"
+    else:
+        scale_m = 0.001
+        metadata["length_unit_from"] = "POINT:UNITS absent; mm assumed (the C3D default)"
+    metadata["length_unit_m"] = scale_m
+    xyz *= scale_m
+
+    keep = np.ones(n_points, dtype=bool)
+    if not keep_non_positions:
+        non_positions = set()
+        for group in NON_POSITION_GROUPS:
+            non_positions.update(s.strip() for s in _param(point_group, group) or [])
+        keep = np.array([n not in non_positions for n in names], dtype=bool)
+        metadata["excluded_points"] = [n for n, k in zip(names, keep) if not k]
+    names = _unique([n for n, k in zip(names, keep) if k])
+    xyz = xyz[:, keep, :]
+
+    file_rate = float(c["header"]["points"]["frame_rate"])
+    rate = float(rate_hz) if rate_hz is not None else file_rate
+    if not rate > 0:
+        raise InputError(f"{p}: the C3D file has no point rate; pass rate_hz=")
+    first_frame = int(c["header"]["points"]["first_frame"])
+    metadata.update(first_frame=first_frame, file_rate_hz=file_rate)
+
+    up_axis = None
+    y_screen = _param(point_group, "Y_SCREEN")
+    if y_screen:
+        metadata["y_screen"] = y_screen[0].strip()
+        axis = y_screen[0].strip().upper()
+        if axis in ("+X", "+Y", "+Z", "X", "Y", "Z"):
+            up_axis = axis[-1].lower()
+
+    return Recording(
+        positions_m=xyz,
+        point_names=names,
+        time_s=uniform_time(n_frames, rate),
+        rate_hz=rate,
+        up_axis=up_axis,
+        source=str(p),
+        metadata=metadata,
+    )
+
+
+def _check_not_truncated(p: Path, point_scale: float | None) -> None:
+    """InputError if the file is shorter than the frames its header announces.
+
+    Header words (16-bit, in the byte order of the processor type stored in
+    the parameter section): 2 = points, 3 = analog samples per frame,
+    4/5 = first/last frame, 9 = first data block.  A negative POINT:SCALE
+    means 4-byte floats, else 2-byte integers.
+    """
+    size = p.stat().st_size
+    with p.open("rb") as f:
+        head = f.read(512)
+        if len(head) < 512 or head[1] != 0x50 or head[0] < 1:
+            return  # ezc3d has already rejected such a file
+        f.seek(512 * (head[0] - 1) + 3)
+        proc = f.read(1)
+    order = ">" if proc and proc[0] == 86 else "<"  # 86: MIPS, big-endian
+    words = struct.unpack(order + "12H", head[:24])
+    n_points, n_analog, first, last, data_block = words[1], words[2], words[3], words[4], words[8]
+    if last == 0xFFFF or last < first or data_block == 0:
+        return  # frame count held elsewhere (long files)
+    n_frames = last - first + 1
+    bytes_per_value = 4 if (point_scale is None or point_scale < 0) else 2
+    frame_bytes = (4 * n_points + n_analog) * bytes_per_value
+    expected = (data_block - 1) * 512 + n_frames * frame_bytes
+    if size < expected:
+        have = max(0, size - (data_block - 1) * 512) // max(1, frame_bytes)
+        raise InputError(
+            f"{p}: truncated C3D file: the header announces {n_frames} frames, "
+            f"the file holds {have}"
+        )
+
+
+def _labels(point_group: dict, n_points: int) -> list[str]:
+    """POINT:LABELS, LABELS2, ... cut to the number of points; blanks get a name."""
+    labels: list[str] = []
+    for key in ["LABELS"] + [f"LABELS{i}" for i in range(2, 100)]:
+        if key not in point_group:
+            break
+        labels.extend(point_group[key]["value"])
+    labels = [s.strip() for s in labels[:n_points]]
+    labels += [""] * (n_points - len(labels))
+    return [s or f"point{i + 1}" for i, s in enumerate(labels)]
+
+
+def _unique(names: list[str]) -> list[str]:
+    """Names made unique: a repeated label gets ``#2``, ``#3`` (MAC files repeat some)."""
+    seen: dict[str, int] = {}
+    out = []
+    for n in names:
+        k = seen.get(n, 0) + 1
+        seen[n] = k
+        out.append(n if k == 1 else f"{n}#{k}")
+    return out
+
+
+def _param(group: dict, name: str):
+    entry = group.get(name)
+    if not entry:
+        return None
+    value = entry.get("value")
+    if value is None or len(value) == 0:
+        return None
+    return list(value)
+
+
+def _first_line(exc: Exception) -> str:
+    text = str(exc).strip().splitlines()
+    return text[0] if text else type(exc).__name__

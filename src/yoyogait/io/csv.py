@@ -1,0 +1,167 @@
+"""CSV files in yoyogait's documented layout (docs/input.md).
+
+Two layouts, told apart by the header row:
+
+Positions::
+
+    # length_unit_m: 0.001        <- optional "# key: value" lines before the header
+    # up_axis: z
+    time_s,LASI_x,LASI_y,LASI_z,RASI_x,RASI_y,RASI_z
+    0.00,512.1,1033.0,941.2,,,
+    0.01,513.4,1033.1,941.0,700.2,1020.4,940.1
+
+Ready velocities (m/s), e.g. from another pipeline or an IMU::
+
+    time_s,vx,vz
+    0.00,1.21,0.05
+
+* The time column is ``time_s``, ``time`` or ``t``; without one, give
+  ``# rate_hz:`` or ``rate_hz=``.
+* A point is three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` (``.x``
+  and ``:x`` and upper case X/Y/Z work too), in any order.
+* Lengths are metres unless ``# length_unit_m:`` or ``length_unit_m=`` says
+  otherwise (velocities are then that unit per second).
+* An empty cell, ``nan`` or ``NaN`` is a missing sample.
+* The separator is a comma; a header with semicolons or tabs and no comma
+  switches to that.
+"""
+
+from __future__ import annotations
+
+import csv as _csv
+import re
+
+import numpy as np
+
+from ..errors import InputError
+from .recording import AXES, Recording, check_readable, uniform_time
+
+__all__ = ["read_csv"]
+
+TIME_COLUMNS = ("time_s", "time", "t")
+VELOCITY_COLUMNS = {"vx": ("vx", "vx_mps"), "vz": ("vz", "vz_mps")}
+_POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])$")
+
+
+def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
+    """Read a CSV of point positions or of ready velocities."""
+    p = check_readable(path)
+    try:
+        text = p.read_text(encoding="utf-8-sig", errors="replace")
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    lines = text.splitlines()
+
+    settings: dict[str, str] = {}
+    first = 0
+    while first < len(lines) and (not lines[first].strip() or lines[first].lstrip().startswith("#")):
+        key, sep, value = lines[first].lstrip("# \t").partition(":")
+        if sep:
+            settings[key.strip().lower()] = value.strip()
+        first += 1
+    if first >= len(lines):
+        raise InputError(f"{p}: the CSV file has no header row")
+    header_line = lines[first]
+    delimiter = "," if "," in header_line else ";" if ";" in header_line else "\t" if "\t" in header_line else ","
+    header = [h.strip() for h in next(_csv.reader([header_line], delimiter=delimiter))]
+
+    rows = []
+    body = [(n, line) for n, line in enumerate(lines[first + 1:], start=first + 2) if line.strip()]
+    for (number, line), cells in zip(body, _csv.reader([line for _, line in body], delimiter=delimiter)):
+        if len(cells) != len(header):
+            if number == body[-1][0] and len(cells) < len(header) and not text.endswith("\n"):
+                raise InputError(f"{p}: truncated CSV file: the last line stops after {len(cells)} of {len(header)} columns")
+            raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header {len(header)}")
+        try:
+            rows.append([float(c) if c.strip() else np.nan for c in cells])
+        except ValueError:
+            bad = next(c for c in cells if c.strip() and not _is_number(c))
+            raise InputError(f"{p}: line {number}: {bad.strip()!r} is not a number") from None
+    if not rows:
+        raise InputError(f"{p}: the CSV file holds no data rows")
+    table = np.asarray(rows, dtype=float)
+
+    metadata: dict = {"format": "csv", "settings": settings}
+    unit = _setting_float(settings, "length_unit_m", p) if length_unit_m is None else float(length_unit_m)
+    metadata["length_unit_m"] = unit if unit is not None else 1.0
+    metadata["length_unit_from"] = ("override" if length_unit_m is not None else
+                                    "# length_unit_m" if unit is not None else "metres (the CSV default)")
+    unit = metadata["length_unit_m"]
+
+    lower = [h.lower() for h in header]
+    time_col = next((lower.index(c) for c in TIME_COLUMNS if c in lower), None)
+    file_rate = _setting_float(settings, "rate_hz", p)
+    rate = float(rate_hz) if rate_hz is not None else file_rate
+    if time_col is not None and rate_hz is None:
+        time_s = table[:, time_col]
+        if not np.all(np.isfinite(time_s)):
+            raise InputError(f"{p}: the time column {header[time_col]!r} has empty or invalid cells")
+    elif rate:
+        time_s = uniform_time(len(rows), rate)
+    else:
+        raise InputError(f"{p}: the CSV has no time column ({', '.join(TIME_COLUMNS)}) and no rate; pass rate_hz=")
+
+    up_axis = settings.get("up_axis")
+    if up_axis is not None and up_axis.lower() not in AXES:
+        raise InputError(f"{p}: '# up_axis: {up_axis}' must be x, y or z")
+
+    velocity_cols = {key: next((lower.index(c) for c in names if c in lower), None)
+                     for key, names in VELOCITY_COLUMNS.items()}
+    if all(c is not None for c in velocity_cols.values()):
+        metadata["velocities_mps"] = {key: table[:, c] * unit for key, c in velocity_cols.items()}
+        positions = np.empty((len(rows), 0, 3))
+        names: list[str] = []
+    else:
+        names, positions = _points(header, table, p)
+        positions *= unit
+
+    if rate is None and len(time_s) > 1:
+        rate = 1.0 / float(np.median(np.diff(time_s)))
+    return Recording(
+        positions_m=positions,
+        point_names=names,
+        time_s=time_s,
+        rate_hz=rate,
+        up_axis=up_axis.lower() if up_axis else None,
+        source=str(p),
+        metadata=metadata,
+    )
+
+
+def _points(header: list[str], table: np.ndarray, where) -> tuple[list[str], np.ndarray]:
+    """Point names (in order of first appearance) and their positions from the x/y/z columns."""
+    columns: dict[str, dict[str, int]] = {}
+    for i, h in enumerate(header):
+        m = _POINT_COLUMN.match(h)
+        if m:
+            columns.setdefault(m["name"], {})[m["axis"].lower()] = i
+    incomplete = [n for n, axes in columns.items() if set(axes) != set(AXES)]
+    if incomplete:
+        raise InputError(f"{where}: point {incomplete[0]!r} lacks an x, y or z column")
+    if not columns:
+        raise InputError(
+            f"{where}: no point columns (<name>_x, <name>_y, <name>_z) and no velocity columns (vx, vz) in the header"
+        )
+    names = list(columns)
+    idx = [[columns[n][a] for a in AXES] for n in names]
+    return names, table[:, idx]
+
+
+def _setting_float(settings: dict, key: str, where) -> float | None:
+    if key not in settings:
+        return None
+    try:
+        value = float(settings[key])
+    except ValueError:
+        raise InputError(f"{where}: '# {key}: {settings[key]}' is not a number") from None
+    if not value > 0:
+        raise InputError(f"{where}: '# {key}' must be positive")
+    return value
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True

@@ -1,0 +1,134 @@
+"""TRC marker files (OpenSim, AddBiomechanics, Motion Analysis Cortex exports).
+
+Layout (tab-separated)::
+
+    PathFileType  4  (X/Y/Z)  name.trc
+    DataRate  CameraRate  NumFrames  NumMarkers  Units  OrigDataRate ...
+    100       100         238        41          mm     100 ...
+    Frame#  Time  R.ASIS      L.ASIS ...
+                  X1  Y1  Z1  X2  Y2  Z2 ...
+    <blank line, optional>
+    1       0.00  ...
+
+The length unit comes from the ``Units`` header field (``length_unit_m=``
+overrides); an empty cell is a missing sample (NaN).  TRC files carry no up
+axis (OpenSim's convention is Y up, but the file does not say it), so it is
+left to detection.  A file with fewer data rows than ``NumFrames`` is
+reported as truncated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from .recording import Recording, check_readable, length_unit_m as unit_of, uniform_time
+
+__all__ = ["read_trc"]
+
+
+def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
+    """Read the markers of a TRC file."""
+    p = check_readable(path)
+    try:
+        text = p.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    lines = text.splitlines()
+    if len(lines) < 5 or not lines[0].startswith("PathFileType"):
+        raise InputError(f"{p}: not a TRC file (it must start with a PathFileType line and a 5-line header)")
+
+    keys = lines[1].split()
+    values = lines[2].split()
+    if len(values) < len(keys) or "DataRate" not in keys:
+        raise InputError(f"{p}: corrupt TRC header: line 3 does not give a value for each field of line 2")
+    header = dict(zip(keys, values))
+
+    name_cells = [c.strip() for c in _cells(lines[3])]
+    if len(name_cells) < 3 or not name_cells[0].lower().startswith("frame"):
+        raise InputError(f"{p}: corrupt TRC header: line 4 must be 'Frame#  Time  <marker names>'")
+    names = [c for c in name_cells[2:] if c]
+    if not names:
+        raise InputError(f"{p}: the TRC file names no marker")
+    n_columns = 2 + 3 * len(names)
+
+    rows = []
+    for number, line in enumerate(lines[5:], start=6):
+        if not line.strip():
+            continue
+        cells = _cells(line)
+        if len(cells) > n_columns and any(c.strip() for c in cells[n_columns:]):
+            raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header names {n_columns}")
+        cells = cells[:n_columns] + [""] * (n_columns - len(cells))
+        try:
+            rows.append([float(c) if c.strip() else np.nan for c in cells])
+        except ValueError:
+            bad = next(c for c in cells if c.strip() and not _is_number(c))
+            raise InputError(f"{p}: line {number}: {bad.strip()!r} is not a number") from None
+    if not rows:
+        raise InputError(f"{p}: the TRC file holds no frames")
+    table = np.asarray(rows, dtype=float)
+
+    announced = _int(header.get("NumFrames"))
+    if announced is not None and len(rows) < announced:
+        raise InputError(
+            f"{p}: truncated TRC file: the header announces {announced} frames, the file holds {len(rows)}"
+        )
+    if not text.endswith("\n") and len(_cells(lines[-1])) < n_columns:
+        raise InputError(f"{p}: truncated TRC file: the last line stops in the middle of a frame")
+
+    metadata: dict = {"format": "trc", "header": header}
+    if length_unit_m is not None:
+        scale_m = float(length_unit_m)
+        metadata["length_unit_from"] = "override"
+    elif "Units" in header:
+        scale_m = unit_of(header["Units"], str(p))
+        metadata["length_unit_from"] = f"Units = {header['Units']}"
+    else:
+        raise InputError(f"{p}: the TRC header gives no Units; pass length_unit_m=")
+    metadata["length_unit_m"] = scale_m
+
+    file_rate = _float(header.get("DataRate"))
+    rate = float(rate_hz) if rate_hz is not None else file_rate
+    time_s = table[:, 1]
+    if rate_hz is not None or not np.all(np.isfinite(time_s)):
+        if not rate or rate <= 0:
+            raise InputError(f"{p}: the TRC file has neither times nor a DataRate; pass rate_hz=")
+        time_s = uniform_time(len(rows), rate, 0.0 if not np.isfinite(time_s[0]) else time_s[0])
+
+    positions = table[:, 2:].reshape(len(rows), len(names), 3) * scale_m
+    return Recording(
+        positions_m=positions,
+        point_names=names,
+        time_s=time_s,
+        rate_hz=rate if rate and rate > 0 else None,
+        up_axis=None,
+        source=str(p),
+        metadata=metadata,
+    )
+
+
+def _cells(line: str) -> list[str]:
+    # TRC is tab-separated, and an empty cell between two tabs is a missing value;
+    # only a file without any tab falls back to whitespace.
+    return line.split("\t") if "\t" in line else line.split()
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _float(text) -> float | None:
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return None
+
+
+def _int(text) -> int | None:
+    value = _float(text)
+    return int(value) if value is not None and value >= 0 else None

@@ -1,0 +1,317 @@
+"""Which point of a recording to follow, and which axis is up.
+
+* The **pelvis centre** (the default, the closest marker-based stand-in for the
+  centre of mass the Yoyo-model describes): the average of the pelvis
+  markers found by name (ASIS, PSIS, sacrum and pelvis clusters in their
+  common spellings), else a root joint (Hips, pelvis, root).
+* The **hand** (the paper follows the hand that holds the tether): a hand
+  joint or finger marker, else the wrist markers of that side averaged.
+* The **feet** (for gait events): per side a heel, else an ankle, toe or foot point.
+* The **up axis**: the override, else the file's, else detected from the
+  data (:func:`detect_up_axis`).
+
+Averaging markers that drop out one at a time would make the centre jump at
+every drop-out by the missing marker's offset; :func:`robust_centre` instead
+carries each marker's offset from the centre across its gaps.
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from .errors import InputError
+from .io.recording import AXES, Recording
+
+__all__ = [
+    "PointChoice",
+    "PointTrajectory",
+    "normalise_name",
+    "find_pelvis",
+    "find_hand",
+    "find_feet",
+    "choose_point",
+    "point_trajectory",
+    "robust_centre",
+    "detect_up_axis",
+    "resolve_up_axis",
+    "axis_index",
+]
+
+_SIDE = r"(?:l|r|left|right)"
+#: Pelvis markers, matched against the normalised name (lower case, letters and digits only).
+PELVIS_MARKER_PATTERNS = (
+    re.compile(rf"^{_SIDE}?asis?$|^asis?{_SIDE}$"),  # LASI, R_ASIS, R.ASIS, LASIS, asis_l
+    re.compile(rf"^{_SIDE}?psis?$|^psis?{_SIDE}$"),  # LPSI, L.PSIS, RPSIS
+    re.compile(r"^v?sac(?:r|rum|ral)?$|^s[12]$|^midsacrum$"),  # SACR, SACRUM, VSAC, V.Sacral, S2
+    re.compile(r"^(?:pv|pel|pelvis)\d+$"),  # PV1..PV4 technical pelvis clusters
+)
+#: Root joints of skeletons, in order of preference.
+ROOT_JOINT_NAMES = ("hips", "hip", "pelvis", "root")
+
+_HAND_WORDS = {"hand": 0, "hnd": 0, "fin": 1, "finger": 1, "fingers": 1, "palm": 1,
+               "wri": 2, "wrist": 2, "wra": 2, "wrb": 2, "wrt": 2}
+_FOOT_WORDS = {"hee": 0, "heel": 0, "cal": 0, "calc": 0,
+               "ank": 1, "ankle": 1, "lma": 1, "lm": 1, "mal": 1,  # "foot" joints of skeletons sit at the ankle
+               "toe": 2, "to": 2, "mt1": 2, "mt2": 2, "mt5": 2, "toetip": 2,
+               "toes": 2, "foot": 1}
+#: What may follow a body word: R.Wrist.Lat, L_Ankle_Lat, L_Toe_Tip, LeftToeBase, RWRA.
+_WORD_SUFFIXES = ("lat", "med", "tip", "base", "a", "b")
+
+
+@dataclass(frozen=True)
+class PointChoice:
+    """Named points to follow, averaged when there are several."""
+
+    names: tuple[str, ...]
+    kind: str  # "pelvis markers", "root joint", "hand", "named"
+
+    @property
+    def label(self) -> str:
+        """How the choice reads in a report, e.g. 'pelvis centre of LASI, RASI, SACR'."""
+        joined = ", ".join(self.names)
+        if self.kind == "pelvis markers":
+            return f"pelvis centre of {joined}"
+        if self.kind == "root joint":
+            return f"root joint {joined}"
+        if self.kind == "hand":
+            return f"hand {joined}" if len(self.names) == 1 else f"hand, centre of {joined}"
+        return joined if len(self.names) == 1 else f"centre of {joined}"
+
+
+@dataclass
+class PointTrajectory:
+    """The followed point over time: frames x 3 in metres, NaN where unknown."""
+
+    positions_m: np.ndarray
+    choice: PointChoice
+    used_names: tuple[str, ...]  # the markers the centre was built from (may drop a rarely seen one)
+
+    @property
+    def label(self) -> str:
+        if self.used_names != self.choice.names:
+            dropped = [n for n in self.choice.names if n not in self.used_names]
+            return f"{self.choice.label} (without {', '.join(dropped)}: too rarely visible)"
+        return self.choice.label
+
+
+def normalise_name(name: str) -> str:
+    """Lower case, letters and digits only, without a ``Subject:`` prefix."""
+    return re.sub(r"[^a-z0-9]", "", name.rsplit(":", 1)[-1].lower())
+
+
+def find_pelvis(names: Sequence[str]) -> PointChoice:
+    """The pelvis markers found by name, else a root joint; InputError if neither."""
+    markers = [n for n in names if any(p.match(normalise_name(n)) for p in PELVIS_MARKER_PATTERNS)]
+    if markers:
+        return PointChoice(tuple(markers), "pelvis markers")
+    normalised = [normalise_name(n) for n in names]
+    for root in ROOT_JOINT_NAMES:
+        if root in normalised:
+            return PointChoice((names[normalised.index(root)],), "root joint")
+    raise InputError(
+        "no pelvis-like point (ASIS/PSIS/sacrum markers or a Hips/pelvis/root joint) among: "
+        + (", ".join(names) or "(no points)")
+        + "; name one with point="
+    )
+
+
+def _side_and_word(name: str, words: dict[str, int]):
+    """('left'|'right', rank) if ``name`` is a side letter/word plus one of ``words``."""
+    n = normalise_name(name)
+    parses = []
+    for side, tags in (("left", ("left", "l")), ("right", ("right", "r"))):
+        for tag in tags:
+            if n.startswith(tag):
+                parses.append((side, n[len(tag):]))
+            if n.endswith(tag):
+                parses.append((side, n[: -len(tag)]))
+    for side, rest in parses:
+        for word, rank in words.items():
+            if rest == word or (rest.startswith(word) and rest[len(word):] in _WORD_SUFFIXES):
+                return side, rank
+    return None
+
+
+def find_hand(names: Sequence[str], side: str = "right") -> PointChoice:
+    """The hand of ``side``: a hand joint or finger marker, else its wrist markers (averaged)."""
+    side = _check_side(side)
+    found: dict[int, list[str]] = {}
+    for n in names:
+        parsed = _side_and_word(n, _HAND_WORDS)
+        if parsed and parsed[0] == side:
+            found.setdefault(parsed[1], []).append(n)
+    if not found:
+        raise InputError(f"no {side} hand or wrist point among: {', '.join(names) or '(no points)'}")
+    return PointChoice(tuple(found[min(found)]), "hand")
+
+
+def find_feet(names: Sequence[str], visibility: dict | None = None,
+              min_visible_fraction: float = 0.5) -> dict[str, str]:
+    """One foot point per side that has one: heel, else ankle (or a skeleton's foot joint), else toe.
+
+    With ``visibility`` (name -> fraction of frames where the point is seen),
+    a point seen in fewer than ``min_visible_fraction`` of the frames gives
+    way to the next kind (some files name heel markers that were never seen);
+    if every candidate is that rare, the most visible one is taken.
+    """
+    candidates: dict[str, list[tuple[int, int, str]]] = {}
+    for order, n in enumerate(names):
+        parsed = _side_and_word(n, _FOOT_WORDS)
+        if parsed:
+            candidates.setdefault(parsed[0], []).append((parsed[1], order, n))
+    chosen = {}
+    for side, found in sorted(candidates.items()):
+        found.sort()
+        if visibility is not None:
+            seen = [c for c in found if visibility.get(c[2], 0.0) >= min_visible_fraction]
+            if not seen:
+                best = max(found, key=lambda c: visibility.get(c[2], 0.0))
+                seen = [best] if visibility.get(best[2], 0.0) > 0 else []
+            found = seen
+        if found:
+            chosen[side] = found[0][2]
+    return chosen
+
+
+def choose_point(rec: Recording, point=None, *, hand_side: str = "right") -> PointChoice:
+    """What to follow: None or "pelvis" (the pelvis centre), "hand", a point name or a list of names."""
+    if point is None or (isinstance(point, str) and point.lower() == "pelvis" and "pelvis" not in rec.point_names):
+        return find_pelvis(rec.point_names)
+    if isinstance(point, str) and point.lower() == "hand" and "hand" not in rec.point_names:
+        return find_hand(rec.point_names, hand_side)
+    names = (point,) if isinstance(point, str) else tuple(point)
+    if not names:
+        raise InputError("point= must name at least one point")
+    for n in names:
+        rec.index_of(n)  # InputError listing the available points
+    return PointChoice(names, "named")
+
+
+def point_trajectory(rec: Recording, point=None, *, hand_side: str = "right") -> PointTrajectory:
+    """The chosen point's trajectory (frames x 3, metres), several points averaged by :func:`robust_centre`."""
+    choice = point if isinstance(point, PointChoice) else choose_point(rec, point, hand_side=hand_side)
+    positions = rec.points(choice.names)
+    centre, used = robust_centre(positions)
+    return PointTrajectory(centre, choice, tuple(choice.names[i] for i in used))
+
+
+def robust_centre(positions: np.ndarray, min_visible_fraction: float = 0.5):
+    """Centre of several markers (frames x k x 3) that does not jump when one drops out.
+
+    On frames where every marker is visible the centre is their mean.  Each
+    marker's offset from that centre is interpolated in time across the
+    frames where some marker is missing (held at the ends), and the centre
+    there is the mean of ``marker - offset`` over the markers that are
+    visible.  Markers seen in fewer than ``min_visible_fraction`` of the
+    frames where any of them is seen are left out, so that a rarely seen
+    marker does not stretch the offsets over long stretches.
+
+    Returns the centre (frames x 3, NaN where no marker is visible) and the
+    indices of the markers used.
+    """
+    positions = np.asarray(positions, dtype=float)
+    if positions.ndim != 3 or positions.shape[2] != 3:
+        raise ValueError("positions must be frames x markers x 3")
+    visible = np.all(np.isfinite(positions), axis=2)
+    any_visible = visible.any(axis=1)
+    used = [j for j in range(positions.shape[1])
+            if visible[:, j].sum() >= min_visible_fraction * max(1, any_visible.sum())]
+    if not used:
+        used = list(range(positions.shape[1]))
+    while True:
+        full = visible[:, used].all(axis=1)
+        if full.any() or len(used) == 1:
+            break
+        used.remove(min(used, key=lambda j: visible[:, j].sum()))  # no frame shows them all
+    p = positions[:, used, :]
+    if len(used) == 1:
+        return p[:, 0, :].copy(), used
+    frames = np.arange(p.shape[0])
+    centre_full = p[full].mean(axis=1)  # nfull x 3
+    offsets = p[full] - centre_full[:, None, :]  # nfull x k x 3
+    carried = np.empty_like(p)
+    for j in range(p.shape[1]):
+        for a in range(3):
+            carried[:, j, a] = np.interp(frames, frames[full], offsets[:, j, a])
+    estimates = p - carried
+    with np.errstate(invalid="ignore"):
+        count = np.isfinite(estimates[:, :, 0]).sum(axis=1)
+        centre = np.nansum(estimates, axis=1) / np.where(count > 0, count, 1)[:, None]
+    centre[count == 0] = np.nan
+    return centre, used
+
+
+def axis_index(axis: str) -> int:
+    """0, 1, 2 for "x", "y", "z"."""
+    a = str(axis).lower()
+    if a not in AXES:
+        raise InputError(f"up_axis must be one of x, y, z, not {axis!r}")
+    return AXES.index(a)
+
+
+def detect_up_axis(rec: Recording) -> str:
+    """The axis along which the pelvis stands high above the lowest point, steadily.
+
+    For each axis, h(t) = pelvis(t) - lowest point(t) (lowest over all points
+    of the frame, i.e. the feet).  Along the up axis h is large (0.8-1.1 m)
+    and steady; along a horizontal axis it is small and swings with every
+    step.  The score is median(h) / (std(h) + 5% of the body's size), which
+    does not depend on the length unit.  With the pelvis alone (no point
+    below it) it falls back to the axis along which the pelvis moves least.
+    """
+    try:
+        choice = find_pelvis(rec.point_names)
+        pelvis, _ = robust_centre(rec.points(choice.names))
+    except InputError:
+        with _quiet():
+            pelvis = np.nanmean(rec.positions_m, axis=1)
+    pos = rec.positions_m
+    with _quiet():
+        lowest = np.nanmin(pos, axis=1)  # frames x 3
+        extent = np.nanmax(pos, axis=1) - lowest
+        size = float(np.nanmedian(np.nanmax(extent, axis=1)))
+        h = pelvis - lowest
+        ok = np.all(np.isfinite(h), axis=1)
+    if ok.sum() >= 2 and np.isfinite(size) and size > 0:
+        h = h[ok]
+        median = np.median(h, axis=0)
+        if np.max(median) > 0.2 * size:  # some point lies well below the pelvis
+            score = median / (np.std(h, axis=0) + 0.05 * size)
+            return AXES[int(np.argmax(score))]
+    with _quiet():
+        spread = np.nanstd(pelvis, axis=0)
+    if not np.all(np.isfinite(spread)):
+        raise InputError(f"{rec.source or 'recording'}: cannot detect the up axis (no usable point); pass up_axis=")
+    return AXES[int(np.argmin(spread))]
+
+
+def resolve_up_axis(rec: Recording, up_axis: str | None = None) -> tuple[str, str]:
+    """The up axis and where it came from: "override", "file" or "detected"."""
+    if up_axis is not None:
+        return AXES[axis_index(up_axis)], "override"
+    if rec.up_axis is not None:
+        return AXES[axis_index(rec.up_axis)], rec.metadata.get("up_axis_from", "file")
+    return detect_up_axis(rec), "detected"
+
+
+def _check_side(side: str) -> str:
+    s = str(side).lower()
+    if s in ("l", "left"):
+        return "left"
+    if s in ("r", "right"):
+        return "right"
+    raise InputError(f"side must be 'left' or 'right', not {side!r}")
+
+
+@contextmanager
+def _quiet():
+    """Silence numpy's all-NaN-slice warnings where NaN is the expected answer."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        yield

@@ -1,0 +1,162 @@
+"""Gait events: foot contacts, steps, step frequency over time and walking/standing, on walks with known steps."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import yoyogait
+from yoyogait import events
+from yoyogait.errors import InputError
+from yoyogait.io import Recording
+
+STEP_M = 0.7
+
+
+def stepping_walk(step_hz=1.8, stand_before_s=2.0, walk_s=5.0, stand_after_s=2.0, rate_hz=100.0,
+                  treadmill=False, radius_m=None, later_step_hz=None):
+    """A person who stands, walks and stands, with heels that really step (z up).
+
+    The number of steps taken so far, ``s(t)``, is the integral of the step
+    frequency; everything is a function of it, so standing freezes the body.
+    Foot contacts happen at whole ``s`` (left on even, right on odd); each
+    foot is still in stance and swings forward 2 steps during the last 40 %
+    of its stride.  ``later_step_hz`` changes the frequency half way through
+    the walk; ``radius_m`` bends the path into a circle; ``treadmill`` removes
+    the forward progression.  Returns the recording and the contact times.
+    """
+    n = int((stand_before_s + walk_s + stand_after_s) * rate_hz)
+    t = np.arange(n) / rate_hz
+    f = np.where((t >= stand_before_s) & (t < stand_before_s + walk_s), step_hz, 0.0)
+    if later_step_hz is not None:
+        f[(t >= stand_before_s + walk_s / 2) & (f > 0)] = later_step_hz
+    s = np.concatenate([[0.0], np.cumsum(f[:-1]) / rate_hz])
+    pelvis_fwd = STEP_M * s
+    pelvis_up = 0.95 + 0.02 * np.cos(2 * np.pi * s)
+
+    def foot(first_contact):
+        j = np.floor((s - first_contact) / 2)
+        local = s - (first_contact + 2 * j)
+        planted = STEP_M * (first_contact + 2 * j) + STEP_M / 2
+        q = np.clip((local - 1.2) / 0.8, 0, 1)
+        fwd = planted + 2 * STEP_M * (1 - np.cos(np.pi * q)) / 2
+        return fwd, 0.05 + 0.1 * np.sin(np.pi * q)
+
+    parts = {"pelvis": (pelvis_fwd, 0.0, pelvis_up), "LHEE": (*foot(0), ), "RHEE": (*foot(1), )}
+    fwd = {"pelvis": pelvis_fwd, "LHEE": parts["LHEE"][0], "RHEE": parts["RHEE"][0]}
+    lateral = {"pelvis": 0.02 * np.sin(np.pi * s), "LHEE": 0.1, "RHEE": -0.1}
+    up = {"pelvis": pelvis_up, "LHEE": parts["LHEE"][1], "RHEE": parts["RHEE"][1]}
+    positions = []
+    for name in ("pelvis", "LHEE", "RHEE"):
+        a = fwd[name] - (pelvis_fwd if treadmill else 0.0)
+        b = np.broadcast_to(lateral[name], a.shape)
+        if radius_m is not None:  # bend the straight path onto a circle of this radius
+            a, b = (radius_m - b) * np.sin(a / radius_m), radius_m - (radius_m - b) * np.cos(a / radius_m)
+        positions.append(np.column_stack([a, b, up[name]]))
+    offsets = {"LASI": (0.1, 0.12), "RASI": (0.1, -0.12), "SACR": (-0.2, 0.0)}
+    pelvis = positions[0]
+    markers = [pelvis + np.array([dx, dy, 0.0]) for dx, dy in offsets.values()]
+    pos = np.stack(markers + positions[1:], axis=1)
+    rec = Recording(pos, list(offsets) + ["LHEE", "RHEE"], t, rate_hz=rate_hz, up_axis="z", source="synthetic")
+    steps_taken = int(round(s[-1]))
+    contacts = [float(t[np.argmax(s >= k - 1e-9)]) for k in range(1, steps_taken + 1)]
+    return rec, np.array(contacts)
+
+
+def matched(found, truth, tolerance_s=0.1):
+    """True contacts each found once within ``tolerance_s``; the one that ends the walk may be missed.
+
+    When a walk ends, the last foot is placed beside the other and is never
+    again ahead of the pelvis, so that last contact has no peak to find.
+    """
+    ok = [np.min(np.abs(found - c)) < tolerance_s for c in truth]
+    return all(ok[:-1]) and len(found) in (len(truth) - 1, len(truth))
+
+
+def test_contacts_and_step_frequency_of_a_straight_walk():
+    """Every step of a straight walk is found, feet alternating, and the mean step frequency is the true one."""
+    rec, truth = stepping_walk()
+    ev = events.detect_gait_events(rec)
+    assert ev.feet == {"left": "LHEE", "right": "RHEE"}
+    assert matched(ev.contacts_s, truth)  # heel strike timing within 0.1 s
+    assert all(a != b for a, b in zip(ev.contact_sides, ev.contact_sides[1:]))
+    assert ev.mean_step_frequency_hz == pytest.approx(1.8, abs=0.02)
+    assert np.allclose(ev.step_frequency_hz, 1.8, atol=0.05)
+
+
+def test_walking_and_standing_are_told_apart():
+    """Walking covers the steps (plus half a step either side), standing before and after does not."""
+    rec, truth = stepping_walk(stand_before_s=2.0, walk_s=5.0, stand_after_s=2.0)
+    ev = events.detect_gait_events(rec)
+    assert len(ev.walking_segments_s) == 1
+    start, end = ev.walking_segments_s[0]
+    half_step = 0.5 / 1.8
+    assert truth[0] - half_step - 0.1 <= start <= truth[0]
+    assert truth[-2] + half_step - 0.1 <= end <= truth[-1] + half_step + 0.1
+    mask = ev.walking_mask(rec.time_s)
+    assert not mask[rec.time_s < 1.5].any() and not mask[rec.time_s > 7.5].any()
+    assert mask[(rec.time_s > 3) & (rec.time_s < 6)].all()
+
+
+def test_step_frequency_over_time_follows_a_change():
+    """The step frequency over time shows a change from 2.0 to 1.5 Hz half way through the walk."""
+    rec, _ = stepping_walk(step_hz=2.0, later_step_hz=1.5, walk_s=8.0)
+    ev = events.detect_gait_events(rec)
+    f = ev.step_frequency_at(rec.time_s)
+    early = (rec.time_s > 3.0) & (rec.time_s < 5.5)
+    late = (rec.time_s > 7.0) & (rec.time_s < 9.5)
+    assert np.nanmedian(f[early]) == pytest.approx(2.0, abs=0.05)
+    assert np.nanmedian(f[late]) == pytest.approx(1.5, abs=0.05)
+    assert np.all(np.isnan(f[rec.time_s < 1.5]))
+
+
+def test_treadmill_walk_has_steps_without_forward_motion():
+    """On a treadmill (the pelvis stays in place) the steps are still found at the right frequency."""
+    rec, truth = stepping_walk(treadmill=True, stand_before_s=0.5, stand_after_s=0.5)
+    ev = events.detect_gait_events(rec)
+    assert ev.mean_step_frequency_hz == pytest.approx(1.8, abs=0.02)
+    assert abs(len(ev.contacts_s) - len(truth)) <= 1
+
+
+def test_curved_walk_uses_the_turning_heading():
+    """On a circle of 2.5 m radius the contacts are found with the heading turning along."""
+    rec, truth = stepping_walk(radius_m=2.5, walk_s=6.0)
+    ev = events.detect_gait_events(rec)
+    assert matched(ev.contacts_s, truth)
+    assert ev.mean_step_frequency_hz == pytest.approx(1.8, abs=0.02)
+
+
+def test_a_missed_contact_counts_as_a_stride_of_two_steps():
+    """When one contact is lost (marker occluded), the stride around it still counts two steps."""
+    rec, truth = stepping_walk()
+    lost = truth[2]  # step 3: a right-foot contact (odd steps are right)
+    hidden = np.abs(rec.time_s - lost) < 0.3
+    rec.positions_m[hidden, rec.index_of("RHEE")] = np.nan
+    ev = events.detect_gait_events(rec)
+    assert matched(ev.contacts_s, np.delete(truth, 2))
+    assert np.min(np.abs(ev.contacts_s - lost)) > 0.3
+    assert ev.mean_step_frequency_hz == pytest.approx(1.8, abs=0.03)
+    assert len(ev.walking_segments_s) == 1
+
+
+def test_feet_are_required_and_checked():
+    """Without foot points events are an InputError; a named foot that does not exist lists the points."""
+    rec, _ = stepping_walk()
+    pelvis_only = Recording(rec.positions_m[:, :3], rec.point_names[:3], rec.time_s, up_axis="z")
+    with pytest.raises(InputError, match="no foot point"):
+        events.detect_gait_events(pelvis_only)
+    with pytest.raises(InputError, match="no point 'LTOE'"):
+        events.detect_gait_events(rec, feet={"left": "LTOE"})
+
+
+def test_velocities_mark_walking_from_steps_or_else_from_speed():
+    """GaitVelocities.walking comes from the steps when there are feet, from the pelvis speed when there are not."""
+    rec, truth = stepping_walk()
+    with_feet = yoyogait.gait_velocities(rec)
+    pelvis_only = Recording(rec.positions_m[:, :3], rec.point_names[:3], rec.time_s, up_axis="z")
+    from_speed = yoyogait.gait_velocities(pelvis_only)
+    for v in (with_feet, from_speed):
+        assert not v.walking[v.time_s < 1.5].any() and not v.walking[v.time_s > 7.6].any()
+        assert v.walking[(v.time_s > 3) & (v.time_s < 6)].all()
+    speed_mask = events.walking_from_speed(np.r_[np.zeros(50), np.ones(100), np.zeros(50)], 25.0)
+    assert not speed_mask[:40].any() and speed_mask[60:140].all() and not speed_mask[160:].any()

@@ -1,0 +1,124 @@
+"""``yoyogait inspect FILE``: the report on a good file, one error line and exit 2 on a bad one."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from yoyogait.cli import main
+from test_events import stepping_walk
+
+ezc3d = pytest.importorskip("ezc3d")
+
+
+def write_walk_c3d(path, **walk):
+    """The stepping walk of test_events as a Vicon-like C3D in mm (Z up stated in Y_SCREEN)."""
+    rec, _ = stepping_walk(**walk)
+    c = ezc3d.c3d()
+    data = np.ones((4, len(rec.point_names), rec.n_frames))
+    data[:3] = np.transpose(np.nan_to_num(rec.positions_m * 1000.0), (2, 1, 0))
+    c["parameters"]["POINT"]["RATE"]["value"] = [rec.rate_hz]
+    c["parameters"]["POINT"]["LABELS"]["value"] = rec.point_names
+    c.add_parameter("POINT", "UNITS", ["mm"])
+    c.add_parameter("POINT", "Y_SCREEN", ["+Z"])
+    c["data"]["points"] = data
+    c.write(str(path))
+    return path
+
+
+def run(capsys, *args):
+    code = main(["inspect", *map(str, args)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_inspect_reports_rate_points_pelvis_axis_walking_speed_and_step_frequency(tmp_path, capsys):
+    """inspect prints rate, duration, points, the chosen pelvis and up axis, walking time, mean speed and step frequency."""
+    path = write_walk_c3d(tmp_path / "walk.c3d", stand_before_s=1.0, walk_s=6.0, stand_after_s=1.0)
+    code, out, err = run(capsys, path)
+    assert code == 0 and err == ""
+    assert "100 Hz, 800 frames, 7.99 s" in out
+    assert "5: LASI, RASI, SACR, LHEE, RHEE" in out
+    assert "pelvis centre of LASI, RASI, SACR" in out
+    assert "z (file)" in out
+    assert "left LHEE, right RHEE" in out
+    walking_s = float(out.split("walking")[1].split()[0])
+    assert 5.5 < walking_s < 7.0
+    speed = float(out.split("mean speed")[1].split()[0])
+    assert speed == pytest.approx(0.7 * 1.8, abs=0.1)  # step length x step frequency
+    step = float(out.split("step frequency")[1].split()[0])
+    assert step == pytest.approx(1.8, abs=0.05)
+    assert "Yoyo-model -90 deg" in out
+
+
+def test_inspect_json_and_overrides(tmp_path, capsys):
+    """--json gives the same facts machine-readably; --up-axis and --point override the choices."""
+    path = write_walk_c3d(tmp_path / "walk.c3d")
+    code, out, _ = run(capsys, path, "--json", "--point", "LASI,RASI", "--up-axis", "z")
+    report = json.loads(out)
+    assert code == 0
+    assert report["point"] == "centre of LASI, RASI"
+    assert report["up_axis"] == "z" and report["up_axis_from"] == "override"
+    assert report["dft"]["step_frequency_hz"] == pytest.approx(1.8, abs=0.05)
+    assert report["dft"]["offset_sign"] in ("positive", "negative")
+
+
+def _bad_files(tmp_path):
+    good = write_walk_c3d(tmp_path / "good.c3d")
+    truncated = tmp_path / "truncated.c3d"
+    truncated.write_bytes(good.read_bytes()[:-3000])
+    corrupt = tmp_path / "corrupt.c3d"
+    corrupt.write_bytes(b"\x01P" + bytes(range(256)) * 20)
+    empty = tmp_path / "empty.trc"
+    empty.write_bytes(b"")
+    unknown = tmp_path / "walk.mp4"
+    unknown.write_bytes(b"\x00\x00")
+    no_pelvis = tmp_path / "knees.csv"
+    no_pelvis.write_text("time_s,LKNE_x,LKNE_y,LKNE_z\n" + "".join(f"{i / 100},0,0,0.5\n" for i in range(400)))
+    short = write_walk_c3d(tmp_path / "short.c3d", stand_before_s=0.0, walk_s=1.0, stand_after_s=0.0)
+    return {
+        "missing": ([tmp_path / "nothere.c3d"], "no such file"),
+        "empty": ([empty], "empty"),
+        "truncated": ([truncated], "truncated"),
+        "corrupt": ([corrupt], "not a readable C3D"),
+        "unknown extension": ([unknown], "unknown file type"),
+        "no such point": ([good, "--point", "LWRI"], "no point 'LWRI'.*available: LASI, RASI, SACR, LHEE, RHEE"),
+        "no pelvis": ([no_pelvis], "no pelvis-like point.*LKNE"),
+        "too short": ([short], "shorter than the filter needs"),
+    }
+
+
+@pytest.mark.parametrize("case", ["missing", "empty", "truncated", "corrupt", "unknown extension",
+                                  "no such point", "no pelvis", "too short"])
+def test_bad_input_is_one_error_line_and_exit_2(tmp_path, capsys, case):
+    """Each bad input prints exactly one line saying what is wrong, no traceback, and exits with 2."""
+    import re
+
+    args, message = _bad_files(tmp_path)[case]
+    code, out, err = run(capsys, *args)
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("yoyogait: error: ")
+    assert re.search(message, lines[0]), lines[0]
+
+
+def test_entry_point_prints_no_traceback(tmp_path):
+    """Through the real command line, a corrupt file gives one stderr line and exit status 2."""
+    bad = tmp_path / "bad.bvh"
+    bad.write_text("HIERARCHY\nROOT Hips\n{\n OFFSET 0 0\n")
+    proc = subprocess.run([sys.executable, "-m", "yoyogait", "inspect", str(bad)], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_inspect_on_a_real_recording_names_the_manifest_pelvis(manifest, datasets_dir, capsys):
+    """On a real Qualisys trial, inspect finds the manifest's pelvis markers and up axis by itself."""
+    entry = next(r for r in manifest["recordings"] if r["path"].endswith("Walking_Hybrid_1_1.c3d"))
+    code, out, _ = run(capsys, datasets_dir / entry["path"])
+    assert code == 0
+    assert f"pelvis centre of {', '.join(entry['pelvis'])}" in out
+    assert f"{entry['vertical_axis']} (detected)" in out
