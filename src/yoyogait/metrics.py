@@ -267,13 +267,16 @@ def parameter_error(time_s, estimated_m, true_m, *, mask=None, settle_s: float =
 
 
 def dft_step_frequency_hz(time_s, signal, *, fmin_hz: float = 0.5, fmax_hz: float = 4.0) -> float:
-    """Average step frequency of a recording: the DFT peak of ``signal`` (Hz).
+    """Average step frequency of a recording from the DFT of ``signal`` (Hz).
 
-    The paper's reference line in Fig. 3.  Use the vertical velocity (an
-    unbiased sinusoid at the step frequency).  NaN samples are filled by
-    linear interpolation; the grid must be (nearly) uniform.  The DFT is
-    zero-padded and windowed so that the peak is not limited to 1/duration.
+    The paper's reference line in Fig. 3.  Use the vertical velocity.  NaN
+    samples are filled by linear interpolation; the grid must be (nearly)
+    uniform.  The step frequency is :func:`yoyogait.spectral.step_frequency`:
+    the DFT peak, or the peak near half of it in slow walks where the pelvis
+    rises twice per step.
     """
+    from .spectral import step_frequency
+
     t = _arr(time_s, "time_s")
     y = _arr(signal, "signal")
     _same_length((t, "time_s"), (y, "signal"))
@@ -283,15 +286,7 @@ def dft_step_frequency_hz(time_s, signal, *, fmin_hz: float = 0.5, fmax_hz: floa
     first, last = np.flatnonzero(good)[[0, -1]]
     t, y, good = t[first:last + 1], y[first:last + 1], good[first:last + 1]
     y = np.interp(t, t[good], y[good])
-    dt = float(np.median(np.diff(t)))
-    y = (y - y.mean()) * np.hanning(y.size)
-    n_fft = int(2 ** np.ceil(np.log2(16 * y.size)))
-    spectrum = np.abs(np.fft.rfft(y, n_fft))
-    freqs = np.fft.rfftfreq(n_fft, dt)
-    band = (freqs >= fmin_hz) & (freqs <= fmax_hz)
-    if not band.any():
-        return float("nan")
-    return float(freqs[band][np.argmax(spectrum[band])])
+    return step_frequency(y, 1.0 / float(np.median(np.diff(t))), min_hz=fmin_hz, max_hz=fmax_hz)
 
 
 def step_frequency_from_contacts(contact_times_s, time_s, *, max_step_s: float = 1.5) -> np.ndarray:

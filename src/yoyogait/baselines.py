@@ -1,0 +1,120 @@
+"""Baselines to compare the estimator against, with the same result type.
+
+* ``sliding-dft``: an offline, non-causal bound.  Around every sample, a
+  centred window of the vertical velocity gives the step frequency (the peak
+  of its DFT, refined on a fine grid), and a least-squares fit of
+  ``v_x = A0 + a cos(wt) + b sin(wt)``, ``v_z = c cos(wt) + d sin(wt)`` over
+  the same window gives the bias, the oscillation and the reconstruction.  It
+  sees the future, so no causal filter can be expected to beat it.
+* ``oscillator``: an adaptive frequency oscillator, see
+  :mod:`yoyogait.oscillator`.
+
+Each runner takes :class:`~yoyogait.velocities.GaitVelocities` and returns an
+:class:`~yoyogait.estimator.EstimateResult`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .estimator import EstimateResult
+
+__all__ = ["sliding_dft", "RUNNERS"]
+
+TWO_PI = 2.0 * np.pi
+
+
+def _result(omega_rad_s, a0, cos_part, sin_part, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, time_s):
+    """An EstimateResult from per-sample fit values (state in the paper's form, eq. 5)."""
+    n = omega_rad_s.size
+    w = omega_rad_s * T
+    a1 = np.hypot(cos_part, sin_part)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        R_m = np.where(omega_rad_s > 0, a0 / omega_rad_s, np.nan)
+        r_m = np.where(omega_rad_s > 0, a1 / omega_rad_s, np.nan)
+    nan = np.full(n, np.nan)
+    return EstimateResult(
+        state=np.column_stack([cos_part, sin_part, w, a0]),
+        vx_hat=vx_hat, vz_hat=vz_hat, R_hat_mps=R_m / T, r_hat_mps=r_m / T, R_m=R_m, r_m=r_m,
+        omega_rad_s=omega_rad_s, step_frequency_hz=omega_rad_s / TWO_PI, step_frequency_std_hz=nan,
+        speed_mps=a0, speed_std_mps=nan, A0_mps=a0, A1_mps=a1,
+        status=np.zeros(n, dtype=np.uint8), parameters_updated=np.ones(n, dtype=bool),
+        sample_time_s=T, predict_ahead_s=tuple(horizons), vx_pred=vx_pred, vz_pred=vz_pred, time_s=time_s)
+
+
+def sliding_dft(time_s, vx, vz, *, window_s: float = 4.0, min_hz: float = 0.5, max_hz: float = 4.0,
+                resolution_hz: float = 0.01, predict_ahead_s=(0.04, 0.2)) -> EstimateResult:
+    """The offline sliding-DFT estimate on a uniform grid (see the module doc).
+
+    Samples whose window holds fewer than half known values get NaN.
+    """
+    t = np.asarray(time_s, dtype=float)
+    vx = np.asarray(vx, dtype=float)
+    vz = np.asarray(vz, dtype=float)
+    n = t.size
+    T = float(np.median(np.diff(t))) if n > 1 else 0.04
+    half = max(2, int(round(window_s / (2 * T))))
+    freqs = np.arange(min_hz, max_hz + resolution_hz / 2, resolution_hz)
+    offsets = np.arange(-half, half + 1)
+    idx = np.clip(np.arange(n)[:, None] + offsets[None, :], 0, n - 1)
+    inside = (np.arange(n)[:, None] + offsets[None, :] >= 0) & (np.arange(n)[:, None] + offsets[None, :] < n)
+    wx, wz = vx[idx], vz[idx]
+    known = inside & np.isfinite(wx) & np.isfinite(wz)
+    enough = known.sum(axis=1) >= offsets.size // 2
+    wz0 = np.where(known, wz, 0.0)
+    wz0 = np.where(known, wz0 - wz0.sum(1, keepdims=True) / np.maximum(known.sum(1, keepdims=True), 1), 0.0)
+    tau = offsets * T  # time relative to the window's centre
+    hann = 0.5 + 0.5 * np.cos(np.pi * offsets / (half + 1))
+    basis = np.exp(-1j * TWO_PI * freqs[None, :] * tau[:, None])  # (window, freqs)
+    power = np.abs((wz0 * hann) @ basis) ** 2
+    k = np.argmax(power, axis=1)
+    # Parabolic refinement of the peak on the grid.
+    km, kp = np.clip(k - 1, 0, freqs.size - 1), np.clip(k + 1, 0, freqs.size - 1)
+    rows = np.arange(n)
+    p0, pm, pp = power[rows, k], power[rows, km], power[rows, kp]
+    denom = pm - 2 * p0 + pp
+    shift = np.where((denom < 0) & (k > 0) & (k < freqs.size - 1), 0.5 * (pm - pp) / np.where(denom == 0, 1, denom), 0)
+    f = freqs[k] + shift * resolution_hz
+    omega = TWO_PI * f
+    # Least squares of [1, cos, sin] over the window, weighted by 'known'.
+    c = np.cos(omega[:, None] * tau[None, :])
+    s = np.sin(omega[:, None] * tau[None, :])
+    m = known.astype(float)
+    ones = m
+    G = np.stack([np.stack([(ones).sum(1), (c * m).sum(1), (s * m).sum(1)], -1),
+                  np.stack([(c * m).sum(1), (c * c * m).sum(1), (c * s * m).sum(1)], -1),
+                  np.stack([(s * m).sum(1), (c * s * m).sum(1), (s * s * m).sum(1)], -1)], 1)
+    G += 1e-9 * np.eye(3)
+    wx0 = np.where(known, wx, 0.0)
+    wz1 = np.where(known, wz, 0.0)
+    bx = np.stack([wx0.sum(1), (c * wx0).sum(1), (s * wx0).sum(1)], -1)
+    bz = np.stack([wz1.sum(1), (c * wz1).sum(1), (s * wz1).sum(1)], -1)
+    px = np.linalg.solve(G, bx[..., None])[..., 0]
+    pz = np.linalg.solve(G, bz[..., None])[..., 0]
+    a0, ax, bxs = px[:, 0], px[:, 1], px[:, 2]
+    az, bzs = pz[:, 1], pz[:, 2]
+    vx_hat = a0 + ax
+    vz_hat = pz[:, 0] + az
+    horizons = tuple(float(h) for h in predict_ahead_s)
+    vx_pred = np.empty((n, len(horizons)))
+    vz_pred = np.empty((n, len(horizons)))
+    for j, h in enumerate(horizons):
+        ch, sh = np.cos(omega * h), np.sin(omega * h)
+        vx_pred[:, j] = a0 + ax * ch + bxs * sh
+        vz_pred[:, j] = pz[:, 0] + az * ch + bzs * sh
+    bad = ~enough
+    for arr in (omega, a0, vx_hat, vz_hat, az, bzs):
+        arr[bad] = np.nan
+    vx_pred[bad] = np.nan
+    vz_pred[bad] = np.nan
+    # In the paper's state, v_z = -x2: the oscillation's phasor at the sample is (x1, x2) with x2 = -v_z part.
+    return _result(omega, a0, ax, -az, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, t)
+
+
+def _sliding_dft_runner(vel):
+    from .evaluation import PREDICTION_HORIZONS_S
+
+    return sliding_dft(vel.time_s, vel.vx, vel.vz, predict_ahead_s=PREDICTION_HORIZONS_S)
+
+
+RUNNERS = {"sliding-dft": _sliding_dft_runner}
