@@ -12,6 +12,8 @@ import importlib
 
 __version__ = "0.1.0"
 
+_SUBMODULES = ("io", "synthetic", "metrics", "evaluation", "plots", "events", "spectral", "baselines")
+
 _LAZY = {
     "GaitEstimator": "estimator",
     "EstimatorConfig": "estimator",
@@ -22,6 +24,8 @@ _LAZY = {
     "GaitVelocities": "velocities",
     "Recording": "io",
     "read": "io",
+    "dft_check": "spectral",
+    "detect_gait_events": "events",
     "YoyogaitError": "errors",
     "InputError": "errors",
 }
@@ -30,6 +34,8 @@ __all__ = sorted(_LAZY) + ["__version__"]
 
 
 def __getattr__(name: str):
+    if name in _SUBMODULES:
+        return importlib.import_module(f".{name}", __name__)
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'yoyogait' has no attribute {name!r}")
