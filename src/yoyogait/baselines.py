@@ -5,7 +5,10 @@
   of its DFT, refined on a fine grid), and a least-squares fit of
   ``v_x = A0 + a cos(wt) + b sin(wt)``, ``v_z = c cos(wt) + d sin(wt)`` over
   the same window gives the bias, the oscillation and the reconstruction.  It
-  sees the future, so no causal filter can be expected to beat it.
+  sees the future, so no causal filter can be expected to beat it.  Where the
+  spectrum has a peak near half the strongest one (the pelvis rises twice per
+  step in slow walks), that one is the step frequency, as in
+  :func:`yoyogait.spectral.step_frequency`.
 * ``oscillator``: an adaptive frequency oscillator, see
   :mod:`yoyogait.oscillator`.
 
@@ -68,9 +71,19 @@ def sliding_dft(time_s, vx, vz, *, window_s: float = 4.0, min_hz: float = 0.5, m
     basis = np.exp(-1j * TWO_PI * freqs[None, :] * tau[:, None])  # (window, freqs)
     power = np.abs((wz0 * hann) @ basis) ** 2
     k = np.argmax(power, axis=1)
+    # As yoyogait.spectral.step_frequency: in slow walks the pelvis rises twice per step, so a peak
+    # near half the strongest one, at least half as tall in magnitude, is the step frequency.
+    f_top = freqs[k]
+    near_half = (freqs[None, :] >= np.maximum(min_hz, 0.85 * f_top / 2)[:, None]) & \
+                (freqs[None, :] <= (1.15 * f_top / 2)[:, None])
+    is_peak = np.zeros(power.shape, dtype=bool)
+    is_peak[:, 1:-1] = (power[:, 1:-1] >= power[:, :-2]) & (power[:, 1:-1] > power[:, 2:])
+    candidate = np.where(near_half & is_peak, power, -np.inf)
+    k_half = np.argmax(candidate, axis=1)
+    rows = np.arange(n)
+    k = np.where(candidate[rows, k_half] >= 0.25 * power[rows, k], k_half, k)
     # Parabolic refinement of the peak on the grid.
     km, kp = np.clip(k - 1, 0, freqs.size - 1), np.clip(k + 1, 0, freqs.size - 1)
-    rows = np.arange(n)
     p0, pm, pp = power[rows, k], power[rows, km], power[rows, kp]
     denom = pm - 2 * p0 + pp
     shift = np.where((denom < 0) & (k > 0) & (k < freqs.size - 1), 0.5 * (pm - pp) / np.where(denom == 0, 1, denom), 0)

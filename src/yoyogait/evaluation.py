@@ -225,7 +225,11 @@ def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndar
 
 
 def real_reference(recording, vel, item: Item):
-    """(step frequency, stride-averaged speed, walking) on the velocity grid, from gait events."""
+    """(step frequency, stride-averaged speed, walking) on the velocity grid, from gait events.
+
+    The step frequency is the cadence from the foot contacts with left-right alternation averaged
+    out (:func:`yoyogait.metrics.step_frequency_from_contacts` with ``stride_average``).
+    """
     from . import events, metrics
 
     t = vel.time_s
@@ -236,7 +240,7 @@ def real_reference(recording, vel, item: Item):
     except InputError:
         ev = None
     if ev is not None and len(ev.contacts_s) >= 2:
-        f_ref = metrics.step_frequency_from_contacts(ev.contacts_s, t)
+        f_ref = metrics.step_frequency_from_contacts(ev.contacts_s, t, stride_average=True)
         in_walk = np.zeros(t.shape, dtype=bool)
         for a, b in np.asarray(ev.walking_segments_s).reshape(-1, 2):
             in_walk |= (t >= a) & (t <= b)

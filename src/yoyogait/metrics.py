@@ -289,18 +289,42 @@ def dft_step_frequency_hz(time_s, signal, *, fmin_hz: float = 0.5, fmax_hz: floa
     return step_frequency(y, 1.0 / float(np.median(np.diff(t))), min_hz=fmin_hz, max_hz=fmax_hz)
 
 
-def step_frequency_from_contacts(contact_times_s, time_s, *, max_step_s: float = 1.5) -> np.ndarray:
+def step_frequency_from_contacts(contact_times_s, time_s, *, max_step_s: float = 1.5,
+                                 stride_average: bool = False) -> np.ndarray:
     """Reference step frequency (Hz) on ``time_s`` from heel strikes of both feet.
 
     Between two successive heel strikes (either foot) the step frequency is
     1 / their interval; NaN before the first and after the last strike and
     over intervals longer than ``max_step_s`` (standing, or a missed event).
+
+    With ``stride_average`` each interval is first replaced by
+    0.5 * its own + 0.25 * each neighbour's (where the neighbours are steps too):
+    left-right asymmetry makes step intervals alternate (0.52, 0.58, 0.52 s...)
+    at a constant cadence, and this average of a step and the two strides
+    around it takes the alternation out while following a changing cadence.
     """
     c = np.sort(_arr(contact_times_s, "contact_times_s"))
     t = _arr(time_s, "time_s")
     out = np.full(t.shape, np.nan)
     if c.size < 2:
         return out
+    i = np.searchsorted(c, t, side="right") - 1
+    inside = (i >= 0) & (i < c.size - 1)
+    interval = np.diff(c)
+    step = interval <= max_step_s
+    if stride_average and interval.size >= 2:
+        prev = np.concatenate(([np.nan], interval[:-1]))
+        prev_ok = np.concatenate(([False], step[:-1]))
+        nxt = np.concatenate((interval[1:], [np.nan]))
+        nxt_ok = np.concatenate((step[1:], [False]))
+        both = prev_ok & nxt_ok
+        smoothed = np.where(both, 0.5 * interval + 0.25 * (np.where(prev_ok, prev, 0) + np.where(nxt_ok, nxt, 0)),
+                            np.where(prev_ok, 0.5 * (interval + np.where(prev_ok, prev, 0)),
+                                     np.where(nxt_ok, 0.5 * (interval + np.where(nxt_ok, nxt, 0)), interval)))
+        interval = smoothed
+    f = np.where(step, 1.0 / interval, np.nan)
+    out[inside] = f[i[inside]]
+    return out
     i = np.searchsorted(c, t, side="right") - 1
     inside = (i >= 0) & (i < c.size - 1)
     interval = np.diff(c)

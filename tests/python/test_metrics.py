@@ -185,6 +185,16 @@ def test_step_frequency_from_contacts_by_hand():
     np.testing.assert_allclose(f, [NAN, 2.0, 2.0, 1 / 0.6, NAN, NAN])
 
 
+def test_stride_average_removes_left_right_alternation():
+    """Alternating step intervals (0.5, 0.6 s) at a constant cadence give 1/0.55 Hz inside with stride_average."""
+    contacts = np.cumsum([0.0] + [0.5, 0.6] * 10)
+    t = np.linspace(contacts[1] + 0.01, contacts[-2] - 0.01, 200)
+    raw = mt.step_frequency_from_contacts(contacts, t)
+    avg = mt.step_frequency_from_contacts(contacts, t, stride_average=True)
+    assert np.ptp(raw) > 0.3
+    np.testing.assert_allclose(avg, 1 / 0.55, rtol=1e-12)
+
+
 def test_synthetic_contacts_give_the_true_step_frequency():
     """Step frequency from the synthetic heel strikes matches the truth (they are timed from theta)."""
     tr = sy.make_walk(sy.SUBJECTS[1], "2-fast-slow-fast").truth
