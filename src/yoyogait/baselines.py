@@ -130,4 +130,11 @@ def _sliding_dft_runner(vel):
     return sliding_dft(vel.time_s, vel.vx, vel.vz, predict_ahead_s=PREDICTION_HORIZONS_S)
 
 
-RUNNERS = {"sliding-dft": _sliding_dft_runner}
+def _oscillator_runner(vel):
+    from .evaluation import PREDICTION_HORIZONS_S
+    from .oscillator import run_oscillator
+
+    return run_oscillator(vel.time_s, vel.vx, vel.vz, predict_ahead_s=PREDICTION_HORIZONS_S)
+
+
+RUNNERS = {"oscillator": _oscillator_runner, "sliding-dft": _sliding_dft_runner}
