@@ -29,7 +29,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
-from .recording import Recording, check_readable, uniform_time
+from .recording import Recording, read_text, uniform_time
 
 __all__ = ["read_bvh", "infer_length_unit", "CANDIDATE_UNITS_M", "PELVIS_HEIGHT_M"]
 
@@ -64,11 +64,7 @@ def read_bvh(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     ``up_axis`` is only used to infer the length unit when the detection
     would be wrong; :func:`yoyogait.io.read` sets the recording's up axis itself.
     """
-    p = check_readable(path)
-    try:
-        text = p.read_text(encoding="utf-8", errors="replace")
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    p, text = read_text(path)
     joints, motion_lines, frames_announced, frame_time = _parse(text, str(p))
 
     n_channels = sum(len(j.channels) for j in joints)

@@ -34,7 +34,7 @@ import re
 import numpy as np
 
 from ..errors import InputError
-from .recording import AXES, Recording, check_readable, uniform_time
+from .recording import AXES, Recording, read_text, uniform_time
 
 __all__ = ["read_csv"]
 
@@ -45,11 +45,7 @@ _POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])$")
 
 def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
     """Read a CSV of point positions or of ready velocities."""
-    p = check_readable(path)
-    try:
-        text = p.read_text(encoding="utf-8-sig", errors="replace")
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    p, text = read_text(path, encoding="utf-8-sig")
     lines = text.splitlines()
 
     settings: dict[str, str] = {}

@@ -124,6 +124,17 @@ def check_readable(path) -> Path:
     return p
 
 
+def read_text(path, encoding: str = "utf-8") -> tuple[Path, str]:
+    """(path, its text) of a readable text file; undecodable bytes become U+FFFD, errors InputError."""
+    from ..errors import InputError
+
+    p = check_readable(path)
+    try:
+        return p, p.read_text(encoding=encoding, errors="replace")
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+
+
 def uniform_time(n_frames: int, rate_hz: float, start_s: float = 0.0) -> np.ndarray:
     """Timestamps of ``n_frames`` samples at ``rate_hz`` from ``start_s``."""
     return start_s + np.arange(n_frames, dtype=float) / float(rate_hz)

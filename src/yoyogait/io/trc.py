@@ -22,18 +22,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, check_readable, length_unit_m as unit_of, uniform_time
+from .recording import Recording, length_unit_m as unit_of, read_text, uniform_time
 
 __all__ = ["read_trc"]
 
 
 def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
     """Read the markers of a TRC file."""
-    p = check_readable(path)
-    try:
-        text = p.read_text(encoding="utf-8", errors="replace")
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    p, text = read_text(path)
     lines = text.splitlines()
     if len(lines) < 5 or not lines[0].startswith("PathFileType"):
         raise InputError(f"{p}: not a TRC file (it must start with a PathFileType line and a 5-line header)")
