@@ -1,4 +1,5 @@
-// Native step loop of the estimator, single stream: median ns per sample over repeated runs.
+// Native step loop of the estimator, single stream, both presets: median ns per sample over
+// repeated runs, the presets interleaved so that both see the same machine load.
 // Usage: bench_step SIGNAL.f64 [REPEATS]  (SIGNAL: vx then vz, float64, as written by bench/run.py)
 #include <algorithm>
 #include <chrono>
@@ -8,6 +9,27 @@
 #include <vector>
 
 #include "yoyogait/estimator.hpp"
+
+namespace {
+
+// Every estimate is stored whole, as a control loop would use it; otherwise the compiler could
+// drop the fields nobody reads.
+double time_once(const yoyogait::EstimatorConfig& cfg, const double* vx, const double* vz, std::size_t n,
+                 std::vector<yoyogait::Estimate>& ring, double& sink) {
+  yoyogait::Estimator est(cfg);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < n; ++i) ring[i & 1023] = est.step(vx[i], vz[i]);
+  for (const auto& e : ring) sink += e.vx_hat_mps + e.step_frequency_std_hz + e.speed_std_mps + e.R_m;
+  const auto t1 = std::chrono::steady_clock::now();
+  return std::chrono::duration<double, std::nano>(t1 - t0).count() / static_cast<double>(n);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
@@ -28,23 +50,18 @@ int main(int argc, char** argv) {
   const double* vz = signal.data() + n;
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 31;
 
-  std::vector<double> ns;
+  const yoyogait::EstimatorConfig paper = yoyogait::EstimatorConfig::paper();
+  const yoyogait::EstimatorConfig gait{};  // the default estimator
+  std::vector<double> ns_paper, ns_default;
   double sink = 0.0;
-  // Every estimate is stored whole, as a control loop would use it; otherwise the compiler could
-  // drop the fields nobody reads.
   std::vector<yoyogait::Estimate> ring(1024);
   for (int r = 0; r < repeats; ++r) {
-    yoyogait::Estimator est(yoyogait::EstimatorConfig::paper());
-    const auto t0 = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < n; ++i) {
-      ring[i & 1023] = est.step(vx[i], vz[i]);
-    }
-    for (const auto& e : ring) sink += e.vx_hat_mps + e.step_frequency_std_hz + e.speed_std_mps + e.R_m;
-    const auto t1 = std::chrono::steady_clock::now();
-    ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / static_cast<double>(n));
+    ns_paper.push_back(time_once(paper, vx, vz, n, ring, sink));
+    ns_default.push_back(time_once(gait, vx, vz, n, ring, sink));
   }
-  std::sort(ns.begin(), ns.end());
-  std::printf("cpp_step_ns_median=%.2f cpp_step_ns_min=%.2f samples=%zu repeats=%d sink=%g\n", ns[ns.size() / 2],
-              ns.front(), n, repeats, sink);
+  std::printf("cpp_step_ns_median_paper=%.2f cpp_step_ns_min_paper=%.2f cpp_step_ns_median_default=%.2f "
+              "cpp_step_ns_min_default=%.2f samples=%zu repeats=%d sink=%g\n",
+              median(ns_paper), *std::min_element(ns_paper.begin(), ns_paper.end()), median(ns_default),
+              *std::min_element(ns_default.begin(), ns_default.end()), n, repeats, sink);
   return 0;
 }

@@ -2,10 +2,15 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
 
 #include <cstdint>
 #include <cstdlib>
 #include <new>
+#include <optional>
+#include <string>
 #include <vector>
 #ifdef __linux__
 #include <sys/mman.h>
@@ -73,21 +78,32 @@ class Block {
   nb::capsule owner_;
 };
 
-nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons) {
+// The estimates of a run. Written for both algorithms: state, the physical estimates, status.
+// The gait filter's own outputs (its 8-state, the harmonic reconstruction, lambda, the detector
+// flags) are written only for it: for the paper they carry nothing new (see yoyogait::Estimate)
+// and every byte per sample costs run() time (first touch of fresh memory dominates).
+template <bool kGait>
+nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
+                  const double* pdt) {
+  constexpr std::size_t kG = kGait ? yoyogait::gait::kDim : 0;
+  constexpr std::size_t kExtra = kGait ? 3 : 0;  // vx_hat_h2, vz_hat_h2, std_scale
   const std::size_t n = vx.shape(0);
-  if (vz.shape(0) != n) throw nb::value_error("vx and vz must have the same length");
   const std::size_t nh = horizons.shape(0);
   const std::size_t nhc = nh ? nh : 1;
-  Block block(n * (sizeof(double) * (yoyogait::kStateDim + 13 + 2 * nhc) + 2) + 64);
+  Block block(n * (sizeof(double) * (yoyogait::kStateDim + kG + 13 + kExtra + 2 * nhc) + 4) + 64);
   auto state = block.take<double>(n, yoyogait::kStateDim);
   auto vx_hat = block.take<double>(n), vz_hat = block.take<double>(n), R_hat = block.take<double>(n);
   auto r_hat = block.take<double>(n), R_m = block.take<double>(n), r_m = block.take<double>(n);
   auto omega = block.take<double>(n), f = block.take<double>(n), f_std = block.take<double>(n);
   auto speed = block.take<double>(n), speed_std = block.take<double>(n);
   auto a0 = block.take<double>(n), a1 = block.take<double>(n);
+  auto gstate = block.take<double>(kGait ? n : 0, kG);
+  auto vx_h2 = block.take<double>(kGait ? n : 0), vz_h2 = block.take<double>(kGait ? n : 0);
+  auto scale = block.take<double>(kGait ? n : 0);
   auto pvx = block.take<double>(n, nhc), pvz = block.take<double>(n, nhc);
   auto status = block.take<std::uint8_t>(n);
   auto updated = block.take<bool>(n);
+  auto walking = block.take<bool>(kGait ? n : 0), acquiring = block.take<bool>(kGait ? n : 0);
   const double* px = vx.data();
   const double* pz = vz.data();
   const double* ph = horizons.data();
@@ -97,7 +113,7 @@ nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, con
     // otherwise alias the estimator's members and force a reload after each one.
     yoyogait::Estimator local = est;
     for (std::size_t i = 0; i < n; ++i) {
-      const Estimate e = local.step(px[i], pz[i]);
+      const Estimate e = pdt ? local.step(px[i], pz[i], pdt[i]) : local.step(px[i], pz[i]);
       for (std::size_t j = 0; j < yoyogait::kStateDim; ++j) state.data[i * yoyogait::kStateDim + j] = e.state[j];
       vx_hat.data[i] = e.vx_hat_mps;
       vz_hat.data[i] = e.vz_hat_mps;
@@ -114,6 +130,14 @@ nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, con
       a1.data[i] = e.A1_mps;
       status.data[i] = static_cast<std::uint8_t>(e.status);
       updated.data[i] = e.parameters_updated;
+      if constexpr (kGait) {
+        for (std::size_t j = 0; j < kG; ++j) gstate.data[i * kG + j] = e.gait_state[j];
+        vx_h2.data[i] = e.vx_hat_h2_mps;
+        vz_h2.data[i] = e.vz_hat_h2_mps;
+        scale.data[i] = e.std_scale;
+        walking.data[i] = e.walking;
+        acquiring.data[i] = e.acquiring;
+      }
       for (std::size_t j = 0; j < nh; ++j) {
         const yoyogait::Velocity v = local.predict_ahead(ph[j]);
         pvx.data[i * nh + j] = v.vx_mps;
@@ -139,11 +163,30 @@ nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, con
   out["A1_mps"] = a1.array;
   out["status"] = status.array;
   out["parameters_updated"] = updated.array;
+  if constexpr (kGait) {
+    out["gait_state"] = gstate.array;
+    out["vx_hat_h2"] = vx_h2.array;
+    out["vz_hat_h2"] = vz_h2.array;
+    out["std_scale"] = scale.array;
+    out["walking"] = walking.array;
+    out["acquiring"] = acquiring.array;
+  }
   if (nh) {
     out["vx_pred"] = pvx.array;
     out["vz_pred"] = pvz.array;
   }
   return out;
+}
+
+
+nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
+             const std::optional<InArray>& dt) {
+  const std::size_t n = vx.shape(0);
+  if (vz.shape(0) != n) throw nb::value_error("vx and vz must have the same length");
+  if (dt && dt->shape(0) != n) throw nb::value_error("dt_s must have the length of vx");
+  const double* pdt = dt ? dt->data() : nullptr;
+  if (est.algorithm() == yoyogait::Algorithm::kPaper) return run_impl<false>(est, vx, vz, horizons, pdt);
+  return run_impl<true>(est, vx, vz, horizons, pdt);
 }
 
 nb::dict yoyo_trajectory(double R_m, double r_m, double z0_m, const InArray& time_s, const InArray& f_hz,
@@ -171,11 +214,23 @@ nb::dict yoyo_trajectory(double R_m, double r_m, double z0_m, const InArray& tim
   return out;
 }
 
-nb::object matrix(const yoyogait::Matrix4& m) {
-  auto out = owned<double>(4, 4);
-  for (std::size_t i = 0; i < 4; ++i)
-    for (std::size_t j = 0; j < 4; ++j) out.data[i * 4 + j] = m[i][j];
+template <class M>
+nb::object matrix(const M& m) {
+  const std::size_t k = m.size();
+  auto out = owned<double>(k, k);
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t j = 0; j < k; ++j) out.data[i * k + j] = m[i][j];
   return out.array;
+}
+
+const char* algorithm_name(yoyogait::Algorithm a) {
+  return a == yoyogait::Algorithm::kPaper ? "paper" : "gait_filter";
+}
+
+yoyogait::Algorithm algorithm_from(const std::string& name) {
+  if (name == "paper") return yoyogait::Algorithm::kPaper;
+  if (name == "gait_filter") return yoyogait::Algorithm::kGaitFilter;
+  throw nb::value_error(("algorithm must be 'paper' or 'gait_filter', got '" + name + "'").c_str());
 }
 
 }  // namespace
@@ -191,18 +246,54 @@ NB_MODULE(_core, m) {
         const char* e = c.validate();
         return e ? nb::cast(e) : nb::none();
       })
+      .def_prop_rw(
+          "algorithm", [](const EstimatorConfig& c) { return std::string(algorithm_name(c.algorithm)); },
+          [](EstimatorConfig& c, const std::string& name) { c.algorithm = algorithm_from(name); })
+      // The bank's frequencies as one tuple (C++: bank_f_hz[0 .. bank_size)).
+      .def_prop_rw(
+          "bank_f_hz",
+          [](const EstimatorConfig& c) {
+            nb::list out;
+            for (std::size_t i = 0; i < c.bank_size && i < yoyogait::kMaxBankSize; ++i) out.append(c.bank_f_hz[i]);
+            return nb::tuple(out);
+          },
+          [](EstimatorConfig& c, const std::vector<double>& f) {
+            if (f.empty() || f.size() > yoyogait::kMaxBankSize)
+              throw nb::value_error("bank_f_hz must hold 1 to 8 frequencies");
+            c.bank_f_hz = {};
+            for (std::size_t i = 0; i < f.size(); ++i) c.bank_f_hz[i] = f[i];
+            c.bank_size = f.size();
+          })
       YOYO_FIELD(sample_time_s) YOYO_FIELD(initial_R_hat_mps) YOYO_FIELD(initial_r_hat_mps)
       YOYO_FIELD(initial_omega_rad_per_sample) YOYO_FIELD(q_oscillation_mps2) YOYO_FIELD(q_omega_rad2)
       YOYO_FIELD(q_bias_mps2) YOYO_FIELD(v_vx_mps2) YOYO_FIELD(v_vz_mps2) YOYO_FIELD(p0_oscillation_mps2)
       YOYO_FIELD(p0_omega_rad2) YOYO_FIELD(p0_bias_mps2) YOYO_FIELD(smoothing_window_samples)
-      YOYO_FIELD(gate_omega_rad_per_sample) YOYO_FIELD(gate_bias_mps) YOYO_FIELD(max_abs_velocity_mps);
+      YOYO_FIELD(gate_omega_rad_per_sample) YOYO_FIELD(gate_bias_mps) YOYO_FIELD(max_abs_velocity_mps)
+      // The gait filter.
+      YOYO_FIELD(f_min_hz) YOYO_FIELD(f_max_hz) YOYO_FIELD(bank_window_s) YOYO_FIELD(bank_forget_s)
+      YOYO_FIELD(bank_prior_f_hz) YOYO_FIELD(bank_prior_bonus_nats) YOYO_FIELD(p0_f_std_hz)
+      YOYO_FIELD(p0_phasor_std_mps) YOYO_FIELD(p0_speed_std_mps) YOYO_FIELD(p0_accel_std_mps2)
+      YOYO_FIELD(p0_omega_rate_std_rad_s2) YOYO_FIELD(spectral_init) YOYO_FIELD(spectral_init_s)
+      YOYO_FIELD(spectral_buffer_samples) YOYO_FIELD(spectral_grid_step_hz) YOYO_FIELD(spectral_f_std_hz)
+      YOYO_FIELD(spectral_phasor_std_mps) YOYO_FIELD(q_phasor_m2_per_s3) YOYO_FIELD(q_phase_rad2_per_s)
+      YOYO_FIELD(q_omega_rad2_per_s3) YOYO_FIELD(use_omega_rate) YOYO_FIELD(q_omega_rate_lo_rad2_per_s5)
+      YOYO_FIELD(q_omega_rate_hi_rad2_per_s5) YOYO_FIELD(omega_rate_ref_rad_s2) YOYO_FIELD(omega_rate_lp_tau_s)
+      YOYO_FIELD(omega_rate_tau_s) YOYO_FIELD(q_speed_m2_per_s3) YOYO_FIELD(q_accel_m2_per_s5)
+      YOYO_FIELD(accel_tau_s) YOYO_FIELD(use_harmonic) YOYO_FIELD(p0_harmonic_std_mps)
+      YOYO_FIELD(q_harmonic_m2_per_s3) YOYO_FIELD(harmonic_min_amp_mps) YOYO_FIELD(meas_vx_std_mps)
+      YOYO_FIELD(meas_vz_std_mps) YOYO_FIELD(gate_sigma) YOYO_FIELD(gate_max_consecutive) YOYO_FIELD(max_gap_s)
+      YOYO_FIELD(walk_tau_s) YOYO_FIELD(walk_speed_on_mps) YOYO_FIELD(walk_speed_off_mps)
+      YOYO_FIELD(walk_vz_rms_on_mps) YOYO_FIELD(walk_vz_rms_off_mps) YOYO_FIELD(bound_watchdog_s)
+      YOYO_FIELD(std_scale_adapt) YOYO_FIELD(std_scale_tau_s) YOYO_FIELD(std_scale_min) YOYO_FIELD(std_scale_max)
+      YOYO_FIELD(speed_std_floor_mps) YOYO_FIELD(radii_tau_s) YOYO_FIELD(initial_R_m) YOYO_FIELD(initial_r_m);
 #undef YOYO_FIELD
 
   nb::enum_<yoyogait::Status>(m, "Status", nb::is_arithmetic())
       .value("UPDATED", yoyogait::Status::kUpdated)
       .value("REJECTED_NON_FINITE", yoyogait::Status::kRejectedNonFinite)
       .value("REJECTED_NUMERICAL", yoyogait::Status::kRejectedNumerical)
-      .value("REJECTED_OUT_OF_RANGE", yoyogait::Status::kRejectedOutOfRange);
+      .value("REJECTED_OUT_OF_RANGE", yoyogait::Status::kRejectedOutOfRange)
+      .value("REJECTED_OUTLIER", yoyogait::Status::kRejectedOutlier);
 
   nb::class_<Estimate>(m, "Estimate")
       .def_prop_ro("state", [](const Estimate& e) { return e.state.x; })
@@ -219,8 +310,19 @@ NB_MODULE(_core, m) {
       .def_ro("speed_std_mps", &Estimate::speed_std_mps)
       .def_ro("A0_mps", &Estimate::A0_mps)
       .def_ro("A1_mps", &Estimate::A1_mps)
+      .def_prop_ro("gait_state", [](const Estimate& e) { return e.gait_state; })
+      .def_ro("vx_hat_h2", &Estimate::vx_hat_h2_mps)
+      .def_ro("vz_hat_h2", &Estimate::vz_hat_h2_mps)
+      .def_prop_ro("amp_z_mps", &Estimate::amp_z_mps)
+      .def_prop_ro("phase_x_rel_z_rad", &Estimate::phase_x_rel_z_rad)
+      .def_prop_ro("signed_amp_x_mps", &Estimate::signed_amp_x_mps)
+      .def_prop_ro("omega_rate_rad_s2", &Estimate::omega_rate_rad_s2)
+      .def_prop_ro("accel_mps2", &Estimate::accel_mps2)
+      .def_ro("std_scale", &Estimate::std_scale)
       .def_ro("status", &Estimate::status)
       .def_ro("parameters_updated", &Estimate::parameters_updated)
+      .def_ro("walking", &Estimate::walking)
+      .def_ro("acquiring", &Estimate::acquiring)
       .def("__repr__", [](const Estimate& e) {
         return nb::str("Estimate(step_frequency_hz={:.4f}, speed_mps={:.4f}, R_m={:.4f}, r_m={:.4f}, "
                        "vx_hat={:.4f}, vz_hat={:.4f}, status={})")
@@ -230,15 +332,19 @@ NB_MODULE(_core, m) {
 
   nb::class_<yoyogait::Estimator>(m, "Estimator")
       .def(nb::init<const EstimatorConfig&>(), "config"_a)
-      .def("step", &yoyogait::Estimator::step, "vx"_a, "vz"_a)
-      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a)
+      .def("step", nb::overload_cast<double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a)
+      .def("step", nb::overload_cast<double, double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a, "dt_s"_a)
+      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none())
       .def("reset", &yoyogait::Estimator::reset)
       .def("predict_ahead", [](const yoyogait::Estimator& e, double h) {
         const auto v = e.predict_ahead(h);
         return std::array<double, 2>{v.vx_mps, v.vz_mps};
       })
       .def_prop_ro("state", [](const yoyogait::Estimator& e) { return e.state().x; })
-      .def_prop_ro("covariance", [](const yoyogait::Estimator& e) { return matrix(e.covariance()); })
+      .def_prop_ro("gait_state", [](const yoyogait::Estimator& e) { return e.gait_state(); })
+      .def_prop_ro("covariance", [](const yoyogait::Estimator& e) {
+        return e.algorithm() == yoyogait::Algorithm::kPaper ? matrix(e.covariance()) : matrix(e.gait_covariance());
+      })
       .def_prop_ro("sample_count", &yoyogait::Estimator::sample_count)
       .def_prop_ro("config", &yoyogait::Estimator::config);
 
@@ -247,4 +353,10 @@ NB_MODULE(_core, m) {
   m.def("transition", [](std::array<double, 4> x) { return yoyogait::transition(yoyogait::State{x}).x; });
   m.def("transition_jacobian",
         [](std::array<double, 4> x) { return matrix(yoyogait::transition_jacobian(yoyogait::State{x})); });
+  m.def("gait_transition", [](const yoyogait::GaitState& x, double dt_s, double accel_decay, double rate_decay) {
+    return yoyogait::gait_transition(x, dt_s, accel_decay, rate_decay);
+  }, "x"_a, "dt_s"_a, "accel_decay"_a, "omega_rate_decay"_a);
+  m.def("gait_transition_jacobian", [](const yoyogait::GaitState& x, double dt_s, double accel_decay, double rate_decay) {
+    return matrix(yoyogait::gait_transition_jacobian(x, dt_s, accel_decay, rate_decay));
+  }, "x"_a, "dt_s"_a, "accel_decay"_a, "omega_rate_decay"_a);
 }

@@ -112,10 +112,10 @@ def test_nan_sample_is_prediction_only_and_flagged():
     _, vx, vz = yoyo_walk(5.0, noise=0.05)
     vx[[10, 20]] = np.nan
     vz[30] = np.inf
-    res = GaitEstimator().run(vx, vz)
+    res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz)
     assert set(np.flatnonzero(res.status == int(Status.REJECTED_NON_FINITE))) == {10, 20, 30}
     assert np.all(np.isfinite(res.state))
-    ok = GaitEstimator().run(vx[:10], vz[:10])
+    ok = GaitEstimator(EstimatorConfig.paper()).run(vx[:10], vz[:10])
     predicted = _core.transition(ok.state[-1].tolist())
     np.testing.assert_array_equal(res.state[10], predicted)
 
@@ -161,14 +161,19 @@ def test_mismatched_or_multidimensional_arrays_raise():
 
 
 def test_python_config_mirrors_the_cpp_struct():
-    """Every field of the C++ EstimatorConfig has a Python twin with the same default, and no more."""
+    """Every field of the C++ EstimatorConfig has a Python twin with the same default (the default
+    estimator) and the same paper() value, and no more."""
     native = _core.EstimatorConfig()
     native_fields = {n for n in dir(native) if not n.startswith("_") and n not in ("paper", "validate")}
     py_fields = {f.name for f in dataclasses.fields(EstimatorConfig)}
     assert native_fields == py_fields
-    paper = EstimatorConfig.paper()
+    default, native_paper, paper = EstimatorConfig(), _core.EstimatorConfig.paper(), EstimatorConfig.paper()
+    assert default.algorithm == "gait_filter" and paper.algorithm == "paper"
     for name in py_fields:
-        assert getattr(native, name) == getattr(paper, name), name
+        assert getattr(native, name) == getattr(default, name), name
+        assert getattr(native_paper, name) == getattr(paper, name), name
+    for name in py_fields - {"algorithm"}:  # paper() changes the algorithm only
+        assert getattr(paper, name) == getattr(default, name), name
 
 
 def test_prediction_ahead_is_aligned_to_the_sample_it_predicts():

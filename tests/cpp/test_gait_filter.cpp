@@ -1,0 +1,399 @@
+// The default estimator (gait_filter.hpp): transition and Jacobian, the structured covariance
+// propagation, convergence with the real-data phase relation, standing, gaps, outliers, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "yoyogait/estimator.hpp"
+#include "yoyogait/gait_filter.hpp"
+
+using namespace yoyogait;
+using namespace yoyogait::gait;
+
+namespace {
+
+constexpr double kPi = 3.141592653589793238462643383;
+
+struct Walk {
+  std::vector<double> t, vx, vz;
+};
+
+// Eq. 3-4 at 25 Hz with the forward oscillation shifted by phase_offset (pi: as in real walking),
+// a second harmonic of 25 % and white noise.
+Walk make_walk(double seconds, double f_hz, double speed_mps, double r_m, double phase_offset, double noise,
+               unsigned seed) {
+  const double T = 0.04;
+  const double w = 2 * kPi * f_hz;
+  const double R = speed_mps / w;
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Walk out;
+  const auto n = static_cast<std::size_t>(seconds / T);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * T;
+    const double th = w * t + 0.3;
+    const double a1 = r_m * w;
+    out.t.push_back(t);
+    out.vx.push_back(R * w + a1 * std::cos(th + phase_offset) + 0.25 * a1 * std::cos(2 * th + 1.0) + noise * nd(gen));
+    out.vz.push_back(-a1 * std::sin(th) + 0.25 * a1 * std::cos(2 * th + 2.0) + noise * nd(gen));
+  }
+  return out;
+}
+
+GaitMatrix numeric_jacobian(const GaitState& x, double dt, double a, double b) {
+  GaitMatrix J{};
+  for (std::size_t j = 0; j < kDim; ++j) {
+    const double h = 1e-6 * std::max(1.0, std::fabs(x[j]));
+    GaitState plus = x, minus = x;
+    plus[j] += h;
+    minus[j] -= h;
+    const GaitState fp = gait_transition(plus, dt, a, b), fm = gait_transition(minus, dt, a, b);
+    for (std::size_t i = 0; i < kDim; ++i) J[i][j] = (fp[i] - fm[i]) / (2 * h);
+  }
+  return J;
+}
+
+void expect_jacobian_matches(const GaitState& x, double dt, double tol) {
+  const double a = std::exp(-dt / 1.0), b = std::exp(-dt / 3.0);
+  const GaitMatrix analytic = gait_transition_jacobian(x, dt, a, b);
+  const GaitMatrix numeric = numeric_jacobian(x, dt, a, b);
+  double scale = 1.0;
+  for (double v : x) scale = std::max(scale, std::fabs(v));
+  for (std::size_t i = 0; i < kDim; ++i)
+    for (std::size_t j = 0; j < kDim; ++j)
+      EXPECT_NEAR(analytic[i][j], numeric[i][j], tol * scale) << "entry " << i << "," << j;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+TEST(GaitTransition, JacobianMatchesFiniteDifferencesOnRandomStates) {
+  // The Jacobian of the transition equals its central finite difference on random walking states.
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> amp(-0.5, 0.5), w(0.6 * 2 * kPi, 3.5 * 2 * kPi), speed(0.0, 2.5),
+      rate(-1.0, 1.0), dt(0.01, 0.1);
+  for (int n = 0; n < 200; ++n) {
+    const GaitState x{amp(gen), amp(gen), amp(gen), amp(gen), w(gen), speed(gen), rate(gen), rate(gen)};
+    expect_jacobian_matches(x, dt(gen), 1e-7);
+  }
+}
+
+TEST(GaitTransition, JacobianMatchesFiniteDifferencesNearZero) {
+  // The Jacobian is right at and near the zero state, where the oscillation vanishes.
+  expect_jacobian_matches(GaitState{}, 0.04, 1e-8);
+  expect_jacobian_matches(GaitState{1e-9, -2e-9, 3e-9, 1e-9, 1e-8, 1e-9, -1e-9, 1e-9}, 0.04, 1e-8);
+}
+
+TEST(GaitTransition, JacobianMatchesFiniteDifferencesOnLargeStates) {
+  // The Jacobian stays right for large amplitudes and for phase steps beyond pi/4 (libm path).
+  expect_jacobian_matches(GaitState{150.0, -80.0, 40.0, 90.0, 22.0, 400.0, 5.0, -3.0}, 0.04, 1e-6);
+  expect_jacobian_matches(GaitState{3e3, 1e3, -2e3, 5e2, 30.0, 1e3, -20.0, 10.0}, 0.1, 1e-6);
+}
+
+TEST(GaitPredict, StructuredPropagationEqualsDenseFPFtPlusQ) {
+  // gait_predict gives f(x) and F P F^T + Q (F at the prior x) on the upper triangle, to rounding.
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    GaitState x{0.1 * u(gen), 0.1 * u(gen), 0.1 * u(gen), 0.1 * u(gen), 11.0 + 3 * u(gen), 1.3 + 0.2 * u(gen),
+                0.1 * u(gen), 0.2 * u(gen)};
+    // A random symmetric positive-definite P = A A^T + 0.1 I.
+    GaitMatrix A{}, P{};
+    for (auto& row : A)
+      for (double& v : row) v = 0.3 * u(gen);
+    for (std::size_t i = 0; i < kDim; ++i)
+      for (std::size_t j = 0; j < kDim; ++j) {
+        for (std::size_t k = 0; k < kDim; ++k) P[i][j] += A[i][k] * A[j][k];
+        if (i == j) P[i][j] += 0.1;
+      }
+    const double dt = trial % 2 ? 0.04 : 0.013 + 0.05 * (u(gen) + 1.0);
+    const double a = std::exp(-dt / 1.0), b = std::exp(-dt / 3.0);
+    GaitProcessNoise q;
+    q.phasor = 2e-3 * dt;
+    q.phase = 0.05 * dt;
+    q.omega = 0.05 * dt;
+    q.speed = 1e-3 * dt;
+    q.accel = 1e-2 * dt;
+    const GaitMatrix F = gait_transition_jacobian(x, dt, a, b);
+    const GaitState fx = gait_transition(x, dt, a, b);
+    const double g[4] = {-fx[kX2], fx[kX1], -fx[kZ2], fx[kZ1]};
+    GaitMatrix expected{};
+    for (std::size_t i = 0; i < kDim; ++i)
+      for (std::size_t j = 0; j < kDim; ++j) {
+        for (std::size_t k = 0; k < kDim; ++k)
+          for (std::size_t l = 0; l < kDim; ++l) expected[i][j] += F[i][k] * P[k][l] * F[j][l];
+        if (i < 4 && j < 4) expected[i][j] += q.phase * g[i] * g[j] + (i == j ? q.phasor : 0.0);
+      }
+    expected[kW][kW] += q.omega;
+    expected[kA0][kA0] += q.speed;
+    expected[kDA0][kDA0] += q.accel;
+    gait_predict(x, P, dt, a, b, q);
+    for (std::size_t i = 0; i < kDim; ++i) {
+      EXPECT_NEAR(x[i], fx[i], 1e-14 * std::max(1.0, std::fabs(fx[i])));
+      for (std::size_t j = i; j < kDim; ++j) EXPECT_NEAR(P[i][j], expected[i][j], 1e-13) << i << "," << j;
+    }
+  }
+}
+
+TEST(GaitEstimator, ConvergesToThePositiveFrequencyWithTheRealPhaseRelation) {
+  // With the forward oscillation in anti-phase (offset pi), f converges to +1.8 Hz within 1 % after 5 s,
+  // and the estimated relation is the real one (phase near +pi/2, signed forward amplitude < 0).
+  const Walk w = make_walk(30.0, 1.8, 1.3, 0.02, kPi, 0.015, 3);
+  Estimator est;  // the default estimator
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    const Estimate e = est.step(w.vx[i], w.vz[i]);
+    ASSERT_GT(e.step_frequency_hz, 0.0) << "sample " << i;
+    if (w.t[i] < 5.0) continue;
+    ASSERT_NEAR(e.step_frequency_hz, 1.8, 0.018) << "sample " << i;
+    ASSERT_NEAR(e.phase_x_rel_z_rad(), kPi / 2, 0.35) << "sample " << i;
+    ASSERT_LT(e.signed_amp_x_mps(), 0.0) << "sample " << i;
+    ASSERT_TRUE(e.walking);
+    ASSERT_FALSE(e.acquiring);
+  }
+}
+
+TEST(GaitEstimator, TheYoyoRelationGivesTheMirrorPhase) {
+  // On eq. 3-4 as written (offset 0) the estimated relation is the Yoyo one: phase near -pi/2, signed amplitude > 0.
+  const Walk w = make_walk(20.0, 1.6, 1.2, 0.02, 0.0, 0.01, 4);
+  Estimator est;
+  Estimate e;
+  for (std::size_t i = 0; i < w.vx.size(); ++i) e = est.step(w.vx[i], w.vz[i]);
+  EXPECT_NEAR(e.step_frequency_hz, 1.6, 0.016);
+  EXPECT_NEAR(e.phase_x_rel_z_rad(), -kPi / 2, 0.35);
+  EXPECT_GT(e.signed_amp_x_mps(), 0.0);
+  EXPECT_NEAR(e.R_m, 1.2 / (2 * kPi * 1.6), 0.05 * 1.2 / (2 * kPi * 1.6));
+}
+
+TEST(GaitEstimator, StandingFreezesTheOscillatorAndTracksTheSpeed) {
+  // A walk at 1.8 Hz that slows down over 1 s (cadence kept, steps shortening) and stands: once the
+  // detector says standing, f is frozen near the walking cadence, the speed falls to zero without a
+  // jump, the reconstruction is (A0, 0) and R, r are frozen.
+  const double T = 0.04, w = 2 * kPi * 1.8, R = 1.3 / w, r = 0.02;
+  std::mt19937 gen(5);
+  std::normal_distribution<double> nd(0.0, 0.015);
+  Estimator est;
+  bool stopped = false;
+  double max_speed_after_stop = 0.0, R_stop = 0.0, r_stop = 0.0, f_stop = 0.0;
+  Estimate e;
+  for (int i = 0; i < 625; ++i) {
+    const double t = i * T, th = w * t;
+    const double gain = std::min(1.0, std::max(0.0, 1.0 - (t - 15.0)));
+    const double a1 = r * w * gain;
+    e = est.step(std::fabs(R * w * gain + a1 * std::cos(th + kPi) + 0.25 * a1 * std::cos(2 * th + 1) + nd(gen)),
+                 -a1 * std::sin(th) + 0.25 * a1 * std::cos(2 * th + 2) + nd(gen));
+    if (t < 15.0) {
+      ASSERT_TRUE(e.walking || t < 0.5) << t;
+      continue;
+    }
+    if (!e.walking) {
+      if (!stopped) {
+        EXPECT_NEAR(e.step_frequency_hz, 1.8, 0.05 * 1.8);
+        R_stop = e.R_m;
+        r_stop = e.r_m;
+        f_stop = e.step_frequency_hz;
+      }
+      stopped = true;
+      max_speed_after_stop = std::max(max_speed_after_stop, e.speed_mps);
+      EXPECT_EQ(e.vx_hat_mps, e.A0_mps);
+      EXPECT_EQ(e.vz_hat_mps, 0.0);
+      EXPECT_EQ(e.R_m, R_stop);
+      EXPECT_EQ(e.r_m, r_stop);
+      EXPECT_EQ(e.step_frequency_hz, f_stop);
+      EXPECT_FALSE(e.parameters_updated);
+    }
+  }
+  ASSERT_TRUE(stopped);
+  EXPECT_LT(max_speed_after_stop, 0.15);  // the detector turns off below 0.15 m/s: no jump back up
+  EXPECT_LT(e.speed_mps, 0.03);
+}
+
+TEST(GaitEstimator, RunEqualsStepByStepWithAndWithoutDt) {
+  // The batch call gives bit-identical estimates to a loop of step(), with nominal and with given time steps.
+  const Walk w = make_walk(20.0, 1.7, 1.2, 0.025, kPi, 0.05, 6);
+  std::vector<double> dt(w.t.size());
+  for (std::size_t i = 0; i < dt.size(); ++i) dt[i] = 0.04 * (1.0 + 0.3 * std::sin(static_cast<double>(i)));
+  for (int with_dt = 0; with_dt < 2; ++with_dt) {
+    Estimator a, b;
+    std::vector<Estimate> out(w.vx.size());
+    a.run(w.vx.data(), w.vz.data(), w.vx.size(), out.data(), with_dt ? dt.data() : nullptr);
+    for (std::size_t i = 0; i < w.vx.size(); ++i) {
+      const Estimate e = with_dt ? b.step(w.vx[i], w.vz[i], dt[i]) : b.step(w.vx[i], w.vz[i]);
+      ASSERT_EQ(e.gait_state, out[i].gait_state);
+      ASSERT_EQ(e.vx_hat_h2_mps, out[i].vx_hat_h2_mps);
+      ASSERT_EQ(e.step_frequency_std_hz, out[i].step_frequency_std_hz);
+      ASSERT_EQ(e.R_m, out[i].R_m);
+    }
+  }
+}
+
+TEST(GaitEstimator, ResetReturnsToTheInitialState) {
+  // After reset() the estimator repeats its first run exactly (bank, spectral seed and all).
+  const Walk w = make_walk(6.0, 1.7, 1.2, 0.025, kPi, 0.05, 7);
+  Estimator est;
+  std::vector<Estimate> first(w.vx.size()), second(w.vx.size());
+  est.run(w.vx.data(), w.vz.data(), w.vx.size(), first.data());
+  est.reset();
+  est.run(w.vx.data(), w.vz.data(), w.vx.size(), second.data());
+  for (std::size_t i = 0; i < w.vx.size(); ++i) ASSERT_EQ(first[i].gait_state, second[i].gait_state);
+}
+
+TEST(GaitEstimator, NonFiniteAndOutOfRangeChannelsAreFlaggedAndSkipped) {
+  // A NaN or infinite channel, or one above max_abs_velocity_mps, is not used and flagged; the other channel is.
+  const Walk w = make_walk(10.0, 1.8, 1.3, 0.02, kPi, 0.015, 8);
+  Estimator est;
+  for (std::size_t i = 0; i < w.vx.size(); ++i) est.step(w.vx[i], w.vz[i]);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(est.step(nan, 0.05).status, Status::kRejectedNonFinite);
+  EXPECT_EQ(est.step(1.3, inf).status, Status::kRejectedNonFinite);
+  EXPECT_EQ(est.step(1.3, 0.0, nan).status, Status::kRejectedNonFinite);   // unusable time step
+  EXPECT_EQ(est.step(1.3, 0.0, -0.04).status, Status::kRejectedNonFinite);
+  EXPECT_EQ(est.step(5e3, 0.0).status, Status::kRejectedOutOfRange);
+  const Estimate e = est.step(1.3, 0.0);
+  EXPECT_TRUE(e.status == Status::kUpdated || e.status == Status::kRejectedOutlier);
+  EXPECT_NEAR(e.step_frequency_hz, 1.8, 0.05);
+  // Before the first usable v_x nothing starts.
+  Estimator fresh;
+  EXPECT_EQ(fresh.step(nan, 0.1).status, Status::kRejectedNonFinite);
+  EXPECT_FALSE(fresh.step(nan, 0.1).walking);
+}
+
+TEST(GaitEstimator, OutliersAreFlaggedAndLeaveTheEstimateAsAMissingSample) {
+  // Single spikes of 2 m/s while walking are all reported as kRejectedOutlier (no other sample is),
+  // the state is exactly what it is with those samples missing (NaN), and f stays within 0.5 % of
+  // the spike-free run.
+  const Walk w = make_walk(40.0, 1.9, 1.4, 0.02, kPi, 0.015, 9);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Estimator clean, spiky, missing;
+  int flagged = 0, spikes = 0;
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    const bool spike = i > 250 && i % 53 == 0;
+    const Estimate a = clean.step(w.vx[i], w.vz[i]);
+    const Estimate b = spiky.step(w.vx[i] + (spike ? 2.0 : 0.0), w.vz[i] - (spike ? 2.0 : 0.0));
+    const Estimate c = missing.step(spike ? nan : w.vx[i], spike ? nan : w.vz[i]);
+    spikes += spike;
+    flagged += spike && b.status == Status::kRejectedOutlier;
+    if (i > 250) {
+      ASSERT_EQ(b.gait_state, c.gait_state) << i;
+      ASSERT_NEAR(a.step_frequency_hz, b.step_frequency_hz, 0.005 * 1.9) << i;
+      ASSERT_NEAR(a.speed_mps, b.speed_mps, 0.01) << i;
+      if (!spike) {
+        ASSERT_NE(b.status, Status::kRejectedOutlier) << i;
+      }
+    }
+  }
+  EXPECT_EQ(flagged, spikes);
+  EXPECT_GE(spikes, 10);
+}
+
+TEST(GaitEstimator, StateStaysFiniteUnderExtremeInput) {
+  // Huge, tiny, non-finite samples and time steps never make the state or covariance non-finite.
+  Estimator est;
+  const double values[] = {1e308, -1e308, 1e-308, std::numeric_limits<double>::quiet_NaN(), 1e200, -3e150, 0.0,
+                           999.0, -999.0, 1.3};
+  const double dts[] = {0.04, 1e-12, 0.0, 5.0, 1e300, std::numeric_limits<double>::infinity(), 0.04};
+  int k = 0;
+  for (int round = 0; round < 200; ++round) {
+    for (double v : values) {
+      const double dt = dts[static_cast<std::size_t>(k++) % (sizeof(dts) / sizeof(dts[0]))];
+      const Estimate e = est.step(v, -v * 0.5, dt);
+      for (double x : e.gait_state) ASSERT_TRUE(std::isfinite(x));
+      ASSERT_TRUE(std::isfinite(e.step_frequency_std_hz) && std::isfinite(e.speed_std_mps));
+      ASSERT_TRUE(std::isfinite(e.R_m) && std::isfinite(e.r_m) && std::isfinite(e.vx_hat_h2_mps));
+      ASSERT_GT(e.step_frequency_hz, 0.0);
+      for (const auto& row : est.gait_covariance())
+        for (double p : row) ASSERT_TRUE(std::isfinite(p));
+    }
+  }
+}
+
+TEST(GaitEstimator, BadConfigurationIsRejectedWithAMessage) {
+  // Each kind of bad value of the gait filter's fields throws std::invalid_argument naming the field.
+  struct Case {
+    void (*change)(EstimatorConfig&);
+    const char* field;
+  };
+  const Case cases[] = {
+      {[](EstimatorConfig& c) { c.f_min_hz = 0.0; }, "f_min_hz"},
+      {[](EstimatorConfig& c) { c.f_max_hz = 0.5; }, "f_max_hz"},
+      {[](EstimatorConfig& c) { c.bank_size = 0; }, "bank_f_hz"},
+      {[](EstimatorConfig& c) { c.bank_size = kMaxBankSize + 1; }, "bank_f_hz"},
+      {[](EstimatorConfig& c) { c.bank_f_hz[0] = 5.0; }, "bank_f_hz"},
+      {[](EstimatorConfig& c) { c.q_phase_rad2_per_s = -1.0; }, "q_phase_rad2_per_s"},
+      {[](EstimatorConfig& c) { c.meas_vz_std_mps = 0.0; }, "meas_vz_std_mps"},
+      {[](EstimatorConfig& c) { c.gate_sigma = std::numeric_limits<double>::quiet_NaN(); }, "gate_sigma"},
+      {[](EstimatorConfig& c) { c.walk_speed_off_mps = 0.5; }, "walk_speed_off_mps"},
+      {[](EstimatorConfig& c) { c.spectral_buffer_samples = 1000; }, "spectral_buffer_samples"},
+      {[](EstimatorConfig& c) { c.spectral_grid_step_hz = 0.0; }, "spectral_grid_step_hz"},
+      {[](EstimatorConfig& c) { c.accel_tau_s = 0.0; }, "accel_tau_s"},
+      {[](EstimatorConfig& c) { c.std_scale_max = 0.01; }, "std_scale_max"},
+      {[](EstimatorConfig& c) { c.algorithm = static_cast<Algorithm>(7); }, "algorithm"},
+  };
+  for (const Case& k : cases) {
+    EstimatorConfig c;
+    k.change(c);
+    const char* msg = c.validate();
+    ASSERT_NE(msg, nullptr) << k.field;
+    EXPECT_NE(std::string(msg).find(k.field), std::string::npos) << msg;
+    EXPECT_THROW(Estimator{c}, std::invalid_argument) << k.field;
+  }
+  EXPECT_EQ(EstimatorConfig{}.validate(), nullptr);
+  EXPECT_EQ(EstimatorConfig{}.algorithm, Algorithm::kGaitFilter);
+  EXPECT_EQ(EstimatorConfig::paper().algorithm, Algorithm::kPaper);
+}
+
+TEST(GaitEstimator, DtIsUsedAndADoubledSampleTimeMatches) {
+  // Dropping every other sample and giving dt = 2 T tracks the same frequency as the full-rate stream.
+  const Walk w = make_walk(30.0, 1.8, 1.3, 0.02, kPi, 0.015, 10);
+  Estimator full, half;
+  std::vector<double> f_full, f_half;
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    const Estimate a = full.step(w.vx[i], w.vz[i]);
+    if (w.t[i] > 10.0) f_full.push_back(a.step_frequency_hz);
+    if (i % 2 == 0) {
+      const Estimate b = half.step(w.vx[i], w.vz[i], 0.08);
+      if (w.t[i] > 10.0) f_half.push_back(b.step_frequency_hz);
+    }
+  }
+  EXPECT_NEAR(median(f_full), 1.8, 0.01);
+  EXPECT_NEAR(median(f_half), 1.8, 0.01);
+}
+
+TEST(GaitEstimator, PredictionAheadFollowsTheWalk) {
+  // After convergence, the 0.2 s-ahead prediction (with harmonics) matches the noise-free walk 0.2 s later.
+  const Walk w = make_walk(30.0, 1.8, 1.3, 0.02, kPi, 0.0, 11);
+  Estimator est;
+  double worst = 0.0;
+  for (std::size_t i = 0; i + 5 < w.vx.size(); ++i) {
+    est.step(w.vx[i], w.vz[i]);
+    if (w.t[i] < 15.0) continue;
+    const Velocity v = est.predict_ahead(5.0);
+    worst = std::max({worst, std::fabs(v.vx_mps - w.vx[i + 5]), std::fabs(v.vz_mps - w.vz[i + 5])});
+  }
+  EXPECT_LT(worst, 0.02);
+}
+
+TEST(GaitEstimator, PaperEstimateInTheGaitForm) {
+  // For the paper, gait_state is eq. 5 in the dual-phasor form and the derived relation is the mirror for x3 < 0.
+  Estimator est(EstimatorConfig::paper());
+  Estimate e;
+  for (int i = 0; i < 200; ++i) e = est.step(1.2 + 0.1 * std::cos(0.45 * i), -0.1 * std::sin(0.45 * i));
+  const State& x = e.state;
+  EXPECT_EQ(e.gait_state[kX1], x[kCos]);
+  EXPECT_EQ(e.gait_state[kZ1], -x[kSin]);
+  EXPECT_EQ(e.gait_state[kW], e.omega_rad_s);
+  EXPECT_EQ(e.gait_state[kA0], e.A0_mps);
+  EXPECT_NEAR(e.amp_z_mps(), e.A1_mps, 1e-15);
+  EXPECT_NEAR(std::fabs(e.phase_x_rel_z_rad()), kPi / 2, 1e-12);
+  EXPECT_EQ(e.phase_x_rel_z_rad() < 0, x[kOmega] >= 0);
+  EXPECT_EQ(e.omega_rate_rad_s2(), 0.0);
+}
