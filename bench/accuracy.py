@@ -62,11 +62,15 @@ def real_targets(e) -> list[str]:
     return rows
 
 
-def reacquisition_s(r, est) -> list[float]:
-    """Time from each resumption of walking until |f error| <= 1 % of the truth and stays (synthetic)."""
+def reacquisition_s(r, est) -> list[tuple[float, float]]:
+    """Per resumption of walking (synthetic stop-and-go): the time until |f error| <= 0.1 Hz and stays
+    so (the convergence metric of yoyogait.metrics), counted (a) from the first sample where the true
+    step frequency is above zero, which includes the lab's gait-initiation ramp up from 0 Hz, and
+    (b) from the first sample where it reaches 95 % of the segment's median cadence."""
     tr = r.item.truth.at(r.velocities.time_s)
     t = r.velocities.time_s
-    walking = np.nan_to_num(tr.step_frequency_hz) > 0
+    f_true = np.nan_to_num(tr.step_frequency_hz)
+    walking = f_true > 0
     edges = np.flatnonzero(np.diff(walking.astype(int)) == 1) + 1
     ends = np.flatnonzero(np.diff(walking.astype(int)) == -1) + 1
     out = []
@@ -74,8 +78,10 @@ def reacquisition_s(r, est) -> list[float]:
     for start in resumptions:
         end = next((e for e in ends if e > start), t.size)
         seg = slice(start, end)
-        err = np.abs(r.results[est].step_frequency_hz[seg]) - tr.step_frequency_hz[seg]
-        out.append(metrics.convergence_time_s(t[seg], err, 0.01 * np.nanmedian(tr.step_frequency_hz[seg])))
+        err = np.abs(r.results[est].step_frequency_hz[seg]) - f_true[seg]
+        onset = metrics.convergence_time_s(t[seg], err, 0.1)
+        at_cadence = start + int(np.argmax(f_true[seg] >= 0.95 * np.median(f_true[seg])))
+        out.append((onset, onset - (t[at_cadence] - t[start])))
     return out
 
 
@@ -94,8 +100,10 @@ def synthetic_targets(e) -> list[str]:
     s = np.nanmax(_values(e, "default", "speed_err_median_mps"))
     rows.append(_row("stride-averaged speed within 0.03 m/s (median per walk)", f"{s:.4f} m/s", s <= 0.03))
     times = [x for r in e.items if r.item.walk == "5-stop-and-go" for x in reacquisition_s(r, "default")]
-    rows.append(_row("re-acquisition within 2 s of walking resuming", ", ".join(f"{x:.2f} s" for x in times) or "n/a",
-                     bool(times) and max(times) <= 2.0))
+    rows.append(_row("re-acquisition within 2 s of walking resuming (to within 0.1 Hz, staying), from the onset",
+                     ", ".join(f"{a:.2f} s" for a, _ in times) or "n/a", bool(times) and max(a for a, _ in times) <= 2.0))
+    rows.append(_row("... the same, counted from when the cadence is reached (end of the gait-initiation ramp)",
+                     ", ".join(f"{b:.2f} s" for _, b in times) or "n/a", bool(times) and max(b for _, b in times) <= 2.0))
     return rows
 
 
