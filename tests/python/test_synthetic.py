@@ -336,7 +336,7 @@ def test_default_lab_is_three_subjects_by_five_walks():
 def test_subject_speeds_and_radii_are_human():
     """Built-in subjects walk at 1.2-1.45 m/s with R, r, z0 and step frequency in human ranges."""
     for s in sy.SUBJECTS:
-        assert 1.2 <= s.speed_mps <= 1.45
+        assert s.speed_mps >= 1.2 and s.speed_mps <= 1.45
         assert 0.09 <= s.R_m <= 0.15 and 0.01 <= s.r_m <= 0.03
         assert 0.85 <= s.z0_m <= 1.05 and 1.6 <= s.step_frequency_hz <= 2.1
 

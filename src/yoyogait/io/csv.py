@@ -34,7 +34,7 @@ import re
 import numpy as np
 
 from ..errors import InputError
-from .recording import AXES, Recording, read_text, uniform_time
+from .recording import AXES, Recording, number_row, read_text, uniform_time
 
 __all__ = ["read_csv"]
 
@@ -68,11 +68,7 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
             if number == body[-1][0] and len(cells) < len(header) and not text.endswith("\n"):
                 raise InputError(f"{p}: truncated CSV file: the last line stops after {len(cells)} of {len(header)} columns")
             raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header {len(header)}")
-        try:
-            rows.append([float(c) if c.strip() else np.nan for c in cells])
-        except ValueError:
-            bad = next(c for c in cells if c.strip() and not _is_number(c))
-            raise InputError(f"{p}: line {number}: {bad.strip()!r} is not a number") from None
+        rows.append(number_row(cells, p, number))
     if not rows:
         raise InputError(f"{p}: the CSV file holds no data rows")
     table = np.asarray(rows, dtype=float)
@@ -153,11 +149,3 @@ def _setting_float(settings: dict, key: str, where) -> float | None:
     if not value > 0:
         raise InputError(f"{where}: '# {key}' must be positive")
     return value
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True

@@ -135,6 +135,25 @@ def read_text(path, encoding: str = "utf-8") -> tuple[Path, str]:
         raise InputError(f"{p}: cannot read ({exc.strerror})") from None
 
 
+def number_row(cells, where, line_number: int) -> list[float]:
+    """The cells of a text row as floats, empty cells NaN; InputError naming the first bad cell."""
+    from ..errors import InputError
+
+    try:
+        return [float(c) if c.strip() else np.nan for c in cells]
+    except ValueError:
+        bad = next(c for c in cells if c.strip() and not _is_float(c))
+        raise InputError(f"{where}: line {line_number}: {bad.strip()!r} is not a number") from None
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def uniform_time(n_frames: int, rate_hz: float, start_s: float = 0.0) -> np.ndarray:
     """Timestamps of ``n_frames`` samples at ``rate_hz`` from ``start_s``."""
     return start_s + np.arange(n_frames, dtype=float) / float(rate_hz)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, length_unit_m as unit_of, read_text, uniform_time
+from .recording import Recording, length_unit_m as unit_of, number_row, read_text, uniform_time
 
 __all__ = ["read_trc"]
 
@@ -56,11 +56,7 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
         if len(cells) > n_columns and any(c.strip() for c in cells[n_columns:]):
             raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header names {n_columns}")
         cells = cells[:n_columns] + [""] * (n_columns - len(cells))
-        try:
-            rows.append([float(c) if c.strip() else np.nan for c in cells])
-        except ValueError:
-            bad = next(c for c in cells if c.strip() and not _is_number(c))
-            raise InputError(f"{p}: line {number}: {bad.strip()!r} is not a number") from None
+        rows.append(number_row(cells, p, number))
     if not rows:
         raise InputError(f"{p}: the TRC file holds no frames")
     table = np.asarray(rows, dtype=float)
@@ -108,14 +104,6 @@ def _cells(line: str) -> list[str]:
     # TRC is tab-separated, and an empty cell between two tabs is a missing value;
     # only a file without any tab falls back to whitespace.
     return line.split("\t") if "\t" in line else line.split()
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def _float(text) -> float | None:
