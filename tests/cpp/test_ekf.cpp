@@ -1,6 +1,8 @@
 // The EKF building blocks: transition, Jacobian, fast sincos, update.
 #include <gtest/gtest.h>
 
+#include "finite_difference.hpp"
+
 #include <cmath>
 #include <random>
 
@@ -11,23 +13,9 @@ using namespace yoyogait;
 
 namespace {
 
-// Central finite difference of eq. 6 with respect to entry j.
-Matrix4 numeric_jacobian(const State& s) {
-  Matrix4 J{};
-  for (std::size_t j = 0; j < kStateDim; ++j) {
-    const double h = 1e-6 * std::max(1.0, std::fabs(s[j]));
-    State plus = s, minus = s;
-    plus[j] += h;
-    minus[j] -= h;
-    const State fp = transition(plus), fm = transition(minus);
-    for (std::size_t i = 0; i < kStateDim; ++i) J[i][j] = (fp[i] - fm[i]) / (2 * h);
-  }
-  return J;
-}
-
 void expect_jacobian_matches(const State& s, double tol) {
   const Matrix4 analytic = transition_jacobian(s);
-  const Matrix4 numeric = numeric_jacobian(s);
+  const Matrix4 numeric = yoyogait::testing::central_jacobian<kStateDim>(s, [](const State& v) { return transition(v); });
   double scale = 1.0;
   for (std::size_t i = 0; i < kStateDim; ++i) scale = std::max(scale, std::fabs(s[i]));
   for (std::size_t i = 0; i < kStateDim; ++i)

@@ -2,6 +2,8 @@
 // propagation, convergence with the real-data phase relation, standing, gaps, outliers, bad input.
 #include <gtest/gtest.h>
 
+#include "finite_difference.hpp"
+
 #include <cmath>
 #include <limits>
 #include <random>
@@ -45,23 +47,11 @@ Walk make_walk(double seconds, double f_hz, double speed_mps, double r_m, double
   return out;
 }
 
-GaitMatrix numeric_jacobian(const GaitState& x, double dt, double a, double b) {
-  GaitMatrix J{};
-  for (std::size_t j = 0; j < kDim; ++j) {
-    const double h = 1e-6 * std::max(1.0, std::fabs(x[j]));
-    GaitState plus = x, minus = x;
-    plus[j] += h;
-    minus[j] -= h;
-    const GaitState fp = gait_transition(plus, dt, a, b), fm = gait_transition(minus, dt, a, b);
-    for (std::size_t i = 0; i < kDim; ++i) J[i][j] = (fp[i] - fm[i]) / (2 * h);
-  }
-  return J;
-}
-
 void expect_jacobian_matches(const GaitState& x, double dt, double tol) {
   const double a = std::exp(-dt / 1.0), b = std::exp(-dt / 3.0);
   const GaitMatrix analytic = gait_transition_jacobian(x, dt, a, b);
-  const GaitMatrix numeric = numeric_jacobian(x, dt, a, b);
+  const GaitMatrix numeric = yoyogait::testing::central_jacobian<kDim>(
+      x, [&](const GaitState& s) { return gait_transition(s, dt, a, b); });
   double scale = 1.0;
   for (double v : x) scale = std::max(scale, std::fabs(v));
   for (std::size_t i = 0; i < kDim; ++i)
