@@ -25,6 +25,7 @@ from typing import Callable
 
 import numpy as np
 
+from ._files import give_default_mode
 from .errors import InputError
 
 __all__ = [
@@ -421,6 +422,8 @@ def write_report(evaluation: Evaluation, out_dir, *, force: bool = False, figure
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
     try:
         _write(evaluation, tmp, figures=figures, progress=progress)
+        for item in (tmp, *tmp.rglob("*")):
+            give_default_mode(item)
         if out.exists():
             old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=parent))
             os.replace(out, old / out.name)

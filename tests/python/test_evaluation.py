@@ -192,3 +192,20 @@ def test_evaluate_on_three_real_recordings(manifest, datasets_dir, tmp_path):
     out = ev.write_report(result, tmp_path / "report")
     assert len(list((out / "figures").glob("*.png"))) == 6
     assert len(list(csv.DictReader(open(out / "recordings.csv")))) == 3
+
+
+def test_outputs_get_the_users_default_permissions(lab_evaluation, tmp_path):
+    """Reports and files written through a temporary name end with the permissions the umask gives, not private ones."""
+    import os
+
+    from yoyogait._files import atomic_file
+
+    mask = os.umask(0o022)
+    try:
+        out = ev.write_report(lab_evaluation, tmp_path / "report", figures=False)
+        atomic_file(tmp_path / "x.csv", lambda p: p.write_text("a\n"))
+    finally:
+        os.umask(mask)
+    assert out.stat().st_mode & 0o777 == 0o755
+    assert (out / "recordings.csv").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "x.csv").stat().st_mode & 0o777 == 0o644

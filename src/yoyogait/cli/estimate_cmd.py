@@ -2,31 +2,17 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import click
 import numpy as np
 
+from .._files import atomic_file
 from ..errors import InputError
 
 COLUMNS = ("time_s", "vx_mps", "vz_mps", "vx_hat_mps", "vz_hat_mps", "step_frequency_hz", "step_frequency_std_hz",
            "speed_mps", "speed_std_mps", "R_m", "r_m", "A0_mps", "A1_mps", "x1", "x2", "x3_rad_per_sample",
            "x4_mps", "status")
-
-
-def _atomic_write(path: Path, write) -> None:
-    """write(tmp_path) then rename, so an interrupted run leaves no half-written file."""
-    # Same extension as the target, so that writers that go by it (matplotlib) still can.
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.tmp.", suffix=path.suffix, dir=path.resolve().parent)
-    os.close(fd)
-    try:
-        write(Path(tmp))
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 @click.command("estimate")
@@ -62,11 +48,11 @@ def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, f
     table = np.column_stack([vel.time_s, vel.vx, vel.vz, res.vx_hat, res.vz_hat, res.step_frequency_hz,
                              res.step_frequency_std_hz, res.speed_mps, res.speed_std_mps, res.R_m, res.r_m,
                              res.A0_mps, res.A1_mps, state, res.status])
-    _atomic_write(out, lambda p: np.savetxt(p, table, delimiter=",", header=",".join(COLUMNS), comments="",
+    atomic_file(out, lambda p: np.savetxt(p, table, delimiter=",", header=",".join(COLUMNS), comments="",
                                             fmt=["%.4f"] + ["%.6g"] * (len(COLUMNS) - 2) + ["%d"]))
     if fig is not None:
         title = f"{stem} [{preset}]"
-        _atomic_write(fig, lambda p: plots.parameter_figure(vel.time_s, res, title=title, measured_vz_mps=vel.vz,
+        atomic_file(fig, lambda p: plots.parameter_figure(vel.time_s, res, title=title, measured_vz_mps=vel.vz,
                                                             path=p))
     f = np.abs(res.step_frequency_hz[vel.walking]) if vel.walking.any() else np.abs(res.step_frequency_hz)
     click.echo(f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
