@@ -215,14 +215,13 @@ def check_estimators(names) -> tuple:
 # --------------------------------------------------------------------------- one item
 
 def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndarray:
-    """Centred moving mean over ``window_s`` that ignores NaN (the stride-averaged speed)."""
+    """Centred moving mean over ``window_s`` that ignores NaN (the stride-averaged speed); NaN where
+    under 80 % of the window is known."""
+    from .velocities import moving_mean
+
     n = max(1, int(round(window_s * rate_hz)))
-    ok = np.isfinite(values)
-    kernel = np.ones(n)
-    s = np.convolve(np.where(ok, values, 0.0), kernel, mode="same")
-    c = np.convolve(ok.astype(float), kernel, mode="same")
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(c >= 0.8 * n, s / c, np.nan)
+    known = np.convolve(np.isfinite(values).astype(float), np.ones(n), mode="same")
+    return np.where(known >= 0.8 * n, moving_mean(values, n), np.nan)
 
 
 def real_reference(recording, vel, item: Item):
