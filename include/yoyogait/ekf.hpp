@@ -5,7 +5,9 @@
 ///   x- = f(x),            P- = F P F^T + Q                (F = df/dx at x)
 ///   y  = z - H x-,        S  = H P- H^T + V,  K = P- H^T S^-1
 ///   x+ = x- + K y,        P+ = (I - K H) P- = P- - K S K^T
-/// Both are written out for the sparse F and H of this model, so a step costs about 200 flops.
+/// Both are written out for the sparse F and H of this model and a symmetric P, so a step costs
+/// about 200 flops, and arranged so that the loop-carried chain through sin w, cos w and 1 / det(S)
+/// stays short.
 #pragma once
 
 #include <cmath>
@@ -61,80 +63,108 @@ struct Noise {
   double v_vz_mps2 = 0.0;             ///< V22
 };
 
-/// EKF prediction through eq. 6: x <- f(x), P <- F P F^T + Q, with F taken at the prior x.
-/// F differs from the identity only in its (x1, x2) rows, so only those rows and columns of P change.
-inline void predict(State& s, Matrix4& P, const std::array<double, kStateDim>& q) noexcept {
-  double sn, c;
-  sincos(s.omega_rad_per_sample(), sn, c);
-  const double x1 = s.a1_cos() * c - s.a1_sin() * sn;
-  const double x2 = s.a1_cos() * sn + s.a1_sin() * c;
-  // The omega column of F: d x1'/d w = -x2', d x2'/d w = x1'.
-  const double g0 = -x2;
-  const double g1 = x1;
-  s.a1_cos() = x1;
-  s.a1_sin() = x2;
+/// EKF prediction through eq. 6: x' = f(x), P' = F P F^T + Q, with F taken at x.
+///
+/// F = [[G, G J x12, 0], [0, 1, 0], [0, 0, 1]] with G the rotation by w and J x12 = (-x2, x1), so
+/// the (x1, x2) rows of F are G L with L = [[1, 0, -x2, 0], [0, 1, x1, 0]]. Hence
+///   P'(12, 12) = G (L P L^T) G^T,   P'(12, 34) = G (L P)(:, 34),   P'(34, 34) = P(34, 34),
+/// and L P L^T and L P are formed from the prior alone, before sin w and cos w are known: only a
+/// rotation of a 2x2 and of two 2-vectors waits for the sincos, which is on the filter's
+/// loop-carried chain.
+///
+/// Out of place (x_pred, P_pred must not alias x, P), so that each entry is stored as soon as it is
+/// computed: done in place, all of them would be held in registers until the last read of P.
+inline void predict(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q, State& x_pred,
+                    SymMatrix4& P_pred) noexcept {
+  const double x1 = x.a1_cos(), x2 = x.a1_sin();
+  // E = L P, and B = L P L^T (symmetric 2x2).
+  const double e00 = P(0, 0) - x2 * P(2, 0), e01 = P(0, 1) - x2 * P(2, 1), e02 = P(0, 2) - x2 * P(2, 2),
+               e03 = P(0, 3) - x2 * P(2, 3);
+  const double e11 = P(1, 1) + x1 * P(2, 1), e12 = P(1, 2) + x1 * P(2, 2), e13 = P(1, 3) + x1 * P(2, 3);
+  const double b00 = e00 - x2 * e02, b01 = e01 + x1 * e02, b11 = e11 + x1 * e12;
 
-  // M = F P: rows 0 and 1 change.
-  double m0[kStateDim], m1[kStateDim];
-  for (std::size_t j = 0; j < kStateDim; ++j) {
-    m0[j] = c * P[0][j] - sn * P[1][j] + g0 * P[2][j];
-    m1[j] = sn * P[0][j] + c * P[1][j] + g1 * P[2][j];
-  }
-  // P' = M F^T: columns 0 and 1 change; symmetric, so fill both halves from the same value.
-  const double p00 = c * m0[0] - sn * m0[1] + g0 * m0[2];
-  const double p01 = sn * m0[0] + c * m0[1] + g1 * m0[2];
-  const double p11 = sn * m1[0] + c * m1[1] + g1 * m1[2];
-  P[0][0] = p00 + q[0];
-  P[0][1] = P[1][0] = p01;
-  P[1][1] = p11 + q[1];
-  for (std::size_t j = 2; j < kStateDim; ++j) {
-    P[0][j] = P[j][0] = m0[j];
-    P[1][j] = P[j][1] = m1[j];
-  }
-  P[2][2] += q[2];
-  P[3][3] += q[3];
+  double sn, c;
+  sincos(x.omega_rad_per_sample(), sn, c);
+  x_pred.a1_cos() = x1 * c - x2 * sn;
+  x_pred.a1_sin() = x1 * sn + x2 * c;
+  x_pred.omega_rad_per_sample() = x.omega_rad_per_sample();
+  x_pred.bias_mps() = x.bias_mps();
+  const double cc = c * c, ss = sn * sn, cs = c * sn;
+  // G B G^T + Q(12): q enters first, the late products last.
+  P_pred(0, 0) = (q[kCos] + cc * b00) + (ss * b11 - (cs + cs) * b01);
+  P_pred(0, 1) = cs * (b00 - b11) + (cc - ss) * b01;
+  P_pred(1, 1) = (q[kSin] + ss * b00) + (cc * b11 + (cs + cs) * b01);
+  // G E(:, 34).
+  P_pred(0, 2) = c * e02 - sn * e12;
+  P_pred(1, 2) = sn * e02 + c * e12;
+  P_pred(0, 3) = c * e03 - sn * e13;
+  P_pred(1, 3) = sn * e03 + c * e13;
+  P_pred(2, 2) = P(2, 2) + q[kOmega];
+  P_pred(2, 3) = P(2, 3);
+  P_pred(3, 3) = P(3, 3) + q[kBias];
 }
 
-/// EKF update with eq. 9. Returns false, leaving s and P untouched, when the result would not be
-/// finite (an overflowing measurement): the state and covariance never become NaN or infinite.
-inline bool update(State& s, Matrix4& P, const Measurement& z, double v_vx_mps2, double v_vz_mps2) noexcept {
-  // U = P H^T (4x2), using the symmetry of P.
-  double u0[kStateDim], u1[kStateDim];
-  for (std::size_t i = 0; i < kStateDim; ++i) {
-    u0[i] = P[i][0] + P[i][3];
-    u1[i] = -P[i][1];
-  }
-  // S = H P H^T + V (2x2, symmetric) and its inverse.
-  const double s00 = u0[0] + u0[3] + v_vx_mps2;
-  const double s01 = u1[0] + u1[3];
-  const double s11 = -u1[1] + v_vz_mps2;
-  const double inv_det = 1.0 / (s00 * s11 - s01 * s01);
-  const double i00 = s11 * inv_det;
-  const double i01 = -s01 * inv_det;
-  const double i11 = s00 * inv_det;
+/// EKF update with eq. 9, H = [[1, 0, 0, 1], [0, -1, 0, 0]], from the prediction (x, P) to the
+/// posterior (x_post, P_post), which must not alias x, P (see predict). Returns false when the
+/// posterior is not finite (an overflowing measurement); x_post, P_post are then unspecified and
+/// the caller keeps the prediction, so that the state and covariance never become NaN or infinite.
+///
+/// With U = P H^T = [u, -v] (u = P(:, 1) + P(:, 4), v = P(:, 2)), S = H P H^T + V and
+/// adj S = det(S) S^-1, the gain is K = U adj(S) / det(S). The products with adj(S) do not wait
+/// for the division, which is then applied once per result:
+///   x_post = x + (U adj(S) y) / det,   P_post = P - (U adj(S) U^T) / det.
+inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2, double v_vz_mps2,
+                   State& x_post, SymMatrix4& P_post) noexcept {
+  const double u0 = P(0, 0) + P(0, 3), u1 = P(1, 0) + P(1, 3), u2 = P(2, 0) + P(2, 3), u3 = P(3, 0) + P(3, 3);
+  const double v0 = P(0, 1), v1 = P(1, 1), v2 = P(2, 1), v3 = P(3, 1);
+  // S = [[u0 + u3 + V11, -u1], [-u1, v1 + V22]]; adj S = [[s11, u1], [u1, s00]].
+  const double s00 = P(0, 0) + ((P(0, 3) + u3) + v_vx_mps2);
+  const double s11 = v1 + v_vz_mps2;
+  const double inv_det = 1.0 / (s00 * s11 - u1 * u1);
+  // A = U adj(S): column a (with y0) and column b (with y1).
+  const double a0 = u0 * s11 - v0 * u1, a1 = u1 * s11 - v1 * u1, a2 = u2 * s11 - v2 * u1, a3 = u3 * s11 - v3 * u1;
+  const double b0 = u0 * u1 - v0 * s00, b1 = u1 * u1 - v1 * s00, b2 = u2 * u1 - v2 * s00, b3 = u3 * u1 - v3 * s00;
   // Innovation y = z - H x.
-  const Measurement h = measure(s);
+  const Measurement h = measure(x);
   const double y0 = z.vx_mps - h.vx_mps;
   const double y1 = z.vz_mps - h.vz_mps;
-  // K = U S^-1; x += K y; P -= K U^T (= U S^-1 U^T, symmetric).
-  double k0[kStateDim], k1[kStateDim];
-  State xs = s;
-  for (std::size_t i = 0; i < kStateDim; ++i) {
-    k0[i] = u0[i] * i00 + u1[i] * i01;
-    k1[i] = u0[i] * i01 + u1[i] * i11;
-    xs[i] += k0[i] * y0 + k1[i] * y1;
-  }
-  Matrix4 Pn;
-  for (std::size_t i = 0; i < kStateDim; ++i) {
-    for (std::size_t j = i; j < kStateDim; ++j) {
-      Pn[i][j] = Pn[j][i] = P[i][j] - (k0[i] * u0[j] + k1[i] * u1[j]);
-    }
-  }
+  x_post[0] = x[0] + (a0 * y0 + b0 * y1) * inv_det;
+  x_post[1] = x[1] + (a1 * y0 + b1 * y1) * inv_det;
+  x_post[2] = x[2] + (a2 * y0 + b2 * y1) * inv_det;
+  x_post[3] = x[3] + (a3 * y0 + b3 * y1) * inv_det;
+  // A U^T = a u^T - b v^T.
+  P_post(0, 0) = P(0, 0) - (a0 * u0 - b0 * v0) * inv_det;
+  P_post(0, 1) = P(0, 1) - (a0 * u1 - b0 * v1) * inv_det;
+  P_post(0, 2) = P(0, 2) - (a0 * u2 - b0 * v2) * inv_det;
+  P_post(0, 3) = P(0, 3) - (a0 * u3 - b0 * v3) * inv_det;
+  P_post(1, 1) = P(1, 1) - (a1 * u1 - b1 * v1) * inv_det;
+  P_post(1, 2) = P(1, 2) - (a1 * u2 - b1 * v2) * inv_det;
+  P_post(1, 3) = P(1, 3) - (a1 * u3 - b1 * v3) * inv_det;
+  P_post(2, 2) = P(2, 2) - (a2 * u2 - b2 * v2) * inv_det;
+  P_post(2, 3) = P(2, 3) - (a2 * u3 - b2 * v3) * inv_det;
+  P_post(3, 3) = P(3, 3) - (a3 * u3 - b3 * v3) * inv_det;
   // |P_ij| <= sqrt(P_ii P_jj), so a finite state and diagonal mean everything is finite.
-  const double check = (xs[0] + xs[1]) + (xs[2] + xs[3]) + (Pn[0][0] + Pn[1][1]) + (Pn[2][2] + Pn[3][3]);
-  if (!std::isfinite(check)) return false;
-  s = xs;
-  P = Pn;
+  const double check = (x_post[0] + x_post[1]) + (x_post[2] + x_post[3]) + (P_post(0, 0) + P_post(1, 1)) +
+                       (P_post(2, 2) + P_post(3, 3));
+  return std::isfinite(check);
+}
+
+/// predict() in place, on a dense covariance (taken to be symmetric; both halves are written).
+inline void predict(State& x, Matrix4& P, const std::array<double, kStateDim>& q) noexcept {
+  const State x0 = x;
+  SymMatrix4 P_pred;
+  predict(x0, SymMatrix4(P), q, x, P_pred);
+  P = P_pred.dense();
+}
+
+/// update() in place, on a dense covariance (taken to be symmetric; both halves are written).
+/// Returns false, leaving x and P untouched, when the posterior would not be finite.
+inline bool update(State& x, Matrix4& P, const Measurement& z, double v_vx_mps2, double v_vz_mps2) noexcept {
+  State x_post;
+  SymMatrix4 P_post;
+  if (!update(x, SymMatrix4(P), z, v_vx_mps2, v_vz_mps2, x_post, P_post)) return false;
+  x = x_post;
+  P = P_post.dense();
   return true;
 }
 

@@ -121,8 +121,8 @@ class Estimator {
     state_.a1_sin() = 0.0;
     state_.omega_rad_per_sample() = w0;
     state_.bias_mps() = config_.initial_R_hat_mps * w0;
-    P_ = diagonal({config_.p0_oscillation_mps2, config_.p0_oscillation_mps2, config_.p0_omega_rad2,
-                   config_.p0_bias_mps2});
+    P_ = SymMatrix4(diagonal({config_.p0_oscillation_mps2, config_.p0_oscillation_mps2, config_.p0_omega_rad2,
+                              config_.p0_bias_mps2}));
     params_ = ParameterFilter(config_.smoothing_window_samples, config_.gate_omega_rad_per_sample,
                               config_.gate_bias_mps, config_.initial_R_hat_mps, config_.initial_r_hat_mps);
     gait_.reset();
@@ -184,7 +184,7 @@ class Estimator {
   }
   /// paper: P (4x4) of eq. 5. gait: the covariance of the same 4-vector [X1, X2, w T, A0].
   Matrix4 covariance() const noexcept {
-    if (paper_) return P_;
+    if (paper_) return P_.dense();
     const GaitMatrix G = gait_.covariance();
     const std::size_t idx[4] = {gait::kX1, gait::kX2, gait::kW, gait::kA0};
     const double scale[4] = {1.0, 1.0, config_.sample_time_s, 1.0};
@@ -206,18 +206,25 @@ class Estimator {
   }
 
   Estimate paper_step(double vx_mps, double vz_mps) noexcept {
-    predict(state_, P_, q_);
+    // The prediction goes to scratch members and the update back into state_, P_ (out of place,
+    // see predict); a sample that is not used leaves the prediction as the posterior.
+    predict(state_, P_, q_, pred_state_, pred_P_);
     Status status = Status::kUpdated;
     if (!(std::isfinite(vx_mps) && std::isfinite(vz_mps))) {
       status = Status::kRejectedNonFinite;
     } else if (!(std::fabs(vx_mps) <= config_.max_abs_velocity_mps && std::fabs(vz_mps) <= config_.max_abs_velocity_mps)) {
       status = Status::kRejectedOutOfRange;
-    } else if (!update(state_, P_, Measurement{vx_mps, vz_mps}, config_.v_vx_mps2, config_.v_vz_mps2)) {
+    } else if (!update(pred_state_, pred_P_, Measurement{vx_mps, vz_mps}, config_.v_vx_mps2, config_.v_vz_mps2, state_,
+                       P_)) {
       status = Status::kRejectedNumerical;
     }
-    const double x1 = state_.a1_cos(), x2 = state_.a1_sin();
+    if (status != Status::kUpdated) {
+      state_ = pred_state_;
+      P_ = pred_P_;
+    }
+    const double x1 = state_.a1_cos(), x2 = state_.a1_sin(), w = state_.omega_rad_per_sample();
     const double a1 = std::sqrt(x1 * x1 + x2 * x2);
-    const bool opened = params_.update(state_.omega_rad_per_sample(), state_.bias_mps(), a1);
+    const bool opened = params_.update(w, state_.bias_mps(), a1);
     return make_estimate(status, opened, a1);
   }
 
@@ -228,6 +235,8 @@ class Estimator {
     const double x1 = state_.a1_cos(), x2 = state_.a1_sin(), w = state_.omega_rad_per_sample();
     const double R_hat = params_.R_hat_mps(), r_hat = params_.r_hat_mps();
     const Reconstruction v = reconstruct(R_hat, r_hat, x1, x2, w, a1);
+    double sd_omega, sd_bias;
+    sqrt2(P_(kOmega, kOmega), P_(kBias, kBias), sd_omega, sd_bias);
     const double omega = w * inv_T_;
     const double A0 = state_.bias_mps();
     return Estimate{
@@ -242,9 +251,9 @@ class Estimator {
         /*r_m=*/config_.sample_time_s * r_hat,
         /*omega_rad_s=*/omega,
         /*step_frequency_hz=*/w * inv_two_pi_T_,
-        /*step_frequency_std_hz=*/std::sqrt(P_[kOmega][kOmega]) * inv_two_pi_T_,
+        /*step_frequency_std_hz=*/sd_omega * inv_two_pi_T_,
         /*speed_mps=*/R_hat * w,
-        /*speed_std_mps=*/std::sqrt(P_[kBias][kBias]),
+        /*speed_std_mps=*/sd_bias,
         /*A0_mps=*/A0,
         /*A1_mps=*/a1,
         /*vx_hat_h2_mps=*/v.vx_mps,
@@ -304,7 +313,9 @@ class Estimator {
   std::array<double, kStateDim> q_{};
   double inv_T_ = 25.0, inv_two_pi_T_ = 1.0;
   State state_;
-  Matrix4 P_{};
+  SymMatrix4 P_;
+  State pred_state_;     // the prediction of the current step (scratch)
+  SymMatrix4 pred_P_;
   ParameterFilter params_;
   std::size_t samples_ = 0;
 };

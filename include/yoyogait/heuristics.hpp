@@ -13,7 +13,7 @@ namespace yoyogait {
 
 /// Eq. 11-12: R_hat(k) and r_hat(k) start at R_hat(0), r_hat(0); for k > n, while x3 > mu_w and
 /// x4 > mu_A0, each becomes the mean of its previous n values and the new x4/x3 (resp. A1/x3);
-/// otherwise it holds. The last n values live in a fixed ring buffer.
+/// otherwise it holds. The last n values live in a fixed ring buffer, with their running sums.
 class ParameterFilter {
  public:
   ParameterFilter() = default;
@@ -32,6 +32,9 @@ class ParameterFilter {
     r_hat_ = r0_;
     k_ = 0;
     head_ = 0;
+    R_hist_.fill(0.0);
+    r_hist_.fill(0.0);
+    sum_R_ = sum_r_ = 0.0;
   }
 
   /// Eq. 11-12 at the next sample k with the posterior x3 = w, x4 = bias and A1 = |(x1, x2)|.
@@ -40,25 +43,12 @@ class ParameterFilter {
     ++k_;
     const bool open = k_ > n_ && w > gate_omega_ && bias > gate_bias_;
     if (open) {
-      // Oldest first, so that only the newest value, R_hat(k-1), is on the loop-carried chain.
-      double sum_R = 0.0, sum_r = 0.0;
-      for (std::size_t i = head_; i < n_; ++i) {
-        sum_R += R_hist_[i];
-        sum_r += r_hist_[i];
-      }
-      for (std::size_t i = 0; i < head_; ++i) {
-        sum_R += R_hist_[i];
-        sum_r += r_hist_[i];
-      }
       const double inv_w = 1.0 / w;
-      R_hat_ = (sum_R + bias * inv_w) * inv_n1_;
-      r_hat_ = (sum_r + a1 * inv_w) * inv_n1_;
+      // sum_* hold R_hat(k-n..k-1): only the newest value, R_hat(k-1), is on the loop-carried chain.
+      R_hat_ = (sum_R_ + bias * inv_w) * inv_n1_;
+      r_hat_ = (sum_r_ + a1 * inv_w) * inv_n1_;
     }
-    if (n_ > 0) {
-      R_hist_[head_] = R_hat_;
-      r_hist_[head_] = r_hat_;
-      head_ = head_ + 1 == n_ ? 0 : head_ + 1;
-    }
+    if (n_ > 0) push();
     return open;
   }
 
@@ -66,10 +56,29 @@ class ParameterFilter {
   double r_hat_mps() const noexcept { return r_hat_; }
 
  private:
+  // Appends R_hat(k), r_hat(k) to the window. The sums follow each sample and are recomputed from
+  // the buffer, oldest first, whenever the ring wraps, so rounding never accumulates over more than
+  // n samples.
+  void push() noexcept {
+    sum_R_ += R_hat_ - R_hist_[head_];
+    sum_r_ += r_hat_ - r_hist_[head_];
+    R_hist_[head_] = R_hat_;
+    r_hist_[head_] = r_hat_;
+    if (++head_ == n_) {
+      head_ = 0;
+      sum_R_ = sum_r_ = 0.0;
+      for (std::size_t i = 0; i < n_; ++i) {
+        sum_R_ += R_hist_[i];
+        sum_r_ += r_hist_[i];
+      }
+    }
+  }
+
   std::size_t n_ = 10;
   double inv_n1_ = 1.0 / 11.0;
   double gate_omega_ = 0.1, gate_bias_ = 0.1, R0_ = 2.0, r0_ = 0.2;
   double R_hat_ = 2.0, r_hat_ = 0.2;
+  double sum_R_ = 0.0, sum_r_ = 0.0;  ///< sums of the window, R_hat(k-n..k-1) and r_hat(k-n..k-1)
   std::size_t k_ = 0, head_ = 0;
   std::array<double, kMaxSmoothingWindow> R_hist_{};
   std::array<double, kMaxSmoothingWindow> r_hist_{};
@@ -84,7 +93,8 @@ struct Reconstruction {
 
 inline Reconstruction reconstruct(double R_hat, double r_hat, double x1, double x2, double x3,
                                   double a1) noexcept {
-  const double scale = a1 > 0.0 ? r_hat * x3 / a1 : 0.0;
+  // (r_hat x3) (1 / a1): the division need not wait for r_hat.
+  const double scale = a1 > 0.0 ? (r_hat * x3) * (1.0 / a1) : 0.0;
   return Reconstruction{R_hat * x3 + scale * x1, -scale * x2};
 }
 

@@ -4,7 +4,26 @@
 
 #include <cmath>
 
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#define YOYOGAIT_HAVE_SSE2 1
+#endif
+
 namespace yoyogait {
+
+/// sqrt(a) and sqrt(b), correctly rounded as std::sqrt. With SSE2 one packed instruction: square
+/// roots and divisions share one unit that is not fully pipelined, and the next step's 1 / det(S)
+/// waits for it.
+inline void sqrt2(double a, double b, double& ra, double& rb) noexcept {
+#ifdef YOYOGAIT_HAVE_SSE2
+  const __m128d r = _mm_sqrt_pd(_mm_set_pd(b, a));
+  ra = _mm_cvtsd_f64(r);
+  rb = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
+#else
+  ra = std::sqrt(a);
+  rb = std::sqrt(b);
+#endif
+}
 
 /// sin(x) and cos(x). For |x| <= pi/4, which covers every walking step frequency at the paper's
 /// 25 Hz (up to 3.1 Hz), the fdlibm kernel polynomials (error below 1 ulp), evaluated in Estrin form

@@ -37,6 +37,34 @@ struct State {
 /// A dense 4x4 matrix, row-major; the covariance P and the Jacobian F.
 using Matrix4 = std::array<std::array<double, kStateDim>, kStateDim>;
 
+/// A symmetric 4x4 matrix, the covariance P, stored as its 10 entries on and above the diagonal.
+/// (i, j) and (j, i) name the same entry, so the two halves cannot drift apart.
+class SymMatrix4 {
+ public:
+  constexpr SymMatrix4() noexcept = default;
+  /// The upper triangle of m (m is taken to be symmetric).
+  constexpr explicit SymMatrix4(const Matrix4& m) noexcept {
+    for (std::size_t i = 0; i < kStateDim; ++i)
+      for (std::size_t j = i; j < kStateDim; ++j) (*this)(i, j) = m[i][j];
+  }
+  constexpr double& operator()(std::size_t i, std::size_t j) noexcept { return v_[index(i, j)]; }
+  constexpr double operator()(std::size_t i, std::size_t j) const noexcept { return v_[index(i, j)]; }
+  /// Both halves filled.
+  constexpr Matrix4 dense() const noexcept {
+    Matrix4 m{};
+    for (std::size_t i = 0; i < kStateDim; ++i)
+      for (std::size_t j = 0; j < kStateDim; ++j) m[i][j] = (*this)(i, j);
+    return m;
+  }
+
+ private:
+  // Row-major upper triangle: (i, j) with i <= j is entry i (7 - i) / 2 + j.
+  static constexpr std::size_t index(std::size_t i, std::size_t j) noexcept {
+    return i <= j ? i * (2 * kStateDim - 1 - i) / 2 + j : j * (2 * kStateDim - 1 - j) / 2 + i;
+  }
+  std::array<double, kStateDim*(kStateDim + 1) / 2> v_{};
+};
+
 /// The identity scaled by the diagonal d.
 constexpr Matrix4 diagonal(const std::array<double, kStateDim>& d) noexcept {
   Matrix4 m{};

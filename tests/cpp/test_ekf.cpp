@@ -3,8 +3,10 @@
 
 #include "finite_difference.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "yoyogait/ekf.hpp"
 #include "yoyogait/math.hpp"
@@ -101,4 +103,93 @@ TEST(Update, RefusesAMeasurementThatWouldOverflow) {
   EXPECT_EQ(s.x, s0.x);
   EXPECT_EQ(P, P0);
   EXPECT_TRUE(update(s, P, Measurement{1.0, 0.0}, 1e-2, 1e-2));
+}
+
+TEST(Update, EqualsTheTextbookKalmanUpdate) {
+  // The adjugate form equals x + K y, (I - K H) P with K = P H^T S^-1 on random covariances.
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double H[2][4] = {{1, 0, 0, 1}, {0, -1, 0, 0}};
+  const double V[2] = {1e-2, 2e-2};
+  for (int n = 0; n < 100; ++n) {
+    // P = A A^T + 0.1 I is symmetric positive definite.
+    double A[4][4];
+    for (auto& row : A)
+      for (double& a : row) a = u(gen);
+    Matrix4 P{};
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t j = 0; j < 4; ++j) {
+        for (std::size_t k = 0; k < 4; ++k) P[i][j] += A[i][k] * A[j][k];
+        if (i == j) P[i][j] += 0.1;
+      }
+    const State x{{u(gen), u(gen), 0.3 * u(gen), u(gen)}};
+    const Measurement z{u(gen), u(gen)};
+    // Textbook: PHt (4x2), S (2x2), K = PHt S^-1.
+    double PHt[4][2] = {}, S[2][2] = {};
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t m = 0; m < 2; ++m)
+        for (std::size_t k = 0; k < 4; ++k) PHt[i][m] += P[i][k] * H[m][k];
+    for (std::size_t m = 0; m < 2; ++m)
+      for (std::size_t l = 0; l < 2; ++l) {
+        for (std::size_t k = 0; k < 4; ++k) S[m][l] += H[m][k] * PHt[k][l];
+        if (m == l) S[m][l] += V[m];
+      }
+    const double det = S[0][0] * S[1][1] - S[0][1] * S[1][0];
+    const double Si[2][2] = {{S[1][1] / det, -S[0][1] / det}, {-S[1][0] / det, S[0][0] / det}};
+    double K[4][2] = {};
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t m = 0; m < 2; ++m)
+        for (std::size_t l = 0; l < 2; ++l) K[i][m] += PHt[i][l] * Si[l][m];
+    const double y[2] = {z.vx_mps - (x[0] + x[3]), z.vz_mps + x[1]};
+    State x_post = x;
+    Matrix4 P_post = P;
+    ASSERT_TRUE(update(x_post, P_post, z, V[0], V[1]));
+    for (std::size_t i = 0; i < 4; ++i) {
+      EXPECT_NEAR(x_post[i], x[i] + K[i][0] * y[0] + K[i][1] * y[1], 1e-12);
+      for (std::size_t j = 0; j < 4; ++j) {
+        double KHP = 0.0;
+        for (std::size_t m = 0; m < 2; ++m) KHP += K[i][m] * PHt[j][m];
+        EXPECT_NEAR(P_post[i][j], P[i][j] - KHP, 1e-12) << i << "," << j;
+        EXPECT_EQ(P_post[i][j], P_post[j][i]);
+      }
+    }
+  }
+}
+
+TEST(SymMatrix4, NamesEachEntryOnceForBothHalves) {
+  // (i, j) and (j, i) are one entry; the 10 entries are distinct and dense() restores the matrix.
+  SymMatrix4 m;
+  double v = 1.0;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i; j < 4; ++j) m(i, j) = v++;
+  const Matrix4 d = m.dense();
+  std::vector<double> seen;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j) {
+      EXPECT_EQ(m(i, j), m(j, i));
+      EXPECT_EQ(d[i][j], m(i, j));
+      if (j >= i) seen.push_back(m(i, j));
+    }
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(std::unique(seen.begin(), seen.end()) - seen.begin(), 10);
+  const SymMatrix4 back(d);
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j) EXPECT_EQ(back(i, j), m(i, j));
+}
+
+TEST(Sqrt2, EqualsStdSqrt) {
+  // The paired square root is correctly rounded, as std::sqrt, in both lanes.
+  std::mt19937_64 gen(11);
+  std::uniform_real_distribution<double> e(-300.0, 300.0);
+  for (int i = 0; i < 10000; ++i) {
+    const double a = std::pow(10.0, e(gen)), b = std::pow(10.0, e(gen));
+    double ra, rb;
+    yoyogait::sqrt2(a, b, ra, rb);
+    ASSERT_EQ(ra, std::sqrt(a));
+    ASSERT_EQ(rb, std::sqrt(b));
+  }
+  double ra, rb;
+  yoyogait::sqrt2(0.0, -1.0, ra, rb);
+  EXPECT_EQ(ra, 0.0);
+  EXPECT_TRUE(std::isnan(rb));
 }

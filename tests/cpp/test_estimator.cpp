@@ -115,6 +115,35 @@ TEST(ParameterFilter, HoldsWhileTheGateIsClosed) {
   EXPECT_DOUBLE_EQ(f.R_hat_mps(), (3 * R4 + 1.5 / 0.5) / 4.0);
 }
 
+TEST(ParameterFilter, EqualsTheDirectMeanOverLongRuns) {
+  // The running window sums give eq. 11-12 computed directly, to 1e-13, over 20,000 samples.
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> w(0.0, 0.6), bias(0.0, 2.0), a1(0.0, 0.1);
+  for (const std::size_t n : {std::size_t{1}, std::size_t{10}, std::size_t{37}}) {
+    ParameterFilter f(n, 0.1, 0.1, 2.0, 0.2);
+    std::vector<double> R_hist, r_hist;  // R_hat(1..k), r_hat(1..k)
+    double R = 2.0, r = 0.2;
+    for (std::size_t k = 1; k <= 20000; ++k) {
+      const double wk = w(gen), bk = bias(gen), ak = a1(gen);
+      const bool open = k > n && wk > 0.1 && bk > 0.1;
+      if (open) {
+        double sR = 0.0, sr = 0.0;
+        for (std::size_t i = k - 1 - n; i < k - 1; ++i) {
+          sR += R_hist[i];
+          sr += r_hist[i];
+        }
+        R = (sR + bk / wk) / static_cast<double>(n + 1);
+        r = (sr + ak / wk) / static_cast<double>(n + 1);
+      }
+      R_hist.push_back(R);
+      r_hist.push_back(r);
+      ASSERT_EQ(f.update(wk, bk, ak), open);
+      ASSERT_NEAR(f.R_hat_mps(), R, 1e-13 * std::fabs(R)) << "n " << n << " k " << k;
+      ASSERT_NEAR(f.r_hat_mps(), r, 1e-13 * std::fabs(r)) << "n " << n << " k " << k;
+    }
+  }
+}
+
 TEST(Estimator, RunEqualsStepByStep) {
   // The batch call gives bit-identical estimates to a loop of step().
   const Walk w = yoyo_walk(20.0, 1.7, 0.11, 0.025, 0.05);
