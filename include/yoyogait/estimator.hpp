@@ -205,7 +205,7 @@ class Estimator {
     return c;
   }
 
-  Estimate paper_step(double vx_mps, double vz_mps) noexcept {
+  YOYOGAIT_ALWAYS_INLINE Estimate paper_step(double vx_mps, double vz_mps) noexcept {
     // The prediction goes to scratch members and the update back into state_, P_ (out of place,
     // see predict); a sample that is not used leaves the prediction as the posterior.
     predict(state_, P_, q_, pred_state_, pred_P_);

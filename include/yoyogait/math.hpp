@@ -9,6 +9,16 @@
 #define YOYOGAIT_HAVE_SSE2 1
 #endif
 
+// Forces inlining where a compiler's size heuristics would keep a per-sample function out of line
+// (a call per sample, and the estimate returned through memory).
+#if defined(__GNUC__)
+#define YOYOGAIT_ALWAYS_INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define YOYOGAIT_ALWAYS_INLINE __forceinline
+#else
+#define YOYOGAIT_ALWAYS_INLINE inline
+#endif
+
 namespace yoyogait {
 
 /// sqrt(a) and sqrt(b), correctly rounded as std::sqrt. With SSE2 one packed instruction: square

@@ -64,12 +64,25 @@ class Block {
 
   template <class T>
   Owned<T> take(std::size_t rows, std::size_t cols = 0) {
-    const std::size_t n = cols ? rows * cols : rows;
-    used_ = (used_ + alignof(double) - 1) / alignof(double) * alignof(double);
-    T* data = reinterpret_cast<T*>(base_ + used_);
-    used_ += n * sizeof(T);
+    T* data = raw<T>(cols ? rows * cols : rows);
     if (cols) return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<2>>(data, {rows, cols}, owner_))};
     return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(data, {rows}, owner_))};
+  }
+
+  /// count elements of the block, without an array.
+  template <class T>
+  T* raw(std::size_t count) {
+    used_ = (used_ + alignof(double) - 1) / alignof(double) * alignof(double);
+    T* data = reinterpret_cast<T*>(base_ + used_);
+    used_ += count * sizeof(T);
+    return data;
+  }
+
+  /// A view of rows x cols doubles at data, rows row_stride elements apart (cols = 0: 1-D).
+  nb::object view(double* data, std::size_t rows, std::size_t cols, std::size_t row_stride) const {
+    const auto stride = static_cast<int64_t>(row_stride);
+    if (cols) return nb::cast(nb::ndarray<nb::numpy, double, nb::ndim<2>>(data, {rows, cols}, owner_, {stride, 1}));
+    return nb::cast(nb::ndarray<nb::numpy, double, nb::ndim<1>>(data, {rows}, owner_, {stride}));
   }
 
  private:
@@ -81,26 +94,28 @@ class Block {
 // The estimates of a run. Written for both algorithms: state, the physical estimates, status.
 // The gait filter's own outputs (its 8-state, the harmonic reconstruction, lambda, the detector
 // flags) are written only for it: for the paper they carry nothing new (see yoyogait::Estimate)
-// and every byte per sample costs run() time (first touch of fresh memory dominates).
+// and every byte per sample costs run() time.
+//
+// The doubles are one row-major table, each column a strided view: a step writes its values to
+// one place (whole cache lines) rather than to a separate stream per column, which costs a
+// long run several ns per sample more.
 template <bool kGait>
 nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
                   const double* pdt) {
-  constexpr std::size_t kG = kGait ? yoyogait::gait::kDim : 0;
-  constexpr std::size_t kExtra = kGait ? 3 : 0;  // vx_hat_h2, vz_hat_h2, std_scale
+  constexpr std::size_t kS = yoyogait::kStateDim;
+  constexpr std::size_t kG = yoyogait::gait::kDim;
   const std::size_t n = vx.shape(0);
   const std::size_t nh = horizons.shape(0);
-  const std::size_t nhc = nh ? nh : 1;
-  Block block(n * (sizeof(double) * (yoyogait::kStateDim + kG + 13 + kExtra + 2 * nhc) + 4) + 64);
-  auto state = block.take<double>(n, yoyogait::kStateDim);
-  auto vx_hat = block.take<double>(n), vz_hat = block.take<double>(n), R_hat = block.take<double>(n);
-  auto r_hat = block.take<double>(n), R_m = block.take<double>(n), r_m = block.take<double>(n);
-  auto omega = block.take<double>(n), f = block.take<double>(n), f_std = block.take<double>(n);
-  auto speed = block.take<double>(n), speed_std = block.take<double>(n);
-  auto a0 = block.take<double>(n), a1 = block.take<double>(n);
-  auto gstate = block.take<double>(kGait ? n : 0, kG);
-  auto vx_h2 = block.take<double>(kGait ? n : 0), vz_h2 = block.take<double>(kGait ? n : 0);
-  auto scale = block.take<double>(kGait ? n : 0);
-  auto pvx = block.take<double>(n, nhc), pvz = block.take<double>(n, nhc);
+  // Column layout of a row.
+  enum : std::size_t {
+    kState = 0, kVx = kS, kVz, kRhat, krhat, kRm, krm, kOmega, kF, kFstd, kSpeed, kSpeedStd, kA0, kA1,
+    kCommon,  // the gait filter's columns follow
+    kGstate = kCommon, kVxH2 = kGstate + kG, kVzH2, kScale, kGaitEnd
+  };
+  const std::size_t kPred = kGait ? kGaitEnd : kCommon;  // vx_pred (nh), then vz_pred (nh)
+  const std::size_t width = kPred + 2 * nh;
+  Block block(n * (sizeof(double) * width + (kGait ? 4 : 2)) + 64);
+  double* rows = block.raw<double>(n * width);
   auto status = block.take<std::uint8_t>(n);
   auto updated = block.take<bool>(n);
   auto walking = block.take<bool>(kGait ? n : 0), acquiring = block.take<bool>(kGait ? n : 0);
@@ -114,66 +129,68 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     yoyogait::Estimator local = est;
     for (std::size_t i = 0; i < n; ++i) {
       const Estimate e = pdt ? local.step(px[i], pz[i], pdt[i]) : local.step(px[i], pz[i]);
-      for (std::size_t j = 0; j < yoyogait::kStateDim; ++j) state.data[i * yoyogait::kStateDim + j] = e.state[j];
-      vx_hat.data[i] = e.vx_hat_mps;
-      vz_hat.data[i] = e.vz_hat_mps;
-      R_hat.data[i] = e.R_hat_mps;
-      r_hat.data[i] = e.r_hat_mps;
-      R_m.data[i] = e.R_m;
-      r_m.data[i] = e.r_m;
-      omega.data[i] = e.omega_rad_s;
-      f.data[i] = e.step_frequency_hz;
-      f_std.data[i] = e.step_frequency_std_hz;
-      speed.data[i] = e.speed_mps;
-      speed_std.data[i] = e.speed_std_mps;
-      a0.data[i] = e.A0_mps;
-      a1.data[i] = e.A1_mps;
+      double* r = rows + i * width;
+      for (std::size_t j = 0; j < kS; ++j) r[kState + j] = e.state[j];
+      r[kVx] = e.vx_hat_mps;
+      r[kVz] = e.vz_hat_mps;
+      r[kRhat] = e.R_hat_mps;
+      r[krhat] = e.r_hat_mps;
+      r[kRm] = e.R_m;
+      r[krm] = e.r_m;
+      r[kOmega] = e.omega_rad_s;
+      r[kF] = e.step_frequency_hz;
+      r[kFstd] = e.step_frequency_std_hz;
+      r[kSpeed] = e.speed_mps;
+      r[kSpeedStd] = e.speed_std_mps;
+      r[kA0] = e.A0_mps;
+      r[kA1] = e.A1_mps;
       status.data[i] = static_cast<std::uint8_t>(e.status);
       updated.data[i] = e.parameters_updated;
       if constexpr (kGait) {
-        for (std::size_t j = 0; j < kG; ++j) gstate.data[i * kG + j] = e.gait_state[j];
-        vx_h2.data[i] = e.vx_hat_h2_mps;
-        vz_h2.data[i] = e.vz_hat_h2_mps;
-        scale.data[i] = e.std_scale;
+        for (std::size_t j = 0; j < kG; ++j) r[kGstate + j] = e.gait_state[j];
+        r[kVxH2] = e.vx_hat_h2_mps;
+        r[kVzH2] = e.vz_hat_h2_mps;
+        r[kScale] = e.std_scale;
         walking.data[i] = e.walking;
         acquiring.data[i] = e.acquiring;
       }
       for (std::size_t j = 0; j < nh; ++j) {
         const yoyogait::Velocity v = local.predict_ahead(ph[j]);
-        pvx.data[i * nh + j] = v.vx_mps;
-        pvz.data[i * nh + j] = v.vz_mps;
+        r[kPred + j] = v.vx_mps;
+        r[kPred + nh + j] = v.vz_mps;
       }
     }
     est = local;
   }
+  const auto column = [&](std::size_t c) { return block.view(rows + c, n, 0, width); };
   nb::dict out;
-  out["state"] = state.array;
-  out["vx_hat"] = vx_hat.array;
-  out["vz_hat"] = vz_hat.array;
-  out["R_hat_mps"] = R_hat.array;
-  out["r_hat_mps"] = r_hat.array;
-  out["R_m"] = R_m.array;
-  out["r_m"] = r_m.array;
-  out["omega_rad_s"] = omega.array;
-  out["step_frequency_hz"] = f.array;
-  out["step_frequency_std_hz"] = f_std.array;
-  out["speed_mps"] = speed.array;
-  out["speed_std_mps"] = speed_std.array;
-  out["A0_mps"] = a0.array;
-  out["A1_mps"] = a1.array;
+  out["state"] = block.view(rows + kState, n, kS, width);
+  out["vx_hat"] = column(kVx);
+  out["vz_hat"] = column(kVz);
+  out["R_hat_mps"] = column(kRhat);
+  out["r_hat_mps"] = column(krhat);
+  out["R_m"] = column(kRm);
+  out["r_m"] = column(krm);
+  out["omega_rad_s"] = column(kOmega);
+  out["step_frequency_hz"] = column(kF);
+  out["step_frequency_std_hz"] = column(kFstd);
+  out["speed_mps"] = column(kSpeed);
+  out["speed_std_mps"] = column(kSpeedStd);
+  out["A0_mps"] = column(kA0);
+  out["A1_mps"] = column(kA1);
   out["status"] = status.array;
   out["parameters_updated"] = updated.array;
   if constexpr (kGait) {
-    out["gait_state"] = gstate.array;
-    out["vx_hat_h2"] = vx_h2.array;
-    out["vz_hat_h2"] = vz_h2.array;
-    out["std_scale"] = scale.array;
+    out["gait_state"] = block.view(rows + kGstate, n, kG, width);
+    out["vx_hat_h2"] = column(kVxH2);
+    out["vz_hat_h2"] = column(kVzH2);
+    out["std_scale"] = column(kScale);
     out["walking"] = walking.array;
     out["acquiring"] = acquiring.array;
   }
   if (nh) {
-    out["vx_pred"] = pvx.array;
-    out["vz_pred"] = pvz.array;
+    out["vx_pred"] = block.view(rows + kPred, n, nh, width);
+    out["vz_pred"] = block.view(rows + kPred + nh, n, nh, width);
   }
   return out;
 }
