@@ -8,13 +8,13 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <mutex>
 #include <new>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 
 #include "yoyogait/yoyogait.hpp"
 
@@ -45,21 +45,26 @@ Owned<T> owned(std::size_t rows, std::size_t cols = 0) {
   return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(data, {rows}, owner))};
 }
 
-// One allocation for all the arrays of a run, each a view of it. First touch of fresh pages is
-// what a long run() spends most time on; one large block advised for huge pages faults far less
-// often than many small ones.
+// One allocation for all the arrays of a run, each a view of it, freed with the last of them.
+//
+// Writing a long run's estimates into fresh pages costs more than computing them (the first touch
+// of each page), so the most recently freed block (up to kMaxCached bytes) is kept for the next
+// run: repeated runs over recordings reuse warm memory. At most one block is kept.
 class Block {
  public:
   explicit Block(std::size_t bytes) {
-    constexpr std::size_t kHuge = std::size_t{1} << 21;
-    const std::size_t align = bytes >= kHuge ? kHuge : 64;
-    size_ = (bytes + align - 1) / align * align;
-    base_ = static_cast<char*>(std::aligned_alloc(align, size_ ? size_ : align));
+    size_ = (kHeader + bytes + 63) / 64 * 64;
+    base_ = cache().take(size_);
+    if (!base_) base_ = static_cast<char*>(std::aligned_alloc(64, size_));
     if (!base_) throw std::bad_alloc();
-#ifdef __linux__
-    if (align == kHuge) madvise(base_, size_, MADV_HUGEPAGE);
-#endif
-    owner_ = nb::capsule(base_, [](void* p) noexcept { std::free(p); });
+    std::memcpy(base_, &size_, sizeof size_);  // read back when the block is freed
+    used_ = kHeader;
+    owner_ = nb::capsule(base_, [](void* p) noexcept {
+      char* base = static_cast<char*>(p);
+      std::size_t size;
+      std::memcpy(&size, base, sizeof size);
+      cache().give(base, size);
+    });
   }
 
   template <class T>
@@ -86,6 +91,36 @@ class Block {
   }
 
  private:
+  static constexpr std::size_t kHeader = 64;  // the block's size, then padding
+  static constexpr std::size_t kMaxCached = std::size_t{64} << 20;
+
+  // The kept block. Never destroyed: arrays may be freed during interpreter shutdown.
+  class Cache {
+   public:
+    // A kept block of at least size bytes (and not much larger), or nullptr.
+    char* take(std::size_t& size) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!base_ || size_ < size || size_ > 2 * size) return nullptr;
+      size = size_;
+      return std::exchange(base_, nullptr);
+    }
+    void give(char* base, std::size_t size) {
+      if (size > kMaxCached) return std::free(base);
+      std::lock_guard<std::mutex> lock(mutex_);
+      std::free(std::exchange(base_, base));
+      size_ = size;
+    }
+
+   private:
+    std::mutex mutex_;
+    char* base_ = nullptr;
+    std::size_t size_ = 0;
+  };
+  static Cache& cache() {
+    static Cache* c = new Cache;
+    return *c;
+  }
+
   char* base_ = nullptr;
   std::size_t size_ = 0, used_ = 0;
   nb::capsule owner_;
@@ -127,38 +162,46 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     // A local copy whose address does not escape stays in registers; the output stores could
     // otherwise alias the estimator's members and force a reload after each one.
     yoyogait::Estimator local = est;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Estimate e = pdt ? local.step(px[i], pz[i], pdt[i]) : local.step(px[i], pz[i]);
-      double* r = rows + i * width;
-      for (std::size_t j = 0; j < kS; ++j) r[kState + j] = e.state[j];
-      r[kVx] = e.vx_hat_mps;
-      r[kVz] = e.vz_hat_mps;
-      r[kRhat] = e.R_hat_mps;
-      r[krhat] = e.r_hat_mps;
-      r[kRm] = e.R_m;
-      r[krm] = e.r_m;
-      r[kOmega] = e.omega_rad_s;
-      r[kF] = e.step_frequency_hz;
-      r[kFstd] = e.step_frequency_std_hz;
-      r[kSpeed] = e.speed_mps;
-      r[kSpeedStd] = e.speed_std_mps;
-      r[kA0] = e.A0_mps;
-      r[kA1] = e.A1_mps;
-      status.data[i] = static_cast<std::uint8_t>(e.status);
-      updated.data[i] = e.parameters_updated;
-      if constexpr (kGait) {
-        for (std::size_t j = 0; j < kG; ++j) r[kGstate + j] = e.gait_state[j];
-        r[kVxH2] = e.vx_hat_h2_mps;
-        r[kVzH2] = e.vz_hat_h2_mps;
-        r[kScale] = e.std_scale;
-        walking.data[i] = e.walking;
-        acquiring.data[i] = e.acquiring;
+    // One loop per form of step(), so that the loop body has no branch on it.
+    const auto loop = [&](auto step) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const Estimate e = step(local, i);
+        double* r = rows + i * width;
+        for (std::size_t j = 0; j < kS; ++j) r[kState + j] = e.state[j];
+        r[kVx] = e.vx_hat_mps;
+        r[kVz] = e.vz_hat_mps;
+        r[kRhat] = e.R_hat_mps;
+        r[krhat] = e.r_hat_mps;
+        r[kRm] = e.R_m;
+        r[krm] = e.r_m;
+        r[kOmega] = e.omega_rad_s;
+        r[kF] = e.step_frequency_hz;
+        r[kFstd] = e.step_frequency_std_hz;
+        r[kSpeed] = e.speed_mps;
+        r[kSpeedStd] = e.speed_std_mps;
+        r[kA0] = e.A0_mps;
+        r[kA1] = e.A1_mps;
+        status.data[i] = static_cast<std::uint8_t>(e.status);
+        updated.data[i] = e.parameters_updated;
+        if constexpr (kGait) {
+          for (std::size_t j = 0; j < kG; ++j) r[kGstate + j] = e.gait_state[j];
+          r[kVxH2] = e.vx_hat_h2_mps;
+          r[kVzH2] = e.vz_hat_h2_mps;
+          r[kScale] = e.std_scale;
+          walking.data[i] = e.walking;
+          acquiring.data[i] = e.acquiring;
+        }
+        for (std::size_t j = 0; j < nh; ++j) {
+          const yoyogait::Velocity v = local.predict_ahead(ph[j]);
+          r[kPred + j] = v.vx_mps;
+          r[kPred + nh + j] = v.vz_mps;
+        }
       }
-      for (std::size_t j = 0; j < nh; ++j) {
-        const yoyogait::Velocity v = local.predict_ahead(ph[j]);
-        r[kPred + j] = v.vx_mps;
-        r[kPred + nh + j] = v.vz_mps;
-      }
+    };
+    if (pdt) {
+      loop([&](yoyogait::Estimator& e, std::size_t i) { return e.step(px[i], pz[i], pdt[i]); });
+    } else {
+      loop([&](yoyogait::Estimator& e, std::size_t i) { return e.step(px[i], pz[i]); });
     }
     est = local;
   }

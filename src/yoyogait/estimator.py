@@ -426,6 +426,11 @@ class GaitEstimator:
         their differences (irregular sampling, gaps), continuing from the last timestamp of the
         previous ``run``.  Without it every sample is ``sample_time_s`` after the previous one.
         The paper's estimator works per sample and does not use them.
+
+        The arrays are views of one table written row by row (one row per sample), so most are
+        strided; ``np.ascontiguousarray`` gives a compact copy.  The table's memory is handed to
+        the next ``run`` once every view of it is gone (one block of up to 64 MiB is kept), so
+        runs over many recordings reuse warm memory.
         """
         vx = _as_signal("vx", vx)
         vz = _as_signal("vz", vz)

@@ -107,6 +107,24 @@ def test_streaming_batch_and_chunked_agree_bit_for_bit():
         assert np.array_equal(np.concatenate([getattr(c, name) for c in chunks]), getattr(batch, name)), name
 
 
+@pytest.mark.parametrize("preset", ["paper", "default"])
+def test_run_results_survive_later_runs_that_reuse_memory(preset):
+    """A kept result is never overwritten by later runs; a run into reused memory equals a fresh one."""
+    _, vx, vz = yoyo_walk(60.0, noise=0.05, seed=5)
+    cfg = EstimatorConfig.preset(preset)
+    kept = GaitEstimator(cfg).run(vx, vz)
+    kept_copy = {k: np.array(getattr(kept, k), copy=True) for k in ("state", "vx_hat", "R_m", "status")}
+    for seed in range(3):  # freed results hand their memory to the next run
+        _, wx, wz = yoyo_walk(60.0, noise=0.2, seed=10 + seed)
+        other = GaitEstimator(cfg).run(wx, wz)
+        del other
+    again = GaitEstimator(cfg).run(vx, vz)
+    for name, value in kept_copy.items():
+        assert np.array_equal(getattr(kept, name), value), name
+        assert np.array_equal(getattr(again, name), value), name
+    assert not np.shares_memory(kept.vx_hat, again.vx_hat)
+
+
 def test_nan_sample_is_prediction_only_and_flagged():
     """A NaN or infinite sample skips the update and is flagged; the state stays finite."""
     _, vx, vz = yoyo_walk(5.0, noise=0.05)
