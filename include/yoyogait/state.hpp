@@ -37,10 +37,22 @@ struct State {
 /// A dense 4x4 matrix, row-major; the covariance P and the Jacobian F.
 using Matrix4 = std::array<std::array<double, kStateDim>, kStateDim>;
 
-/// A symmetric 4x4 matrix, the covariance P, stored as its 10 entries on and above the diagonal.
+/// A symmetric 4x4 matrix, the covariance P, stored as its 10 distinct entries.
 /// (i, j) and (j, i) name the same entry, so the two halves cannot drift apart.
+///
+/// The entries are stored as five pairs that the SSE2 filter step (ekf.hpp) loads whole:
+/// [P11, P22], [P12, P34], [P13, P23], [P14, P24], [P33, P44] (1-based: x1, x2, w, A0).
 class SymMatrix4 {
  public:
+  /// Offsets of the pairs in data().
+  enum Pair : std::size_t {
+    kDiag12 = 0,  ///< [P(x1,x1), P(x2,x2)]
+    kOff = 2,     ///< [P(x1,x2), P(w,A0)]
+    kCol3 = 4,    ///< [P(x1,w), P(x2,w)]
+    kCol4 = 6,    ///< [P(x1,A0), P(x2,A0)]
+    kDiag34 = 8,  ///< [P(w,w), P(A0,A0)]
+  };
+
   constexpr SymMatrix4() noexcept = default;
   /// The upper triangle of m (m is taken to be symmetric).
   constexpr explicit SymMatrix4(const Matrix4& m) noexcept {
@@ -56,11 +68,19 @@ class SymMatrix4 {
       for (std::size_t j = 0; j < kStateDim; ++j) m[i][j] = (*this)(i, j);
     return m;
   }
+  /// The 10 entries in the pair order above.
+  double* data() noexcept { return v_.data(); }
+  const double* data() const noexcept { return v_.data(); }
 
  private:
-  // Row-major upper triangle: (i, j) with i <= j is entry i (7 - i) / 2 + j.
   static constexpr std::size_t index(std::size_t i, std::size_t j) noexcept {
-    return i <= j ? i * (2 * kStateDim - 1 - i) / 2 + j : j * (2 * kStateDim - 1 - j) / 2 + i;
+    constexpr std::size_t kIndex[kStateDim][kStateDim] = {
+        {kDiag12, kOff, kCol3, kCol4},
+        {kOff, kDiag12 + 1, kCol3 + 1, kCol4 + 1},
+        {kCol3, kCol3 + 1, kDiag34, kOff + 1},
+        {kCol4, kCol4 + 1, kOff + 1, kDiag34 + 1},
+    };
+    return kIndex[i][j];
   }
   std::array<double, kStateDim*(kStateDim + 1) / 2> v_{};
 };

@@ -193,3 +193,66 @@ TEST(Sqrt2, EqualsStdSqrt) {
   EXPECT_EQ(ra, 0.0);
   EXPECT_TRUE(std::isnan(rb));
 }
+
+TEST(SymMatrix4, StoresThePairsTheFilterStepLoads) {
+  // data() holds [P11, P22], [P12, P34], [P13, P23], [P14, P24], [P33, P44] (1-based), as documented.
+  SymMatrix4 m;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i; j < 4; ++j) m(i, j) = 10.0 * static_cast<double>(i + 1) + static_cast<double>(j + 1);
+  const double expected[10] = {11, 22, 12, 34, 13, 23, 14, 24, 33, 44};
+  for (std::size_t k = 0; k < 10; ++k) EXPECT_EQ(m.data()[k], expected[k]) << k;
+}
+
+namespace {
+
+// A random symmetric positive definite covariance, scaled by scale.
+SymMatrix4 random_covariance(std::mt19937& gen, double scale) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double A[4][4];
+  for (auto& row : A)
+    for (double& a : row) a = u(gen);
+  SymMatrix4 P;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i; j < 4; ++j) {
+      double s = i == j ? 0.01 : 0.0;
+      for (std::size_t k = 0; k < 4; ++k) s += A[i][k] * A[j][k];
+      P(i, j) = scale * s;
+    }
+  return P;
+}
+
+}  // namespace
+
+TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
+  // predict() and update() (SSE2 pairs where available) give exactly predict_scalar(), update_scalar().
+  std::mt19937 gen(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), w(-1.2, 1.2);
+  const std::array<double, 4> q{1e-5, 2e-5, 1e-3, 3e-3};
+  for (int n = 0; n < 2000; ++n) {
+    const double scale = std::pow(10.0, 4.0 * u(gen));
+    const State x{{u(gen), u(gen), w(gen), 2.0 * u(gen)}};  // |w| > pi/4 takes the libm sincos
+    const SymMatrix4 P = random_covariance(gen, scale);
+    State xa, xb;
+    SymMatrix4 Pa, Pb;
+    predict(x, P, q, xa, Pa);
+    predict_scalar(x, P, q, xb, Pb);
+    ASSERT_EQ(xa.x, xb.x);
+    for (std::size_t k = 0; k < 10; ++k) ASSERT_EQ(Pa.data()[k], Pb.data()[k]) << k;
+    const Measurement z{3.0 * u(gen), u(gen)};
+    State ya, yb;
+    SymMatrix4 Qa, Qb;
+    const bool oka = update(xa, Pa, z, 1e-2, 2e-2, ya, Qa);
+    const bool okb = update_scalar(xb, Pb, z, 1e-2, 2e-2, yb, Qb);
+    ASSERT_TRUE(oka);
+    ASSERT_EQ(oka, okb);
+    ASSERT_EQ(ya.x, yb.x);
+    for (std::size_t k = 0; k < 10; ++k) ASSERT_EQ(Qa.data()[k], Qb.data()[k]) << k;
+  }
+  // Both refuse the same overflowing measurement.
+  State y;
+  SymMatrix4 Q;
+  const State x{{0.1, 0.0, 0.3, 1.0}};
+  const SymMatrix4 P(diagonal({1, 1, 1, 1}));
+  EXPECT_FALSE(update(x, P, Measurement{1e308, -1e308}, 1e-2, 1e-2, y, Q));
+  EXPECT_FALSE(update_scalar(x, P, Measurement{1e308, -1e308}, 1e-2, 1e-2, y, Q));
+}
