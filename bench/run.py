@@ -1,12 +1,14 @@
-"""Benchmark of both presets of the estimator: ns per sample for the native step loop, Python run(),
-Python step() in a loop, and the plain-numpy reference implementations, measured in one run on
-one signal.
+"""Benchmark of both presets of the estimator: ns per sample for the native step loop (generic and
+-march=native builds), Python run(), Python step() in a loop, and the plain-numpy reference
+implementations, measured in one run on one signal.
 
-    python bench/run.py [--samples N] [--repeats R]
+    python bench/run.py [--samples N] [--rounds R]
 
 Prints a Markdown table of medians (and the C++ minimum, the least disturbed by other load) and
-the ratios default / paper. A benchmark, not a test: run it on a quiet machine. The two presets
-are timed alternately, so that both see the same load.
+the ratios default / paper. A benchmark, not a test. The machine's speed drifts (a shared virtual
+machine: up to 30 % within minutes), so every path is timed in each of R rounds, one after the
+other, and the medians are taken over all rounds: all paths see the same load, and a ratio
+compares like with like.
 """
 
 from __future__ import annotations
@@ -48,12 +50,10 @@ def signal(n: int, seed: int = 0):
     return m.vx_mps + 0.05 * rng.standard_normal(n), m.vz_mps + 0.05 * rng.standard_normal(n)
 
 
-def native_step_ns(vx, vz, repeats: int) -> dict:
-    """{build: {preset: (median, min)}} of bench/bench_step.cpp (Release build), both presets interleaved.
-
-    Builds: "generic" (the compiler's default target, -O3) and, where the compiler has it,
-    "native" (-O3 -march=native: this machine's instruction set, e.g. AVX2 and FMA).
-    """
+def build_native() -> dict:
+    """{build: path} of bench/bench_step.cpp (Release): "generic" (the compiler's default target,
+    -O3) and, where the compiler has it, "native" (-O3 -march=native: this machine's instruction
+    set, e.g. AVX2 and FMA)."""
     cmake = shutil.which("cmake") or "cmake"
     build = ROOT / "build" / "bench"
     gen = ["-G", "Ninja"] if shutil.which("ninja") else []
@@ -61,45 +61,35 @@ def native_step_ns(vx, vz, repeats: int) -> dict:
                    check=True, capture_output=True)
     subprocess.run([cmake, "--build", build], check=True, capture_output=True)
     exes = {"generic": next(build.rglob("bench_step")), "native": next(build.rglob("bench_step_native"), None)}
-    result = {}
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "signal.f64"
-        np.concatenate([vx, vz]).astype(np.float64).tofile(path)
-        for name, exe in exes.items():
-            if exe is None:
-                continue
-            out = subprocess.run([exe, path, str(repeats)], check=True, capture_output=True, text=True).stdout
-            get = lambda key: float(re.search(key + r"=([\d.]+)", out).group(1))  # noqa: E731
-            result[name] = {p: (get(f"cpp_step_ns_median_{p}"), get(f"cpp_step_ns_min_{p}")) for p in PRESETS}
-    return result
+    return {name: exe for name, exe in exes.items() if exe is not None}
 
 
-def median_ns_interleaved(fns: dict, n_samples: int, repeats: int) -> dict:
-    """{name: median ns per sample} of the callables, called alternately."""
+def native_step_ns(exe: Path, signal_path: Path, repeats: int) -> dict:
+    """{preset: (median, min)} of one invocation of bench_step (both presets interleaved)."""
+    out = subprocess.run([exe, signal_path, str(repeats)], check=True, capture_output=True, text=True).stdout
+    get = lambda key: float(re.search(key + r"=([\d.]+)", out).group(1))  # noqa: E731
+    return {p: (get(f"cpp_step_ns_median_{p}"), get(f"cpp_step_ns_min_{p}")) for p in PRESETS}
+
+
+def times_ns(fns: dict, n_samples: int, repeats: int) -> dict:
+    """{name: [ns per sample, one per call]} of the callables, called alternately."""
     times = {name: [] for name in fns}
     for _ in range(repeats):
         for name, fn in fns.items():
             t0 = time.perf_counter_ns()
             fn()
             times[name].append((time.perf_counter_ns() - t0) / n_samples)
-    return {name: statistics.median(v) for name, v in times.items()}
+    return times
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=200_000)
-    ap.add_argument("--repeats", type=int, default=21)
+    ap.add_argument("--rounds", type=int, default=11)
     args = ap.parse_args()
     vx, vz = signal(args.samples)
     cfg = {p: yoyogait.EstimatorConfig.preset(p) for p in PRESETS}
-
-    cpp = native_step_ns(vx, vz, args.repeats)
-    py_run = median_ns_interleaved({p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz)) for p in PRESETS},
-                                   args.samples, args.repeats)
     time_s = np.arange(args.samples) * 0.04
-    py_run_t = median_ns_interleaved(
-        {p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz, time_s=time_s)) for p in PRESETS},
-        args.samples, max(5, args.repeats // 2))
     n_step = min(args.samples, 50_000)
     sx, sz = vx[:n_step].tolist(), vz[:n_step].tolist()
 
@@ -108,15 +98,37 @@ def main() -> None:
         for a, b in zip(sx, sz):
             step(a, b)
 
-    py_step = median_ns_interleaved({p: (lambda p=p: step_loop(p)) for p in PRESETS}, n_step,
-                                    max(5, args.repeats // 3))
+    exes = build_native()
+    cpp = {b: {p: ([], []) for p in PRESETS} for b in exes}  # per round: median, min
+    py_run = {p: [] for p in PRESETS}
+    py_run_t = {p: [] for p in PRESETS}
+    py_step = {p: [] for p in PRESETS}
+    with tempfile.TemporaryDirectory() as tmp:
+        signal_path = Path(tmp) / "signal.f64"
+        np.concatenate([vx, vz]).astype(np.float64).tofile(signal_path)
+        for _ in range(args.rounds):
+            for build, exe in exes.items():
+                for p, (med, low) in native_step_ns(exe, signal_path, 7).items():
+                    cpp[build][p][0].append(med)
+                    cpp[build][p][1].append(low)
+            for p, v in times_ns({p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz)) for p in PRESETS},
+                                 args.samples, 5).items():
+                py_run[p] += v
+            for p, v in times_ns({p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz, time_s=time_s))
+                                  for p in PRESETS}, args.samples, 2).items():
+                py_run_t[p] += v
+            for p, v in times_ns({p: (lambda p=p: step_loop(p)) for p in PRESETS}, n_step, 1).items():
+                py_step[p] += v
     n_ref = min(args.samples, 3_000)
-    ref = median_ns_interleaved({
+    ref = times_ns({
         "paper": lambda: reference_paper_estimator(vx[:n_ref], vz[:n_ref]),
         "default": lambda: run_reference(vx[:n_ref], vz[:n_ref]),
     }, n_ref, 3)
+    med = statistics.median
+    cpp = {b: {p: (med(v[0]), min(v[1])) for p, v in res.items()} for b, res in cpp.items()}
+    py_run, py_run_t, py_step, ref = ({p: med(v) for p, v in d.items()} for d in (py_run, py_run_t, py_step, ref))
 
-    print(f"yoyogait {yoyogait.__version__} benchmark, both presets, {args.samples} samples, {args.repeats} repeats; "
+    print(f"yoyogait {yoyogait.__version__} benchmark, both presets, {args.samples} samples, {args.rounds} rounds; "
           f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
     print()
     print("| path | paper ns/sample | default ns/sample | default / paper | target |")

@@ -223,7 +223,7 @@ class Estimator {
       P_ = pred_P_;
     }
     const double x1 = state_.a1_cos(), x2 = state_.a1_sin(), w = state_.omega_rad_per_sample();
-    const double a1 = std::sqrt(x1 * x1 + x2 * x2);
+    const double a1 = sqrt1(x1 * x1 + x2 * x2);
     const bool opened = params_.update(w, state_.bias_mps(), a1);
     return make_estimate(status, opened, a1);
   }

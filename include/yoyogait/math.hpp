@@ -21,6 +21,16 @@
 
 namespace yoyogait {
 
+/// sqrt(a), correctly rounded as std::sqrt, but without the errno check that std::sqrt carries
+/// under the default -fmath-errno (a branch to a library call on the per-sample path).
+inline double sqrt1(double a) noexcept {
+#ifdef YOYOGAIT_HAVE_SSE2
+  return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(a)));
+#else
+  return std::sqrt(a);
+#endif
+}
+
 /// sqrt(a) and sqrt(b), correctly rounded as std::sqrt. With SSE2 one packed instruction: square
 /// roots and divisions share one unit that is not fully pipelined, and the next step's 1 / det(S)
 /// waits for it.

@@ -178,7 +178,7 @@ TEST(SymMatrix4, NamesEachEntryOnceForBothHalves) {
 }
 
 TEST(Sqrt2, EqualsStdSqrt) {
-  // The paired square root is correctly rounded, as std::sqrt, in both lanes.
+  // The paired square root (both lanes) and sqrt1 are correctly rounded, as std::sqrt.
   std::mt19937_64 gen(11);
   std::uniform_real_distribution<double> e(-300.0, 300.0);
   for (int i = 0; i < 10000; ++i) {
@@ -187,6 +187,7 @@ TEST(Sqrt2, EqualsStdSqrt) {
     yoyogait::sqrt2(a, b, ra, rb);
     ASSERT_EQ(ra, std::sqrt(a));
     ASSERT_EQ(rb, std::sqrt(b));
+    ASSERT_EQ(yoyogait::sqrt1(a), std::sqrt(a));
   }
   double ra, rb;
   yoyogait::sqrt2(0.0, -1.0, ra, rb);
