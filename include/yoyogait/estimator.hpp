@@ -13,6 +13,7 @@
 #include "yoyogait/ekf.hpp"
 #include "yoyogait/gait_filter.hpp"
 #include "yoyogait/heuristics.hpp"
+#include "yoyogait/math.hpp"
 #include "yoyogait/state.hpp"
 
 namespace yoyogait {

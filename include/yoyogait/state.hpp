@@ -41,16 +41,17 @@ using Matrix4 = std::array<std::array<double, kStateDim>, kStateDim>;
 /// (i, j) and (j, i) name the same entry, so the two halves cannot drift apart.
 ///
 /// The entries are stored as five pairs that the SSE2 filter step (ekf.hpp) loads whole:
-/// [P11, P22], [P12, P34], [P13, P23], [P14, P24], [P33, P44] (1-based: x1, x2, w, A0).
+/// [P(0,0), P(1,1)], [P(0,1), P(2,3)], [P(0,2), P(1,2)], [P(0,3), P(1,3)], [P(2,2), P(3,3)]
+/// (indices as StateIndex: x1, x2, w, A0).
 class SymMatrix4 {
  public:
   /// Offsets of the pairs in data().
   enum Pair : std::size_t {
-    kDiag12 = 0,  ///< [P(x1,x1), P(x2,x2)]
-    kOff = 2,     ///< [P(x1,x2), P(w,A0)]
-    kCol3 = 4,    ///< [P(x1,w), P(x2,w)]
-    kCol4 = 6,    ///< [P(x1,A0), P(x2,A0)]
-    kDiag34 = 8,  ///< [P(w,w), P(A0,A0)]
+    kDiag01 = 0,  ///< [P(0,0), P(1,1)]
+    kOff = 2,     ///< [P(0,1), P(2,3)]
+    kCol2 = 4,    ///< [P(0,2), P(1,2)]
+    kCol3 = 6,    ///< [P(0,3), P(1,3)]
+    kDiag23 = 8,  ///< [P(2,2), P(3,3)]
   };
 
   constexpr SymMatrix4() noexcept = default;
@@ -75,10 +76,10 @@ class SymMatrix4 {
  private:
   static constexpr std::size_t index(std::size_t i, std::size_t j) noexcept {
     constexpr std::size_t kIndex[kStateDim][kStateDim] = {
-        {kDiag12, kOff, kCol3, kCol4},
-        {kOff, kDiag12 + 1, kCol3 + 1, kCol4 + 1},
-        {kCol3, kCol3 + 1, kDiag34, kOff + 1},
-        {kCol4, kCol4 + 1, kOff + 1, kDiag34 + 1},
+        {kDiag01, kOff, kCol2, kCol3},
+        {kOff, kDiag01 + 1, kCol2 + 1, kCol3 + 1},
+        {kCol2, kCol2 + 1, kDiag23, kOff + 1},
+        {kCol3, kCol3 + 1, kOff + 1, kDiag23 + 1},
     };
     return kIndex[i][j];
   }
