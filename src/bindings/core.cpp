@@ -67,10 +67,10 @@ class Block {
     });
   }
 
+  /// A contiguous 1-D array of rows elements.
   template <class T>
-  Owned<T> take(std::size_t rows, std::size_t cols = 0) {
-    T* data = raw<T>(cols ? rows * cols : rows);
-    if (cols) return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<2>>(data, {rows, cols}, owner_))};
+  Owned<T> take(std::size_t rows) {
+    T* data = raw<T>(rows);
     return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(data, {rows}, owner_))};
   }
 
