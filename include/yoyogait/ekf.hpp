@@ -8,10 +8,20 @@
 /// Both are written out for the sparse F and H of this model and a symmetric P, so a step costs
 /// about 200 flops, and arranged so that the loop-carried chain through sin w, cos w and 1 / det(S)
 /// stays short.
+///
+/// The covariance guard (docs/paper_estimator.md, "Covariance guard"): positive_definite() tests
+/// the result of every step (about 30 flops, off the loop-carried chain); only where it fails,
+/// which walking data never reach, joseph_update() recomputes the update in the Joseph form and
+/// nearest_positive_definite() (covariance_guard.hpp) repairs what is still not positive definite.
+/// within_variance_bounds() and bound_variances() keep each variance within what the state's range
+/// allows.
 #pragma once
 
+#include <array>
 #include <cmath>
+#include <limits>
 
+#include "yoyogait/covariance_guard.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/state.hpp"
 
@@ -146,6 +156,29 @@ inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement
   return std::isfinite(check);
 }
 
+/// True when the symmetric P is positive definite (and finite), by the block test: with
+/// A = P(01, 01), B = P(01, 23) and C = P(23, 23), P > 0 iff A > 0 and the Schur complement
+/// C - B^T A^-1 B > 0. Scaled by det A > 0 the complement is M = det(A) C - B^T adj(A) B, which
+/// needs no division: P > 0 iff P(0,0) > 0, det A > 0, M(0,0) > 0 and det M > 0. A NaN fails.
+inline bool positive_definite_scalar(const SymMatrix4& P) noexcept {
+  const double a00 = P(0, 0), a01 = P(0, 1), a11 = P(1, 1);
+  const double det_a = a00 * a11 - a01 * a01;
+  // N = adj(A) B, column by column (adj A = [[a11, -a01], [-a01, a00]]).
+  const double n00 = a11 * P(0, 2) - a01 * P(1, 2), n10 = a00 * P(1, 2) - a01 * P(0, 2);
+  const double n01 = a11 * P(0, 3) - a01 * P(1, 3), n11 = a00 * P(1, 3) - a01 * P(0, 3);
+  const double m00 = det_a * P(2, 2) - (P(0, 2) * n00 + P(1, 2) * n10);
+  const double m11 = det_a * P(3, 3) - (P(0, 3) * n01 + P(1, 3) * n11);
+  const double m01 = det_a * P(2, 3) - (P(0, 2) * n01 + P(1, 2) * n11);
+  const double det_m = m00 * m11 - m01 * m01;
+  return a00 > 0.0 && det_a > 0.0 && m00 > 0.0 && det_m > 0.0 && det_m <= std::numeric_limits<double>::max();
+}
+
+/// True when no variance of P exceeds its bound (and none is NaN).
+inline bool within_variance_bounds(const SymMatrix4& P, const std::array<double, kStateDim>& max_variance) noexcept {
+  return P(0, 0) <= max_variance[0] && P(1, 1) <= max_variance[1] && P(2, 2) <= max_variance[2] &&
+         P(3, 3) <= max_variance[3];
+}
+
 #ifdef YOYOGAIT_HAVE_SSE2
 namespace detail {
 
@@ -255,8 +288,39 @@ inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& 
   return std::isfinite(lo(sum) + hi(sum));
 }
 
+// positive_definite_scalar on the storage pairs, the same operations in the same order.
+inline bool positive_definite_sse2(const SymMatrix4& P) noexcept {
+  using M = SymMatrix4;
+  const __m128d diag01 = load(P.data() + M::kDiag01), off = load(P.data() + M::kOff);
+  const __m128d col2 = load(P.data() + M::kCol2), col3 = load(P.data() + M::kCol3);
+  const __m128d diag23 = load(P.data() + M::kDiag23);
+  const double a00 = lo(diag01), a01 = lo(off), a11 = hi(diag01);
+  const double det_a = a00 * a11 - a01 * a01;
+  // N(:, j) = adj(A) B(:, j) = [a11, a00] B(:, j) - a01 [B(1, j), B(0, j)].
+  const __m128d swapped_diag = _mm_shuffle_pd(diag01, diag01, 1), A01 = lo2(off);
+  const __m128d N0 = _mm_sub_pd(_mm_mul_pd(swapped_diag, col2), _mm_mul_pd(A01, _mm_shuffle_pd(col2, col2, 1)));
+  const __m128d N1 = _mm_sub_pd(_mm_mul_pd(swapped_diag, col3), _mm_mul_pd(A01, _mm_shuffle_pd(col3, col3, 1)));
+  // B^T N: [b2 . n0, b3 . n1] and b2 . n1, each dot product summed lane 0 + lane 1.
+  const __m128d t0 = _mm_mul_pd(col2, N0), t1 = _mm_mul_pd(col3, N1), t2 = _mm_mul_pd(col2, N1);
+  const __m128d bn = _mm_add_pd(_mm_unpacklo_pd(t0, t1), _mm_unpackhi_pd(t0, t1));
+  const __m128d m = _mm_sub_pd(_mm_mul_pd(_mm_set1_pd(det_a), diag23), bn);  // [m00, m11]
+  const double m00 = lo(m), m11 = hi(m);
+  const double m01 = det_a * hi(off) - (lo(t2) + hi(t2));
+  const double det_m = m00 * m11 - m01 * m01;
+  return a00 > 0.0 && det_a > 0.0 && m00 > 0.0 && det_m > 0.0 && det_m <= std::numeric_limits<double>::max();
+}
+
 }  // namespace detail
 #endif
+
+/// positive_definite_scalar(); with SSE2 the same arithmetic on pairs, identical results.
+inline bool positive_definite(const SymMatrix4& P) noexcept {
+#ifdef YOYOGAIT_HAVE_SSE2
+  return detail::positive_definite_sse2(P);
+#else
+  return positive_definite_scalar(P);
+#endif
+}
 
 /// The EKF prediction (predict_scalar); with SSE2 the same arithmetic on pairs, identical results.
 inline void predict(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q, State& x_pred,
@@ -276,6 +340,56 @@ inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, do
 #else
   return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, x_post, P_post);
 #endif
+}
+
+/// The EKF update in the Joseph form, for the guard's cold path: the same gain and state as
+/// update(), but P_post = (I - K H) P (I - K H)^T + K V K^T, a sum of two positive semi-definite
+/// terms whatever the rounding of K (the first-order effect of an error in K cancels), where
+/// P - K S K^T subtracts nearly equal matrices. Equal to update() in exact arithmetic. Written with
+/// dense matrices, as the textbook has it; symmetric by construction (one triangle, mirrored).
+/// Returns false when the posterior would not be finite (x_post, P_post then unspecified).
+inline bool joseph_update(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
+                          double v_vz_mps2, State& x_post, SymMatrix4& P_post) noexcept {
+  const Matrix4 Pd = P.dense();
+  constexpr double H[kMeasurementDim][kStateDim] = {{1, 0, 0, 1}, {0, -1, 0, 0}};
+  const double V[kMeasurementDim] = {v_vx_mps2, v_vz_mps2};
+  double PHt[kStateDim][kMeasurementDim] = {}, S[kMeasurementDim][kMeasurementDim] = {};
+  for (std::size_t i = 0; i < kStateDim; ++i)
+    for (std::size_t m = 0; m < kMeasurementDim; ++m)
+      for (std::size_t k = 0; k < kStateDim; ++k) PHt[i][m] += Pd[i][k] * H[m][k];
+  for (std::size_t m = 0; m < kMeasurementDim; ++m)
+    for (std::size_t l = 0; l < kMeasurementDim; ++l) {
+      for (std::size_t k = 0; k < kStateDim; ++k) S[m][l] += H[m][k] * PHt[k][l];
+      if (m == l) S[m][l] += V[m];
+    }
+  const double det = S[0][0] * S[1][1] - S[0][1] * S[1][0];
+  const double Si[2][2] = {{S[1][1] / det, -S[0][1] / det}, {-S[1][0] / det, S[0][0] / det}};
+  double K[kStateDim][kMeasurementDim] = {};
+  for (std::size_t i = 0; i < kStateDim; ++i)
+    for (std::size_t m = 0; m < kMeasurementDim; ++m)
+      for (std::size_t l = 0; l < kMeasurementDim; ++l) K[i][m] += PHt[i][l] * Si[l][m];
+  const Measurement h = measure(x);
+  const double y[kMeasurementDim] = {z.vx_mps - h.vx_mps, z.vz_mps - h.vz_mps};
+  for (std::size_t i = 0; i < kStateDim; ++i) x_post[i] = x[i] + (K[i][0] * y[0] + K[i][1] * y[1]);
+  // A = I - K H; P_post = A P A^T + K V K^T.
+  Matrix4 A{}, AP{};
+  for (std::size_t i = 0; i < kStateDim; ++i)
+    for (std::size_t j = 0; j < kStateDim; ++j)
+      A[i][j] = (i == j ? 1.0 : 0.0) - (K[i][0] * H[0][j] + K[i][1] * H[1][j]);
+  for (std::size_t i = 0; i < kStateDim; ++i)
+    for (std::size_t j = 0; j < kStateDim; ++j)
+      for (std::size_t k = 0; k < kStateDim; ++k) AP[i][j] += A[i][k] * Pd[k][j];
+  bool finite = true;
+  for (std::size_t i = 0; i < kStateDim; ++i) {
+    finite = finite && std::isfinite(x_post[i]);
+    for (std::size_t j = i; j < kStateDim; ++j) {
+      double s = K[i][0] * V[0] * K[j][0] + K[i][1] * V[1] * K[j][1];
+      for (std::size_t k = 0; k < kStateDim; ++k) s += AP[i][k] * A[j][k];
+      P_post(i, j) = s;
+      finite = finite && std::isfinite(s);
+    }
+  }
+  return finite;
 }
 
 /// predict() in place, on a dense covariance (taken to be symmetric; both halves are written).

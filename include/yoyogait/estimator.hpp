@@ -111,6 +111,14 @@ class Estimator {
     inv_T_ = 1.0 / config_.sample_time_s;
     inv_two_pi_T_ = 1.0 / (kTwoPi * config_.sample_time_s);
     q_ = {config_.q_oscillation_mps2, config_.q_oscillation_mps2, config_.q_omega_rad2, config_.q_bias_mps2};
+    // Popoviciu's inequality: a quantity confined to an interval of width L has a variance of at
+    // most L^2 / 4. The velocities x1, x2 (v_z = -x2) and x4 (the cycle mean of v_x) lie within
+    // +-max_abs_velocity_mps, as every sample used does; x3 within +-pi rad/sample (Nyquist).
+    constexpr double kPi = 3.14159265358979323846264338327950;
+    const double v2 = config_.max_abs_velocity_mps * config_.max_abs_velocity_mps;
+    max_variance_ = {v2, v2, kPi * kPi, v2};
+    P0_ = SymMatrix4(diagonal({config_.p0_oscillation_mps2, config_.p0_oscillation_mps2, config_.p0_omega_rad2,
+                               config_.p0_bias_mps2}));
     reset();
   }
 
@@ -122,8 +130,7 @@ class Estimator {
     state_.a1_sin() = 0.0;
     state_.omega_rad_per_sample() = w0;
     state_.bias_mps() = config_.initial_R_hat_mps * w0;
-    P_ = SymMatrix4(diagonal({config_.p0_oscillation_mps2, config_.p0_oscillation_mps2, config_.p0_omega_rad2,
-                              config_.p0_bias_mps2}));
+    P_ = P0_;
     params_ = ParameterFilter(config_.smoothing_window_samples, config_.gate_omega_rad_per_sample,
                               config_.gate_bias_mps, config_.initial_R_hat_mps, config_.initial_r_hat_mps);
     gait_.reset();
@@ -210,6 +217,8 @@ class Estimator {
     // The prediction goes to scratch members and the update back into state_, P_ (out of place,
     // see predict); a sample that is not used leaves the prediction as the posterior.
     predict(state_, P_, q_, pred_state_, pred_P_);
+    // The covariance guard (docs/paper_estimator.md): two tests, whose repairs walking data never need.
+    if (!within_variance_bounds(pred_P_, max_variance_)) bound_prediction();
     Status status = Status::kUpdated;
     if (!(std::isfinite(vx_mps) && std::isfinite(vz_mps))) {
       status = Status::kRejectedNonFinite;
@@ -223,10 +232,49 @@ class Estimator {
       state_ = pred_state_;
       P_ = pred_P_;
     }
+    if (!positive_definite(P_)) guard_covariance(status, vx_mps, vz_mps);
     const double x1 = state_.a1_cos(), x2 = state_.a1_sin(), w = state_.omega_rad_per_sample();
     const double a1 = sqrt1(x1 * x1 + x2 * x2);
     const bool opened = params_.update(w, state_.bias_mps(), a1);
     return make_estimate(status, opened, a1);
+  }
+
+  // The guard's cold paths (docs/paper_estimator.md, "Covariance guard").
+
+  /// A prediction with a variance beyond its bound: bounded by bound_variances (correlations kept);
+  /// a prediction that is not finite (possible only from an absurd state) restarts from P0.
+  YOYOGAIT_COLD void bound_prediction() noexcept {
+    Matrix4 P = pred_P_.dense();
+    for (const auto& row : P)
+      for (double v : row)
+        if (!std::isfinite(v)) {
+          pred_P_ = P0_;
+          return;
+        }
+    bound_variances(P, max_variance_);
+    pred_P_ = SymMatrix4(P);
+  }
+
+  /// P_ failed positive_definite. After an update: the prediction is made positive definite if it
+  /// is not, and the update is recomputed in the Joseph form (the same equations); whatever is
+  /// still not positive definite is replaced by the nearest matrix that is.
+  YOYOGAIT_COLD void guard_covariance(Status& status, double vx_mps, double vz_mps) noexcept {
+    if (status == Status::kUpdated) {
+      if (!positive_definite(pred_P_)) restore(pred_P_);
+      if (!joseph_update(pred_state_, pred_P_, Measurement{vx_mps, vz_mps}, config_.v_vx_mps2, config_.v_vz_mps2,
+                         state_, P_)) {
+        state_ = pred_state_;
+        P_ = pred_P_;
+        status = Status::kRejectedNumerical;
+      }
+    }
+    if (!positive_definite(P_)) restore(P_);
+  }
+
+  /// The nearest positive definite matrix (covariance_guard.hpp); P0 if P has nothing to keep.
+  void restore(SymMatrix4& P) const noexcept {
+    Matrix4 d = P.dense();
+    P = nearest_positive_definite(d) ? SymMatrix4(d) : P0_;
   }
 
   // Both builders initialise every field in declaration order: a default-constructed Estimate
@@ -313,6 +361,8 @@ class Estimator {
   bool paper_ = false;
   std::array<double, kStateDim> q_{};
   double inv_T_ = 25.0, inv_two_pi_T_ = 1.0;
+  std::array<double, kStateDim> max_variance_{};  // the guard's variance bounds
+  SymMatrix4 P0_;
   State state_;
   SymMatrix4 P_;
   State pred_state_;     // the prediction of the current step (scratch)

@@ -19,6 +19,15 @@
 #define YOYOGAIT_ALWAYS_INLINE inline
 #endif
 
+// Keeps a rarely taken path (the covariance guard's repairs) out of the per-sample loop's code.
+#if defined(__GNUC__)
+#define YOYOGAIT_COLD __attribute__((noinline, cold))
+#elif defined(_MSC_VER)
+#define YOYOGAIT_COLD __declspec(noinline)
+#else
+#define YOYOGAIT_COLD
+#endif
+
 namespace yoyogait {
 
 /// sqrt(a), correctly rounded as std::sqrt, but without the errno check that std::sqrt carries

@@ -134,7 +134,10 @@ class Block {
 // The doubles are one row-major table, each column a strided view: a step writes its values to
 // one place (whole cache lines) rather than to a separate stream per column, which costs a
 // long run several ns per sample more.
-template <bool kGait>
+//
+// kCov: the covariance after every step is also written, (n, k * k) row-major, k = 4 (paper) or 8
+// (gait filter): for checks over many samples, not for the estimates.
+template <bool kGait, bool kCov>
 nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
                   const double* pdt) {
   constexpr std::size_t kS = yoyogait::kStateDim;
@@ -149,8 +152,11 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
   };
   const std::size_t kPred = kGait ? kGaitEnd : kCommon;  // vx_pred (nh), then vz_pred (nh)
   const std::size_t width = kPred + 2 * nh;
-  Block block(n * (sizeof(double) * width + (kGait ? 4 : 2)) + 64);
+  constexpr std::size_t kCovDim = kGait ? kG : kS;
+  constexpr std::size_t kCovSize = kCov ? kCovDim * kCovDim : 0;
+  Block block(n * (sizeof(double) * (width + kCovSize) + (kGait ? 4 : 2)) + 64);
   double* rows = block.raw<double>(n * width);
+  double* covs = block.raw<double>(n * kCovSize);
   auto status = block.take<std::uint8_t>(n);
   auto updated = block.take<bool>(n);
   auto walking = block.take<bool>(kGait ? n : 0), acquiring = block.take<bool>(kGait ? n : 0);
@@ -196,6 +202,18 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
           r[kPred + j] = v.vx_mps;
           r[kPred + nh + j] = v.vz_mps;
         }
+        if constexpr (kCov) {
+          double* c = covs + i * kCovSize;
+          if constexpr (kGait) {
+            const yoyogait::GaitMatrix P = local.gait_covariance();
+            for (std::size_t a = 0; a < kCovDim; ++a)
+              for (std::size_t b = 0; b < kCovDim; ++b) c[a * kCovDim + b] = P[a][b];
+          } else {
+            const yoyogait::Matrix4 P = local.covariance();
+            for (std::size_t a = 0; a < kCovDim; ++a)
+              for (std::size_t b = 0; b < kCovDim; ++b) c[a * kCovDim + b] = P[a][b];
+          }
+        }
       }
     };
     if (pdt) {
@@ -235,18 +253,22 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     out["vx_pred"] = block.view(rows + kPred, n, nh, width);
     out["vz_pred"] = block.view(rows + kPred + nh, n, nh, width);
   }
+  if constexpr (kCov) out["covariance"] = block.view(covs, n, kCovSize, kCovSize);
   return out;
 }
 
 
 nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
-             const std::optional<InArray>& dt) {
+             const std::optional<InArray>& dt, bool covariance) {
   const std::size_t n = vx.shape(0);
   if (vz.shape(0) != n) throw nb::value_error("vx and vz must have the same length");
   if (dt && dt->shape(0) != n) throw nb::value_error("dt_s must have the length of vx");
   const double* pdt = dt ? dt->data() : nullptr;
-  if (est.algorithm() == yoyogait::Algorithm::kPaper) return run_impl<false>(est, vx, vz, horizons, pdt);
-  return run_impl<true>(est, vx, vz, horizons, pdt);
+  const bool paper = est.algorithm() == yoyogait::Algorithm::kPaper;
+  if (covariance) {
+    return paper ? run_impl<false, true>(est, vx, vz, horizons, pdt) : run_impl<true, true>(est, vx, vz, horizons, pdt);
+  }
+  return paper ? run_impl<false, false>(est, vx, vz, horizons, pdt) : run_impl<true, false>(est, vx, vz, horizons, pdt);
 }
 
 nb::dict yoyo_trajectory(double R_m, double r_m, double z0_m, const InArray& time_s, const InArray& f_hz,
@@ -394,7 +416,7 @@ NB_MODULE(_core, m) {
       .def(nb::init<const EstimatorConfig&>(), "config"_a)
       .def("step", nb::overload_cast<double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a)
       .def("step", nb::overload_cast<double, double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a, "dt_s"_a)
-      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none())
+      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none(), "covariance"_a = false)
       .def("reset", &yoyogait::Estimator::reset)
       .def("predict_ahead", [](const yoyogait::Estimator& e, double h) {
         const auto v = e.predict_ahead(h);

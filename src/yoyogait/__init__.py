@@ -18,6 +18,7 @@ _LAZY = {
     "GaitEstimator": "estimator",
     "EstimatorConfig": "estimator",
     "EstimateResult": "estimator",
+    "Status": "estimator",
     "yoyo_model": "model",
     "YoyoTrajectory": "model",
     "gait_velocities": "velocities",

@@ -281,6 +281,8 @@ class EstimateResult:
     and are not written per sample: ``vx_hat_h2`` is ``vx_hat``, the flags and
     ``std_scale`` are constant read-only views (True, False, 1) and
     ``gait_state`` is None (``GaitEstimator.step`` gives it in the gait form).
+    ``covariance`` (N, k, k): the filter's covariance after each sample (k = 4 for the
+    paper, 8 for the default), when ``run(..., covariance=True)`` asked for it, else None.
     Derived when read, for every result with a state: ``amp_z_mps``,
     ``phase_x_rel_z_rad``, ``signed_amp_x_mps``, ``omega_rate_rad_s2``,
     ``accel_mps2`` (see the C++ ``yoyogait::Estimate``).
@@ -313,6 +315,7 @@ class EstimateResult:
     std_scale: np.ndarray | None = None
     walking: np.ndarray | None = None
     acquiring: np.ndarray | None = None
+    covariance: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.vx_hat.shape[0])
@@ -418,7 +421,7 @@ class GaitEstimator:
             return self._impl.step(vx, vz)
         return self._impl.step(vx, vz, dt_s)
 
-    def run(self, vx, vz, *, predict_ahead_s=(), time_s=None) -> EstimateResult:
+    def run(self, vx, vz, *, predict_ahead_s=(), time_s=None, covariance=False) -> EstimateResult:
         """Process arrays of samples, continuing from the current state.
 
         ``predict_ahead_s``: horizons [s] for which to also predict the velocities at each sample.
@@ -426,6 +429,7 @@ class GaitEstimator:
         their differences (irregular sampling, gaps), continuing from the last timestamp of the
         previous ``run``.  Without it every sample is ``sample_time_s`` after the previous one.
         The paper's estimator works per sample and does not use them.
+        ``covariance``: also return the filter's covariance after every sample (for checks).
 
         The arrays are views of one table written row by row (one row per sample), so most are
         strided; ``np.ascontiguousarray`` gives a compact copy.  The table's memory is handed to
@@ -451,7 +455,10 @@ class GaitEstimator:
                 dt[0] = (time_s[0] - self._last_time_s) if self._last_time_s is not None \
                     else self.config.sample_time_s
         horizons = np.asarray(horizons_s, dtype=np.float64) / self.config.sample_time_s
-        out = self._impl.run(vx, vz, horizons, dt)
+        out = self._impl.run(vx, vz, horizons, dt, bool(covariance))
+        if "covariance" in out:
+            k = 4 if paper else 8
+            out["covariance"] = out["covariance"].reshape(vx.size, k, k)
         if "gait_state" not in out:
             # The paper: its gait-filter outputs carry nothing new, so they are not written per
             # sample (see yoyogait::Estimate): the reconstruction is the same array, the constant

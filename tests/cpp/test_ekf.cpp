@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
+#include "yoyogait/covariance_guard.hpp"
 #include "yoyogait/ekf.hpp"
 #include "yoyogait/math.hpp"
 
@@ -256,4 +258,186 @@ TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
   const SymMatrix4 P(diagonal({1, 1, 1, 1}));
   EXPECT_FALSE(update(x, P, Measurement{1e308, -1e308}, 1e-2, 1e-2, y, Q));
   EXPECT_FALSE(update_scalar(x, P, Measurement{1e308, -1e308}, 1e-2, 1e-2, y, Q));
+}
+
+namespace {
+
+// A symmetric 4x4 with eigenvalues lambda in a random orthonormal basis (Gram-Schmidt).
+SymMatrix4 with_eigenvalues(std::mt19937& gen, const std::array<double, 4>& lambda) {
+  std::normal_distribution<double> nd(0.0, 1.0);
+  double Qm[4][4];
+  for (std::size_t j = 0; j < 4; ++j) {
+    for (std::size_t i = 0; i < 4; ++i) Qm[i][j] = nd(gen);
+    for (std::size_t k = 0; k < j; ++k) {
+      double d = 0.0;
+      for (std::size_t i = 0; i < 4; ++i) d += Qm[i][j] * Qm[i][k];
+      for (std::size_t i = 0; i < 4; ++i) Qm[i][j] -= d * Qm[i][k];
+    }
+    double n = 0.0;
+    for (std::size_t i = 0; i < 4; ++i) n += Qm[i][j] * Qm[i][j];
+    for (std::size_t i = 0; i < 4; ++i) Qm[i][j] /= std::sqrt(n);
+  }
+  SymMatrix4 P;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i; j < 4; ++j) {
+      double s = 0.0;
+      for (std::size_t k = 0; k < 4; ++k) s += Qm[i][k] * lambda[k] * Qm[j][k];
+      P(i, j) = s;
+    }
+  return P;
+}
+
+double min_eigenvalue(const Matrix4& P) {
+  Matrix4 A = P, V;
+  std::array<double, 4> lambda;
+  symmetric_eigen(A, lambda, V);
+  return *std::min_element(lambda.begin(), lambda.end());
+}
+
+}  // namespace
+
+TEST(PositiveDefinite, BlockTestDecidesAsTheEigenvaluesAndBothFormsAgree) {
+  // The division-free block test says "positive definite" exactly for matrices whose smallest
+  // eigenvalue is clearly positive, and its SSE2 and scalar forms give the same answer.
+  std::mt19937 gen(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int pd = 0, not_pd = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const double scale = std::pow(10.0, 6.0 * u(gen));
+    std::array<double, 4> lambda;
+    for (double& l : lambda) l = scale * std::pow(10.0, 4.0 * u(gen));
+    if (n % 2) lambda[static_cast<std::size_t>(n / 2) % 4] *= (n % 4 == 1 ? -1e-3 : -1.0);  // one negative
+    const SymMatrix4 P = with_eigenvalues(gen, lambda);
+    const bool a = positive_definite(P), b = positive_definite_scalar(P);
+    ASSERT_EQ(a, b) << n;
+    const double lo = *std::min_element(lambda.begin(), lambda.end());
+    const double hi = *std::max_element(lambda.begin(), lambda.end());
+    if (lo > 1e-6 * hi) {
+      EXPECT_TRUE(a) << n;  // condition number below 1e6: certified
+      ++pd;
+    } else if (lo < 0.0) {
+      EXPECT_FALSE(a) << n;
+      ++not_pd;
+    }
+    if (lo < 0.0) {
+      EXPECT_FALSE(positive_definite_ldl(P.dense())) << n;
+    }
+    if (lo > 1e-6 * hi) {
+      EXPECT_TRUE(positive_definite_ldl(P.dense())) << n;
+    }
+  }
+  EXPECT_GT(pd, 5000);
+  EXPECT_GT(not_pd, 5000);
+  // Non-finite and zero matrices fail; the identity passes.
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(positive_definite(SymMatrix4(diagonal({1, 1, nan, 1}))));
+  EXPECT_FALSE(positive_definite_scalar(SymMatrix4(diagonal({1, 1, nan, 1}))));
+  EXPECT_FALSE(positive_definite(SymMatrix4(diagonal({inf, 1, 1, 1}))));
+  EXPECT_FALSE(positive_definite(SymMatrix4{}));
+  EXPECT_TRUE(positive_definite(SymMatrix4(diagonal({1, 1, 1, 1}))));
+}
+
+TEST(JosephUpdate, EqualsTheStandardUpdateOnWellConditionedCovariances) {
+  // The guard's Joseph form gives the state and covariance of update() to rounding.
+  std::mt19937 gen(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int n = 0; n < 500; ++n) {
+    const SymMatrix4 P = random_covariance(gen, 1.0);
+    const State x{{u(gen), u(gen), 0.3 * u(gen), u(gen)}};
+    const Measurement z{u(gen), u(gen)};
+    State xa, xb;
+    SymMatrix4 Pa, Pb;
+    ASSERT_TRUE(update(x, P, z, 1e-2, 2e-2, xa, Pa));
+    ASSERT_TRUE(joseph_update(x, P, z, 1e-2, 2e-2, xb, Pb));
+    for (std::size_t i = 0; i < 4; ++i) {
+      EXPECT_NEAR(xa[i], xb[i], 1e-12);
+      for (std::size_t j = 0; j < 4; ++j) EXPECT_NEAR(Pa(i, j), Pb(i, j), 1e-12);
+    }
+  }
+}
+
+TEST(JosephUpdate, StaysPositiveDefiniteWhereTheStandardFormDoesNot) {
+  // The plain filter on sequences like (0, 0), (a, 500..1000), (0, NaN) x 1-3, then small samples
+  // (a corrupt sample within range, then missing ones: a huge, nearly singular prediction) loses
+  // positive definiteness in the standard update in many of them; the Joseph form of the same
+  // update, from the same prediction, never does.
+  std::mt19937 gen(37);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const std::array<double, 4> q{1e-5, 1e-5, 1e-3, 1e-3};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  int standard_lost = 0, joseph_lost = 0;
+  for (int n = 0; n < 2000; ++n) {
+    State x{{0.02, 0.0, 0.1, 0.2}};
+    SymMatrix4 P(diagonal({1, 1, 1, 1}));
+    std::vector<std::array<double, 2>> in = {{0.0, 0.0}, {5.0 * u(gen), (u(gen) < 0 ? -1 : 1) * (750.0 + 250.0 * u(gen))}};
+    for (int i = 0, m = 2 + static_cast<int>(1.5 * u(gen)); i < m; ++i) in.push_back({0.0, nan});
+    for (int i = 0; i < 4; ++i) in.push_back({0.3 * u(gen), 0.3 * u(gen)});
+    for (const auto& s : in) {
+      State xp, xa, xb;
+      SymMatrix4 Pp, Pa, Pb;
+      predict(x, P, q, xp, Pp);
+      if (std::isnan(s[1])) {
+        x = xp;
+        P = Pp;
+        continue;
+      }
+      ASSERT_TRUE(update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, xa, Pa));
+      ASSERT_TRUE(joseph_update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, xb, Pb));
+      if (min_eigenvalue(Pa.dense()) < 0.0) {
+        ++standard_lost;
+        joseph_lost += !(min_eigenvalue(Pb.dense()) > 0.0 && positive_definite(Pb));
+        break;
+      }
+      x = xa;
+      P = Pa;
+    }
+  }
+  EXPECT_GT(standard_lost, 100);
+  EXPECT_EQ(joseph_lost, 0);
+}
+
+TEST(CovarianceGuard, NearestPositiveDefiniteFloorsTheEigenvalues) {
+  // The repair leaves eigenvalues >= 1e-12 of the largest, is symmetric, keeps a well-conditioned
+  // positive definite matrix to rounding, and refuses a matrix without a positive eigenvalue.
+  std::mt19937 gen(29);
+  for (int n = 0; n < 200; ++n) {
+    const SymMatrix4 P = with_eigenvalues(gen, {3.0, -0.5, 1e-3, -2e-7});
+    Matrix4 d = P.dense();
+    ASSERT_TRUE(nearest_positive_definite(d));
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t j = 0; j < 4; ++j) ASSERT_EQ(d[i][j], d[j][i]);
+    EXPECT_GT(min_eigenvalue(d), 0.9e-12 * 3.0);
+    EXPECT_TRUE(positive_definite_ldl(d));
+    const SymMatrix4 Q = with_eigenvalues(gen, {3.0, 0.5, 1e-3, 2e-2});
+    Matrix4 e = Q.dense();
+    ASSERT_TRUE(nearest_positive_definite(e));
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t j = 0; j < 4; ++j) EXPECT_NEAR(e[i][j], Q(i, j), 1e-14);
+  }
+  Matrix4 negative = diagonal({-1.0, -2.0, 0.0, -3.0});
+  EXPECT_FALSE(nearest_positive_definite(negative));
+  Matrix4 nan = diagonal({1.0, std::numeric_limits<double>::quiet_NaN(), 1.0, 1.0});
+  EXPECT_FALSE(nearest_positive_definite(nan));
+}
+
+TEST(CovarianceGuard, BoundVariancesKeepsCorrelationsAndDefiniteness) {
+  // Variances above their bound are brought to it, the correlations stay, the rest is untouched.
+  std::mt19937 gen(31);
+  const SymMatrix4 S = with_eigenvalues(gen, {5e7, 2.0, 1e-3, 1e-5});
+  Matrix4 P = S.dense();
+  const std::array<double, 4> bound{1e6, 1e6, 9.8696044010893586, 1e6};
+  bound_variances(P, bound);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_LE(P[i][i], bound[i]);
+    if (S(i, i) <= bound[i]) {
+      EXPECT_EQ(P[i][i], S(i, i));
+    }
+    for (std::size_t j = 0; j < 4; ++j) {
+      const double before = S(i, j) / std::sqrt(S(i, i) * S(j, j)), after = P[i][j] / std::sqrt(P[i][i] * P[j][j]);
+      EXPECT_NEAR(before, after, 1e-12);
+    }
+  }
+  EXPECT_GT(min_eigenvalue(P), 0.0);
+  EXPECT_TRUE(within_variance_bounds(SymMatrix4(P), bound));
+  EXPECT_FALSE(within_variance_bounds(S, bound));
 }

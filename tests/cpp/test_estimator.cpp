@@ -265,3 +265,73 @@ TEST(Estimator, PredictionAheadFollowsTheModel) {
   }
   EXPECT_LT(worst, 0.01);
 }
+
+TEST(PaperCovarianceGuard, NeverActsOnWalkingData) {
+  // On a noisy walk with NaN samples the estimator's state and covariance equal, bit for bit, the
+  // plain paper filter (predict, update, prediction only for unusable samples) without the guard.
+  Walk w = yoyo_walk(120.0, 1.7, 0.11, 0.025, 0.08, 3);
+  for (std::size_t i = 500; i < 520; ++i) w.vx[i] = std::numeric_limits<double>::quiet_NaN();
+  const EstimatorConfig cfg = EstimatorConfig::paper();
+  Estimator est(cfg);
+  const Estimator fresh(cfg);
+  State x = fresh.state();
+  SymMatrix4 P(fresh.covariance());
+  const std::array<double, 4> q{cfg.q_oscillation_mps2, cfg.q_oscillation_mps2, cfg.q_omega_rad2, cfg.q_bias_mps2};
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    est.step(w.vx[i], w.vz[i]);
+    State xp, xu;
+    SymMatrix4 Pp, Pu;
+    predict(x, P, q, xp, Pp);
+    if (std::isfinite(w.vx[i]) && update(xp, Pp, Measurement{w.vx[i], w.vz[i]}, cfg.v_vx_mps2, cfg.v_vz_mps2, xu, Pu)) {
+      x = xu;
+      P = Pu;
+    } else {
+      x = xp;
+      P = Pp;
+    }
+    ASSERT_EQ(est.state().x, x.x) << i;
+    ASSERT_EQ(est.covariance(), P.dense()) << i;
+  }
+}
+
+TEST(PaperCovarianceGuard, KeepsTheCovariancePositiveDefiniteOnTheReproducer) {
+  // (0, 0), (-3, 999.90625), (0, NaN), (0, 0), (0, 0): without the guard P44 = -0.0038 and the
+  // speed std is NaN at the last sample; with it P stays positive definite and every std finite.
+  Estimator est(EstimatorConfig::paper());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double in[5][2] = {{0, 0}, {-3, 999.90625}, {0, nan}, {0, 0}, {0, 0}};
+  for (const auto& s : in) {
+    const Estimate e = est.step(s[0], s[1]);
+    ASSERT_TRUE(std::isfinite(e.speed_std_mps) && std::isfinite(e.step_frequency_std_hz));
+    ASSERT_TRUE(positive_definite_ldl(est.covariance()));
+  }
+}
+
+TEST(PaperCovarianceGuard, BoundsTheVariancesOverALongDropout) {
+  // 10,000 s of NaN samples after a walk: P stays finite and positive definite, its variances
+  // within their bounds (velocities (max_abs_velocity_mps)^2, frequency pi^2), also after the walk resumes.
+  const EstimatorConfig cfg = EstimatorConfig::paper();
+  Estimator est(cfg);
+  const Walk w = yoyo_walk(30.0, 1.8, 0.115, 0.02, 0.02, 4);
+  est.run(w.vx.data(), w.vz.data(), w.vx.size(), std::vector<Estimate>(w.vx.size()).data());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double v2 = cfg.max_abs_velocity_mps * cfg.max_abs_velocity_mps, pi2 = 9.869604401089358;
+  for (int i = 0; i < 250000; ++i) {
+    const Estimate e = est.step(nan, nan);
+    if (i % 1009 == 0 || i == 249999) {
+      const Matrix4 P = est.covariance();
+      ASSERT_TRUE(positive_definite_ldl(P)) << i;
+      ASSERT_LE(P[0][0], v2);
+      ASSERT_LE(P[1][1], v2);
+      ASSERT_LE(P[2][2], pi2);
+      ASSERT_LE(P[3][3], v2);
+      ASSERT_TRUE(std::isfinite(e.step_frequency_std_hz) && std::isfinite(e.speed_std_mps));
+    }
+  }
+  EXPECT_EQ(est.covariance()[2][2], pi2);
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    const Estimate e = est.step(w.vx[i], w.vz[i]);
+    ASSERT_TRUE(positive_definite_ldl(est.covariance())) << i;
+    ASSERT_TRUE(std::isfinite(e.step_frequency_std_hz) && std::isfinite(e.speed_std_mps));
+  }
+}

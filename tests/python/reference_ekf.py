@@ -3,6 +3,13 @@
 Written from the paper with general matrices (np.sin/np.cos, full F P F^T,
 np.linalg.inv of S, (I - K H) P) and none of the native core's shortcuts, so
 that agreement with it checks the core's algebra.  Also used by the benchmark.
+
+With the core's covariance guard (docs/paper_estimator.md, "Covariance guard"),
+written independently: variances bounded after the prediction (rows and columns
+scaled), and a covariance that is not positive definite after the step (here:
+Cholesky fails) recomputed in the Joseph form from the prediction (itself made
+positive definite first if it is not), then projected onto the matrices whose
+eigenvalues are at least 1e-12 of the largest.  Walking data never reach either.
 """
 
 from __future__ import annotations
@@ -10,17 +17,53 @@ from __future__ import annotations
 import numpy as np
 
 H = np.array([[1.0, 0.0, 0.0, 1.0], [0.0, -1.0, 0.0, 0.0]])  # eq. 9
+MIN_RELATIVE_EIGENVALUE = 1e-12
+
+
+def positive_definite(P) -> bool:
+    """True when P is finite and its Cholesky factorization exists."""
+    if not np.all(np.isfinite(P)):
+        return False
+    try:
+        np.linalg.cholesky(P)
+    except np.linalg.LinAlgError:
+        return False
+    return True
+
+
+def nearest_positive_definite(P, P0):
+    """Eigenvalues raised to 1e-12 of the largest; P0 when there is no positive eigenvalue."""
+    if not np.all(np.isfinite(P)):
+        return P0.copy()
+    lam, vec = np.linalg.eigh(P)
+    if not lam[-1] > 0:
+        return P0.copy()
+    lam = np.maximum(lam, MIN_RELATIVE_EIGENVALUE * lam[-1])
+    out = (vec * lam) @ vec.T
+    return 0.5 * (out + out.T)
+
+
+def bound_variances(P, max_var, P0):
+    """Rows and columns scaled so that no variance exceeds its bound; P0 if P is not finite."""
+    if not np.all(np.isfinite(P)):
+        return P0.copy()
+    d = np.where(np.diag(P) > max_var, np.sqrt(max_var / np.diag(P)), 1.0)
+    return P * np.outer(d, d)
 
 
 def reference_paper_estimator(vx, vz, *, T=0.04, R0=2.0, r0=0.2, w0=0.1,
                               Q=(1e-5, 1e-5, 1e-3, 1e-3), V=(1e-2, 1e-2), P0=1.0,
-                              n=10, mu_w=0.1, mu_A0=0.1):
-    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat)."""
+                              n=10, mu_w=0.1, mu_A0=0.1, v_max=1000.0):
+    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat, P)."""
     N = len(vx)
     x = np.array([r0 * w0, 0.0, w0, R0 * w0])
     P = np.eye(4) * P0
+    P_start = P.copy()
     Qm = np.diag(Q)
     Vm = np.diag(V)
+    # Popoviciu: velocities within +-v_max, the frequency within +-pi rad/sample.
+    max_var = np.array([v_max**2, v_max**2, np.pi**2, v_max**2])
+    covariances = np.empty((N, 4, 4))
     states = np.empty((N, 4))
     R_hist = np.empty(N + 1)
     r_hist = np.empty(N + 1)
@@ -38,12 +81,28 @@ def reference_paper_estimator(vx, vz, *, T=0.04, R0=2.0, r0=0.2, w0=0.1,
         ])
         x = np.array([x1 * np.cos(w) - x2 * np.sin(w), x1 * np.sin(w) + x2 * np.cos(w), w, A0])
         P = F @ P @ F.T + Qm
+        if np.any(np.diag(P) > max_var) or not np.all(np.isfinite(P)):
+            P = bound_variances(P, max_var, P_start)
         z = np.array([vx[k - 1], vz[k - 1]])
-        if np.all(np.isfinite(z)):
+        if np.all(np.isfinite(z)) and np.all(np.abs(z) <= v_max):
+            x_pred, P_pred = x, P
             S = H @ P @ H.T + Vm
             K = P @ H.T @ np.linalg.inv(S)
             x = x + K @ (z - H @ x)
             P = (np.eye(4) - K @ H) @ P
+            if not positive_definite(P):
+                # The guard: the Joseph form of the same update, from a positive definite prediction.
+                if not positive_definite(P_pred):
+                    P_pred = nearest_positive_definite(P_pred, P_start)
+                S = H @ P_pred @ H.T + Vm
+                K = P_pred @ H.T @ np.linalg.inv(S)
+                x = x_pred + K @ (z - H @ x_pred)
+                A = np.eye(4) - K @ H
+                P = A @ P_pred @ A.T + K @ Vm @ K.T
+                P = 0.5 * (P + P.T)
+        if not positive_definite(P):
+            P = nearest_positive_definite(P, P_start)
+        covariances[k - 1] = P
         states[k - 1] = x
         # Eq. 11-12.
         A1 = np.hypot(x[0], x[1])
@@ -56,4 +115,5 @@ def reference_paper_estimator(vx, vz, *, T=0.04, R0=2.0, r0=0.2, w0=0.1,
         # Eq. 13-14.
         vx_hat[k - 1] = R_hist[k] * x[2] + r_hist[k] * x[2] * x[0] / A1
         vz_hat[k - 1] = -r_hist[k] * x[2] * x[1] / A1
-    return {"state": states, "R_hat": R_hist[1:], "r_hat": r_hist[1:], "vx_hat": vx_hat, "vz_hat": vz_hat}
+    return {"state": states, "R_hat": R_hist[1:], "r_hat": r_hist[1:], "vx_hat": vx_hat, "vz_hat": vz_hat,
+            "P": covariances}

@@ -138,6 +138,53 @@ def test_nan_sample_is_prediction_only_and_flagged():
     np.testing.assert_array_equal(res.state[10], predicted)
 
 
+def _min_eigenvalues(cov):
+    return np.linalg.eigvalsh(cov)[:, 0]
+
+
+def test_covariance_stays_positive_definite_on_the_five_sample_reproducer():
+    """(0, 0), (-3, 999.90625), (0, NaN), (0, 0), (0, 0) (before the guard: P44 = -0.0038 and a NaN
+    speed std at the last sample): P is positive definite and every std finite after each sample."""
+    res = GaitEstimator(EstimatorConfig.paper()).run([0, -3, 0, 0, 0], [0, 999.90625, np.nan, 0, 0], covariance=True)
+    assert np.all(_min_eigenvalues(res.covariance) > 0)
+    assert np.all(np.isfinite(res.speed_std_mps)) and np.all(np.isfinite(res.step_frequency_std_hz))
+    assert np.array_equal(res.covariance, res.covariance.transpose(0, 2, 1))
+
+
+def test_covariance_stays_positive_definite_across_long_dropouts():
+    """2,501 NaN samples, 30 of a 1.4 Hz walk, 5,025 NaN, 2 more, for 96 walks (speed 1 or 1.5 m/s,
+    r 0.012 or 0.025 m, 24 phases; 3 of them lost positive definiteness before the guard): P stays
+    positive definite and both standard deviations finite."""
+    w = 2 * np.pi * 1.4
+    th0 = w * T * np.arange(32)
+    nan = lambda n: np.full(n, np.nan)  # noqa: E731
+    for speed in (1.0, 1.5):
+        for r in (0.012, 0.025):
+            for phase in np.linspace(0, 2 * np.pi, 24, endpoint=False):
+                vx = speed + r * w * np.cos(th0 + phase)
+                vz = -r * w * np.sin(th0 + phase)
+                res = GaitEstimator(EstimatorConfig.paper()).run(
+                    np.concatenate([nan(2501), vx[:30], nan(5025), vx[30:]]),
+                    np.concatenate([nan(2501), vz[:30], nan(5025), vz[30:]]), covariance=True)
+                assert np.all(_min_eigenvalues(res.covariance) > 0), (speed, r, phase)
+                assert np.all(np.isfinite(res.step_frequency_std_hz)) and np.all(np.isfinite(res.speed_std_mps))
+
+
+def test_variance_bounds_match_the_reference_over_a_long_dropout():
+    """Over 20 s of walking and 15,000 NaN samples the variances reach their bounds (pi^2 for x3,
+    1000^2 for x2) in the native core and in the numpy reference alike (to 1e-9 of the largest entry)."""
+    _, vx, vz = yoyo_walk(20.0, noise=0.05, seed=8)
+    vx = np.concatenate([vx, np.full(15000, np.nan)])
+    vz = np.concatenate([vz, np.full(15000, np.nan)])
+    ref = reference_paper_estimator(vx, vz)
+    res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz, covariance=True)
+    scale = np.abs(ref["P"]).max(axis=(1, 2))
+    assert np.all(np.abs(res.covariance - ref["P"]).max(axis=(1, 2)) <= 1e-9 * scale)
+    np.testing.assert_allclose(res.state, ref["state"], rtol=0, atol=1e-9)
+    assert res.covariance[-1, 2, 2] == np.pi**2 and res.covariance[-1, 1, 1] == 1e6
+    assert np.all(_min_eigenvalues(res.covariance) > 0)
+
+
 def test_extreme_values_never_make_state_non_finite():
     """Huge samples are rejected as out of range and the state and covariance stay finite."""
     est = GaitEstimator()
