@@ -226,7 +226,8 @@ inline void gait_predict(GaitState& x, GaitMatrix& P, double dt, double accel_de
 /// Use it through yoyogait::Estimator; this class is public for tests and for embedding.
 class GaitFilter {
  public:
-  /// What a step did with its sample (mapped to yoyogait::Status by the Estimator).
+  /// What a step did with its sample (mapped to yoyogait::Status by the Estimator). One per sample,
+  /// by precedence: kNumerical, then kNonFinite, then kOutOfRange, then kOutlier, then kOk.
   enum class Outcome : std::uint8_t {
     kOk = 0,          ///< both channels used
     kNonFinite = 1,   ///< a channel (or dt) was NaN or infinite, or dt < 0: that channel (or the sample) not used
@@ -939,7 +940,8 @@ class GaitFilter {
     }
     if (rejected) {
       ++n_rejects_;
-      outcome = Outcome::kOutlier;
+      // A non-finite or out-of-range channel says more about the sample than the gate.
+      if (outcome == Outcome::kOk) outcome = Outcome::kOutlier;
     } else {
       if (n_rejects_ > 0 && n_rejects_ >= cfg_.gate_max_consecutive) {
         // Persistent disagreement was accepted: inflate P so that the filter follows again.

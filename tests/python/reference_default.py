@@ -60,6 +60,7 @@ NX = 8
 STATUS_OK = "ok"
 STATUS_NONFINITE = "rejected-nonfinite"
 STATUS_OUTLIER = "rejected-outlier"
+STATUS_OUT_OF_RANGE = "rejected-out-of-range"
 
 CH_VX, CH_VZ, CH_VX_STANDING = 0, 1, 2
 
@@ -130,6 +131,8 @@ class DefaultConfig:
         self.std_scale_min = 0.05
         self.std_scale_max = 4.0
         self.speed_std_floor_mps = 0.025      # stride-to-stride speed variability the model does not carry
+        # --- a channel above this is not used, like a non-finite one
+        self.max_abs_velocity_mps = 1000.0
         # --- R, r (m): low-passed while walking, frozen while standing
         self.param_tau_s = 2.0
         self.R0_m = 0.12                      # reported before the first walk
@@ -542,6 +545,10 @@ class DefaultEstimator:
         c = self.cfg
         fin_x = vx is not None and math.isfinite(vx)
         fin_z = vz is not None and math.isfinite(vz)
+        # usable channels; one status per sample: non-finite beats out-of-range beats outlier
+        use_x = fin_x and abs(vx) <= c.max_abs_velocity_mps
+        use_z = fin_z and abs(vz) <= c.max_abs_velocity_mps
+        status = STATUS_NONFINITE if not (fin_x and fin_z) else STATUS_OK if (use_x and use_z) else STATUS_OUT_OF_RANGE
         if dt_s is None:
             dt = c.nominal_dt_s
         elif not math.isfinite(dt_s) or dt_s < 0.0:
@@ -549,11 +556,11 @@ class DefaultEstimator:
         else:
             dt = dt_s
         if not self.started:
-            if not fin_x:
-                return self._output(STATUS_NONFINITE)
+            if not use_x:
+                return self._output(status)
             self.started = True
             self.ema_vx = vx
-            self.ema_vz2 = vz * vz if fin_z else 0.0
+            self.ema_vz2 = vz * vz if use_z else 0.0
             self._start_acquisition(vx)
             self._collapse()          # main filter defined from the start
             self.acquiring = True
@@ -566,11 +573,11 @@ class DefaultEstimator:
             self._start_acquisition(self._active().x[IA0], self.last_w / TWO_PI if self.have_params else None)
             dt = 0.0
         was_walking = self.walking
-        self._update_walking(vx, vz, fin_x, fin_z, dt_walk)
+        self._update_walking(vx, vz, use_x, use_z, dt_walk)
         if self.walking and not was_walking:
             # walking (re)starts: re-open the acquisition (frequency covariance re-opened, bias
             # from this sample, one member at the frozen frequency)
-            self._start_acquisition(vx if fin_x else self._active().x[IA0],
+            self._start_acquisition(vx if use_x else self._active().x[IA0],
                                     self.last_w / TWO_PI if self.have_params else None)
         if was_walking and not self.walking:
             # stop: freeze the oscillator, drop the oscillation, decouple the bias (the bank collapses
@@ -594,15 +601,14 @@ class DefaultEstimator:
                 fh[0].predict(c, dt)
                 fh[1].predict(c, dt)
 
-        status = STATUS_OK if (fin_x and fin_z) else STATUS_NONFINITE
         rx, rz = c.r_vx_std_mps ** 2, c.r_vz_std_mps ** 2
         chans = []
         if osc:
-            if fin_x:
+            if use_x:
                 chans.append((CH_VX, vx, rx))
-            if fin_z:
+            if use_z:
                 chans.append((CH_VZ, vz, rz))
-        elif fin_x:
+        elif use_x:
             chans.append((CH_VX_STANDING, vx, rx))
         gate2 = c.gate_sigma * c.gate_sigma
         a_l = 0.5 * (1.0 - math.exp(-dt / c.std_scale_tau_s)) if dt > 0.0 else 0.0
@@ -629,7 +635,8 @@ class DefaultEstimator:
             f.clamp(c)
         if rejected:
             self.n_rejects += 1
-            status = STATUS_OUTLIER
+            if status == STATUS_OK:
+                status = STATUS_OUTLIER
         else:
             if self.n_rejects >= c.max_consecutive_rejects:
                 # persistent disagreement was accepted: inflate P so the filter follows again
@@ -645,7 +652,7 @@ class DefaultEstimator:
                 f.loglik *= lam
             if self.walking:
                 self.acq_walk_time_s += dt
-                if fin_x and fin_z:
+                if use_x and use_z:
                     self._buffer_push(self.t_now, vx, vz)
                 if c.spec_init and not self.spec_done and self.acq_walk_time_s >= c.spec_init_s:
                     self.spec_done = True
@@ -804,6 +811,7 @@ _NATIVE_NAMES = {
     "std_scale_min": "std_scale_min",
     "std_scale_max": "std_scale_max",
     "speed_std_floor_mps": "speed_std_floor_mps",
+    "max_abs_velocity_mps": "max_abs_velocity_mps",
     "param_tau_s": "radii_tau_s",
     "R0_m": "initial_R_m",
     "r0_m": "initial_r_m",

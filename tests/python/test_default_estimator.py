@@ -138,7 +138,7 @@ def _hard_scenario():
 
 
 REF_STATUS = {"ok": int(Status.UPDATED), "rejected-nonfinite": int(Status.REJECTED_NON_FINITE),
-              "rejected-outlier": int(Status.REJECTED_OUTLIER)}
+              "rejected-outlier": int(Status.REJECTED_OUTLIER), "rejected-out-of-range": int(Status.REJECTED_OUT_OF_RANGE)}
 
 
 @pytest.mark.parametrize("changes", [
@@ -168,7 +168,7 @@ def test_native_matches_the_numpy_reference(changes):
     # The scenario reached every path: standing, acquisition, outliers, non-finite samples.
     assert (~res.walking).sum() > 100 and res.acquiring.sum() > 100 and res.acquiring[-100:].sum() == 0
     assert (res.status == int(Status.REJECTED_OUTLIER)).sum() >= 10
-    assert (res.status == int(Status.REJECTED_NON_FINITE)).sum() >= 10  # 12 NaN; one also gated: outlier wins
+    assert (res.status == int(Status.REJECTED_NON_FINITE)).sum() >= 12  # 12 NaN (non-finite beats outlier)
 
 
 @pytest.mark.parametrize("with_time", [False, True])
@@ -462,6 +462,29 @@ def test_non_finite_out_of_range_and_bad_timestamps():
     est.run(np.array([1e308, -1e308, np.nan, 1.0, 1e-308]), np.array([1e308, 0.0, 1.0, np.inf, 0.0]))
     assert np.all(np.isfinite(est.gait_state)) and np.all(np.isfinite(est.covariance))
     assert est.covariance.shape == (8, 8) and est.state.shape == (4,)
+
+
+@pytest.mark.parametrize("vz_bad, expected", [
+    (np.nan, Status.REJECTED_NON_FINITE),
+    (-np.inf, Status.REJECTED_NON_FINITE),
+    (1e4, Status.REJECTED_OUT_OF_RANGE),
+    (-1e300, Status.REJECTED_OUT_OF_RANGE),
+])
+def test_status_precedence_non_finite_then_out_of_range_then_outlier(vz_bad, expected):
+    """step(0, 0, 0.04) x 9, step(2, 0, 1.0), then step(0, vz, 1.0): the gate rejects v_x = 0 (an
+    outlier with a usable v_z), and with v_z NaN or out of range the sample is reported as that,
+    non-finite before out-of-range before outlier (it used to say REJECTED_OUTLIER); step and run agree."""
+    def prefix():
+        est = GaitEstimator()
+        for _ in range(9):
+            est.step(0.0, 0.0, 0.04)
+        assert est.step(2.0, 0.0, 1.0).status == Status.UPDATED
+        return est
+    assert prefix().step(0.0, 0.0, 1.0).status == Status.REJECTED_OUTLIER  # the gate rejects v_x
+    assert prefix().step(0.0, vz_bad, 1.0).status == expected
+    res = GaitEstimator().run(np.r_[np.zeros(9), 2.0, 0.0], np.r_[np.zeros(9), 0.0, vz_bad],
+                              time_s=np.r_[np.arange(9) * 0.04, 1.32, 2.32])
+    assert res.status[-1] == int(expected)
 
 
 def test_estimate_fields_are_consistent():

@@ -185,6 +185,19 @@ def test_variance_bounds_match_the_reference_over_a_long_dropout():
     assert np.all(_min_eigenvalues(res.covariance) > 0)
 
 
+def test_status_precedence_non_finite_then_out_of_range():
+    """A sample with a NaN (or infinite) channel and an out-of-range one is REJECTED_NON_FINITE; one
+    out of range and finite is REJECTED_OUT_OF_RANGE; step() and run() agree."""
+    vx = np.array([1.0, np.nan, 1e4, np.inf, 1.0, -2e3])
+    vz = np.array([0.0, 1e4, np.nan, 1e300, 1e4, 0.0])
+    want = [Status.UPDATED, Status.REJECTED_NON_FINITE, Status.REJECTED_NON_FINITE, Status.REJECTED_NON_FINITE,
+            Status.REJECTED_OUT_OF_RANGE, Status.REJECTED_OUT_OF_RANGE]
+    res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz)
+    assert list(res.status) == [int(s) for s in want]
+    est = GaitEstimator(EstimatorConfig.paper())
+    assert [est.step(a, b).status for a, b in zip(vx, vz)] == want
+
+
 def test_extreme_values_never_make_state_non_finite():
     """Huge samples are rejected as out of range and the state and covariance stay finite."""
     est = GaitEstimator()
