@@ -57,8 +57,11 @@ def build_native() -> dict:
     cmake = shutil.which("cmake") or "cmake"
     build = ROOT / "build" / "bench"
     gen = ["-G", "Ninja"] if shutil.which("ninja") else []
-    subprocess.run([cmake, "-S", ROOT, "-B", build, *gen, "-DYOYOGAIT_BUILD_BENCH=ON", "-DCMAKE_BUILD_TYPE=Release"],
-                   check=True, capture_output=True)
+    subprocess.run(
+        [cmake, "-S", ROOT, "-B", build, *gen, "-DYOYOGAIT_BUILD_BENCH=ON", "-DCMAKE_BUILD_TYPE=Release"],
+        check=True,
+        capture_output=True,
+    )
     subprocess.run([cmake, "--build", build], check=True, capture_output=True)
     exes = {"generic": next(build.rglob("bench_step")), "native": next(build.rglob("bench_step_native"), None)}
     return {name: exe for name, exe in exes.items() if exe is not None}
@@ -111,46 +114,70 @@ def main() -> None:
                 for p, (med, low) in native_step_ns(exe, signal_path, 7).items():
                     cpp[build][p][0].append(med)
                     cpp[build][p][1].append(low)
-            for p, v in times_ns({p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz)) for p in PRESETS},
-                                 args.samples, 5).items():
+            for p, v in times_ns(
+                {p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz)) for p in PRESETS}, args.samples, 5
+            ).items():
                 py_run[p] += v
-            for p, v in times_ns({p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz, time_s=time_s))
-                                  for p in PRESETS}, args.samples, 2).items():
+            for p, v in times_ns(
+                {p: (lambda p=p: yoyogait.GaitEstimator(cfg[p]).run(vx, vz, time_s=time_s)) for p in PRESETS},
+                args.samples,
+                2,
+            ).items():
                 py_run_t[p] += v
             for p, v in times_ns({p: (lambda p=p: step_loop(p)) for p in PRESETS}, n_step, 1).items():
                 py_step[p] += v
     n_ref = min(args.samples, 3_000)
-    ref = times_ns({
-        "paper": lambda: reference_paper_estimator(vx[:n_ref], vz[:n_ref]),
-        "default": lambda: run_reference(vx[:n_ref], vz[:n_ref]),
-    }, n_ref, 3)
+    ref = times_ns(
+        {
+            "paper": lambda: reference_paper_estimator(vx[:n_ref], vz[:n_ref]),
+            "default": lambda: run_reference(vx[:n_ref], vz[:n_ref]),
+        },
+        n_ref,
+        3,
+    )
     med = statistics.median
     cpp = {b: {p: (med(v[0]), min(v[1])) for p, v in res.items()} for b, res in cpp.items()}
     py_run, py_run_t, py_step, ref = ({p: med(v) for p, v in d.items()} for d in (py_run, py_run_t, py_step, ref))
 
-    print(f"yoyogait {yoyogait.__version__} benchmark, both presets, {args.samples} samples, {args.rounds} rounds; "
-          f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}")
+    print(
+        f"yoyogait {yoyogait.__version__} benchmark, both presets, {args.samples} samples, {args.rounds} rounds; "
+        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
+    )
     print()
     print("| path | paper ns/sample | default ns/sample | default / paper | target |")
     print("|---|---:|---:|---:|---|")
     labels = {"generic": "C++ `Estimator::step` loop, -O3", "native": "C++ `Estimator::step` loop, -O3 -march=native"}
     for build, res in cpp.items():
-        print(f"| {labels[build]}, median | {res['paper'][0]:.1f} | {res['default'][0]:.1f} | "
-              f"{res['default'][0] / res['paper'][0]:.2f} | paper <= 40 ns, default <= 60 ns |")
-        print(f"| {labels[build]}, min | {res['paper'][1]:.1f} | {res['default'][1]:.1f} | "
-              f"{res['default'][1] / res['paper'][1]:.2f} | |")
-    print(f"| Python `GaitEstimator.run` | {py_run['paper']:.1f} | {py_run['default']:.1f} | "
-          f"{py_run['default'] / py_run['paper']:.2f} | <= 1.3x C++ |")
+        print(
+            f"| {labels[build]}, median | {res['paper'][0]:.1f} | {res['default'][0]:.1f} | "
+            f"{res['default'][0] / res['paper'][0]:.2f} | paper <= 40 ns, default <= 60 ns |"
+        )
+        print(
+            f"| {labels[build]}, min | {res['paper'][1]:.1f} | {res['default'][1]:.1f} | "
+            f"{res['default'][1] / res['paper'][1]:.2f} | |"
+        )
+    print(
+        f"| Python `GaitEstimator.run` | {py_run['paper']:.1f} | {py_run['default']:.1f} | "
+        f"{py_run['default'] / py_run['paper']:.2f} | <= 1.3x C++ |"
+    )
     # The module is built like the generic loop (-O3, the default target), so that is its reference.
     ref_cpp = cpp["generic"]
-    print(f"| ... ratio to the C++ step, -O3 (median) | {py_run['paper'] / ref_cpp['paper'][0]:.2f} | "
-          f"{py_run['default'] / ref_cpp['default'][0]:.2f} | | <= 1.3 |")
-    print(f"| Python `GaitEstimator.run(time_s=...)` | {py_run_t['paper']:.1f} | {py_run_t['default']:.1f} | "
-          f"{py_run_t['default'] / py_run_t['paper']:.2f} | |")
-    print(f"| Python `GaitEstimator.step` loop | {py_step['paper']:.1f} | {py_step['default']:.1f} | "
-          f"{py_step['default'] / py_step['paper']:.2f} | <= 1000 ns |")
-    print(f"| numpy reference (tests/python/reference_*.py) | {ref['paper']:.0f} | {ref['default']:.0f} | "
-          f"{ref['default'] / ref['paper']:.2f} | - |")
+    print(
+        f"| ... ratio to the C++ step, -O3 (median) | {py_run['paper'] / ref_cpp['paper'][0]:.2f} | "
+        f"{py_run['default'] / ref_cpp['default'][0]:.2f} | | <= 1.3 |"
+    )
+    print(
+        f"| Python `GaitEstimator.run(time_s=...)` | {py_run_t['paper']:.1f} | {py_run_t['default']:.1f} | "
+        f"{py_run_t['default'] / py_run_t['paper']:.2f} | |"
+    )
+    print(
+        f"| Python `GaitEstimator.step` loop | {py_step['paper']:.1f} | {py_step['default']:.1f} | "
+        f"{py_step['default'] / py_step['paper']:.2f} | <= 1000 ns |"
+    )
+    print(
+        f"| numpy reference (tests/python/reference_*.py) | {ref['paper']:.0f} | {ref['default']:.0f} | "
+        f"{ref['default'] / ref['paper']:.2f} | - |"
+    )
 
 
 if __name__ == "__main__":

@@ -38,8 +38,19 @@ def test_googletest_suite_passes_under_sanitizers():
     cmake = _cmake()
     build = BUILD / "gtest"
     flags = "-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
-    _run([cmake, "-S", ROOT, "-B", build, *_generator(), "-DYOYOGAIT_BUILD_TESTS=ON",
-          "-DCMAKE_BUILD_TYPE=Debug", f"-DCMAKE_CXX_FLAGS={flags}"])
+    _run(
+        [
+            cmake,
+            "-S",
+            ROOT,
+            "-B",
+            build,
+            *_generator(),
+            "-DYOYOGAIT_BUILD_TESTS=ON",
+            "-DCMAKE_BUILD_TYPE=Debug",
+            f"-DCMAKE_CXX_FLAGS={flags}",
+        ]
+    )
     _run([cmake, "--build", build, "--parallel", str(os.cpu_count() or 2)])
     exe = next(build.rglob("yoyogait_tests"))
     proc = _run([exe, "--gtest_brief=0"], env={**os.environ, "ASAN_OPTIONS": "detect_leaks=1"})
@@ -58,8 +69,18 @@ def test_installed_package_is_found_by_find_package(tmp_path):
     _run([cmake, "--install", build])
     assert (prefix / "include" / "yoyogait" / "estimator.hpp").is_file()
     example = tmp_path / "example"
-    _run([cmake, "-S", ROOT / "examples" / "cpp", "-B", example, *_generator(),
-          f"-DCMAKE_PREFIX_PATH={prefix}", "-DCMAKE_BUILD_TYPE=Release"])
+    _run(
+        [
+            cmake,
+            "-S",
+            ROOT / "examples" / "cpp",
+            "-B",
+            example,
+            *_generator(),
+            f"-DCMAKE_PREFIX_PATH={prefix}",
+            "-DCMAKE_BUILD_TYPE=Release",
+        ]
+    )
     _run([cmake, "--build", example])
     out = _run([next(example.rglob("walk_estimate"))]).stdout
     f = float(re.search(r"step_frequency_hz=([-\d.]+)", out).group(1))
