@@ -8,10 +8,9 @@ import numpy as np
 import pytest
 
 import yoyogait
-from yoyogait import EstimatorConfig, GaitEstimator, _core
-from yoyogait.estimator import Status
-
 from reference_ekf import reference_paper_estimator
+from yoyogait import EstimatorConfig, GaitEstimator, _core
+from yoyogait.estimators import Status
 
 T = 0.04
 

@@ -42,8 +42,11 @@ SUITE_BUILDS = {
         "-DCMAKE_BUILD_TYPE=Debug",
         "-DCMAKE_CXX_FLAGS=-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer",
     ],
-    "release-native": ["-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_FLAGS_RELEASE=-O3 -DNDEBUG",
-                       "-DYOYOGAIT_TESTS_MARCH_NATIVE=ON"],
+    "release-native": [
+        "-DCMAKE_BUILD_TYPE=Release",
+        "-DCMAKE_CXX_FLAGS_RELEASE=-O3 -DNDEBUG",
+        "-DYOYOGAIT_TESTS_MARCH_NATIVE=ON",
+    ],
 }
 
 
@@ -53,8 +56,9 @@ def test_googletest_suite_passes(build_name):
     build with -O3 -march=native (where the compiler has it)."""
     cmake = _cmake()
     build = BUILD / f"gtest-{build_name}"
-    configure = _run([cmake, "-S", ROOT, "-B", build, *_generator(), "-DYOYOGAIT_BUILD_TESTS=ON",
-                      *SUITE_BUILDS[build_name]])
+    configure = _run(
+        [cmake, "-S", ROOT, "-B", build, *_generator(), "-DYOYOGAIT_BUILD_TESTS=ON", *SUITE_BUILDS[build_name]]
+    )
     _run([cmake, "--build", build, "--parallel", str(min(os.cpu_count() or 2, 2))])
     exe = next(build.rglob("yoyogait_tests"))
     proc = _run([exe, "--gtest_brief=0"], env={**os.environ, "ASAN_OPTIONS": "detect_leaks=1"})
@@ -75,8 +79,19 @@ def test_installed_package_is_found_by_find_package(tmp_path):
     _run([cmake, "--install", build])
     assert (prefix / "include" / "yoyogait" / "estimator.hpp").is_file()
     example = tmp_path / "example"
-    _run([cmake, "-S", ROOT / "examples" / "cpp", "-B", example, *_generator(),
-          f"-DCMAKE_PREFIX_PATH={prefix}", "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON"])
+    _run(
+        [
+            cmake,
+            "-S",
+            ROOT / "examples" / "cpp",
+            "-B",
+            example,
+            *_generator(),
+            f"-DCMAKE_PREFIX_PATH={prefix}",
+            "-DCMAKE_BUILD_TYPE=Release",
+            "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
+        ]
+    )
     _run([cmake, "--build", example])
     # The flag the bit-for-bit guarantees need comes with the installed target.
     compiler = next(example.glob("CMakeFiles/*/CMakeCXXCompiler.cmake")).read_text()
