@@ -7,10 +7,10 @@ implementations, measured in one run on one signal.
 Prints a Markdown table of medians (and the C++ minimum, the least disturbed by other load) and
 the ratios default / paper. With --baseline REV, the native step loop is also built against the
 include/ of the git revision REV (same compiler, same flags) and timed in the same rounds, and a
-second table gives before (REV) and after (this tree) for both presets. A benchmark, not a test. The machine's speed drifts (a shared virtual
-machine: up to 30 % within minutes), so every path is timed in each of R rounds, one after the
-other, and the medians are taken over all rounds: all paths see the same load, and a ratio
-compares like with like.
+second table gives before (REV) and after (this tree) for both presets. A benchmark, not a test.
+The machine's speed drifts (a shared virtual machine: up to 30 % within minutes), so every path is
+timed in each of R rounds, one after the other, and the medians are taken over all rounds: all
+paths see the same load, and a ratio compares like with like.
 """
 
 from __future__ import annotations
