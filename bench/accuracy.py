@@ -18,7 +18,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 from yoyogait import evaluation as ev  # noqa: E402
-from yoyogait import metrics  # noqa: E402
+from yoyogait.evaluation import metrics  # noqa: E402
 
 ESTIMATORS = ("paper", "default", "oscillator", "sliding-dft")
 
@@ -39,26 +39,43 @@ def _row(target, value, ok):
 def real_targets(e) -> list[str]:
     rows = ["| target (real recordings) | measured | |", "|---|---|---|"]
     vx_p, vx_d = _med(e, "paper", "vx_sq_err_mean_1e-2"), _med(e, "default", "vx_sq_err_mean_1e-2")
-    worse = [r.item.name for r in e.items
-             if r.metrics["default"]["vx_sq_err_mean_1e-2"] > r.metrics["paper"]["vx_sq_err_mean_1e-2"]]
-    rows.append(_row("v_x error median <= 1/30 of paper's", f"{vx_d:.3g} vs {vx_p:.3g} (1/{vx_p / vx_d:.0f})",
-                     vx_d <= vx_p / 30))
+    worse = [
+        r.item.name
+        for r in e.items
+        if r.metrics["default"]["vx_sq_err_mean_1e-2"] > r.metrics["paper"]["vx_sq_err_mean_1e-2"]
+    ]
+    rows.append(
+        _row(
+            "v_x error median <= 1/30 of paper's", f"{vx_d:.3g} vs {vx_p:.3g} (1/{vx_p / vx_d:.0f})", vx_d <= vx_p / 30
+        )
+    )
     rows.append(_row("no recording with v_x error worse than paper's", f"{len(worse)} worse {worse[:3]}", not worse))
     vz_p, vz_d = _med(e, "paper", "vz_sq_err_mean_1e-2"), _med(e, "default", "vz_sq_err_mean_1e-2")
-    rows.append(_row("v_z error median <= 1/4 of paper's", f"{vz_d:.3g} vs {vz_p:.3g} (1/{vz_p / vz_d:.1f})",
-                     vz_d <= vz_p / 4))
+    rows.append(
+        _row("v_z error median <= 1/4 of paper's", f"{vz_d:.3g} vs {vz_p:.3g} (1/{vz_p / vz_d:.1f})", vz_d <= vz_p / 4)
+    )
     f_d, f_o = _med(e, "default", "f_err_median_hz"), _med(e, "oscillator", "f_err_median_hz")
     n_f = int(np.isfinite(_values(e, "default", "f_err_median_hz")).sum())
-    rows.append(_row("step frequency error after 3 s of walking, median <= 0.05 Hz",
-                     f"{f_d:.4f} Hz over {n_f} recordings with > 3 s of walking", f_d <= 0.05))
+    rows.append(
+        _row(
+            "step frequency error after 3 s of walking, median <= 0.05 Hz",
+            f"{f_d:.4f} Hz over {n_f} recordings with > 3 s of walking",
+            f_d <= 0.05,
+        )
+    )
     neg = np.nanmax(_values(e, "default", "f_wrong_sign_fraction"))
     rows.append(_row("no negative frequency", f"largest negative fraction {neg:.3g}", neg == 0))
     rows.append(_row("step frequency better than the oscillator", f"{f_d:.4f} vs {f_o:.4f} Hz", f_d < f_o))
     for comp in ("vx", "vz"):
         key = f"pred200ms_{comp}_sq_err_mean_1e-2"
         d, p, o = (_med(e, est, key) for est in ("default", "paper", "oscillator"))
-        rows.append(_row(f"0.2 s-ahead {comp} error below paper's and the oscillator's",
-                         f"{d:.3g} vs {p:.3g} and {o:.3g}", d < p and d < o))
+        rows.append(
+            _row(
+                f"0.2 s-ahead {comp} error below paper's and the oscillator's",
+                f"{d:.3g} vs {p:.3g} and {o:.3g}",
+                d < p and d < o,
+            )
+        )
     return rows
 
 
@@ -91,7 +108,10 @@ def synthetic_targets(e) -> list[str]:
     for r in e.items:
         tr = r.item.truth.at(r.velocities.time_s)
         ok = r.walking & (r.velocities.time_s > 5.0)
-        rel = np.abs(np.abs(r.results["default"].step_frequency_hz[ok]) - tr.step_frequency_hz[ok]) / tr.step_frequency_hz[ok]
+        rel = (
+            np.abs(np.abs(r.results["default"].step_frequency_hz[ok]) - tr.step_frequency_hz[ok])
+            / tr.step_frequency_hz[ok]
+        )
         f_rel.append(float(np.nanmedian(rel)))
     worst = max(f_rel)
     rows.append(_row("step frequency within 1 % (median per walk)", f"{100 * worst:.2f} %", worst <= 0.01))
@@ -100,10 +120,20 @@ def synthetic_targets(e) -> list[str]:
     s = np.nanmax(_values(e, "default", "speed_err_median_mps"))
     rows.append(_row("stride-averaged speed within 0.03 m/s (median per walk)", f"{s:.4f} m/s", s <= 0.03))
     times = [x for r in e.items if r.item.walk == "5-stop-and-go" for x in reacquisition_s(r, "default")]
-    rows.append(_row("re-acquisition within 2 s of walking resuming (to within 0.1 Hz, staying), from the onset",
-                     ", ".join(f"{a:.2f} s" for a, _ in times) or "n/a", bool(times) and max(a for a, _ in times) <= 2.0))
-    rows.append(_row("... the same, counted from when the cadence is reached (end of the gait-initiation ramp)",
-                     ", ".join(f"{b:.2f} s" for _, b in times) or "n/a", bool(times) and max(b for _, b in times) <= 2.0))
+    rows.append(
+        _row(
+            "re-acquisition within 2 s of walking resuming (to within 0.1 Hz, staying), from the onset",
+            ", ".join(f"{a:.2f} s" for a, _ in times) or "n/a",
+            bool(times) and max(a for a, _ in times) <= 2.0,
+        )
+    )
+    rows.append(
+        _row(
+            "... the same, counted from when the cadence is reached (end of the gait-initiation ramp)",
+            ", ".join(f"{b:.2f} s" for _, b in times) or "n/a",
+            bool(times) and max(b for _, b in times) <= 2.0,
+        )
+    )
     return rows
 
 

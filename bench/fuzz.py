@@ -41,10 +41,32 @@ from yoyogait import EstimatorConfig, GaitEstimator, Status
 PRESETS = ("paper", "default")
 T = 0.04
 V_MAX = EstimatorConfig().max_abs_velocity_mps
-CHECKS = ("negative_diagonal", "eigenvalue_below_-1e-9", "asymmetric_or_nonfinite_cov", "nan_std",
-          "nonfinite_output", "wrong_status", "numerical_restart")
-OUTPUTS = ("state", "vx_hat", "vz_hat", "R_m", "r_m", "step_frequency_hz", "step_frequency_std_hz", "speed_mps",
-           "speed_std_mps", "A0_mps", "A1_mps", "vx_hat_h2", "vz_hat_h2", "std_scale", "gait_state")
+CHECKS = (
+    "negative_diagonal",
+    "eigenvalue_below_-1e-9",
+    "asymmetric_or_nonfinite_cov",
+    "nan_std",
+    "nonfinite_output",
+    "wrong_status",
+    "numerical_restart",
+)
+OUTPUTS = (
+    "state",
+    "vx_hat",
+    "vz_hat",
+    "R_m",
+    "r_m",
+    "step_frequency_hz",
+    "step_frequency_std_hz",
+    "speed_mps",
+    "speed_std_mps",
+    "A0_mps",
+    "A1_mps",
+    "vx_hat_h2",
+    "vz_hat_h2",
+    "std_scale",
+    "gait_state",
+)
 
 
 def draw_value(rng: np.random.Generator) -> float:
@@ -101,8 +123,15 @@ def runs_sequence(rng: np.random.Generator, timestamps: bool):
         dt = np.full(n, T)
         pick = rng.random(n)
         dt[pick < 0.2] = T * rng.uniform(0.5, 1.5, int((pick < 0.2).sum()))
-        for lo, hi, value in ((0.2, 0.23, 0.0), (0.23, 0.25, 1e-6), (0.25, 0.27, 1.0), (0.27, 0.29, 2.0),
-                              (0.29, 0.30, 100.0), (0.30, 0.32, -0.01), (0.32, 0.325, 1e6)):
+        for lo, hi, value in (
+            (0.2, 0.23, 0.0),
+            (0.23, 0.25, 1e-6),
+            (0.25, 0.27, 1.0),
+            (0.27, 0.29, 2.0),
+            (0.29, 0.30, 100.0),
+            (0.30, 0.32, -0.01),
+            (0.32, 0.325, 1e6),
+        ):
             dt[(pick >= lo) & (pick < hi)] = value
         time_s = np.cumsum(dt)
         bad = rng.random(n)

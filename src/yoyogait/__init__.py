@@ -1,9 +1,10 @@
 """yoyogait: online estimation of walking gait with the Yoyo-model.
 
-Data flow one way: file -> :class:`~yoyogait.io.Recording` ->
-:func:`gait_velocities` -> :class:`GaitEstimator` -> estimates -> metrics and
-figures.  Names are imported on first use, so ``import yoyogait.io`` does not
-load the native core.
+Data flow one way, one sub-package per stage (docs/architecture.md):
+file -> :mod:`yoyogait.io` (a :class:`Recording`) -> :mod:`yoyogait.pipeline`
+(:func:`gait_velocities`) -> :mod:`yoyogait.estimators` (:class:`GaitEstimator`)
+-> estimates -> :mod:`yoyogait.evaluation` (metrics, tables, figures).  Names
+are imported on first use, so ``import yoyogait.io`` does not load the native core.
 """
 
 from __future__ import annotations
@@ -12,21 +13,22 @@ import importlib
 
 __version__ = "0.1.0"
 
-_SUBMODULES = ("io", "synthetic", "metrics", "evaluation", "plots", "events", "spectral", "baselines")
+_SUBMODULES = ("io", "pipeline", "estimators", "evaluation", "synthetic", "model", "cli", "errors")
 
 _LAZY = {
-    "GaitEstimator": "estimator",
-    "EstimatorConfig": "estimator",
-    "EstimateResult": "estimator",
-    "Status": "estimator",
+    "GaitEstimator": "estimators",
+    "EstimatorConfig": "estimators",
+    "EstimateResult": "estimators",
+    "Status": "estimators",
+    "PRESETS": "estimators",
     "yoyo_model": "model",
     "YoyoTrajectory": "model",
-    "gait_velocities": "velocities",
-    "GaitVelocities": "velocities",
+    "gait_velocities": "pipeline",
+    "GaitVelocities": "pipeline",
+    "dft_check": "pipeline",
+    "detect_gait_events": "pipeline",
     "Recording": "io",
     "read": "io",
-    "dft_check": "spectral",
-    "detect_gait_events": "events",
     "YoyogaitError": "errors",
     "InputError": "errors",
 }

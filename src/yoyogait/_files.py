@@ -22,9 +22,9 @@ def atomic_file(path: Path, write) -> None:
     """write(tmp_path) then rename onto ``path``; the temporary file keeps the extension (for writers
     that go by it, like matplotlib) and is removed if anything fails."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.tmp.", suffix=path.suffix, dir=path.resolve().parent)
+    fd, name = tempfile.mkstemp(prefix=f".{path.stem}.tmp.", suffix=path.suffix, dir=path.resolve().parent)
     os.close(fd)
-    tmp = Path(tmp)
+    tmp = Path(name)
     try:
         write(tmp)
         give_default_mode(tmp)

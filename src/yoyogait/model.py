@@ -45,8 +45,7 @@ def integrate_phase(time_s, omega_rad_s, phase_rad: float = 0.0) -> np.ndarray:
     return phase_rad + _cumtrapz(w, t)
 
 
-def yoyo_model(time_s, R_m, r_m, step_frequency_hz, z0_m: float = 1.0,
-               phase_rad: float = 0.0) -> YoyoTrajectory:
+def yoyo_model(time_s, R_m, r_m, step_frequency_hz, z0_m: float = 1.0, phase_rad: float = 0.0) -> YoyoTrajectory:
     """Evaluate eq. 1-4 on ``time_s``.
 
     ``R_m``, ``r_m`` and ``step_frequency_hz`` may be scalars or arrays of the

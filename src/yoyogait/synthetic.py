@@ -149,14 +149,33 @@ class SyntheticSubject:
 
 
 SUBJECTS: tuple[SyntheticSubject, ...] = (
-    SyntheticSubject("synthetic-S1", R_m=0.115, r_m=0.022, z0_m=0.95, step_frequency_hz=1.80,
-                     sway_m=0.025, harmonic2_phase_rad=0.6),
-    SyntheticSubject("synthetic-S2", R_m=0.127, r_m=0.028, z0_m=1.00, step_frequency_hz=1.68,
-                     sway_m=0.030, harmonic2_ratio=0.25, harmonic2_phase_rad=-0.4,
-                     hand_offset_m=(0.32, -0.22, 0.08), step_width_m=0.16),
-    SyntheticSubject("synthetic-S3", R_m=0.104, r_m=0.017, z0_m=0.90, step_frequency_hz=1.98,
-                     sway_m=0.020, harmonic2_ratio=0.15, harmonic2_phase_rad=1.2,
-                     hand_offset_m=(0.27, -0.18, 0.02), step_width_m=0.12),
+    SyntheticSubject(
+        "synthetic-S1", R_m=0.115, r_m=0.022, z0_m=0.95, step_frequency_hz=1.80, sway_m=0.025, harmonic2_phase_rad=0.6
+    ),
+    SyntheticSubject(
+        "synthetic-S2",
+        R_m=0.127,
+        r_m=0.028,
+        z0_m=1.00,
+        step_frequency_hz=1.68,
+        sway_m=0.030,
+        harmonic2_ratio=0.25,
+        harmonic2_phase_rad=-0.4,
+        hand_offset_m=(0.32, -0.22, 0.08),
+        step_width_m=0.16,
+    ),
+    SyntheticSubject(
+        "synthetic-S3",
+        R_m=0.104,
+        r_m=0.017,
+        z0_m=0.90,
+        step_frequency_hz=1.98,
+        sway_m=0.020,
+        harmonic2_ratio=0.15,
+        harmonic2_phase_rad=1.2,
+        hand_offset_m=(0.27, -0.18, 0.02),
+        step_width_m=0.12,
+    ),
 )
 """The three virtual subjects of the built-in lab (speeds 1.30, 1.34, 1.29 m/s)."""
 
@@ -313,8 +332,17 @@ def rectangle_path(width_m: float = 6.0, height_m: float = 3.5, corner_radius_m:
     b = height_m - 2 * corner_radius_m
     k = 1.0 / corner_radius_m
     quarter = 0.5 * np.pi * corner_radius_m
-    pieces = [(a / 2, 0.0), (quarter, k), (b, 0.0), (quarter, k), (a, 0.0), (quarter, k),
-              (b, 0.0), (quarter, k), (a / 2, 0.0)]
+    pieces = [
+        (a / 2, 0.0),
+        (quarter, k),
+        (b, 0.0),
+        (quarter, k),
+        (a, 0.0),
+        (quarter, k),
+        (b, 0.0),
+        (quarter, k),
+        (a / 2, 0.0),
+    ]
     return _Path((0.0, -height_m / 2), 0.0, pieces)
 
 
@@ -406,8 +434,11 @@ def _step_frequency_profile(walk_type, subject, t, rng, *, start_standing_s, ram
 def _forward_position(theta, subject, phase_offset_rad, h2):
     """Distance along the path as a function of theta (eq. 1 with offset and 2nd harmonic)."""
     R, r = subject.R_m, subject.r_m
-    return (R * theta + r * np.sin(theta + phase_offset_rad)
-            + 0.5 * h2 * r * np.sin(2 * theta + subject.harmonic2_phase_rad + phase_offset_rad))
+    return (
+        R * theta
+        + r * np.sin(theta + phase_offset_rad)
+        + 0.5 * h2 * r * np.sin(2 * theta + subject.harmonic2_phase_rad + phase_offset_rad)
+    )
 
 
 def _rot_z(psi):
@@ -475,7 +506,7 @@ def _dropouts(positions, rng, rate_hz, duration_s, names):
         j = occludable[rng.integers(len(occludable))]
         length = int(round(rng.uniform(0.1, 1.0) * rate_hz))
         i0 = int(rng.integers(0, max(n - length, 1)))
-        positions[i0:i0 + length, j, :] = np.nan
+        positions[i0 : i0 + length, j, :] = np.nan
     single = rng.random(positions.shape[:2]) < 0.002
     positions[single] = np.nan
     return positions
@@ -525,8 +556,9 @@ def make_walk(
     )
     n = int(round(duration_s * rate_hz)) + 1
     t = np.arange(n) / rate_hz
-    f = _step_frequency_profile(walk_type, subject, t, rng, start_standing_s=start_standing_s,
-                                ramp_s=ramp_s, jitter=frequency_jitter)
+    f = _step_frequency_profile(
+        walk_type, subject, t, rng, start_standing_s=start_standing_s, ramp_s=ramp_s, jitter=frequency_jitter
+    )
     f = np.maximum(f, 0.0)
     omega = 2 * np.pi * f
 
@@ -541,8 +573,9 @@ def make_walk(
     vx = fwd.vx_mps + 2 * a2 * omega * np.cos(2 * theta + ph2 + phase_offset_rad)
 
     def s_of_theta(th):
-        return (_forward_position(th, subject, phase_offset_rad, h2)
-                - _forward_position(_REST_THETA_RAD, subject, phase_offset_rad, h2))
+        return _forward_position(th, subject, phase_offset_rad, h2) - _forward_position(
+            _REST_THETA_RAD, subject, phase_offset_rad, h2
+        )
 
     s = s_of_theta(theta)
     path = _path_for(walk_type)
@@ -559,11 +592,13 @@ def make_walk(
     rot = _rot_z(yaw) @ _rot_x(roll)
     pelvis = centre[:, None, :] + np.einsum("nij,mj->nmi", rot, _PELVIS_OFFSETS_M)
 
-    hand_local = np.array(subject.hand_offset_m)[None, :] + np.column_stack([
-        subject.hand_swing_m * np.sin(stride_phase + 0.3),
-        np.zeros(n),
-        0.3 * subject.hand_swing_m * np.sin(theta + 0.5),
-    ])
+    hand_local = np.array(subject.hand_offset_m)[None, :] + np.column_stack(
+        [
+            subject.hand_swing_m * np.sin(stride_phase + 0.3),
+            np.zeros(n),
+            0.3 * subject.hand_swing_m * np.sin(theta + 0.5),
+        ]
+    )
     hand = centre + np.einsum("nij,nj->ni", _rot_z(heading), hand_local)
 
     lheel = _heel(theta, False, subject, path, s_of_theta)
@@ -576,10 +611,18 @@ def make_walk(
     if dropouts:
         positions = _dropouts(positions, rng, rate_hz, duration_s, names)
 
-    options = dict(rate_hz=float(rate_hz), duration_s=duration_s, phase_offset_rad=float(phase_offset_rad),
-                   noise_m=float(noise_m), dropouts=bool(dropouts), harmonic2_ratio=h2, sway_m=sway,
-                   frequency_jitter=float(frequency_jitter), start_standing_s=float(start_standing_s),
-                   ramp_s=float(ramp_s))
+    options = dict(
+        rate_hz=float(rate_hz),
+        duration_s=duration_s,
+        phase_offset_rad=float(phase_offset_rad),
+        noise_m=float(noise_m),
+        dropouts=bool(dropouts),
+        harmonic2_ratio=h2,
+        sway_m=sway,
+        frequency_jitter=float(frequency_jitter),
+        start_standing_s=float(start_standing_s),
+        ramp_s=float(ramp_s),
+    )
     metadata = {
         "synthetic": True,
         "description": "SYNTHETIC walk generated by yoyogait.synthetic (Yoyo-model), not a real recording",
@@ -630,8 +673,9 @@ def make_model_walk(subject: SyntheticSubject, walk_type: str, **kwargs) -> Synt
     No phase offset, harmonic, sway, noise, dropouts or step-frequency
     variability unless given in ``kwargs`` (which go to :func:`make_walk`).
     """
-    pure = dict(phase_offset_rad=0.0, harmonic2_ratio=0.0, sway_m=0.0, noise_m=0.0,
-                dropouts=False, frequency_jitter=0.0)
+    pure: dict = dict(
+        phase_offset_rad=0.0, harmonic2_ratio=0.0, sway_m=0.0, noise_m=0.0, dropouts=False, frequency_jitter=0.0
+    )
     pure.update(kwargs)
     return make_walk(subject, walk_type, **pure)
 
@@ -643,8 +687,7 @@ def default_lab(seed: int = 0, rate_hz: float = 100.0, *, pure: bool = False) ->
     ``pure=True`` gives the model-pure version of every walk.
     """
     make = make_model_walk if pure else make_walk
-    return [make(subject, walk_type, rate_hz=rate_hz, seed=seed)
-            for subject in SUBJECTS for walk_type in WALK_TYPES]
+    return [make(subject, walk_type, rate_hz=rate_hz, seed=seed) for subject in SUBJECTS for walk_type in WALK_TYPES]
 
 
 def get_subject(name: str) -> SyntheticSubject:

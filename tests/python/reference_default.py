@@ -49,6 +49,7 @@ Around the core:
 Per step in steady state: fixed 8-vector / 8x8 matrix arithmetic, 2 scalar updates, two 2-state
 harmonic filters, one sin/cos pair.  No allocation (the Python lists/arrays here are fixed-size).
 """
+
 import math
 
 import numpy as np
@@ -71,52 +72,52 @@ class DefaultConfig:
     """All tuning in one place; units in the names.  Defaults are the tuned values."""
 
     def __init__(self, **kw):
-        self.nominal_dt_s = 0.04              # used when no dt is given
-        self.f_min_hz = 0.6                   # step-frequency bounds (w is clamped into them)
+        self.nominal_dt_s = 0.04  # used when no dt is given
+        self.f_min_hz = 0.6  # step-frequency bounds (w is clamped into them)
         self.f_max_hz = 3.5
         # --- start-up / re-acquisition bank
         self.bank_f_hz = (0.9, 1.3, 1.8, 2.3, 2.8)
-        self.bank_window_s = 1.5              # walking time before the bank collapses to its best member
-        self.bank_forget_s = 1.5              # memory of the members' log-likelihood
-        self.bank_prior_f_hz = 1.8            # typical step frequency: its member gets a log-prior bonus
-        self.bank_prior_bonus = 2.0           # (nats; the hint member gets it on re-acquisition)
-        self.p0_f_std_hz = 0.25               # initial frequency std of each member
+        self.bank_window_s = 1.5  # walking time before the bank collapses to its best member
+        self.bank_forget_s = 1.5  # memory of the members' log-likelihood
+        self.bank_prior_f_hz = 1.8  # typical step frequency: its member gets a log-prior bonus
+        self.bank_prior_bonus = 2.0  # (nats; the hint member gets it on re-acquisition)
+        self.p0_f_std_hz = 0.25  # initial frequency std of each member
         self.p0_phasor_std_mps = 0.3
         self.p0_bias_std_mps = 0.3
         self.p0_accel_std_mps2 = 0.5
         self.p0_omega_rate_std_rad_s2 = 0.05
         # --- spectral initialisation (start-up work only)
         self.spec_init = True
-        self.spec_init_s = 1.0                # walking time of buffered data used
-        self.spec_buffer_n = 40               # ring-buffer capacity (samples)
+        self.spec_init_s = 1.0  # walking time of buffered data used
+        self.spec_buffer_n = 40  # ring-buffer capacity (samples)
         self.spec_grid_step_hz = 0.025
-        self.spec_p_f_std_hz = 0.08           # frequency std given to the seeded member
+        self.spec_p_f_std_hz = 0.08  # frequency std given to the seeded member
         self.spec_p_phasor_std_mps = 0.05
         # --- process noise densities (per second)
-        self.q_phasor_mps2_per_s = 2e-3       # independent drift of each phasor
-        self.q_phase_rad2_per_s = 0.05        # common gait-phase jitter (rotates X and Z together)
-        self.q_omega_rad2_per_s3 = 0.05       # step-frequency random walk
-        self.use_omega_rate = True            # frequency-rate state (tracks cadence ramps)
-        self.q_omega_rate_lo_rad2_per_s5 = 0.01   # rate noise while no trend is seen ...
-        self.q_omega_rate_rad2_per_s5 = 2.0       # ... and once |dw| reaches omega_rate_ref
+        self.q_phasor_mps2_per_s = 2e-3  # independent drift of each phasor
+        self.q_phase_rad2_per_s = 0.05  # common gait-phase jitter (rotates X and Z together)
+        self.q_omega_rad2_per_s3 = 0.05  # step-frequency random walk
+        self.use_omega_rate = True  # frequency-rate state (tracks cadence ramps)
+        self.q_omega_rate_lo_rad2_per_s5 = 0.01  # rate noise while no trend is seen ...
+        self.q_omega_rate_rad2_per_s5 = 2.0  # ... and once |dw| reaches omega_rate_ref
         self.omega_rate_ref_rad_s2 = 0.2
-        self.omega_rate_lp_tau_s = 1.5        # the trend test uses dw low-passed over this time (no feedback loop)
-        self.omega_rate_tau_s = 3.0           # the frequency rate decays (first-order Gauss-Markov)
-        self.q_bias_mps2_per_s = 1e-3         # forward-speed bias random walk
-        self.q_accel_mps4_per_s = 1e-2        # random walk of the bias rate
-        self.accel_tau_s = 1.0                # the bias rate decays (no runaway extrapolation)
+        self.omega_rate_lp_tau_s = 1.5  # the trend test uses dw low-passed over this time (no feedback loop)
+        self.omega_rate_tau_s = 3.0  # the frequency rate decays (first-order Gauss-Markov)
+        self.q_bias_mps2_per_s = 1e-3  # forward-speed bias random walk
+        self.q_accel_mps4_per_s = 1e-2  # random walk of the bias rate
+        self.accel_tau_s = 1.0  # the bias rate decays (no runaway extrapolation)
         # --- second harmonic (cascaded 2-state KF per channel, on the channel's own phase)
         self.use_harmonic = True
         self.p0_harm_std_mps = 0.1
         self.q_harm_mps2_per_s = 1e-3
-        self.harm_min_amp_mps = 0.02          # below this fundamental amplitude the basis is undefined
+        self.harm_min_amp_mps = 0.02  # below this fundamental amplitude the basis is undefined
         # --- measurement noise (std): noise + what the model does not explain
         self.r_vx_std_mps = 0.05
         self.r_vz_std_mps = 0.05
         # --- innovation gate
         self.gate_sigma = 5.0
-        self.max_consecutive_rejects = 6      # then the sample is accepted and P inflated
-        self.max_gap_s = 1.5                  # a longer gap between samples restarts the acquisition
+        self.max_consecutive_rejects = 6  # then the sample is accepted and P inflated
+        self.max_gap_s = 1.5  # a longer gap between samples restarts the acquisition
         # --- walking / standing detector
         self.walk_tau_s = 0.3
         self.walk_speed_on_mps = 0.2
@@ -124,18 +125,18 @@ class DefaultConfig:
         self.walk_vz_rms_on_mps = 0.05
         self.walk_vz_rms_off_mps = 0.025
         # --- watchdog
-        self.bound_watchdog_s = 1.0           # w pinned near a bound this long while walking -> re-acquire
+        self.bound_watchdog_s = 1.0  # w pinned near a bound this long while walking -> re-acquire
         # --- reported uncertainty: sqrt(lambda P), lambda = low-passed NIS, clipped
         self.std_scale_adapt = True
         self.std_scale_tau_s = 10.0
         self.std_scale_min = 0.05
         self.std_scale_max = 4.0
-        self.speed_std_floor_mps = 0.025      # stride-to-stride speed variability the model does not carry
+        self.speed_std_floor_mps = 0.025  # stride-to-stride speed variability the model does not carry
         # --- a channel above this is not used, like a non-finite one
         self.max_abs_velocity_mps = 1000.0
         # --- R, r (m): low-passed while walking, frozen while standing
         self.param_tau_s = 2.0
-        self.R0_m = 0.12                      # reported before the first walk
+        self.R0_m = 0.12  # reported before the first walk
         self.r0_m = 0.02
         for k, v in kw.items():
             if not hasattr(self, k):
@@ -185,12 +186,12 @@ class _Ekf:
         self.x[IW] = TWO_PI * f_hz
         self.x[IA0] = A0
         self.P[:, :] = 0.0
-        sp = cfg.p0_phasor_std_mps ** 2
+        sp = cfg.p0_phasor_std_mps**2
         self.P[IX1, IX1] = self.P[IX2, IX2] = self.P[IZ1, IZ1] = self.P[IZ2, IZ2] = sp
         self.P[IW, IW] = (TWO_PI * cfg.p0_f_std_hz) ** 2
-        self.P[IA0, IA0] = cfg.p0_bias_std_mps ** 2
-        self.P[IDA, IDA] = cfg.p0_accel_std_mps2 ** 2
-        self.P[IDW, IDW] = cfg.p0_omega_rate_std_rad_s2 ** 2 if cfg.use_omega_rate else 0.0
+        self.P[IA0, IA0] = cfg.p0_bias_std_mps**2
+        self.P[IDA, IDA] = cfg.p0_accel_std_mps2**2
+        self.P[IDW, IDW] = cfg.p0_omega_rate_std_rad_s2**2 if cfg.use_omega_rate else 0.0
         self.loglik = 0.0
         self.dw_lp = 0.0
 
@@ -233,16 +234,29 @@ class _Ekf:
         x[IDA] *= da
         # Jacobian: two 2x2 rotations, d(rotated phasor)/dw = dt * J * phasor, two Gauss-Markov rates.
         F = np.eye(NX)
-        F[IX1, IX1] = c; F[IX1, IX2] = -s; F[IX2, IX1] = s; F[IX2, IX2] = c
-        F[IZ1, IZ1] = c; F[IZ1, IZ2] = -s; F[IZ2, IZ1] = s; F[IZ2, IZ2] = c
-        F[IX1, IW] = -dt * X2; F[IX2, IW] = dt * X1
-        F[IZ1, IW] = -dt * Z2; F[IZ2, IW] = dt * Z1
-        F[IW, IDW] = dt; F[IDW, IDW] = db
-        F[IA0, IDA] = dt; F[IDA, IDA] = da
+        F[IX1, IX1] = c
+        F[IX1, IX2] = -s
+        F[IX2, IX1] = s
+        F[IX2, IX2] = c
+        F[IZ1, IZ1] = c
+        F[IZ1, IZ2] = -s
+        F[IZ2, IZ1] = s
+        F[IZ2, IZ2] = c
+        F[IX1, IW] = -dt * X2
+        F[IX2, IW] = dt * X1
+        F[IZ1, IW] = -dt * Z2
+        F[IZ2, IW] = dt * Z1
+        F[IW, IDW] = dt
+        F[IDW, IDW] = db
+        F[IA0, IDA] = dt
+        F[IDA, IDA] = da
         P[:, :] = F @ P @ F.T
         # independent phasor drift
         qp = cfg.q_phasor_mps2_per_s * dt
-        P[IX1, IX1] += qp; P[IX2, IX2] += qp; P[IZ1, IZ1] += qp; P[IZ2, IZ2] += qp
+        P[IX1, IX1] += qp
+        P[IX2, IX2] += qp
+        P[IZ1, IZ1] += qp
+        P[IZ2, IZ2] += qp
         # common gait-phase jitter: q_phase * g g^T, g = d(state)/d(phase) = [-X2, X1, -Z2, Z1, 0, ...]
         qt = cfg.q_phase_rad2_per_s * dt
         g = (-X2, X1, -Z2, Z1)
@@ -313,7 +327,7 @@ class _Harmonic:
 
     def reset(self, cfg):
         self.c[0] = self.c[1] = 0.0
-        self.P[0][0] = self.P[1][1] = cfg.p0_harm_std_mps ** 2
+        self.P[0][0] = self.P[1][1] = cfg.p0_harm_std_mps**2
         self.P[0][1] = self.P[1][0] = 0.0
 
     def copy_from(self, o):
@@ -326,7 +340,7 @@ class _Harmonic:
     def basis(p1, p2, cfg):
         """(cos 2th, sin 2th) of the phasor (p1, p2) by the double-angle formulas; (0, 0) if too small."""
         a2 = p1 * p1 + p2 * p2
-        if a2 < cfg.harm_min_amp_mps ** 2:
+        if a2 < cfg.harm_min_amp_mps**2:
             return 0.0, 0.0
         return (p1 * p1 - p2 * p2) / a2, 2.0 * p1 * p2 / a2
 
@@ -472,9 +486,14 @@ class DefaultEstimator:
                 A[a][b] = A[b][a]
         ridge = 1e-9
         ax = _solve_spd([[A[a][b] + (ridge if a == b else 0.0) for b in range(4)] for a in range(4)], bx)
-        az = _solve_spd([[A[0][0] + ridge, A[0][2], A[0][3]],
-                         [A[2][0], A[2][2] + ridge, A[2][3]],
-                         [A[3][0], A[3][2], A[3][3] + ridge]], bz)
+        az = _solve_spd(
+            [
+                [A[0][0] + ridge, A[0][2], A[0][3]],
+                [A[2][0], A[2][2] + ridge, A[2][3]],
+                [A[3][0], A[3][2], A[3][3] + ridge],
+            ],
+            bz,
+        )
         rss_x = yy_x - (bx[0] * ax[0] + bx[1] * ax[1] + bx[2] * ax[2] + bx[3] * ax[3])
         rss_z = yy_z - (bz[0] * az[0] + bz[1] * az[1] + bz[2] * az[2])
         if sol is not None:
@@ -493,7 +512,7 @@ class DefaultEstimator:
         nb = c.spec_buffer_n
         t_last = self.buf_t[(self.buf_head - 1) % nb]
         i0 = (self.buf_head - n) % nb
-        rx, rz = c.r_vx_std_mps ** 2, c.r_vz_std_mps ** 2
+        rx, rz = c.r_vx_std_mps**2, c.r_vz_std_mps**2
         nf = int((c.f_max_hz - c.f_min_hz) / c.spec_grid_step_hz) + 1
         costs = [0.0] * nf  # fixed size in C++
         best_k = 0
@@ -516,7 +535,7 @@ class DefaultEstimator:
         m.x[IDA] = sol[1]
         m.x[IX1], m.x[IX2] = sol[2], -sol[3]
         m.x[IZ1], m.x[IZ2] = sol[5], -sol[6]
-        sp = c.spec_p_phasor_std_mps ** 2
+        sp = c.spec_p_phasor_std_mps**2
         m.P[IX1, IX1] = m.P[IX2, IX2] = m.P[IZ1, IZ1] = m.P[IZ2, IZ2] = sp
         m.P[IA0, IA0] = sp
         m.P[IW, IW] = (TWO_PI * c.spec_p_f_std_hz) ** 2
@@ -552,7 +571,7 @@ class DefaultEstimator:
         if dt_s is None:
             dt = c.nominal_dt_s
         elif not math.isfinite(dt_s) or dt_s < 0.0:
-            return self._output(STATUS_NONFINITE)   # unusable timestamp: sample ignored
+            return self._output(STATUS_NONFINITE)  # unusable timestamp: sample ignored
         else:
             dt = dt_s
         if not self.started:
@@ -562,7 +581,7 @@ class DefaultEstimator:
             self.ema_vx = vx
             self.ema_vz2 = vz * vz if use_z else 0.0
             self._start_acquisition(vx)
-            self._collapse()          # main filter defined from the start
+            self._collapse()  # main filter defined from the start
             self.acquiring = True
             dt = 0.0
         self.t_now += dt
@@ -577,8 +596,9 @@ class DefaultEstimator:
         if self.walking and not was_walking:
             # walking (re)starts: re-open the acquisition (frequency covariance re-opened, bias
             # from this sample, one member at the frozen frequency)
-            self._start_acquisition(vx if use_x else self._active().x[IA0],
-                                    self.last_w / TWO_PI if self.have_params else None)
+            self._start_acquisition(
+                vx if use_x else self._active().x[IA0], self.last_w / TWO_PI if self.have_params else None
+            )
         if was_walking and not self.walking:
             # stop: freeze the oscillator, drop the oscillation, decouple the bias (the bank collapses
             # first if it was running; otherwise the main filter goes on: the bank holds stale members)
@@ -601,7 +621,7 @@ class DefaultEstimator:
                 fh[0].predict(c, dt)
                 fh[1].predict(c, dt)
 
-        rx, rz = c.r_vx_std_mps ** 2, c.r_vz_std_mps ** 2
+        rx, rz = c.r_vx_std_mps**2, c.r_vz_std_mps**2
         chans = []
         if osc:
             if use_x:
@@ -614,7 +634,7 @@ class DefaultEstimator:
         a_l = 0.5 * (1.0 - math.exp(-dt / c.std_scale_tau_s)) if dt > 0.0 else 0.0
         rejected = False
         for f, fh in zip(filters, filters_h):
-            for (ch, y, r) in chans:
+            for ch, y, r in chans:
                 # the channel's second harmonic (from the predicted phasor) is cancelled first
                 u = v = 0.0
                 if ch != CH_VX_STANDING:
@@ -642,8 +662,8 @@ class DefaultEstimator:
                 # persistent disagreement was accepted: inflate P so the filter follows again
                 m = self.main
                 for i in (IX1, IX2, IZ1, IZ2):
-                    m.P[i, i] += c.p0_phasor_std_mps ** 2
-                m.P[IA0, IA0] += c.p0_bias_std_mps ** 2
+                    m.P[i, i] += c.p0_phasor_std_mps**2
+                m.P[IA0, IA0] += c.p0_bias_std_mps**2
             self.n_rejects = 0
 
         if self.acquiring:
@@ -691,7 +711,7 @@ class DefaultEstimator:
         x, P = f.x, f.P
         w = x[IW]
         if self.walking:
-            vx_hat = x[IA0] + x[IX1]      # model reconstruction: R w + phase-shifted oscillation
+            vx_hat = x[IA0] + x[IX1]  # model reconstruction: R w + phase-shifted oscillation
             vz_hat = x[IZ1]
             ux, vx2 = self._harm_basis(f, CH_VX)
             uz, vz2 = self._harm_basis(f, CH_VZ)
@@ -719,7 +739,7 @@ class DefaultEstimator:
             omega_rate_rad_s2=x[IDW],
             A0=x[IA0],
             speed_mps=x[IA0],
-            speed_std_mps=math.sqrt(max(lam * P[IA0, IA0], 0.0) + self.cfg.speed_std_floor_mps ** 2),
+            speed_std_mps=math.sqrt(max(lam * P[IA0, IA0], 0.0) + self.cfg.speed_std_floor_mps**2),
             accel_mps2=x[IDA],
             amp_x_mps=ax,
             amp_z_mps=az,
@@ -830,9 +850,25 @@ def run_reference(vx, vz, dt=None, cfg=None, predict_ahead_s=()):
     is not used). Returns a dict of arrays named as yoyogait.EstimateResult."""
     est = DefaultEstimator(cfg)
     n = len(vx)
-    keys = ("step_frequency_hz", "step_frequency_std_hz", "omega_rate_rad_s2", "speed_mps", "speed_std_mps",
-            "accel_mps2", "amp_x_mps", "amp_z_mps", "phase_x_rel_z_rad", "signed_amp_x_mps", "vx_hat", "vz_hat",
-            "vx_hat_h2", "vz_hat_h2", "R_m", "r_m", "std_scale")
+    keys = (
+        "step_frequency_hz",
+        "step_frequency_std_hz",
+        "omega_rate_rad_s2",
+        "speed_mps",
+        "speed_std_mps",
+        "accel_mps2",
+        "amp_x_mps",
+        "amp_z_mps",
+        "phase_x_rel_z_rad",
+        "signed_amp_x_mps",
+        "vx_hat",
+        "vz_hat",
+        "vx_hat_h2",
+        "vz_hat_h2",
+        "R_m",
+        "r_m",
+        "std_scale",
+    )
     out = {k: np.empty(n) for k in keys}
     out["gait_state"] = np.empty((n, NX))
     out["walking"] = np.empty(n, bool)

@@ -51,9 +51,22 @@ def bound_variances(P, max_var, P0):
     return P * np.outer(d, d)
 
 
-def reference_paper_estimator(vx, vz, *, T=0.04, R0=2.0, r0=0.2, w0=0.1,
-                              Q=(1e-5, 1e-5, 1e-3, 1e-3), V=(1e-2, 1e-2), P0=1.0,
-                              n=10, mu_w=0.1, mu_A0=0.1, v_max=1000.0):
+def reference_paper_estimator(
+    vx,
+    vz,
+    *,
+    T=0.04,
+    R0=2.0,
+    r0=0.2,
+    w0=0.1,
+    Q=(1e-5, 1e-5, 1e-3, 1e-3),
+    V=(1e-2, 1e-2),
+    P0=1.0,
+    n=10,
+    mu_w=0.1,
+    mu_A0=0.1,
+    v_max=1000.0,
+):
     """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat, P)."""
     N = len(vx)
     x = np.array([r0 * w0, 0.0, w0, R0 * w0])
@@ -73,12 +86,14 @@ def reference_paper_estimator(vx, vz, *, T=0.04, R0=2.0, r0=0.2, w0=0.1,
     for k in range(1, N + 1):
         # Prediction through eq. 6 with F evaluated at the prior state.
         x1, x2, w, A0 = x
-        F = np.array([
-            [np.cos(w), -np.sin(w), -x1 * np.sin(w) - x2 * np.cos(w), 0.0],
-            [np.sin(w), np.cos(w), x1 * np.cos(w) - x2 * np.sin(w), 0.0],
-            [0.0, 0.0, 1.0, 0.0],
-            [0.0, 0.0, 0.0, 1.0],
-        ])
+        F = np.array(
+            [
+                [np.cos(w), -np.sin(w), -x1 * np.sin(w) - x2 * np.cos(w), 0.0],
+                [np.sin(w), np.cos(w), x1 * np.cos(w) - x2 * np.sin(w), 0.0],
+                [0.0, 0.0, 1.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0],
+            ]
+        )
         x = np.array([x1 * np.cos(w) - x2 * np.sin(w), x1 * np.sin(w) + x2 * np.cos(w), w, A0])
         P = F @ P @ F.T + Qm
         if np.any(np.diag(P) > max_var) or not np.all(np.isfinite(P)):
@@ -107,13 +122,19 @@ def reference_paper_estimator(vx, vz, *, T=0.04, R0=2.0, r0=0.2, w0=0.1,
         # Eq. 11-12.
         A1 = np.hypot(x[0], x[1])
         if k > n and x[2] > mu_w and x[3] > mu_A0:
-            R_hist[k] = (R_hist[k - n:k].sum() + x[3] / x[2]) / (n + 1)
-            r_hist[k] = (r_hist[k - n:k].sum() + A1 / x[2]) / (n + 1)
+            R_hist[k] = (R_hist[k - n : k].sum() + x[3] / x[2]) / (n + 1)
+            r_hist[k] = (r_hist[k - n : k].sum() + A1 / x[2]) / (n + 1)
         else:
             R_hist[k] = R_hist[k - 1]
             r_hist[k] = r_hist[k - 1]
         # Eq. 13-14.
         vx_hat[k - 1] = R_hist[k] * x[2] + r_hist[k] * x[2] * x[0] / A1
         vz_hat[k - 1] = -r_hist[k] * x[2] * x[1] / A1
-    return {"state": states, "R_hat": R_hist[1:], "r_hat": r_hist[1:], "vx_hat": vx_hat, "vz_hat": vz_hat,
-            "P": covariances}
+    return {
+        "state": states,
+        "R_hat": R_hist[1:],
+        "r_hat": r_hist[1:],
+        "vx_hat": vx_hat,
+        "vz_hat": vz_hat,
+        "P": covariances,
+    }

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from yoyogait import yoyo_model
-from yoyogait.baselines import sliding_dft
-from yoyogait.oscillator import AdaptiveOscillator, OscillatorConfig, run_oscillator
+from yoyogait.estimators.oscillator import AdaptiveOscillator, OscillatorConfig, run_oscillator
+from yoyogait.estimators.sliding_dft import sliding_dft
 
 T = 0.04
 

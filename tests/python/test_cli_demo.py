@@ -20,8 +20,9 @@ def test_demo_evaluates_both_presets_on_the_synthetic_lab(tmp_path, capsys):
 
 def test_bad_option_is_one_line_and_nonzero():
     """An unknown estimator gives one error line on stderr, no traceback, and exit code 2."""
-    proc = subprocess.run([sys.executable, "-m", "yoyogait", "demo", "--estimators", "nope"],
-                          capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "yoyogait", "demo", "--estimators", "nope"], capture_output=True, text=True
+    )
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert proc.stderr.strip().count("\n") == 0 and "unknown estimator" in proc.stderr

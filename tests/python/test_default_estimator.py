@@ -9,20 +9,36 @@ import math
 import numpy as np
 import pytest
 
+import reference_default as ref
 import yoyogait
 from yoyogait import EstimatorConfig, GaitEstimator, _core, synthetic
-from yoyogait.estimator import PRESETS, Status
-
-import reference_default as ref
+from yoyogait.estimators import PRESETS, Status
 
 T = 0.04
 
 
 # ----------------------------------------------------------------------------- synthetic walks
 
-def make_walk(duration_s=30.0, fs=25.0, f_hz=1.8, speed_mps=1.3, r_m=0.02, f_profile=None, h2_ratio=0.25,
-              noise_mps=0.015, stops=(), seed=0, phase_offset=np.pi, t_jitter=0.0, dropouts=(), outliers=0,
-              phase_jitter_rad2_per_s=0.0, amp_jitter=0.0, standing_s=0.0):
+
+def make_walk(
+    duration_s=30.0,
+    fs=25.0,
+    f_hz=1.8,
+    speed_mps=1.3,
+    r_m=0.02,
+    f_profile=None,
+    h2_ratio=0.25,
+    noise_mps=0.015,
+    stops=(),
+    seed=0,
+    phase_offset=np.pi,
+    t_jitter=0.0,
+    dropouts=(),
+    outliers=0,
+    phase_jitter_rad2_per_s=0.0,
+    amp_jitter=0.0,
+    standing_s=0.0,
+):
     """Eq. 3-4 with the forward oscillation shifted by phase_offset (pi: real walking), a second
     harmonic, noise and |v_x| (a 2-norm).  stops: (t_start, t_stand_s, f_after_hz): the walker slows
     down over 1 s (cadence kept, steps shortening), stands, speeds up over 1 s at f_after_hz.
@@ -40,7 +56,7 @@ def make_walk(duration_s=30.0, fs=25.0, f_hz=1.8, speed_mps=1.3, r_m=0.02, f_pro
     f = np.full(n, f_hz) if f_profile is None else np.array([f_profile(x) for x in t])
     R = speed_mps / (2 * np.pi * f_hz)
     gain = np.ones(n)
-    for (ts, tstand, fa) in stops:
+    for ts, tstand, fa in stops:
         for i, x in enumerate(t):
             if ts <= x < ts + 1.0:
                 gain[i] = min(gain[i], 1.0 - (x - ts))
@@ -73,16 +89,23 @@ def make_walk(duration_s=30.0, fs=25.0, f_hz=1.8, speed_mps=1.3, r_m=0.02, f_pro
         vx[idx] += rng.choice([-1, 1], outliers) * rng.uniform(1.0, 3.0, outliers)
         vz[idx] += rng.choice([-1, 1], outliers) * rng.uniform(1.0, 3.0, outliers)
         spikes[idx] = True
-    out = dict(t=t, vx=vx, vz=vz, f_hz=f, speed=R * w, R_m=np.full(n, R), gain=gain, walking=gain > 0.5,
-               spikes=spikes)
+    out = dict(t=t, vx=vx, vz=vz, f_hz=f, speed=R * w, R_m=np.full(n, R), gain=gain, walking=gain > 0.5, spikes=spikes)
     if standing_s > 0:
         m = int(standing_s * fs)
-        pad = dict(t=np.arange(m) * dt, vx=np.abs(0.01 * rng.standard_normal(m)), vz=0.01 * rng.standard_normal(m),
-                   f_hz=np.full(m, f[0]), speed=np.zeros(m), R_m=np.full(m, R), gain=np.zeros(m),
-                   walking=np.zeros(m, bool), spikes=np.zeros(m, bool))
+        pad = dict(
+            t=np.arange(m) * dt,
+            vx=np.abs(0.01 * rng.standard_normal(m)),
+            vz=0.01 * rng.standard_normal(m),
+            f_hz=np.full(m, f[0]),
+            speed=np.zeros(m),
+            R_m=np.full(m, R),
+            gain=np.zeros(m),
+            walking=np.zeros(m, bool),
+            spikes=np.zeros(m, bool),
+        )
         out = {k: np.concatenate([pad[k], out[k] + (m * dt if k == "t" else 0)]) for k in out}
     keep = np.ones(out["t"].size, bool)
-    for (ts, length) in dropouts:
+    for ts, length in dropouts:
         keep &= ~((out["t"] >= ts) & (out["t"] < ts + length))
     return {k: v[keep] for k, v in out.items()}
 
@@ -112,14 +135,23 @@ def segments(mask):
 
 # ----------------------------------------------------------------------------- presets and parity
 
+
 def test_default_config_is_the_gait_filter_and_paper_preset_is_unchanged():
     """EstimatorConfig() is the gait filter; PRESETS has 'paper' and 'default'; paper() keeps the paper's values."""
     assert EstimatorConfig().algorithm == "gait_filter" and GaitEstimator().config.algorithm == "gait_filter"
     assert set(PRESETS) == {"paper", "default"}
     assert PRESETS["default"]() == EstimatorConfig() and PRESETS["paper"]() == EstimatorConfig.paper()
     p = EstimatorConfig.paper()
-    assert (p.algorithm, p.sample_time_s, p.q_oscillation_mps2, p.q_omega_rad2, p.q_bias_mps2, p.v_vx_mps2,
-            p.smoothing_window_samples, p.initial_R_hat_mps) == ("paper", 0.04, 1e-5, 1e-3, 1e-3, 1e-2, 10, 2.0)
+    assert (
+        p.algorithm,
+        p.sample_time_s,
+        p.q_oscillation_mps2,
+        p.q_omega_rad2,
+        p.q_bias_mps2,
+        p.v_vx_mps2,
+        p.smoothing_window_samples,
+        p.initial_R_hat_mps,
+    ) == ("paper", 0.04, 1e-5, 1e-3, 1e-3, 1e-2, 10, 2.0)
     native = _core.EstimatorConfig.paper()
     assert native.algorithm == "paper" and native.bank_f_hz == (0.9, 1.3, 1.8, 2.3, 2.8)
 
@@ -127,9 +159,18 @@ def test_default_config_is_the_gait_filter_and_paper_preset_is_unchanged():
 def _hard_scenario():
     """A noisy walk with a standing start, two stops, dropouts (missing samples), a long gap,
     NaN samples, outliers and jittered timestamps: every path of the filter."""
-    s = make_walk(60.0, f_hz=1.8, speed_mps=1.3, stops=[(15.0, 3.0, 2.1), (35.0, 2.0, 1.6)], seed=21,
-                  t_jitter=0.3, dropouts=[(8.0, 0.1), (25.0, 0.5), (45.0, 1.0), (52.0, 2.0)], outliers=15,
-                  standing_s=2.0, noise_mps=0.015)
+    s = make_walk(
+        60.0,
+        f_hz=1.8,
+        speed_mps=1.3,
+        stops=[(15.0, 3.0, 2.1), (35.0, 2.0, 1.6)],
+        seed=21,
+        t_jitter=0.3,
+        dropouts=[(8.0, 0.1), (25.0, 0.5), (45.0, 1.0), (52.0, 2.0)],
+        outliers=15,
+        standing_s=2.0,
+        noise_mps=0.015,
+    )
     rng = np.random.default_rng(4)
     nan_idx = rng.choice(np.arange(100, s["t"].size), 12, replace=False)
     s["vx"][nan_idx[:6]] = np.nan
@@ -137,15 +178,32 @@ def _hard_scenario():
     return s
 
 
-REF_STATUS = {"ok": int(Status.UPDATED), "rejected-nonfinite": int(Status.REJECTED_NON_FINITE),
-              "rejected-outlier": int(Status.REJECTED_OUTLIER), "rejected-out-of-range": int(Status.REJECTED_OUT_OF_RANGE)}
+REF_STATUS = {
+    "ok": int(Status.UPDATED),
+    "rejected-nonfinite": int(Status.REJECTED_NON_FINITE),
+    "rejected-outlier": int(Status.REJECTED_OUTLIER),
+    "rejected-out-of-range": int(Status.REJECTED_OUT_OF_RANGE),
+}
 
 
-@pytest.mark.parametrize("changes", [
-    {},
-    dict(use_harmonic=False, bank_f_hz=(1.0, 1.6, 2.2), spectral_init=False, gate_sigma=4.0, use_omega_rate=False,
-         q_phase_rad2_per_s=0.02, omega_rate_lp_tau_s=0.0, std_scale_adapt=False, walk_tau_s=0.5),
-], ids=["default", "other-config"])
+@pytest.mark.parametrize(
+    "changes",
+    [
+        {},
+        dict(
+            use_harmonic=False,
+            bank_f_hz=(1.0, 1.6, 2.2),
+            spectral_init=False,
+            gate_sigma=4.0,
+            use_omega_rate=False,
+            q_phase_rad2_per_s=0.02,
+            omega_rate_lp_tau_s=0.0,
+            std_scale_adapt=False,
+            walk_tau_s=0.5,
+        ),
+    ],
+    ids=["default", "other-config"],
+)
 def test_native_matches_the_numpy_reference(changes):
     """The native core equals the independent numpy implementation (reference_default.py) to 1e-9 on
     every output over a hard 62 s walk (stops, gaps, NaN, outliers, jitter), predictions included."""
@@ -154,15 +212,33 @@ def test_native_matches_the_numpy_reference(changes):
     dt = np.diff(s["t"], prepend=np.nan)
     r = ref.run_reference(s["vx"], s["vz"], dt, ref.config_from(cfg.to_native()), predict_ahead_s=(0.04, 0.2))
     res = GaitEstimator(cfg).run(s["vx"], s["vz"], time_s=s["t"], predict_ahead_s=(0.04, 0.2))
-    for name in ("step_frequency_hz", "step_frequency_std_hz", "speed_mps", "speed_std_mps", "vx_hat", "vz_hat",
-                 "vx_hat_h2", "vz_hat_h2", "R_m", "r_m", "std_scale", "amp_z_mps", "signed_amp_x_mps",
-                 "omega_rate_rad_s2", "accel_mps2", "gait_state", "vx_pred", "vz_pred"):
+    for name in (
+        "step_frequency_hz",
+        "step_frequency_std_hz",
+        "speed_mps",
+        "speed_std_mps",
+        "vx_hat",
+        "vz_hat",
+        "vx_hat_h2",
+        "vz_hat_h2",
+        "R_m",
+        "r_m",
+        "std_scale",
+        "amp_z_mps",
+        "signed_amp_x_mps",
+        "omega_rate_rad_s2",
+        "accel_mps2",
+        "gait_state",
+        "vx_pred",
+        "vz_pred",
+    ):
         np.testing.assert_allclose(getattr(res, name), r[name], rtol=0, atol=1e-9, err_msg=name)
     np.testing.assert_allclose(res.A1_mps, r["amp_x_mps"], rtol=0, atol=1e-9)
     defined = (r["amp_x_mps"] > 1e-9) & (r["amp_z_mps"] > 1e-9)  # else the relation is 0 by definition
     assert defined.mean() > 0.8 and np.all(res.phase_x_rel_z_rad[~defined] == 0)
-    np.testing.assert_allclose(np.angle(np.exp(1j * (res.phase_x_rel_z_rad - r["phase_x_rel_z_rad"])))[defined], 0,
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        np.angle(np.exp(1j * (res.phase_x_rel_z_rad - r["phase_x_rel_z_rad"])))[defined], 0, atol=1e-9
+    )
     assert np.array_equal(res.walking, r["walking"]) and np.array_equal(res.acquiring, r["acquiring"])
     assert np.array_equal(res.status, [REF_STATUS[x] for x in r["status"]])
     # The scenario reached every path: standing, acquisition, outliers, non-finite samples.
@@ -180,20 +256,37 @@ def test_step_run_and_chunked_run_agree_bit_for_bit(with_time):
     time_s = t if with_time else None
     batch = GaitEstimator().run(vx, vz, time_s=time_s, predict_ahead_s=(0.2,))
     est = GaitEstimator()
-    streamed = [est.step(a, b, None if (not with_time or k == 0) else t[k] - t[k - 1])
-                for k, (a, b) in enumerate(zip(vx, vz))]
+    streamed = [
+        est.step(a, b, None if (not with_time or k == 0) else t[k] - t[k - 1]) for k, (a, b) in enumerate(zip(vx, vz))
+    ]
     assert np.array_equal(np.array([e.gait_state for e in streamed]), batch.gait_state)
     assert np.array_equal(np.array([e.vx_hat_h2 for e in streamed]), batch.vx_hat_h2)
     assert np.array_equal(np.array([e.status for e in streamed]).astype(np.uint8), batch.status)
     # Derived in C++ (step) and in numpy (run) from the same state: equal to rounding.
-    np.testing.assert_allclose(np.array([e.phase_x_rel_z_rad for e in streamed]), batch.phase_x_rel_z_rad,
-                               rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(
+        np.array([e.phase_x_rel_z_rad for e in streamed]), batch.phase_x_rel_z_rad, rtol=1e-13, atol=1e-15
+    )
     est = GaitEstimator()
     edges = [0, 1, 7, 100, 101, 333, vx.size]
-    chunks = [est.run(vx[a:b], vz[a:b], time_s=None if time_s is None else time_s[a:b], predict_ahead_s=(0.2,))
-              for a, b in zip(edges[:-1], edges[1:])]
-    for name in ("state", "gait_state", "vx_hat", "vz_hat_h2", "R_m", "r_m", "step_frequency_hz",
-                 "step_frequency_std_hz", "speed_std_mps", "status", "walking", "acquiring", "vx_pred"):
+    chunks = [
+        est.run(vx[a:b], vz[a:b], time_s=None if time_s is None else time_s[a:b], predict_ahead_s=(0.2,))
+        for a, b in zip(edges[:-1], edges[1:])
+    ]
+    for name in (
+        "state",
+        "gait_state",
+        "vx_hat",
+        "vz_hat_h2",
+        "R_m",
+        "r_m",
+        "step_frequency_hz",
+        "step_frequency_std_hz",
+        "speed_std_mps",
+        "status",
+        "walking",
+        "acquiring",
+        "vx_pred",
+    ):
         assert np.array_equal(np.concatenate([getattr(c, name) for c in chunks]), getattr(batch, name)), name
 
 
@@ -208,6 +301,7 @@ def test_time_s_is_used():
 
 
 # ----------------------------------------------------------------------------- what it fixes
+
 
 def test_real_phase_relation_converges_to_the_positive_frequency():
     """With the forward oscillation in anti-phase (real walking), f > 0 on every sample, within 1 %
@@ -230,9 +324,14 @@ def test_no_lock_at_zero_from_any_start():
         for f in (0.8, 1.2, 1.6, 2.0, 2.4):
             for start in ("walking", "standing", "ramp"):
                 for seed in range(2):
-                    s = make_walk(20.0, f_hz=f, speed_mps=v, seed=100 + seed,
-                                  stops=[(-1.0, 2.0, f)] if start == "ramp" else (),
-                                  standing_s=3.0 if start == "standing" else 0.0)
+                    s = make_walk(
+                        20.0,
+                        f_hz=f,
+                        speed_mps=v,
+                        seed=100 + seed,
+                        stops=[(-1.0, 2.0, f)] if start == "ramp" else (),
+                        standing_s=3.0 if start == "standing" else 0.0,
+                    )
                     res = GaitEstimator().run(s["vx"], s["vz"], time_s=s["t"])
                     last = s["t"] > s["t"][-1] - 10
                     err = float(np.median(np.abs(res.step_frequency_hz[last] / f - 1)))
@@ -251,14 +350,20 @@ def test_stop_and_go_reacquires_within_2_s(seed):
     assert len(times) == 3 and max(times) <= 2.0, times
 
 
-def test_halving_the_cadence_after_a_stop_reacquires_within_2_5_s():
-    """The known slow case (docs: 2.3 s): resuming at 1.0 Hz after 1.9 Hz needs the 1 s
-    step-lengthening phase plus about one step at 1 Hz; it still re-acquires within 2.5 s."""
-    s = make_walk(60.0, f_hz=1.8, seed=50, stops=[(10.0, 1.0, 2.2), (22.0, 3.0, 1.4), (36.0, 5.0, 1.9),
-                                                   (48.0, 2.0, 1.0)])
-    res = GaitEstimator().run(s["vx"], s["vz"], time_s=s["t"])
-    times = reacquisition_times(s["t"], s["gain"], res.step_frequency_hz, s["f_hz"])
-    assert max(times) <= 2.5, times
+def test_halving_the_cadence_after_a_stop_reacquires_within_two_steps_of_the_new_cadence():
+    """The known slow case: resuming at 1.0 Hz after 1.9 Hz needs the 1 s step-lengthening phase plus
+    steps at 1 Hz; over 8 seeds every re-acquisition takes at most that phase and two steps (3 s), and
+    the median at most the phase and one and a half steps (2.5 s)."""
+    slow = []
+    for seed in range(50, 58):
+        s = make_walk(
+            60.0, f_hz=1.8, seed=seed, stops=[(10.0, 1.0, 2.2), (22.0, 3.0, 1.4), (36.0, 5.0, 1.9), (48.0, 2.0, 1.0)]
+        )
+        res = GaitEstimator().run(s["vx"], s["vz"], time_s=s["t"])
+        times = reacquisition_times(s["t"], s["gain"], res.step_frequency_hz, s["f_hz"])
+        assert len(times) == 4, (seed, times)
+        slow.append(times[-1])
+    assert max(slow) <= 3.0 and float(np.median(slow)) <= 2.5, slow
 
 
 def test_stopping_brings_the_speed_down_without_a_jump():
@@ -277,6 +382,7 @@ def test_stopping_brings_the_speed_down_without_a_jump():
 
 
 # ----------------------------------------------------------------------------- time, gaps, outliers
+
 
 @pytest.mark.parametrize("gap_s", [0.1, 0.25, 0.5, 1.0])
 @pytest.mark.parametrize("mode", ["missing", "nan"])
@@ -334,6 +440,7 @@ def test_outliers_are_flagged_and_do_not_move_the_estimate():
 
 # ----------------------------------------------------------------------------- uncertainty
 
+
 def test_two_sigma_band_covers_the_frequency_about_as_often_as_it_claims():
     """On walks drawn from the filter's own stochastic model with realistic variability, the 2-sigma
     band of f covers the true frequency 93-99 % of the time and the normalised error has rms 0.7-1.3.
@@ -357,15 +464,16 @@ def test_two_sigma_band_covers_the_frequency_about_as_often_as_it_claims():
         k = int(2.0 / T)
         a1 = 0.02 * w * (1 + 0.1 * np.convolve(rng.standard_normal(n + k), np.ones(k) / np.sqrt(k), "valid")[:n])
         R = 1.3 / (2 * np.pi * 1.8)
-        vx = np.abs(R * w + a1 * np.cos(theta + np.pi) + 0.25 * a1 * np.cos(2 * theta + 1.0)
-                    + 0.03 * rng.standard_normal(n))
+        vx = np.abs(
+            R * w + a1 * np.cos(theta + np.pi) + 0.25 * a1 * np.cos(2 * theta + 1.0) + 0.03 * rng.standard_normal(n)
+        )
         vz = -a1 * np.sin(theta) + 0.25 * a1 * np.cos(2 * theta + 2.0) + 0.03 * rng.standard_normal(n)
         res = GaitEstimator().run(vx, vz, time_s=t)
         m = t > 5.0
         z.append((res.step_frequency_hz[m] - w[m] / (2 * np.pi)) / res.step_frequency_std_hz[m])
     z = np.concatenate(z)
     coverage = np.mean(np.abs(z) <= 2.0)
-    rms = float(np.sqrt(np.mean(z ** 2)))
+    rms = float(np.sqrt(np.mean(z**2)))
     assert 0.93 <= coverage <= 0.99, coverage
     assert 0.7 <= rms <= 1.3, rms
     assert abs(np.mean(z)) < 0.2
@@ -381,6 +489,7 @@ def test_idealised_walk_band_is_conservative():
 
 
 # ----------------------------------------------------------------------------- the synthetic lab
+
 
 def _lab_results():
     out = []
@@ -399,19 +508,21 @@ def _lab_results():
 def test_synthetic_lab_accuracy():
     """On every walk of the synthetic lab (3 subjects x 5 walk types, realistic markers, through the
     paper's velocity pipeline), from 5 s after each walking onset: median step-frequency error
-    within 1 %, median R error within 5 %, median error of the stride-averaged speed within 0.03 m/s."""
+    within 1 %, median R = A0 / w error within 1.5 % (the frequency's 1 % and 0.5 % for A0), median
+    error of the stride-averaged speed within 0.03 m/s."""
     for name, truth, res, m in _lab_results():
         assert m.sum() > 300, name
         f_err = np.median(np.abs(res.step_frequency_hz[m] / truth.step_frequency_hz[m] - 1))
         R_err = np.median(np.abs(res.R_m[m] / truth.R_m[m] - 1))
         speed_err = np.median(np.abs(res.speed_mps[m] - truth.speed_mps[m]))
         assert f_err < 0.01, (name, f_err)
-        assert R_err < 0.05, (name, R_err)
+        assert R_err < 0.015, (name, R_err)
         assert speed_err < 0.03, (name, speed_err)
         assert np.all(res.step_frequency_hz > 0), name
 
 
 # ----------------------------------------------------------------------------- bad input
+
 
 @pytest.mark.parametrize(
     "change, message",
@@ -464,26 +575,32 @@ def test_non_finite_out_of_range_and_bad_timestamps():
     assert est.covariance.shape == (8, 8) and est.state.shape == (4,)
 
 
-@pytest.mark.parametrize("vz_bad, expected", [
-    (np.nan, Status.REJECTED_NON_FINITE),
-    (-np.inf, Status.REJECTED_NON_FINITE),
-    (1e4, Status.REJECTED_OUT_OF_RANGE),
-    (-1e300, Status.REJECTED_OUT_OF_RANGE),
-])
+@pytest.mark.parametrize(
+    "vz_bad, expected",
+    [
+        (np.nan, Status.REJECTED_NON_FINITE),
+        (-np.inf, Status.REJECTED_NON_FINITE),
+        (1e4, Status.REJECTED_OUT_OF_RANGE),
+        (-1e300, Status.REJECTED_OUT_OF_RANGE),
+    ],
+)
 def test_status_precedence_non_finite_then_out_of_range_then_outlier(vz_bad, expected):
     """step(0, 0, 0.04) x 9, step(2, 0, 1.0), then step(0, vz, 1.0): the gate rejects v_x = 0 (an
     outlier with a usable v_z), and with v_z NaN or out of range the sample is reported as that,
     non-finite before out-of-range before outlier (it used to say REJECTED_OUTLIER); step and run agree."""
+
     def prefix():
         est = GaitEstimator()
         for _ in range(9):
             est.step(0.0, 0.0, 0.04)
         assert est.step(2.0, 0.0, 1.0).status == Status.UPDATED
         return est
+
     assert prefix().step(0.0, 0.0, 1.0).status == Status.REJECTED_OUTLIER  # the gate rejects v_x
     assert prefix().step(0.0, vz_bad, 1.0).status == expected
-    res = GaitEstimator().run(np.r_[np.zeros(9), 2.0, 0.0], np.r_[np.zeros(9), 0.0, vz_bad],
-                              time_s=np.r_[np.arange(9) * 0.04, 1.32, 2.32])
+    res = GaitEstimator().run(
+        np.r_[np.zeros(9), 2.0, 0.0], np.r_[np.zeros(9), 0.0, vz_bad], time_s=np.r_[np.arange(9) * 0.04, 1.32, 2.32]
+    )
     assert res.status[-1] == int(expected)
 
 

@@ -8,10 +8,9 @@ import numpy as np
 import pytest
 
 import yoyogait
-from yoyogait import EstimatorConfig, GaitEstimator, _core
-from yoyogait.estimator import Status
-
 from reference_ekf import reference_paper_estimator
+from yoyogait import EstimatorConfig, GaitEstimator, _core
+from yoyogait.estimators import Status
 
 T = 0.04
 
@@ -56,9 +55,10 @@ def test_paper_preset_converges_on_clean_yoyo_walk():
 
 
 def test_physical_units_follow_from_the_papers():
-    """R_m = T R_hat, r_m = T r_hat, f = x3 / (2 pi T) on every sample."""
+    """Paper preset: R_m = T R_hat, r_m = T r_hat, f = x3 / (2 pi T) and A1 = |(x1, x2)| on every sample."""
     _, vx, vz = yoyo_walk(10.0, noise=0.05)
-    res = GaitEstimator().run(vx, vz)
+    res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz)
+    assert res.parameters_updated.any(), "the comparison must cover samples where eq. 11-12 updated R_hat"
     np.testing.assert_allclose(res.R_m, T * res.R_hat_mps, rtol=1e-15)
     np.testing.assert_allclose(res.r_m, T * res.r_hat_mps, rtol=1e-15)
     np.testing.assert_allclose(res.step_frequency_hz, res.state[:, 2] / (2 * np.pi * T), rtol=1e-15)
@@ -165,7 +165,9 @@ def test_covariance_stays_positive_definite_across_long_dropouts():
                 vz = -r * w * np.sin(th0 + phase)
                 res = GaitEstimator(EstimatorConfig.paper()).run(
                     np.concatenate([nan(2501), vx[:30], nan(5025), vx[30:]]),
-                    np.concatenate([nan(2501), vz[:30], nan(5025), vz[30:]]), covariance=True)
+                    np.concatenate([nan(2501), vz[:30], nan(5025), vz[30:]]),
+                    covariance=True,
+                )
                 assert np.all(_min_eigenvalues(res.covariance) > 0), (speed, r, phase)
                 assert np.all(np.isfinite(res.step_frequency_std_hz)) and np.all(np.isfinite(res.speed_std_mps))
 
@@ -190,8 +192,14 @@ def test_status_precedence_non_finite_then_out_of_range():
     out of range and finite is REJECTED_OUT_OF_RANGE; step() and run() agree."""
     vx = np.array([1.0, np.nan, 1e4, np.inf, 1.0, -2e3])
     vz = np.array([0.0, 1e4, np.nan, 1e300, 1e4, 0.0])
-    want = [Status.UPDATED, Status.REJECTED_NON_FINITE, Status.REJECTED_NON_FINITE, Status.REJECTED_NON_FINITE,
-            Status.REJECTED_OUT_OF_RANGE, Status.REJECTED_OUT_OF_RANGE]
+    want = [
+        Status.UPDATED,
+        Status.REJECTED_NON_FINITE,
+        Status.REJECTED_NON_FINITE,
+        Status.REJECTED_NON_FINITE,
+        Status.REJECTED_OUT_OF_RANGE,
+        Status.REJECTED_OUT_OF_RANGE,
+    ]
     res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz)
     assert list(res.status) == [int(s) for s in want]
     est = GaitEstimator(EstimatorConfig.paper())

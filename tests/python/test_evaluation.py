@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -13,18 +12,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from test_io_readers import write_trc as _write_trc
 from yoyogait import evaluation as ev
 from yoyogait.cli import main
-
-from test_io_readers import write_trc as _write_trc
 
 
 def write_trc(path, recording):
     """A synthetic recording as a TRC file in metres, missing samples as empty cells."""
     pos = recording.positions_m
     blank = {(f, p) for f, p in zip(*np.nonzero(np.isnan(pos).any(axis=2)))}
-    return _write_trc(Path(path), np.nan_to_num(pos), recording.point_names, rate_hz=recording.rate_hz,
-                      units="m", blank=blank)
+    return _write_trc(
+        Path(path), np.nan_to_num(pos), recording.point_names, rate_hz=recording.rate_hz, units="m", blank=blank
+    )
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +36,7 @@ def test_pooling_equals_statistics_of_the_union():
     """Pooled mean and std of groups equal those of all their samples together."""
     rng = np.random.default_rng(0)
     groups = [rng.normal(m, s, n) for m, s, n in ((1.0, 0.5, 100), (3.0, 2.0, 40), (0.0, 0.1, 7))]
-    pooled = ev._pool([(g.size, g.mean(), g.std()) for g in groups])
+    pooled = ev.tables._pool([(g.size, g.mean(), g.std()) for g in groups])
     union = np.concatenate(groups)
     assert pooled == pytest.approx((union.mean(), union.std()), rel=1e-12)
 
@@ -67,7 +66,8 @@ def test_table_cell_matches_the_recordings_metric(lab_evaluation):
 
 
 def test_report_is_complete_and_never_overwritten_without_force(lab_evaluation, tmp_path):
-    """The report holds Table I (md, csv), a CSV row per recording, two PNGs per recording and an index; it is replaced only with force."""
+    """The report holds Table I (md, csv), a CSV row per recording, two PNGs per recording and an index;
+    it is replaced only with force."""
     out = tmp_path / "report"
     ev.write_report(lab_evaluation, out)
     assert (out / "table1_paper.md").stat().st_size > 0
@@ -89,9 +89,11 @@ def test_report_is_complete_and_never_overwritten_without_force(lab_evaluation, 
 
 def test_interrupted_report_leaves_nothing(lab_evaluation, tmp_path, monkeypatch):
     """A failure while writing leaves neither the output folder nor a temporary one."""
+
     def boom(*a, **k):
         raise KeyboardInterrupt
-    monkeypatch.setattr(ev, "_figures", boom)
+
+    monkeypatch.setattr(ev.report, "_figures", boom)
     with pytest.raises(KeyboardInterrupt):
         ev.write_report(lab_evaluation, tmp_path / "report")
     assert list(tmp_path.iterdir()) == []
@@ -125,16 +127,23 @@ def test_manifest_with_missing_files_reports_each_and_evaluates_the_rest(tmp_pat
 
     walk = synthetic.make_walk(synthetic.SUBJECTS[0], "1-straight", duration_s=12.0)
     write_trc(tmp_path / "walk.trc", walk.recording)
-    manifest = {"recordings": [
-        {"path": "walk.trc", "format": "trc", "vertical_axis": "z", "pelvis": list(synthetic.PELVIS_MARKERS),
-         "feet": list(synthetic.HEEL_MARKERS), "walk": "straight"},
-        {"path": "gone1.c3d", "format": "c3d", "walk": "straight"},
-        {"path": "sub/gone2.bvh", "format": "bvh", "walk": "turn"},
-    ]}
+    manifest = {
+        "recordings": [
+            {
+                "path": "walk.trc",
+                "format": "trc",
+                "vertical_axis": "z",
+                "pelvis": list(synthetic.PELVIS_MARKERS),
+                "feet": list(synthetic.HEEL_MARKERS),
+                "walk": "straight",
+            },
+            {"path": "gone1.c3d", "format": "c3d", "walk": "straight"},
+            {"path": "sub/gone2.bvh", "format": "bvh", "walk": "turn"},
+        ]
+    }
     (tmp_path / "m.json").write_text(json.dumps(manifest))
     out = tmp_path / "out"
-    assert main(["evaluate", str(tmp_path / "m.json"), "--out", str(out), "--estimators", "paper",
-                 "--no-figures"]) == 1
+    assert main(["evaluate", str(tmp_path / "m.json"), "--out", str(out), "--estimators", "paper", "--no-figures"]) == 1
     err = capsys.readouterr().err
     assert "gone1.c3d" in err and "gone2.bvh" in err
     rows = list(csv.DictReader(open(out / "recordings.csv")))
@@ -163,8 +172,12 @@ def test_estimate_command_writes_csv_and_figure_once(tmp_path, capsys, monkeypat
 
 def test_estimate_missing_file_is_one_line(tmp_path):
     """A missing file gives one error line, no traceback, exit 2, and no output file."""
-    proc = subprocess.run([sys.executable, "-m", "yoyogait", "estimate", str(tmp_path / "nope.c3d")],
-                          capture_output=True, text=True, cwd=tmp_path)
+    proc = subprocess.run(
+        [sys.executable, "-m", "yoyogait", "estimate", str(tmp_path / "nope.c3d")],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
@@ -172,10 +185,16 @@ def test_estimate_missing_file_is_one_line(tmp_path):
 
 def test_evaluate_on_three_real_recordings(manifest, datasets_dir, tmp_path):
     """evaluate on three real recordings of the shared manifest: tables well formed, numbers finite, figures written."""
-    chosen = [r for r in manifest["recordings"] if r["path"] in (
-        "c3d_org_samples/sample09_PlugInC3D.c3d",
-        "opensim_models/Rajagopal_motion_capture_walk.trc",
-        "bandai_namco_motion/dataset-1_walk_normal_001.bvh")]
+    chosen = [
+        r
+        for r in manifest["recordings"]
+        if r["path"]
+        in (
+            "c3d_org_samples/sample09_PlugInC3D.c3d",
+            "opensim_models/Rajagopal_motion_capture_walk.trc",
+            "bandai_namco_motion/dataset-1_walk_normal_001.bvh",
+        )
+    ]
     assert len(chosen) == 3
     sub = tmp_path / "data"
     sub.mkdir()

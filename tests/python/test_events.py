@@ -6,15 +6,23 @@ import numpy as np
 import pytest
 
 import yoyogait
-from yoyogait import events
 from yoyogait.errors import InputError
 from yoyogait.io import Recording
+from yoyogait.pipeline import events
 
 STEP_M = 0.7
 
 
-def stepping_walk(step_hz=1.8, stand_before_s=2.0, walk_s=5.0, stand_after_s=2.0, rate_hz=100.0,
-                  treadmill=False, radius_m=None, later_step_hz=None):
+def stepping_walk(
+    step_hz=1.8,
+    stand_before_s=2.0,
+    walk_s=5.0,
+    stand_after_s=2.0,
+    rate_hz=100.0,
+    treadmill=False,
+    radius_m=None,
+    later_step_hz=None,
+):
     """A person who stands, walks and stands, with heels that really step (z up).
 
     The number of steps taken so far, ``s(t)``, is the integral of the step
@@ -42,7 +50,7 @@ def stepping_walk(step_hz=1.8, stand_before_s=2.0, walk_s=5.0, stand_after_s=2.0
         fwd = planted + 2 * STEP_M * (1 - np.cos(np.pi * q)) / 2
         return fwd, 0.05 + 0.1 * np.sin(np.pi * q)
 
-    parts = {"pelvis": (pelvis_fwd, 0.0, pelvis_up), "LHEE": (*foot(0), ), "RHEE": (*foot(1), )}
+    parts = {"pelvis": (pelvis_fwd, 0.0, pelvis_up), "LHEE": (*foot(0),), "RHEE": (*foot(1),)}
     fwd = {"pelvis": pelvis_fwd, "LHEE": parts["LHEE"][0], "RHEE": parts["RHEE"][0]}
     lateral = {"pelvis": 0.02 * np.sin(np.pi * s), "LHEE": 0.1, "RHEE": -0.1}
     up = {"pelvis": pelvis_up, "LHEE": parts["LHEE"][1], "RHEE": parts["RHEE"][1]}

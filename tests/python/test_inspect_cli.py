@@ -9,8 +9,8 @@ import sys
 import numpy as np
 import pytest
 
-from yoyogait.cli import main
 from test_events import stepping_walk
+from yoyogait.cli import main
 
 ezc3d = pytest.importorskip("ezc3d")
 
@@ -37,7 +37,7 @@ def run(capsys, *args):
 
 
 def test_inspect_reports_rate_points_pelvis_axis_walking_speed_and_step_frequency(tmp_path, capsys):
-    """inspect prints rate, duration, points, the chosen pelvis and up axis, walking time, mean speed and step frequency."""
+    """inspect prints rate, duration, points, pelvis, up axis, walking time, mean speed and step frequency."""
     path = write_walk_c3d(tmp_path / "walk.c3d", stand_before_s=1.0, walk_s=6.0, stand_after_s=1.0)
     code, out, err = run(capsys, path)
     assert code == 0 and err == ""
@@ -92,8 +92,9 @@ def _bad_files(tmp_path):
     }
 
 
-@pytest.mark.parametrize("case", ["missing", "empty", "truncated", "corrupt", "unknown extension",
-                                  "no such point", "no pelvis", "too short"])
+@pytest.mark.parametrize(
+    "case", ["missing", "empty", "truncated", "corrupt", "unknown extension", "no such point", "no pelvis", "too short"]
+)
 def test_bad_input_is_one_error_line_and_exit_2(tmp_path, capsys, case):
     """Each bad input prints exactly one line saying what is wrong, no traceback, and exits with 2."""
     import re

@@ -87,16 +87,32 @@ Frame Time: {frame_time}
 """
 
 
-def write_bvh(path, root_xyz, *, root_order="Zrotation Xrotation Yrotation", root_angles=None,
-              chest_order="Zrotation Yrotation Xrotation", chest_angles=None, unit=0.01, frame_time=0.01):
+def write_bvh(
+    path,
+    root_xyz,
+    *,
+    root_order="Zrotation Xrotation Yrotation",
+    root_angles=None,
+    chest_order="Zrotation Yrotation Xrotation",
+    chest_angles=None,
+    unit=0.01,
+    frame_time=0.01,
+):
     """A three-joint BVH (Hips, Chest with an End Site, LeftFoot) in file units of ``unit`` m."""
     n = len(root_xyz)
     root_angles = np.zeros((n, 3)) if root_angles is None else root_angles
     chest_angles = np.zeros((n, 3)) if chest_angles is None else chest_angles
     rows = [" ".join(f"{v:.9f}" for v in (*root_xyz[i], *root_angles[i], *chest_angles[i], 0, 0, 0)) for i in range(n)]
-    text = BVH_TWO_JOINTS.format(root_order=root_order, chest_order=chest_order, chest=0.5 / unit,
-                                 head=0.3 / unit, foot=-0.9 / unit, frames=n, frame_time=frame_time,
-                                 motion="\n".join(rows))
+    text = BVH_TWO_JOINTS.format(
+        root_order=root_order,
+        chest_order=chest_order,
+        chest=0.5 / unit,
+        head=0.3 / unit,
+        foot=-0.9 / unit,
+        frames=n,
+        frame_time=frame_time,
+        motion="\n".join(rows),
+    )
     path.write_text(text)
     return path
 
@@ -146,8 +162,14 @@ def test_c3d_length_unit_override_wins(tmp_path):
 def test_c3d_up_axis_from_y_screen_and_model_outputs_left_out(tmp_path):
     """C3D: Y_SCREEN '+Z' gives up axis z; angles stored as points are not positions and are dropped."""
     pos = np.ones((10, 3, 3))
-    rec = yio.read(write_c3d(tmp_path / "m.c3d", pos, ["LASI", "LHipAngles", "PELO"],
-                             extra={"Y_SCREEN": ["+Z"], "ANGLES": ["LHipAngles"]}))
+    rec = yio.read(
+        write_c3d(
+            tmp_path / "m.c3d",
+            pos,
+            ["LASI", "LHipAngles", "PELO"],
+            extra={"Y_SCREEN": ["+Z"], "ANGLES": ["LHipAngles"]},
+        )
+    )
     assert rec.up_axis == "z"
     assert rec.point_names == ["LASI", "PELO"]
     assert rec.metadata["excluded_points"] == ["LHipAngles"]
@@ -229,21 +251,30 @@ def test_trc_without_header_is_an_error(tmp_path):
 
 def _rot(axis, deg):
     c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
-    return {"X": np.array([[1, 0, 0], [0, c, -s], [0, s, c]]),
-            "Y": np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]),
-            "Z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])}[axis]
+    return {
+        "X": np.array([[1, 0, 0], [0, c, -s], [0, s, c]]),
+        "Y": np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]),
+        "Z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]),
+    }[axis]
 
 
-@pytest.mark.parametrize("order", ["Zrotation Xrotation Yrotation", "Xrotation Yrotation Zrotation",
-                                   "Yrotation Zrotation Xrotation"])
+@pytest.mark.parametrize(
+    "order", ["Zrotation Xrotation Yrotation", "Xrotation Yrotation Zrotation", "Yrotation Zrotation Xrotation"]
+)
 def test_bvh_forward_kinematics_follows_the_channel_order(tmp_path, order):
-    """BVH: joint world positions are the parent's rotation (channels multiplied in the listed order) times the offset."""
+    """BVH: joint world positions are the parent's rotation (channels in the listed order) times the offset."""
     n = 30
     root = np.column_stack([np.linspace(0, 100, n), np.full(n, 95.0), np.zeros(n)])
     angles = np.column_stack([np.linspace(0, 40, n), np.linspace(10, -20, n), np.linspace(-30, 5, n)])
     chest_angles = np.column_stack([np.full(n, 15.0), np.full(n, -25.0), np.full(n, 35.0)])
-    path = write_bvh(tmp_path / "fk.bvh", root, root_order=order, root_angles=angles,
-                     chest_angles=chest_angles, chest_order="Xrotation Zrotation Yrotation")
+    path = write_bvh(
+        tmp_path / "fk.bvh",
+        root,
+        root_order=order,
+        root_angles=angles,
+        chest_angles=chest_angles,
+        chest_order="Xrotation Zrotation Yrotation",
+    )
     rec = yio.read(path, length_unit_m=0.01)
     axes = [c[0] for c in order.split()]
     for i in (0, n // 2, n - 1):
@@ -347,13 +378,16 @@ def test_csv_without_time_needs_a_rate(tmp_path):
     assert np.allclose(yio.read(path, rate_hz=50).time_s, [0, 0.02, 0.04])
 
 
-@pytest.mark.parametrize("body, message", [
-    ("time,A_x,A_y\n0,1,2\n", "lacks"),
-    ("time,foo,bar\n0,1,2\n", "no point columns"),
-    ("time,A_x,A_y,A_z\n0,1,2,x\n", "not a number"),
-    ("time,A_x,A_y,A_z\n0,1,2,3\n0.1,1,2", "truncated"),
-    ("time,A_x,A_y,A_z\n", "no data rows"),
-])
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        ("time,A_x,A_y\n0,1,2\n", "lacks"),
+        ("time,foo,bar\n0,1,2\n", "no point columns"),
+        ("time,A_x,A_y,A_z\n0,1,2,x\n", "not a number"),
+        ("time,A_x,A_y,A_z\n0,1,2,3\n0.1,1,2", "truncated"),
+        ("time,A_x,A_y,A_z\n", "no data rows"),
+    ],
+)
 def test_csv_bad_layout_is_an_error(tmp_path, body, message):
     """CSV that breaks the documented layout says what is wrong."""
     path = tmp_path / "bad.csv"

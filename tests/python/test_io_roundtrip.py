@@ -14,7 +14,7 @@ from scipy.signal import savgol_coeffs
 
 import yoyogait
 import yoyogait.io as yio
-from yoyogait.velocities import savgol_window_samples
+from yoyogait.pipeline.velocities import savgol_window_samples
 
 ezc3d = pytest.importorskip("ezc3d")
 
@@ -27,8 +27,9 @@ FEET_OFFSETS = {"LHEE": (0.0, 0.1, -0.9), "RHEE": (0.0, -0.1, -0.9)}
 
 def pelvis_centre(t):
     theta = OMEGA * t
-    return np.column_stack([R_M * theta + SMALL_R_M * np.sin(theta), np.full_like(t, 0.3),
-                            Z0_M + SMALL_R_M * np.cos(theta)])
+    return np.column_stack(
+        [R_M * theta + SMALL_R_M * np.sin(theta), np.full_like(t, 0.3), Z0_M + SMALL_R_M * np.cos(theta)]
+    )
 
 
 def analytic_velocity(t):
@@ -58,18 +59,20 @@ def to_c3d(path, t, names, pos, gap):
     c["parameters"]["POINT"]["LABELS"]["value"] = names
     c.add_parameter("POINT", "UNITS", ["mm"])
     c["data"]["points"] = data
-    c["data"]["meta_points"] = {"residuals": residuals,
-                                "camera_masks": np.zeros((7, len(names), len(t)), dtype=bool)}
+    c["data"]["meta_points"] = {"residuals": residuals, "camera_masks": np.zeros((7, len(names), len(t)), dtype=bool)}
     c.write(str(path))
 
 
 def to_trc(path, t, names, pos, gap):
     rate = 1.0 / (t[1] - t[0])
-    lines = ["PathFileType\t4\t(X/Y/Z)\twalk.trc",
-             "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames",
-             f"{rate:g}\t{rate:g}\t{len(t)}\t{len(names)}\tmm\t{rate:g}\t1\t{len(t)}",
-             "Frame#\tTime\t" + "\t\t\t".join(names),
-             "\t\t" + "\t".join(f"X{i + 1}\tY{i + 1}\tZ{i + 1}" for i in range(len(names))), ""]
+    lines = [
+        "PathFileType\t4\t(X/Y/Z)\twalk.trc",
+        "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames",
+        f"{rate:g}\t{rate:g}\t{len(t)}\t{len(names)}\tmm\t{rate:g}\t1\t{len(t)}",
+        "Frame#\tTime\t" + "\t\t\t".join(names),
+        "\t\t" + "\t".join(f"X{i + 1}\tY{i + 1}\tZ{i + 1}" for i in range(len(names))),
+        "",
+    ]
     for f in range(len(t)):
         cells = [str(f + 1), f"{t[f]:.6f}"]
         for p in range(len(names)):
@@ -93,6 +96,7 @@ def to_csv(path, t, names, pos, gap):
 
 def to_bvh(path, t, names, pos, gap):
     """BVH is Y up in centimetres: file (x, y, z) = walk (x, z, -y) * 100; a skeleton has no gaps."""
+
     def file_xyz(p):
         return np.column_stack([p[:, 0], p[:, 2], -p[:, 1]]) * 100.0
 
@@ -100,12 +104,18 @@ def to_bvh(path, t, names, pos, gap):
     joints = "".join(
         f"  JOINT {n}\n  {{\n    OFFSET {' '.join(f'{v:.9f}' for v in file_xyz(np.array([o]))[0])}\n"
         f"    CHANNELS 3 Zrotation Xrotation Yrotation\n  }}\n"
-        for n, o in {**PELVIS_OFFSETS, **FEET_OFFSETS}.items())
-    rows = [" ".join(f"{v:.9f}" for v in (*xyz, 0, 0, 0, *([0.0] * 3 * len(names))))
-            for xyz in file_xyz(centre)]
+        for n, o in {**PELVIS_OFFSETS, **FEET_OFFSETS}.items()
+    )
+    rows = [" ".join(f"{v:.9f}" for v in (*xyz, 0, 0, 0, *([0.0] * 3 * len(names)))) for xyz in file_xyz(centre)]
     path.write_text(
-        "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
-        + joints + "}\nMOTION\n" + f"Frames: {len(t)}\nFrame Time: {t[1] - t[0]:.9f}\n" + "\n".join(rows) + "\n")
+        "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n"
+        "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+        + joints
+        + "}\nMOTION\n"
+        + f"Frames: {len(t)}\nFrame Time: {t[1] - t[0]:.9f}\n"
+        + "\n".join(rows)
+        + "\n"
+    )
 
 
 FORMATS = {"c3d": (to_c3d, 100.0), "trc": (to_trc, 200.0), "csv": (to_csv, 50.0), "bvh": (to_bvh, 100.0)}

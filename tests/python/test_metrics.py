@@ -8,9 +8,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from yoyogait import metrics as mt
 from yoyogait import synthetic as sy
 from yoyogait.errors import InputError
+from yoyogait.evaluation import metrics as mt
 
 NAN = float("nan")
 
@@ -208,8 +208,12 @@ def _perfect_result(truth, t):
     """An estimator output equal to the truth, on grid t."""
     tr = truth.at(t)
     return SimpleNamespace(
-        vx_hat=tr.vx_path_mps, vz_hat=tr.vz_mps, step_frequency_hz=tr.step_frequency_hz,
-        speed_mps=tr.speed_mps, R_m=tr.R_m, r_m=tr.r_m,
+        vx_hat=tr.vx_path_mps,
+        vz_hat=tr.vz_mps,
+        step_frequency_hz=tr.step_frequency_hz,
+        speed_mps=tr.speed_mps,
+        R_m=tr.R_m,
+        r_m=tr.r_m,
         omega_rad_s=2 * np.pi * tr.step_frequency_hz,
     )
 
@@ -220,12 +224,20 @@ def test_evaluate_has_every_key_and_zero_error_for_a_perfect_estimate():
     t = np.arange(0.0, truth.time_s[-1], 0.04)
     tr = truth.at(t)
     result = _perfect_result(truth, t)
-    out = mt.evaluate(t, tr.vx_path_mps, tr.vz_mps, result, truth=truth,
-                      predicted_1step=(tr.vx_path_mps, tr.vz_mps))
+    out = mt.evaluate(t, tr.vx_path_mps, tr.vz_mps, result, truth=truth, predicted_1step=(tr.vx_path_mps, tr.vz_mps))
     assert tuple(out) == mt.METRIC_KEYS
-    for key in ("vx_sq_err_mean_1e-2", "vz_sq_err_mean_1e-2", "f_err_median_hz", "f_err_p90_hz",
-                "speed_err_rms_mps", "R_err_median_abs_m", "r_err_median_rel", "pred1_vx_sq_err_mean_1e-2",
-                "f_wrong_sign_fraction", "f_converge_time_s"):
+    for key in (
+        "vx_sq_err_mean_1e-2",
+        "vz_sq_err_mean_1e-2",
+        "f_err_median_hz",
+        "f_err_p90_hz",
+        "speed_err_rms_mps",
+        "R_err_median_abs_m",
+        "r_err_median_rel",
+        "pred1_vx_sq_err_mean_1e-2",
+        "f_wrong_sign_fraction",
+        "f_converge_time_s",
+    ):
         assert out[key] == pytest.approx(0.0, abs=1e-12), key
     assert math.isnan(out["pred200ms_vz_sq_err_mean_1e-2"])  # not given
     assert out["walking_s"] == pytest.approx(np.sum(np.diff(t)[tr.walking[:-1]]))

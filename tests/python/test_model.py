@@ -18,7 +18,10 @@ def test_python_and_native_models_agree():
 def test_velocities_are_derivatives_of_positions():
     """v_x and v_z of eq. 3-4 are the time derivatives of x and z of eq. 1-2, also when f, R and r vary."""
     t = np.linspace(0.0, 10.0, 20001)
-    for R, r, f in ((0.115, 0.02, 1.8), (np.linspace(0.1, 0.13, t.size), np.linspace(0.02, 0.03, t.size), 1.5 + 0.05 * t)):
+    for R, r, f in (
+        (0.115, 0.02, 1.8),
+        (np.linspace(0.1, 0.13, t.size), np.linspace(0.02, 0.03, t.size), 1.5 + 0.05 * t),
+    ):
         m = yoyo_model(t, R, r, f)
         np.testing.assert_allclose(np.gradient(m.x_m, t)[2:-2], m.vx_mps[2:-2], atol=2e-5)
         np.testing.assert_allclose(np.gradient(m.z_m, t)[2:-2], m.vz_mps[2:-2], atol=2e-5)

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from yoyogait import plots
 from yoyogait import synthetic as sy
 from yoyogait.errors import InputError
+from yoyogait.evaluation import figures as plots
 
 
 @pytest.fixture(scope="module")
@@ -24,12 +24,22 @@ def fake_result(walk):
     t = np.arange(0.0, walk.truth.time_s[-1], 0.04)
     tr = walk.truth.at(t)
     omega = 2 * np.pi * tr.step_frequency_hz
-    state = np.column_stack([0.2 * np.cos(tr.theta_rad), 0.2 * np.sin(tr.theta_rad), omega * 0.04,
-                             tr.speed_mps])
-    return t, tr, SimpleNamespace(
-        state=state, vx_hat=tr.vx_path_mps + 0.05, vz_hat=tr.vz_mps - 0.02, R_m=tr.R_m * 1.05,
-        r_m=tr.r_m * 0.9, step_frequency_hz=-tr.step_frequency_hz, omega_rad_s=-omega,
-        A0_mps=tr.speed_mps, A1_mps=tr.r_m * omega, speed_mps=tr.speed_mps,
+    state = np.column_stack([0.2 * np.cos(tr.theta_rad), 0.2 * np.sin(tr.theta_rad), omega * 0.04, tr.speed_mps])
+    return (
+        t,
+        tr,
+        SimpleNamespace(
+            state=state,
+            vx_hat=tr.vx_path_mps + 0.05,
+            vz_hat=tr.vz_mps - 0.02,
+            R_m=tr.R_m * 1.05,
+            r_m=tr.r_m * 0.9,
+            step_frequency_hz=-tr.step_frequency_hz,
+            omega_rad_s=-omega,
+            A0_mps=tr.speed_mps,
+            A1_mps=tr.r_m * omega,
+            speed_mps=tr.speed_mps,
+        ),
     )
 
 
@@ -45,8 +55,9 @@ def test_parameter_figure_plots_fig3_panels(walk, fake_result, tmp_path):
     """Fig. 3: |f| against DFT average and truth, R and r estimated and true, A0 and A1; PNG saved."""
     t, tr, result = fake_result
     out = tmp_path / "figs" / "params.png"
-    fig = plots.parameter_figure(t, result, measured_vz_mps=tr.vz_mps, truth=walk.truth,
-                                 title="walk 3, subject 1", path=out)
+    fig = plots.parameter_figure(
+        t, result, measured_vz_mps=tr.vz_mps, truth=walk.truth, title="walk 3, subject 1", path=out
+    )
     assert isinstance(fig, Figure) and len(fig.axes) == 3
     assert out.is_file() and out.stat().st_size > 10_000
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -67,9 +78,14 @@ def test_parameter_figure_from_state_and_explicit_arrays():
     """Without A0/A1 fields the panels come from the EKF state; explicit arrays replace result fields."""
     t = np.linspace(0, 10, 251)
     state = np.column_stack([0.3 * np.cos(t), 0.4 * np.sin(t), np.full(t.size, 0.4), np.full(t.size, 1.2)])
-    fig = plots.parameter_figure(t, SimpleNamespace(state=state, R_m=np.full(t.size, 0.3)),
-                                 step_frequency_hz=np.full(t.size, 1.7), R_m=np.full(t.size, 0.12),
-                                 dft_step_frequency_hz=1.75, title="real walk")
+    fig = plots.parameter_figure(
+        t,
+        SimpleNamespace(state=state, R_m=np.full(t.size, 0.3)),
+        step_frequency_hz=np.full(t.size, 1.7),
+        R_m=np.full(t.size, 0.12),
+        dft_step_frequency_hz=1.75,
+        title="real walk",
+    )
     lines = lines_by_label(fig)
     np.testing.assert_allclose(lines["A0 (bias)"].get_ydata(), 1.2)
     np.testing.assert_allclose(lines["A1 (amplitude)"].get_ydata(), np.hypot(0.3 * np.cos(t), 0.4 * np.sin(t)))
@@ -82,8 +98,9 @@ def test_velocity_figure_plots_measured_and_reconstructed(walk, fake_result, tmp
     """Fig. 4: measured and reconstructed v_x (top) and v_z (bottom) over time; PNG saved."""
     t, tr, result = fake_result
     out = tmp_path / "velocity.png"
-    fig = plots.velocity_figure(t, tr.vx_path_mps, tr.vz_mps, result,
-                                title=plots.recording_title(walk.recording, "velocities"), path=out)
+    fig = plots.velocity_figure(
+        t, tr.vx_path_mps, tr.vz_mps, result, title=plots.recording_title(walk.recording, "velocities"), path=out
+    )
     assert out.is_file() and out.stat().st_size > 10_000
     top, bottom = fig.axes
     (mx, rx), (mz, rz) = top.get_lines(), bottom.get_lines()

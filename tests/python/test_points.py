@@ -5,23 +5,26 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from yoyogait import points
 from yoyogait.errors import InputError
 from yoyogait.io import Recording
+from yoyogait.pipeline import points
 
 
-@pytest.mark.parametrize("names, expected", [
-    (["LASI", "RASI", "LPSI", "RPSI", "LKNE"], ["LASI", "RASI", "LPSI", "RPSI"]),
-    (["R_ASIS", "L_ASIS", "SACRUM", "R_HEEL"], ["R_ASIS", "L_ASIS", "SACRUM"]),
-    (["R.ASIS", "L.ASIS", "V.Sacral", "R.Heel"], ["R.ASIS", "L.ASIS", "V.Sacral"]),
-    (["R.ASIS", "L.ASIS", "R.PSIS", "S2", "L.PSIS", "R.Toe"], ["R.ASIS", "L.ASIS", "R.PSIS", "S2", "L.PSIS"]),
-    (["RASI", "LASI", "VSAC", "RWRI"], ["RASI", "LASI", "VSAC"]),
-    (["IS070607:LASI", "IS070607:RASI", "IS070607:LHEE"], ["IS070607:LASI", "IS070607:RASI"]),
-    (["r_asis", "sacrum", "l_asis", "l_heel"], ["r_asis", "sacrum", "l_asis"]),
-    (["LASIS", "RASIS", "LPSIS", "RPSIS"], ["LASIS", "RASIS", "LPSIS", "RPSIS"]),
-    (["PV1", "PV2", "PV3", "pv4", "RFT1"], ["PV1", "PV2", "PV3", "pv4"]),
-    (["L.Sac.Wand", "R.Sac.Wand", "L.ASIS", "R.ASIS", "PELO", "VPEL"], ["L.ASIS", "R.ASIS"]),
-])
+@pytest.mark.parametrize(
+    "names, expected",
+    [
+        (["LASI", "RASI", "LPSI", "RPSI", "LKNE"], ["LASI", "RASI", "LPSI", "RPSI"]),
+        (["R_ASIS", "L_ASIS", "SACRUM", "R_HEEL"], ["R_ASIS", "L_ASIS", "SACRUM"]),
+        (["R.ASIS", "L.ASIS", "V.Sacral", "R.Heel"], ["R.ASIS", "L.ASIS", "V.Sacral"]),
+        (["R.ASIS", "L.ASIS", "R.PSIS", "S2", "L.PSIS", "R.Toe"], ["R.ASIS", "L.ASIS", "R.PSIS", "S2", "L.PSIS"]),
+        (["RASI", "LASI", "VSAC", "RWRI"], ["RASI", "LASI", "VSAC"]),
+        (["IS070607:LASI", "IS070607:RASI", "IS070607:LHEE"], ["IS070607:LASI", "IS070607:RASI"]),
+        (["r_asis", "sacrum", "l_asis", "l_heel"], ["r_asis", "sacrum", "l_asis"]),
+        (["LASIS", "RASIS", "LPSIS", "RPSIS"], ["LASIS", "RASIS", "LPSIS", "RPSIS"]),
+        (["PV1", "PV2", "PV3", "pv4", "RFT1"], ["PV1", "PV2", "PV3", "pv4"]),
+        (["L.Sac.Wand", "R.Sac.Wand", "L.ASIS", "R.ASIS", "PELO", "VPEL"], ["L.ASIS", "R.ASIS"]),
+    ],
+)
 def test_pelvis_markers_are_found_in_their_common_spellings(names, expected):
     """ASIS/PSIS/sacrum/pelvis-cluster markers are found by name in the spellings of Vicon, Qualisys, OpenSim, MAC."""
     choice = points.find_pelvis(names)
@@ -29,12 +32,15 @@ def test_pelvis_markers_are_found_in_their_common_spellings(names, expected):
     assert list(choice.names) == expected
 
 
-@pytest.mark.parametrize("names, root", [
-    (["joint_Root", "Hips", "Spine", "Hand_R"], "Hips"),
-    (["mixamorig:Hips", "mixamorig:Spine"], "mixamorig:Hips"),
-    (["Pelvis", "L5", "RightUpperLeg"], "Pelvis"),
-    (["root", "lfemur", "rfemur"], "root"),
-])
+@pytest.mark.parametrize(
+    "names, root",
+    [
+        (["joint_Root", "Hips", "Spine", "Hand_R"], "Hips"),
+        (["mixamorig:Hips", "mixamorig:Spine"], "mixamorig:Hips"),
+        (["Pelvis", "L5", "RightUpperLeg"], "Pelvis"),
+        (["root", "lfemur", "rfemur"], "root"),
+    ],
+)
 def test_root_joint_is_the_pelvis_of_a_skeleton(names, root):
     """Without pelvis markers, a Hips/pelvis/root joint is the pelvis."""
     choice = points.find_pelvis(names)
@@ -47,13 +53,16 @@ def test_no_pelvis_like_point_is_an_error_listing_the_points():
         points.find_pelvis(["LKNE", "RKNE"])
 
 
-@pytest.mark.parametrize("names, side, expected", [
-    (["RWRI", "LWRI", "RASI"], "right", ("RWRI",)),
-    (["R.Wrist.Med", "R.Wrist.Lat", "L.Wrist.Med"], "right", ("R.Wrist.Med", "R.Wrist.Lat")),
-    (["RFIN", "RLW", "RMW", "LFIN"], "right", ("RFIN",)),
-    (["RightWrist", "rhand", "RFingers"], "right", ("rhand",)),
-    (["Hand_L", "Hand_R"], "left", ("Hand_L",)),
-])
+@pytest.mark.parametrize(
+    "names, side, expected",
+    [
+        (["RWRI", "LWRI", "RASI"], "right", ("RWRI",)),
+        (["R.Wrist.Med", "R.Wrist.Lat", "L.Wrist.Med"], "right", ("R.Wrist.Med", "R.Wrist.Lat")),
+        (["RFIN", "RLW", "RMW", "LFIN"], "right", ("RFIN",)),
+        (["RightWrist", "rhand", "RFingers"], "right", ("rhand",)),
+        (["Hand_L", "Hand_R"], "left", ("Hand_L",)),
+    ],
+)
 def test_hand_is_a_hand_point_else_the_wrist_markers(names, side, expected):
     """The hand of a side: a hand joint or finger marker first, else its wrist markers averaged."""
     assert points.find_hand(names, side).names == expected
@@ -76,9 +85,14 @@ def _pelvis_markers(n_frames, rate_hz=100.0, turn_deg_per_s=30.0):
     local = np.array([[0.1, 0.12, 0.02], [0.1, -0.12, 0.02], [-0.1, 0.05, 0.0], [-0.1, -0.05, 0.0]])
     local -= local.mean(axis=0)
     c, s = np.cos(yaw), np.sin(yaw)
-    world = np.stack([c[:, None] * local[:, 0] - s[:, None] * local[:, 1],
-                      s[:, None] * local[:, 0] + c[:, None] * local[:, 1],
-                      np.broadcast_to(local[:, 2], (n_frames, 4))], axis=-1)
+    world = np.stack(
+        [
+            c[:, None] * local[:, 0] - s[:, None] * local[:, 1],
+            s[:, None] * local[:, 0] + c[:, None] * local[:, 1],
+            np.broadcast_to(local[:, 2], (n_frames, 4)),
+        ],
+        axis=-1,
+    )
     return centre[:, None, :] + world, centre
 
 

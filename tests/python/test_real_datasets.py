@@ -14,13 +14,14 @@ import numpy as np
 import pytest
 
 import yoyogait
-from yoyogait import events, points, spectral
 from yoyogait.errors import InputError
+from yoyogait.pipeline import events, points, spectral
 
 WALKING = ("straight", "turn")
 
 try:  # the parameter lists come from the manifest; the fixtures decide whether the tests run
     from conftest import DATASETS
+
     _ENTRIES = json.loads((Path(DATASETS) / "manifest.json").read_text())["recordings"]
 except (ImportError, OSError, ValueError, KeyError):
     _ENTRIES = []
@@ -28,9 +29,11 @@ except (ImportError, OSError, ValueError, KeyError):
 
 def recordings(walks=None, fmt=None) -> list[str]:
     """Manifest paths (of these walk types / this format); one placeholder when there is no manifest."""
-    chosen = [r["path"] for r in _ENTRIES
-              if (walks is None or r["walk"] in walks) and (fmt is None or r["format"] == fmt)]
+    chosen = [
+        r["path"] for r in _ENTRIES if (walks is None or r["walk"] in walks) and (fmt is None or r["format"] == fmt)
+    ]
     return chosen or ["(manifest absent)"]
+
 
 STEP_BAND_HZ = (1.4, 2.6)
 
@@ -82,7 +85,8 @@ def test_manifest_lists_every_recording_once(manifest, datasets_dir):
 @pytest.mark.filterwarnings("ignore:Mean of empty slice", "ignore:All-NaN slice")
 @pytest.mark.parametrize("path", recordings())
 def test_recording_loads_in_metres(path, loaded):
-    """Each recording loads; its pelvis stands 0.6-1.2 m above its lowest point (so the unit is right), no C3D zero survives."""
+    """Each recording loads; its pelvis stands 0.6-1.2 m above its lowest point (the unit is right), no C3D zero
+    survives."""
     rec = loaded(path).recording
     assert rec.n_frames > 0 and rec.duration_s > 1.5
     axis = "xyz".index(loaded(path).entry["vertical_axis"])
@@ -96,7 +100,7 @@ def test_recording_loads_in_metres(path, loaded):
 
 @pytest.mark.parametrize("path", recordings())
 def test_detection_finds_the_manifest_pelvis_and_up_axis(path, loaded):
-    """Without being told, detection picks the manifest's up axis and at least its pelvis points (centre within 3 cm)."""
+    """Without being told, detection picks the manifest's up axis and its pelvis points (centre within 3 cm)."""
     item = loaded(path)
     rec, entry = item.recording, item.entry
     assert points.detect_up_axis(rec) == entry["vertical_axis"]
@@ -120,7 +124,8 @@ def test_bvh_length_unit_is_inferred_as_in_the_manifest(path, loaded):
 
 @pytest.mark.parametrize("path", recordings())
 def test_velocities_are_finite_over_the_walking_part(path, loaded):
-    """Over walking, >= 90 % of velocity samples are known; straight and turning walks give >= 1.5 s of plausible velocity."""
+    """Over walking, >= 90 % of velocity samples are known; straight and turning walks give >= 1.5 s of
+    plausible velocity."""
     item = loaded(path)
     v = item.velocities
     if v.walking.any():

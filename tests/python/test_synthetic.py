@@ -252,8 +252,10 @@ def test_heels_rest_in_stance_and_swing_a_stride():
     w = clean("1-straight")
     tr = w.truth
     t = tr.time_s
-    for heel, own, other in (("LHEE", tr.left_contact_times_s, tr.right_contact_times_s),
-                             ("RHEE", tr.right_contact_times_s, tr.left_contact_times_s)):
+    for heel, own, other in (
+        ("LHEE", tr.left_contact_times_s, tr.right_contact_times_s),
+        ("RHEE", tr.right_contact_times_s, tr.left_contact_times_s),
+    ):
         p = point(w, heel)
         for a, b in zip(own[:-1], own[1:]):
             nxt = other[(other > a) & (other < b)]
@@ -322,9 +324,7 @@ def test_default_lab_is_three_subjects_by_five_walks():
     """The built-in lab holds every subject on every walk type, 30-40 s each."""
     lab = sy.default_lab(seed=0)
     assert len(lab) == len(sy.SUBJECTS) * len(sy.WALK_TYPES) == 15
-    assert {(w.subject.name, w.walk_type) for w in lab} == {
-        (s.name, k) for s in sy.SUBJECTS for k in sy.WALK_TYPES
-    }
+    assert {(w.subject.name, w.walk_type) for w in lab} == {(s.name, k) for s in sy.SUBJECTS for k in sy.WALK_TYPES}
     for w in lab:
         assert 30.0 <= w.recording.duration_s <= 40.0
         assert w.truth.phase_offset_rad == pytest.approx(np.pi)

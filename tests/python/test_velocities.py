@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import yoyogait
-from yoyogait import spectral
 from yoyogait.errors import InputError
 from yoyogait.io import Recording
 from yoyogait.model import yoyo_model
+from yoyogait.pipeline import spectral
 
 STEP_HZ = 1.8
 
@@ -54,7 +54,7 @@ def test_window_is_in_seconds_so_the_capture_rate_does_not_matter():
     results = [yoyogait.gait_velocities(pelvis_walk(rate)) for rate in (60.0, 120.0, 240.0)]
     n = min(len(r.vz) for r in results)
     for r in results[1:]:
-        assert np.max(np.abs(r.vz[5:n - 5] - results[0].vz[5:n - 5])) < 0.004
+        assert np.max(np.abs(r.vz[5 : n - 5] - results[0].vz[5 : n - 5])) < 0.004
     a_wide = yoyogait.gait_velocities(pelvis_walk(240.0), window_s=0.6)
     assert np.std(a_wide.vz) < 0.9 * np.std(results[2].vz)  # a longer window smooths more
 

@@ -11,6 +11,7 @@ import sys
 import click
 
 from ..errors import YoyogaitError
+from . import demo_cmd, estimate_cmd, evaluate_cmd, inspect_cmd
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -20,17 +21,8 @@ def cli() -> None:
 
 
 def _register() -> None:
-    # Imported here so that a subcommand's heavy imports happen only when the CLI runs.
-    from . import demo_cmd
-
     cli.add_command(demo_cmd.demo)
-    for name in ("inspect_cmd", "estimate_cmd", "evaluate_cmd"):
-        try:
-            module = __import__(f"{__name__}.{name}", fromlist=["command"])
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
-                raise
-            continue
+    for module in (inspect_cmd, estimate_cmd, evaluate_cmd):
         cli.add_command(module.command)
 
 

@@ -6,14 +6,19 @@ from pathlib import Path
 
 import click
 
+from .evaluate_cmd import run_evaluation
+
 
 @click.command()
-@click.option("--out", type=click.Path(), default="yoyogait-demo", show_default=True,
-              help="Folder for the report (replaced only with --force).")
+@click.option(
+    "--out",
+    type=click.Path(),
+    default="yoyogait-demo",
+    show_default=True,
+    help="Folder for the report (replaced only with --force).",
+)
 @click.option("--force", is_flag=True, help="Replace an existing report folder.")
 @click.option("--estimators", default="paper,default", show_default=True, help="Presets and baselines to compare.")
 def demo(out, force, estimators):
     """Evaluate the estimators on the built-in SYNTHETIC gait lab (3 subjects x 5 walks) and print Table I."""
-    from .evaluate_cmd import run_evaluation
-
     run_evaluation("synthetic", Path(out), estimators, force, True, 0)

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
+from .. import evaluation as ev
 from ..errors import InputError
 
 
@@ -16,16 +19,15 @@ def estimator_list(value: str) -> tuple[str, ...]:
 
 def run_evaluation(dataset, out, estimators, force, figures, seed):
     """Evaluate, print the summary and Table I, write the report; returns the evaluation."""
-    from .. import evaluation as ev
-
     names = ev.check_estimators(estimator_list(estimators))
     if out.exists() and not force:
         raise InputError(f"{out} exists; use --force to replace it")
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
     click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
-    result = ev.evaluate(items, names, progress=True, dataset=str(dataset or "synthetic"),
-                         synthetic=synthetic, failures=problems)
+    result = ev.evaluate(
+        items, names, progress=True, dataset=str(dataset or "synthetic"), synthetic=synthetic, failures=problems
+    )
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
     ev.write_report(result, out, force=force, figures=figures, progress=True)
@@ -42,10 +44,17 @@ def run_evaluation(dataset, out, estimators, force, figures, seed):
 
 @click.command("evaluate")
 @click.argument("dataset", required=False, default="synthetic")
-@click.option("--out", "out", type=click.Path(), default="yoyogait-evaluation", show_default=True,
-              help="Folder for the report (replaced only with --force).")
-@click.option("--estimators", default="paper,default", show_default=True,
-              help="Comma-separated presets and baselines to compare.")
+@click.option(
+    "--out",
+    "out",
+    type=click.Path(),
+    default="yoyogait-evaluation",
+    show_default=True,
+    help="Folder for the report (replaced only with --force).",
+)
+@click.option(
+    "--estimators", default="paper,default", show_default=True, help="Comma-separated presets and baselines to compare."
+)
 @click.option("--force", is_flag=True, help="Replace an existing report folder.")
 @click.option("--no-figures", is_flag=True, help="Skip the per-recording figures.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
@@ -56,8 +65,6 @@ def command(dataset, out, estimators, force, no_figures, seed):
     Fig. 3/4-style figures per recording and an index.md into --out. Exits 1 when some
     recording could not be evaluated (the others are still reported).
     """
-    from pathlib import Path
-
     result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed)
     if result.failures:
         raise click.exceptions.Exit(1)

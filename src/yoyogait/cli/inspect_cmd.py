@@ -7,15 +7,16 @@ import json
 import click
 import numpy as np
 
+from ..errors import InputError
+from ..io import read
+from ..pipeline import events, points, spectral
+from ..pipeline.velocities import gait_velocities
 
-def inspect_file(path: str, *, point=None, up_axis=None, length_unit_m=None, rate_hz=None,
-                 forward: str = "norm") -> dict:
+
+def inspect_file(
+    path: str, *, point=None, up_axis=None, length_unit_m=None, rate_hz=None, forward: str = "norm"
+) -> dict:
     """Everything ``inspect`` prints, as a dict (computed before anything is printed)."""
-    from .. import events, points, spectral
-    from ..errors import InputError
-    from ..io import read
-    from ..velocities import gait_velocities
-
     rec = read(path, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
     velocities = gait_velocities(rec, point=point, up_axis=up_axis, forward=forward)
     report: dict = {
@@ -91,13 +92,21 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
 
 @click.command(name="inspect")
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--point", default=None, help="Point to follow: a name, 'pelvis' (default) or 'hand'; "
-              "several names separated by commas are averaged.")
+@click.option(
+    "--point",
+    default=None,
+    help="Point to follow: a name, 'pelvis' (default) or 'hand'; several names separated by commas are averaged.",
+)
 @click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Override the up axis.")
 @click.option("--length-unit-m", type=float, default=None, help="Metres per file length unit (BVH, or to override).")
 @click.option("--rate-hz", type=float, default=None, help="Sample rate for a file without one.")
-@click.option("--forward", type=click.Choice(["norm", "heading"]), default="norm", show_default=True,
-              help="Forward velocity: 2-norm of the horizontal velocity (paper) or signed along the heading.")
+@click.option(
+    "--forward",
+    type=click.Choice(["norm", "heading"]),
+    default="norm",
+    show_default=True,
+    help="Forward velocity: 2-norm of the horizontal velocity (paper) or signed along the heading.",
+)
 @click.option("--all-points", is_flag=True, help="List every point name.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
 def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, as_json) -> None:
@@ -105,8 +114,9 @@ def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, a
     mean speed, dominant step frequency and the DFT check of the Yoyo-model."""
     if point is not None and "," in point:
         point = [p.strip() for p in point.split(",") if p.strip()]
-    report = inspect_file(file, point=point, up_axis=up_axis, length_unit_m=length_unit_m,
-                          rate_hz=rate_hz, forward=forward)
+    report = inspect_file(
+        file, point=point, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward
+    )
     if as_json:
         click.echo(json.dumps(report, indent=1, default=float))
         return
@@ -134,17 +144,31 @@ def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, a
         speed += f" (2-norm; {report['mean_signed_speed_mps']:.2f} m/s signed along the heading)"
     lines.append(("mean speed", speed + (" while walking" if report["mean_speed_mps"] is not None else "")))
     step = _fmt(report["step_frequency_hz"], "Hz")
-    step += " (DFT of the vertical velocity)" if report["step_frequency_hz"] is not None else f" ({report.get('dft_note', '')})"
+    step += (
+        " (DFT of the vertical velocity)"
+        if report["step_frequency_hz"] is not None
+        else f" ({report.get('dft_note', '')})"
+    )
     if report["events_step_frequency_hz"] is not None:
         step += f"; foot contacts: {report['events_step_frequency_hz']:.2f} Hz over {report['steps']} steps"
     lines.append(("step frequency", step))
     if report["dft"]:
         d = report["dft"]
-        lines.append(("DFT peaks", f"vertical {d['vertical_frequency_hz']:.2f} Hz, forward "
-                      f"{d['forward_frequency_hz']:.2f} Hz over {d['start_s']:.2f}-{d['end_s']:.2f} s"))
+        lines.append(
+            (
+                "DFT peaks",
+                f"vertical {d['vertical_frequency_hz']:.2f} Hz, forward "
+                f"{d['forward_frequency_hz']:.2f} Hz over {d['start_s']:.2f}-{d['end_s']:.2f} s",
+            )
+        )
         lead = "forward leads vertical" if d["phase_offset_deg"] >= 0 else "forward lags vertical"
-        lines.append(("phase offset", f"{d['phase_offset_deg']:+.0f} deg (forward - vertical, {d['offset_sign']}: "
-                      f"{lead}); Yoyo-model {d['model_offset_deg']:+.0f} deg: {d['verdict']}"))
+        lines.append(
+            (
+                "phase offset",
+                f"{d['phase_offset_deg']:+.0f} deg (forward - vertical, {d['offset_sign']}: "
+                f"{lead}); Yoyo-model {d['model_offset_deg']:+.0f} deg: {d['verdict']}",
+            )
+        )
     width = max(len(k) for k, _ in lines) + 2
     for key, value in lines:
         click.echo(f"{key:<{width}}{value}")

@@ -35,8 +35,9 @@ READERS = {
 }
 
 
-def read(path, *, length_unit_m: float | None = None, up_axis: str | None = None,
-         rate_hz: float | None = None, **options) -> Recording:
+def read(
+    path, *, length_unit_m: float | None = None, up_axis: str | None = None, rate_hz: float | None = None, **options
+) -> Recording:
     """Read a motion-capture file into a :class:`Recording`.
 
     The reader is chosen by extension (see :data:`READERS`).  The overrides
@@ -53,8 +54,7 @@ def read(path, *, length_unit_m: float | None = None, up_axis: str | None = None
     ext = p.suffix.lower()
     if ext not in READERS:
         raise InputError(
-            f"{p}: unknown file type {p.suffix or '(no extension)'!r}; "
-            f"readable: {', '.join(sorted(READERS))}"
+            f"{p}: unknown file type {p.suffix or '(no extension)'!r}; readable: {', '.join(sorted(READERS))}"
         )
     if up_axis is not None and str(up_axis).lower() not in AXES:
         raise InputError(f"up_axis must be one of x, y, z, not {up_axis!r}")

@@ -29,6 +29,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
+from ..pipeline.points import detect_up_axis, find_pelvis
 from .recording import Recording, read_text, uniform_time
 
 __all__ = ["read_bvh", "infer_length_unit", "CANDIDATE_UNITS_M", "PELVIS_HEIGHT_M"]
@@ -57,8 +58,9 @@ class _Joint:
     first_channel: int = 0
 
 
-def read_bvh(path, *, length_unit_m: float | None = None, rate_hz: float | None = None,
-             up_axis: str | None = None) -> Recording:
+def read_bvh(
+    path, *, length_unit_m: float | None = None, rate_hz: float | None = None, up_axis: str | None = None
+) -> Recording:
     """Read a BVH file into world positions of all its joints and End Sites.
 
     ``up_axis`` is only used to infer the length unit when the detection
@@ -68,7 +70,7 @@ def read_bvh(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     joints, motion_lines, frames_announced, frame_time = _parse(text, str(p))
 
     n_channels = sum(len(j.channels) for j in joints)
-    rows = []
+    rows: list[list[float]] = []
     for number, line in motion_lines:
         cells = line.split()
         if len(cells) != n_channels:
@@ -84,9 +86,7 @@ def read_bvh(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     if not rows:
         raise InputError(f"{p}: the BVH file holds no frames")
     if len(rows) < frames_announced:
-        raise InputError(
-            f"{p}: truncated BVH file: 'Frames: {frames_announced}' but the file holds {len(rows)}"
-        )
+        raise InputError(f"{p}: truncated BVH file: 'Frames: {frames_announced}' but the file holds {len(rows)}")
     motion = np.asarray(rows, dtype=float)
     if not np.all(np.isfinite(motion)):
         raise InputError(f"{p}: the BVH motion holds values that are not finite")
@@ -116,14 +116,12 @@ def read_bvh(path, *, length_unit_m: float | None = None, rate_hz: float | None 
 def infer_length_unit(rec: Recording, up_axis: str | None = None) -> tuple[float, str]:
     """Metres per file unit, from the pelvis height above the floor while standing or walking.
 
-    The pelvis is the one :func:`yoyogait.points.find_pelvis` picks (Hips,
+    The pelvis is the one :func:`yoyogait.pipeline.points.find_pelvis` picks (Hips,
     pelvis, root ...); the floor is the lowest point of the skeleton.  Each
     unit of :data:`CANDIDATE_UNITS_M` is tried, and the one that puts the
     pelvis 0.8-1.1 m above the floor wins (the nearest to 0.95 m if several
     do).  Returns the unit and a sentence saying what was inferred.
     """
-    from ..points import detect_up_axis, find_pelvis
-
     axis = up_axis or detect_up_axis(rec)
     k = "xyz".index(axis)
     pelvis = find_pelvis(rec.point_names)
@@ -133,17 +131,16 @@ def infer_length_unit(rec: Recording, up_axis: str | None = None) -> tuple[float
     if not np.isfinite(height) or height <= 0:
         raise InputError(f"{rec.source}: cannot infer the BVH length unit (no pelvis height); pass length_unit_m=")
     lo, hi = PELVIS_HEIGHT_M
-    fits = [(abs(np.log(height * u / 0.95)), name, u) for name, u in CANDIDATE_UNITS_M.items()
-            if lo <= height * u <= hi]
+    fits = [
+        (abs(np.log(height * u / 0.95)), name, u) for name, u in CANDIDATE_UNITS_M.items() if lo <= height * u <= hi
+    ]
     if not fits:
         raise InputError(
             f"{rec.source}: cannot infer the BVH length unit: the pelvis ({'+'.join(pelvis.names)}) is "
             f"{height:.4g} units above the floor, which no usual unit turns into {lo}-{hi} m; pass length_unit_m="
         )
     _, name, unit = min(fits)
-    return unit, (
-        f"inferred: {name} ({unit:.6g} m), which puts the pelvis {height * unit:.2f} m above the floor"
-    )
+    return unit, (f"inferred: {name} ({unit:.6g} m), which puts the pelvis {height * unit:.2f} m above the floor")
 
 
 def _parse(text: str, where: str):
@@ -186,14 +183,16 @@ def _parse(text: str, where: str):
                 stack.pop()
                 i += 1
             elif upper == "OFFSET":
-                joints[stack[-1]].offset = np.array([float(v) for v in tokens[i + 1:i + 4]])
+                joints[stack[-1]].offset = np.array([float(v) for v in tokens[i + 1 : i + 4]])
                 i += 4
             elif upper == "CHANNELS":
                 count = int(tokens[i + 1])
-                channels = tokens[i + 2:i + 2 + count]
+                channels = tokens[i + 2 : i + 2 + count]
                 bad = [c for c in channels if c.lower() not in _CHANNELS]
                 if bad or len(channels) != count:
-                    what = f"unknown channel {bad[0]!r}" if bad else f"{count} channels announced, {len(channels)} given"
+                    what = (
+                        f"unknown channel {bad[0]!r}" if bad else f"{count} channels announced, {len(channels)} given"
+                    )
                     raise InputError(f"{where}: corrupt BVH hierarchy: {what}")
                 joints[stack[-1]].channels = [c.lower() for c in channels]
                 joints[stack[-1]].first_channel = n_channels
@@ -204,23 +203,26 @@ def _parse(text: str, where: str):
     except InputError:
         raise
     except (IndexError, ValueError):  # a missing or non-numeric value
-        raise InputError(f"{where}: corrupt BVH hierarchy near token {i} ({tokens[i] if i < len(tokens) else 'end'!r})") from None
+        raise InputError(
+            f"{where}: corrupt BVH hierarchy near token {i} ({tokens[i] if i < len(tokens) else 'end'!r})"
+        ) from None
     if stack or not joints:
         raise InputError(f"{where}: corrupt BVH hierarchy: unbalanced braces or no joint")
 
     header: dict[str, str] = {}
-    for line in lines[motion_at + 1:motion_at + 3]:
+    for line in lines[motion_at + 1 : motion_at + 3]:
         key, _, value = line.partition(":")
         header[key.strip().lower()] = value.strip()
     try:
         frames = int(header["frames"])
         frame_time = float(header["frame time"])
     except (KeyError, ValueError):
-        raise InputError(f"{where}: corrupt or truncated BVH: MOTION must be followed by 'Frames:' and 'Frame Time:'") from None
+        raise InputError(
+            f"{where}: corrupt or truncated BVH: MOTION must be followed by 'Frames:' and 'Frame Time:'"
+        ) from None
     if not frame_time > 0:
         raise InputError(f"{where}: BVH frame time must be positive, not {frame_time}")
-    motion_lines = [(n + 1, line) for n, line in enumerate(lines[motion_at + 3:], start=motion_at + 3)
-                    if line.strip()]
+    motion_lines = [(n + 1, line) for n, line in enumerate(lines[motion_at + 3 :], start=motion_at + 3) if line.strip()]
     return joints, motion_lines, frames, frame_time
 
 

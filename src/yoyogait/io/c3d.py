@@ -24,7 +24,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, check_readable, length_unit_m as unit_of, uniform_time
+from .recording import Recording, check_readable, uniform_time
+from .recording import length_unit_m as unit_of
 
 __all__ = ["read_c3d"]
 
@@ -32,8 +33,9 @@ __all__ = ["read_c3d"]
 NON_POSITION_GROUPS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
 
 
-def read_c3d(path, *, length_unit_m: float | None = None, rate_hz: float | None = None,
-             keep_non_positions: bool = False) -> Recording:
+def read_c3d(
+    path, *, length_unit_m: float | None = None, rate_hz: float | None = None, keep_non_positions: bool = False
+) -> Recording:
     """Read the 3D points of a C3D file.
 
     ``keep_non_positions`` keeps the model outputs that are angles, forces, ...
@@ -79,7 +81,7 @@ def read_c3d(path, *, length_unit_m: float | None = None, rate_hz: float | None 
 
     keep = np.ones(n_points, dtype=bool)
     if not keep_non_positions:
-        non_positions = set()
+        non_positions: set[str] = set()
         for group in NON_POSITION_GROUPS:
             non_positions.update(s.strip() for s in _param(point_group, group) or [])
         keep = np.array([n not in non_positions for n in names], dtype=bool)
@@ -139,10 +141,7 @@ def _check_not_truncated(p: Path, point_scale: float | None) -> None:
     expected = (data_block - 1) * 512 + n_frames * frame_bytes
     if size < expected:
         have = max(0, size - (data_block - 1) * 512) // max(1, frame_bytes)
-        raise InputError(
-            f"{p}: truncated C3D file: the header announces {n_frames} frames, "
-            f"the file holds {have}"
-        )
+        raise InputError(f"{p}: truncated C3D file: the header announces {n_frames} frames, the file holds {have}")
 
 
 def _labels(point_group: dict, n_points: int) -> list[str]:

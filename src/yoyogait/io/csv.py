@@ -62,11 +62,13 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     header = [h.strip() for h in next(_csv.reader([header_line], delimiter=delimiter))]
 
     rows = []
-    body = [(n, line) for n, line in enumerate(lines[first + 1:], start=first + 2) if line.strip()]
-    for (number, line), cells in zip(body, _csv.reader([line for _, line in body], delimiter=delimiter)):
+    body = [(n, line) for n, line in enumerate(lines[first + 1 :], start=first + 2) if line.strip()]
+    for (number, _line), cells in zip(body, _csv.reader([line for _, line in body], delimiter=delimiter)):
         if len(cells) != len(header):
             if number == body[-1][0] and len(cells) < len(header) and not text.endswith("\n"):
-                raise InputError(f"{p}: truncated CSV file: the last line stops after {len(cells)} of {len(header)} columns")
+                raise InputError(
+                    f"{p}: truncated CSV file: the last line stops after {len(cells)} of {len(header)} columns"
+                )
             raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header {len(header)}")
         rows.append(number_row(cells, p, number))
     if not rows:
@@ -76,8 +78,13 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     metadata: dict = {"format": "csv", "settings": settings}
     unit = _setting_float(settings, "length_unit_m", p) if length_unit_m is None else float(length_unit_m)
     metadata["length_unit_m"] = unit if unit is not None else 1.0
-    metadata["length_unit_from"] = ("override" if length_unit_m is not None else
-                                    "# length_unit_m" if unit is not None else "metres (the CSV default)")
+    metadata["length_unit_from"] = (
+        "override"
+        if length_unit_m is not None
+        else "# length_unit_m"
+        if unit is not None
+        else "metres (the CSV default)"
+    )
     unit = metadata["length_unit_m"]
 
     lower = [h.lower() for h in header]
@@ -97,8 +104,9 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     if up_axis is not None and up_axis.lower() not in AXES:
         raise InputError(f"{p}: '# up_axis: {up_axis}' must be x, y or z")
 
-    velocity_cols = {key: next((lower.index(c) for c in names if c in lower), None)
-                     for key, names in VELOCITY_COLUMNS.items()}
+    velocity_cols = {
+        key: next((lower.index(c) for c in names if c in lower), None) for key, names in VELOCITY_COLUMNS.items()
+    }
     if all(c is not None for c in velocity_cols.values()):
         metadata["velocities_mps"] = {key: table[:, c] * unit for key, c in velocity_cols.items()}
         positions = np.empty((len(rows), 0, 3))

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
+
 AXES = ("x", "y", "z")
 
 
@@ -42,7 +44,6 @@ class Recording:
 
     def index_of(self, name: str) -> int:
         """Column of ``name`` in ``positions_m``; the error lists the points there are."""
-        from ..errors import InputError
 
         try:
             return self.point_names.index(name)
@@ -95,7 +96,6 @@ LENGTH_UNITS_M = {
 
 def length_unit_m(name: str, source: str = "") -> float:
     """Metres per unit for a unit name such as "mm"; InputError if unknown."""
-    from ..errors import InputError
 
     key = str(name).strip().lower()
     if key not in LENGTH_UNITS_M:
@@ -112,7 +112,6 @@ def check_readable(path) -> Path:
     Readers call this first so that a missing or empty file gets one clear
     sentence instead of a parser error from deep inside a library.
     """
-    from ..errors import InputError
 
     p = Path(path)
     if not p.exists():
@@ -126,7 +125,6 @@ def check_readable(path) -> Path:
 
 def read_text(path, encoding: str = "utf-8") -> tuple[Path, str]:
     """(path, its text) of a readable text file; undecodable bytes become U+FFFD, errors InputError."""
-    from ..errors import InputError
 
     p = check_readable(path)
     try:
@@ -137,7 +135,6 @@ def read_text(path, encoding: str = "utf-8") -> tuple[Path, str]:
 
 def number_row(cells, where, line_number: int) -> list[float]:
     """The cells of a text row as floats, empty cells NaN; InputError naming the first bad cell."""
-    from ..errors import InputError
 
     try:
         return [float(c) if c.strip() else np.nan for c in cells]

@@ -22,7 +22,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, length_unit_m as unit_of, number_row, read_text, uniform_time
+from .recording import Recording, number_row, read_text, uniform_time
+from .recording import length_unit_m as unit_of
 
 __all__ = ["read_trc"]
 

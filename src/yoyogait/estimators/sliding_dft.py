@@ -1,4 +1,4 @@
-"""Baselines to compare the estimator against, with the same result type.
+"""The sliding-DFT baseline: an offline, non-causal bound, with the estimators' result type.
 
 * ``sliding-dft``: an offline, non-causal bound.  Around every sample, a
   centred window of the vertical velocity gives the step frequency (the peak
@@ -9,44 +9,35 @@
   spectrum has a peak near half the strongest one (the pelvis rises twice per
   step in slow walks), that one is the step frequency, as in
   :func:`yoyogait.spectral.step_frequency`.
-* ``oscillator``: an adaptive frequency oscillator, see
-  :mod:`yoyogait.oscillator`.
 
-Each runner takes :class:`~yoyogait.velocities.GaitVelocities` and returns an
-:class:`~yoyogait.estimator.EstimateResult`.
+:class:`SlidingDft` holds the parameters; its ``run`` returns an
+:class:`~yoyogait.estimators.results.EstimateResult`.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from .estimator import EstimateResult
+from .results import PREDICTION_HORIZONS_S, EstimateResult, result_from_fit
 
-__all__ = ["sliding_dft", "RUNNERS"]
+__all__ = ["SlidingDft", "sliding_dft"]
 
 TWO_PI = 2.0 * np.pi
 
 
-def _result(omega_rad_s, a0, cos_part, sin_part, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, time_s):
-    """An EstimateResult from per-sample fit values (state in the paper's form, eq. 5)."""
-    n = omega_rad_s.size
-    w = omega_rad_s * T
-    a1 = np.hypot(cos_part, sin_part)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        R_m = np.where(omega_rad_s > 0, a0 / omega_rad_s, np.nan)
-        r_m = np.where(omega_rad_s > 0, a1 / omega_rad_s, np.nan)
-    nan = np.full(n, np.nan)
-    return EstimateResult(
-        state=np.column_stack([cos_part, sin_part, w, a0]),
-        vx_hat=vx_hat, vz_hat=vz_hat, R_hat_mps=R_m / T, r_hat_mps=r_m / T, R_m=R_m, r_m=r_m,
-        omega_rad_s=omega_rad_s, step_frequency_hz=omega_rad_s / TWO_PI, step_frequency_std_hz=nan,
-        speed_mps=a0, speed_std_mps=nan, A0_mps=a0, A1_mps=a1,
-        status=np.zeros(n, dtype=np.uint8), parameters_updated=np.ones(n, dtype=bool),
-        sample_time_s=T, predict_ahead_s=tuple(horizons), vx_pred=vx_pred, vz_pred=vz_pred, time_s=time_s)
-
-
-def sliding_dft(time_s, vx, vz, *, window_s: float = 4.0, min_hz: float = 0.5, max_hz: float = 4.0,
-                resolution_hz: float = 0.01, predict_ahead_s=(0.04, 0.2)) -> EstimateResult:
+def sliding_dft(
+    time_s,
+    vx,
+    vz,
+    *,
+    window_s: float = 4.0,
+    min_hz: float = 0.5,
+    max_hz: float = 4.0,
+    resolution_hz: float = 0.01,
+    predict_ahead_s=(0.04, 0.2),
+) -> EstimateResult:
     """The offline sliding-DFT estimate on a uniform grid (see the module doc).
 
     Samples whose window holds fewer than half known values get NaN.
@@ -74,8 +65,9 @@ def sliding_dft(time_s, vx, vz, *, window_s: float = 4.0, min_hz: float = 0.5, m
     # As yoyogait.spectral.step_frequency: in slow walks the pelvis rises twice per step, so a peak
     # near half the strongest one, at least half as tall in magnitude, is the step frequency.
     f_top = freqs[k]
-    near_half = (freqs[None, :] >= np.maximum(min_hz, 0.85 * f_top / 2)[:, None]) & \
-                (freqs[None, :] <= (1.15 * f_top / 2)[:, None])
+    near_half = (freqs[None, :] >= np.maximum(min_hz, 0.85 * f_top / 2)[:, None]) & (
+        freqs[None, :] <= (1.15 * f_top / 2)[:, None]
+    )
     is_peak = np.zeros(power.shape, dtype=bool)
     is_peak[:, 1:-1] = (power[:, 1:-1] >= power[:, :-2]) & (power[:, 1:-1] > power[:, 2:])
     candidate = np.where(near_half & is_peak, power, -np.inf)
@@ -94,9 +86,14 @@ def sliding_dft(time_s, vx, vz, *, window_s: float = 4.0, min_hz: float = 0.5, m
     s = np.sin(omega[:, None] * tau[None, :])
     m = known.astype(float)
     ones = m
-    G = np.stack([np.stack([(ones).sum(1), (c * m).sum(1), (s * m).sum(1)], -1),
-                  np.stack([(c * m).sum(1), (c * c * m).sum(1), (c * s * m).sum(1)], -1),
-                  np.stack([(s * m).sum(1), (c * s * m).sum(1), (s * s * m).sum(1)], -1)], 1)
+    G = np.stack(
+        [
+            np.stack([(ones).sum(1), (c * m).sum(1), (s * m).sum(1)], -1),
+            np.stack([(c * m).sum(1), (c * c * m).sum(1), (c * s * m).sum(1)], -1),
+            np.stack([(s * m).sum(1), (c * s * m).sum(1), (s * s * m).sum(1)], -1),
+        ],
+        1,
+    )
     G += 1e-9 * np.eye(3)
     wx0 = np.where(known, wx, 0.0)
     wz1 = np.where(known, wz, 0.0)
@@ -121,20 +118,31 @@ def sliding_dft(time_s, vx, vz, *, window_s: float = 4.0, min_hz: float = 0.5, m
     vx_pred[bad] = np.nan
     vz_pred[bad] = np.nan
     # In the paper's state, v_z = -x2: the oscillation's phasor at the sample is (x1, x2) with x2 = -v_z part.
-    return _result(omega, a0, ax, -az, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, t)
+    return result_from_fit(omega, a0, ax, -az, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, t)
 
 
-def _sliding_dft_runner(vel):
-    from .evaluation import PREDICTION_HORIZONS_S
+@dataclass(frozen=True)
+class SlidingDft:
+    """The sliding-DFT baseline's parameters; :meth:`run` computes (the parameters stay apart from results)."""
 
-    return sliding_dft(vel.time_s, vel.vx, vel.vz, predict_ahead_s=PREDICTION_HORIZONS_S)
+    window_s: float = 4.0
+    """Length of the centred window [s]."""
+    min_hz: float = 0.5
+    """Lowest step frequency searched [Hz]."""
+    max_hz: float = 4.0
+    """Highest step frequency searched [Hz]."""
+    resolution_hz: float = 0.01
+    """Grid step of the frequency search [Hz]."""
 
-
-def _oscillator_runner(vel):
-    from .evaluation import PREDICTION_HORIZONS_S
-    from .oscillator import run_oscillator
-
-    return run_oscillator(vel.time_s, vel.vx, vel.vz, predict_ahead_s=PREDICTION_HORIZONS_S)
-
-
-RUNNERS = {"oscillator": _oscillator_runner, "sliding-dft": _sliding_dft_runner}
+    def run(self, time_s, vx, vz, *, predict_ahead_s=PREDICTION_HORIZONS_S) -> EstimateResult:
+        """Estimates at every sample of a uniform grid (see :func:`sliding_dft`)."""
+        return sliding_dft(
+            time_s,
+            vx,
+            vz,
+            window_s=self.window_s,
+            min_hz=self.min_hz,
+            max_hz=self.max_hz,
+            resolution_hz=self.resolution_hz,
+            predict_ahead_s=predict_ahead_s,
+        )

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["SpectralCheck", "dft_check", "dominant_frequency", "step_frequency", "spectrum", "MODEL_OFFSET_DEG"]
 
@@ -59,7 +59,7 @@ class SpectralCheck:
 
     @property
     def offset_sign(self) -> str:
-        """"negative" (as in the Yoyo-model) or "positive" (the opposite)."""
+        """ "negative" (as in the Yoyo-model) or "positive" (the opposite)."""
         return "negative" if self.phase_offset_deg < 0 else "positive"
 
     @property
@@ -69,7 +69,7 @@ class SpectralCheck:
 
     @property
     def verdict(self) -> str:
-        """"consistent" (within 45 deg of the model), "opposite sign" (within 45 deg of +90) or "not consistent"."""
+        """ "consistent" (within 45 deg of the model), "opposite sign" (within 45 deg of +90) or "not consistent"."""
         if self.matches_model:
             return "consistent"
         return "opposite sign" if abs(self.offset_from_model_deg) >= 135.0 else "not consistent"
@@ -77,8 +77,11 @@ class SpectralCheck:
     def summary(self) -> str:
         """Two lines saying what the data show against the model."""
         lead = "lags" if self.phase_offset_deg < 0 else "leads"
-        harmonic = "" if abs(self.vertical_frequency_hz - self.step_frequency_hz) < 0.05 else (
-            f" (strongest vertical peak {self.vertical_frequency_hz:.2f} Hz is its harmonic)")
+        harmonic = (
+            ""
+            if abs(self.vertical_frequency_hz - self.step_frequency_hz) < 0.05
+            else (f" (strongest vertical peak {self.vertical_frequency_hz:.2f} Hz is its harmonic)")
+        )
         return (
             f"step frequency {self.step_frequency_hz:.2f} Hz{harmonic}; dominant forward "
             f"{self.forward_frequency_hz:.2f} Hz (over {self.duration_s:.1f} s of walking)\n"
@@ -97,16 +100,23 @@ def spectrum(signal, rate_hz: float, resolution_hz: float = 0.005):
     return np.fft.rfftfreq(n_fft, 1.0 / rate_hz), magnitude
 
 
-def dominant_frequency(signal, rate_hz: float, min_hz: float = 0.5, max_hz: float = 4.0,
-                       resolution_hz: float = 0.005) -> float:
+def dominant_frequency(
+    signal, rate_hz: float, min_hz: float = 0.5, max_hz: float = 4.0, resolution_hz: float = 0.005
+) -> float:
     """Frequency of the largest spectral peak of ``signal`` within ``min_hz``-``max_hz``."""
     freqs, magnitude = spectrum(signal, rate_hz, resolution_hz)
     band = _band(freqs, min_hz, max_hz)
     return float(freqs[band][np.argmax(magnitude[band])])
 
 
-def step_frequency(signal, rate_hz: float, min_hz: float = 0.5, max_hz: float = 4.0,
-                   subharmonic_ratio: float = 0.5, resolution_hz: float = 0.005) -> float:
+def step_frequency(
+    signal,
+    rate_hz: float,
+    min_hz: float = 0.5,
+    max_hz: float = 4.0,
+    subharmonic_ratio: float = 0.5,
+    resolution_hz: float = 0.005,
+) -> float:
     """The fundamental of the step oscillation: the strongest peak, or half of it.
 
     In slow walking the pelvis rises twice per step (the vertical path turns
@@ -123,8 +133,11 @@ def step_frequency(signal, rate_hz: float, min_hz: float = 0.5, max_hz: float = 
     top = idx[np.argmax(magnitude[idx])]
     f_top = freqs[top]
     near_half = np.flatnonzero((freqs >= max(min_hz, 0.85 * f_top / 2)) & (freqs <= 1.15 * f_top / 2))
-    peaks = [i for i in near_half if 0 < i < len(freqs) - 1
-             and magnitude[i] >= magnitude[i - 1] and magnitude[i] > magnitude[i + 1]]
+    peaks = [
+        i
+        for i in near_half
+        if 0 < i < len(freqs) - 1 and magnitude[i] >= magnitude[i - 1] and magnitude[i] > magnitude[i + 1]
+    ]
     if peaks:
         best = max(peaks, key=lambda i: magnitude[i])
         if magnitude[best] >= subharmonic_ratio * magnitude[top]:
@@ -132,8 +145,7 @@ def step_frequency(signal, rate_hz: float, min_hz: float = 0.5, max_hz: float = 
     return float(f_top)
 
 
-def dft_check(velocities, *, min_hz: float = 0.5, max_hz: float = 4.0,
-              min_duration_s: float = 1.5) -> SpectralCheck:
+def dft_check(velocities, *, min_hz: float = 0.5, max_hz: float = 4.0, min_duration_s: float = 1.5) -> SpectralCheck:
     """The DFT check over the longest stretch of walking of a :class:`~yoyogait.GaitVelocities`.
 
     InputError if that stretch is shorter than ``min_duration_s`` (a DFT of
@@ -144,7 +156,8 @@ def dft_check(velocities, *, min_hz: float = 0.5, max_hz: float = 4.0,
     rate = velocities.rate_hz
     if n / rate < min_duration_s:
         raise InputError(
-            f"{velocities.source}: only {n / rate:.2f} s of walking in one stretch; the DFT check needs {min_duration_s:g} s"
+            f"{velocities.source}: only {n / rate:.2f} s of walking in one stretch; "
+            f"the DFT check needs {min_duration_s:g} s"
         )
     vx = velocities.vx[part]
     vz = velocities.vz[part]
@@ -157,8 +170,10 @@ def dft_check(velocities, *, min_hz: float = 0.5, max_hz: float = 4.0,
         vertical_frequency_hz=dominant_frequency(vz, rate, min_hz, max_hz),
         forward_frequency_hz=dominant_frequency(vx, rate, min_hz, max_hz),
         phase_offset_deg=_wrap(np.degrees(np.angle(cx) - np.angle(cz))),
-        forward_amplitude_mps=float(np.abs(cx)), vertical_amplitude_mps=float(np.abs(cz)),
-        start_s=float(t[0]), end_s=float(t[-1]),
+        forward_amplitude_mps=float(np.abs(cx)),
+        vertical_amplitude_mps=float(np.abs(cz)),
+        start_s=float(t[0]),
+        end_s=float(t[-1]),
     )
 
 

@@ -20,13 +20,14 @@ recordings the estimator is evaluated on, so that the comparison is fair.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
+from .results import PREDICTION_HORIZONS_S, EstimateResult, result_from_fit
 
-__all__ = ["OscillatorConfig", "AdaptiveOscillator", "run_oscillator"]
+__all__ = ["OscillatorConfig", "AdaptiveOscillator", "OscillatorBaseline", "run_oscillator"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -92,7 +93,7 @@ class AdaptiveOscillator:
             # Start on the first good sample: speed from it, everything else from zero.
             self.started = True
             self.b[0] = vx
-            self.rms2 = 0.1 ** 2
+            self.rms2 = 0.1**2
             dt = 0.0
         k = self._k[1:]
         self.phi[1:] += k * self.omega_rad_s * dt
@@ -100,7 +101,7 @@ class AdaptiveOscillator:
             e = vz - self._vz_hat(self.phi)
             alpha = 1.0 - math.exp(-dt / cfg.rms_tau_s) if dt > 0 else 0.0
             self.rms2 += alpha * ((vz - self.a[0]) ** 2 - self.rms2)
-            en = e / math.sqrt(max(self.rms2, cfg.min_rms_mps ** 2))
+            en = e / math.sqrt(max(self.rms2, cfg.min_rms_mps**2))
             dw = -cfg.nu_w_rad_per_s2 * en * math.sin(self.phi[1])
             self.phi[1:] += -cfg.nu_phi_per_s * en * np.sin(self.phi[1:]) * dt
             self.omega_rad_s = min(max(self.omega_rad_s + dw * dt, TWO_PI * cfg.f_min_hz), TWO_PI * cfg.f_max_hz)
@@ -121,10 +122,10 @@ class AdaptiveOscillator:
         return self._vx_hat(phi[1]), self._vz_hat(phi)
 
 
-def run_oscillator(time_s, vx, vz, *, config: OscillatorConfig | None = None, predict_ahead_s=(0.04, 0.2)):
-    """Run the oscillator over a signal; returns an :class:`~yoyogait.estimator.EstimateResult`."""
-    from .baselines import _result
-
+def run_oscillator(
+    time_s, vx, vz, *, config: OscillatorConfig | None = None, predict_ahead_s=PREDICTION_HORIZONS_S
+) -> EstimateResult:
+    """Run the oscillator over a signal; returns an :class:`~yoyogait.estimators.results.EstimateResult`."""
     cfg = config or OscillatorConfig()
     t = np.asarray(time_s, dtype=float)
     vx = np.asarray(vx, dtype=float)
@@ -149,4 +150,15 @@ def run_oscillator(time_s, vx, vz, *, config: OscillatorConfig | None = None, pr
         for j, h in enumerate(horizons):
             vx_pred[i, j], vz_pred[i, j] = osc.predict(h)
     # In the paper's state, v_z = -x2.
-    return _result(omega, b0, x1, -z1, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, t)
+    return result_from_fit(omega, b0, x1, -z1, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, t)
+
+
+@dataclass(frozen=True)
+class OscillatorBaseline:
+    """The adaptive-oscillator baseline's parameters; :meth:`run` computes (parameters apart from results)."""
+
+    config: OscillatorConfig = field(default_factory=OscillatorConfig)
+
+    def run(self, time_s, vx, vz, *, predict_ahead_s=PREDICTION_HORIZONS_S) -> EstimateResult:
+        """Estimates at every sample (see :func:`run_oscillator`)."""
+        return run_oscillator(time_s, vx, vz, config=self.config, predict_ahead_s=predict_ahead_s)

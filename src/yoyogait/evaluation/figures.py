@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .errors import InputError
+from ..errors import InputError
 from . import metrics as _metrics
 
 __all__ = ["parameter_figure", "velocity_figure", "recording_title"]
@@ -114,8 +114,9 @@ def parameter_figure(
 
     if truth is not None:
         reference_time_s = truth.time_s if reference_time_s is None else reference_time_s
-        reference_step_frequency_hz = (truth.step_frequency_hz if reference_step_frequency_hz is None
-                                       else reference_step_frequency_hz)
+        reference_step_frequency_hz = (
+            truth.step_frequency_hz if reference_step_frequency_hz is None else reference_step_frequency_hz
+        )
         true_R_m = truth.R_m if true_R_m is None else true_R_m
         true_r_m = truth.r_m if true_r_m is None else true_r_m
         synthetic = True if synthetic is None else synthetic
@@ -130,11 +131,22 @@ def parameter_figure(
     if f is not None:
         ax_f.plot(t, np.abs(f), color=_EST, lw=1.2, label="estimate |f|")
     if reference_step_frequency_hz is not None:
-        ax_f.plot(t_ref, np.broadcast_to(np.asarray(reference_step_frequency_hz, float), t_ref.shape),
-                  color=_REF, lw=1.0, ls="--", label="reference")
+        ax_f.plot(
+            t_ref,
+            np.broadcast_to(np.asarray(reference_step_frequency_hz, float), t_ref.shape),
+            color=_REF,
+            lw=1.0,
+            ls="--",
+            label="reference",
+        )
     if dft_step_frequency_hz is not None and np.isfinite(dft_step_frequency_hz):
-        ax_f.axhline(dft_step_frequency_hz, color="tab:red", lw=1.0, ls=":",
-                     label=f"DFT average ({dft_step_frequency_hz:.2f} Hz)")
+        ax_f.axhline(
+            dft_step_frequency_hz,
+            color="tab:red",
+            lw=1.0,
+            ls=":",
+            label=f"DFT average ({dft_step_frequency_hz:.2f} Hz)",
+        )
     ax_f.set_ylabel("step frequency (Hz)")
 
     if R is not None:
@@ -142,11 +154,23 @@ def parameter_figure(
     if r is not None:
         ax_R.plot(t, r, color=_EST2, lw=1.2, label="r est.")
     if true_R_m is not None:
-        ax_R.plot(t_ref, np.broadcast_to(np.asarray(true_R_m, float), t_ref.shape),
-                  color=_EST, lw=1.0, ls="--", label="R true")
+        ax_R.plot(
+            t_ref,
+            np.broadcast_to(np.asarray(true_R_m, float), t_ref.shape),
+            color=_EST,
+            lw=1.0,
+            ls="--",
+            label="R true",
+        )
     if true_r_m is not None:
-        ax_R.plot(t_ref, np.broadcast_to(np.asarray(true_r_m, float), t_ref.shape),
-                  color=_EST2, lw=1.0, ls="--", label="r true")
+        ax_R.plot(
+            t_ref,
+            np.broadcast_to(np.asarray(true_r_m, float), t_ref.shape),
+            color=_EST2,
+            lw=1.0,
+            ls="--",
+            label="r true",
+        )
     ax_R.set_ylabel("R, r (m)")
 
     if A0 is not None:

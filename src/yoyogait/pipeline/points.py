@@ -19,14 +19,14 @@ from __future__ import annotations
 
 import re
 import warnings
+from collections.abc import Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 
-from .errors import InputError
-from .io.recording import AXES, Recording
+from ..errors import InputError
+from ..io.recording import AXES, Recording
 
 __all__ = [
     "PointChoice",
@@ -54,12 +54,38 @@ PELVIS_MARKER_PATTERNS = (
 #: Root joints of skeletons, in order of preference.
 ROOT_JOINT_NAMES = ("hips", "hip", "pelvis", "root")
 
-_HAND_WORDS = {"hand": 0, "hnd": 0, "fin": 1, "finger": 1, "fingers": 1, "palm": 1,
-               "wri": 2, "wrist": 2, "wra": 2, "wrb": 2, "wrt": 2}
-_FOOT_WORDS = {"hee": 0, "heel": 0, "cal": 0, "calc": 0,
-               "ank": 1, "ankle": 1, "lma": 1, "lm": 1, "mal": 1,  # "foot" joints of skeletons sit at the ankle
-               "toe": 2, "to": 2, "mt1": 2, "mt2": 2, "mt5": 2, "toetip": 2,
-               "toes": 2, "foot": 1}
+_HAND_WORDS = {
+    "hand": 0,
+    "hnd": 0,
+    "fin": 1,
+    "finger": 1,
+    "fingers": 1,
+    "palm": 1,
+    "wri": 2,
+    "wrist": 2,
+    "wra": 2,
+    "wrb": 2,
+    "wrt": 2,
+}
+_FOOT_WORDS = {
+    "hee": 0,
+    "heel": 0,
+    "cal": 0,
+    "calc": 0,
+    "ank": 1,
+    "ankle": 1,
+    "lma": 1,
+    "lm": 1,
+    "mal": 1,  # "foot" joints of skeletons sit at the ankle
+    "toe": 2,
+    "to": 2,
+    "mt1": 2,
+    "mt2": 2,
+    "mt5": 2,
+    "toetip": 2,
+    "toes": 2,
+    "foot": 1,
+}
 #: What may follow a body word: R.Wrist.Lat, L_Ankle_Lat, L_Toe_Tip, LeftToeBase, RWRA.
 _WORD_SUFFIXES = ("lat", "med", "tip", "base", "a", "b")
 
@@ -128,12 +154,12 @@ def _side_and_word(name: str, words: dict[str, int]):
     for side, tags in (("left", ("left", "l")), ("right", ("right", "r"))):
         for tag in tags:
             if n.startswith(tag):
-                parses.append((side, n[len(tag):]))
+                parses.append((side, n[len(tag) :]))
             if n.endswith(tag):
                 parses.append((side, n[: -len(tag)]))
     for side, rest in parses:
         for word, rank in words.items():
-            if rest == word or (rest.startswith(word) and rest[len(word):] in _WORD_SUFFIXES):
+            if rest == word or (rest.startswith(word) and rest[len(word) :] in _WORD_SUFFIXES):
                 return side, rank
     return None
 
@@ -151,8 +177,9 @@ def find_hand(names: Sequence[str], side: str = "right") -> PointChoice:
     return PointChoice(tuple(found[min(found)]), "hand")
 
 
-def find_feet(names: Sequence[str], visibility: dict | None = None,
-              min_visible_fraction: float = 0.5) -> dict[str, str]:
+def find_feet(
+    names: Sequence[str], visibility: dict | None = None, min_visible_fraction: float = 0.5
+) -> dict[str, str]:
     """One foot point per side that has one: heel, else ankle (or a skeleton's foot joint), else toe.
 
     With ``visibility`` (name -> fraction of frames where the point is seen),
@@ -220,8 +247,9 @@ def robust_centre(positions: np.ndarray, min_visible_fraction: float = 0.5):
         raise ValueError("positions must be frames x markers x 3")
     visible = np.all(np.isfinite(positions), axis=2)
     any_visible = visible.any(axis=1)
-    used = [j for j in range(positions.shape[1])
-            if visible[:, j].sum() >= min_visible_fraction * max(1, any_visible.sum())]
+    used = [
+        j for j in range(positions.shape[1]) if visible[:, j].sum() >= min_visible_fraction * max(1, any_visible.sum())
+    ]
     if not used:
         used = list(range(positions.shape[1]))
     while True:

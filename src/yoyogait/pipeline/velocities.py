@@ -1,6 +1,6 @@
 """The paper's velocity pipeline (Sec. IV-A): positions -> forward and vertical velocity at 25 Hz.
 
-1. Follow one point: the pelvis centre by default (:mod:`yoyogait.points`).
+1. Follow one point: the pelvis centre by default (:mod:`yoyogait.pipeline.points`).
 2. Fill gaps of at most ``max_gap_s`` (0.2 s) with a cubic spline through the
    samples around them; longer gaps stay NaN, because a spline across a
    missing step would invent one.
@@ -24,11 +24,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 from scipy.signal import savgol_filter
 
-from .errors import InputError
-from .io.recording import AXES, Recording
+from ..errors import InputError
+from ..io.recording import AXES, Recording
+from . import events, points
+from .signals import fill_short_gaps, resample, runs, walking_heading
 
 __all__ = [
     "GaitVelocities",
@@ -92,11 +93,20 @@ class GaitVelocities:
         return slice(start, stop)
 
 
-def gait_velocities(recording: Recording, point=None, rate_hz: float = 25.0, *,
-                    window_s: float = 0.25, polyorder: int = 3, max_gap_s: float = 0.2,
-                    forward: str = "norm", up_axis: str | None = None,
-                    heading_window_s: float = 1.0, min_usable_s: float = 1.5,
-                    hand_side: str = "right") -> GaitVelocities:
+def gait_velocities(
+    recording: Recording,
+    point=None,
+    rate_hz: float = 25.0,
+    *,
+    window_s: float = 0.25,
+    polyorder: int = 3,
+    max_gap_s: float = 0.2,
+    forward: str = "norm",
+    up_axis: str | None = None,
+    heading_window_s: float = 1.0,
+    min_usable_s: float = 1.5,
+    hand_side: str = "right",
+) -> GaitVelocities:
     """Forward and vertical velocity of ``point`` at ``rate_hz``, by the paper's pipeline.
 
     ``point``: None or "pelvis" (the pelvis centre), "hand", a point name or a
@@ -108,15 +118,18 @@ def gait_velocities(recording: Recording, point=None, rate_hz: float = 25.0, *,
     because neither the DFT check nor the estimator can lock onto a step
     frequency from less than about three steps (1.5 s at a normal cadence).
     """
-    from . import events, points
-
     if forward not in FORWARD_DEFINITIONS:
         raise InputError(f"forward must be one of {', '.join(FORWARD_DEFINITIONS)}, not {forward!r}")
     if not (rate_hz > 0 and window_s > 0 and max_gap_s >= 0):
         raise InputError("rate_hz and window_s must be positive and max_gap_s not negative")
     where = recording.source or "recording"
-    settings = dict(window_s=window_s, polyorder=polyorder, max_gap_s=max_gap_s,
-                    heading_window_s=heading_window_s, min_usable_s=min_usable_s)
+    settings = dict(
+        window_s=window_s,
+        polyorder=polyorder,
+        max_gap_s=max_gap_s,
+        heading_window_s=heading_window_s,
+        min_usable_s=min_usable_s,
+    )
 
     if recording.velocities is not None:  # a CSV of ready velocities
         up = "z"
@@ -155,11 +168,21 @@ def gait_velocities(recording: Recording, point=None, rate_hz: float = 25.0, *,
             f"({label}), at least min_usable_s={min_usable_s:g} s are needed"
         )
 
-    walking = events.walking_mask(recording, t_out, speed_mps=np.hypot(v_h[:, 0], v_h[:, 1]),
-                                  rate_hz=rate_hz, up_axis=up)
+    walking = events.walking_mask(
+        recording, t_out, speed_mps=np.hypot(v_h[:, 0], v_h[:, 1]), rate_hz=rate_hz, up_axis=up
+    )
     return GaitVelocities(
-        time_s=t_out, vx=vx, vz=vz, rate_hz=float(rate_hz), point=label, up_axis=up,
-        forward=forward_used, vx_signed=vx_signed, walking=walking, source=where, settings=settings,
+        time_s=t_out,
+        vx=vx,
+        vz=vz,
+        rate_hz=float(rate_hz),
+        point=label,
+        up_axis=up,
+        forward=forward_used,
+        vx_signed=vx_signed,
+        walking=walking,
+        source=where,
+        settings=settings,
     )
 
 
@@ -183,66 +206,10 @@ def savgol_velocity(positions: np.ndarray, rate_hz: float, window: int, polyorde
     ok = np.all(np.isfinite(x.reshape(len(x), -1)), axis=1)
     for start, stop in runs(ok):
         if stop - start >= window:
-            out[start:stop] = savgol_filter(x[start:stop], window, polyorder, deriv=1,
-                                            delta=1.0 / rate_hz, axis=0, mode="interp")
+            out[start:stop] = savgol_filter(
+                x[start:stop], window, polyorder, deriv=1, delta=1.0 / rate_hz, axis=0, mode="interp"
+            )
     return out
-
-
-def fill_short_gaps(values: np.ndarray, rate_hz: float, max_gap_s: float, kind: str = "cubic") -> np.ndarray:
-    """Fill NaN gaps of at most ``max_gap_s`` that have samples on both sides.
-
-    ``kind="cubic"``: a cubic spline through all known samples (positions
-    change smoothly); ``"linear"``: straight lines (velocities given as they
-    are).  Gaps at the ends and longer gaps stay NaN.
-    """
-    x = np.array(values, dtype=float)
-    flat = x.reshape(len(x), -1)
-    ok = np.all(np.isfinite(flat), axis=1)
-    gaps = [(a, b) for a, b in runs(~ok) if a > 0 and b < len(x) and (b - a) / rate_hz <= max_gap_s + 1e-9]
-    if not gaps or ok.sum() < 2:
-        return x
-    idx = np.flatnonzero(ok)
-    fill = np.concatenate([np.arange(a, b) for a, b in gaps])
-    if kind == "cubic" and len(idx) >= 4:
-        flat[fill] = CubicSpline(idx, flat[idx], axis=0)(fill)
-    else:
-        for c in range(flat.shape[1]):
-            flat[fill, c] = np.interp(fill, idx, flat[idx, c])
-    return flat.reshape(x.shape)
-
-
-def resample(time_s: np.ndarray, values: np.ndarray, rate_hz: float):
-    """Linear resampling to a ``rate_hz`` grid from the first sample; NaN next to NaN."""
-    t = np.asarray(time_s, dtype=float)
-    v = np.asarray(values, dtype=float)
-    n_out = int(np.floor((t[-1] - t[0]) * rate_hz + 1e-9)) + 1
-    t_out = t[0] + np.arange(n_out) / rate_hz
-    v2 = v.reshape(len(v), -1)
-    ok = np.all(np.isfinite(v2), axis=1)
-    out = np.empty((n_out, v2.shape[1]))
-    known = np.interp(t_out, t, ok.astype(float)) > 1 - 1e-9
-    for c in range(v2.shape[1]):
-        out[:, c] = np.interp(t_out, t, np.where(ok, v2[:, c], 0.0))
-    out[~known] = np.nan
-    return t_out, out.reshape((n_out,) + v.shape[1:])
-
-
-def walking_heading(v_h: np.ndarray, rate_hz: float, window_s: float,
-                    min_speed_mps: float = 0.1) -> np.ndarray | None:
-    """Unit walking direction (n x 2) from horizontal velocity (n x 2); None if it never moves.
-
-    The direction of the velocity averaged over ``window_s`` (about a
-    stride, so that the sway cancels); where that average is slower than
-    ``min_speed_mps`` the nearest heading is held.
-    """
-    n = max(1, int(round(window_s * rate_hz)))
-    mean = moving_mean(v_h, n)
-    speed = np.hypot(mean[:, 0], mean[:, 1])
-    good = np.isfinite(speed) & (speed >= min_speed_mps)
-    if not good.any():
-        return None
-    heading = mean[nearest_true(good)]
-    return heading / np.hypot(heading[:, 0], heading[:, 1])[:, None]
 
 
 def v_h_along_heading(v_h: np.ndarray, rate_hz: float, heading_window_s: float) -> np.ndarray:
@@ -259,35 +226,6 @@ def v_h_along_heading(v_h: np.ndarray, rate_hz: float, heading_window_s: float) 
         axis = vt[0] if np.sum(v_h[ok] @ vt[0]) >= 0 else -vt[0]
         heading = np.broadcast_to(axis, v_h.shape)
     return np.sum(v_h * heading, axis=1)
-
-
-def nearest_true(mask: np.ndarray) -> np.ndarray:
-    """For every index, the nearest index where ``mask`` is True (mask must have one)."""
-    idx = np.flatnonzero(mask)
-    at = np.arange(len(mask))
-    right = np.clip(np.searchsorted(idx, at), 0, len(idx) - 1)
-    left = np.clip(right - 1, 0, len(idx) - 1)
-    return np.where(np.abs(idx[left] - at) <= np.abs(idx[right] - at), idx[left], idx[right])
-
-
-def moving_mean(values: np.ndarray, n: int) -> np.ndarray:
-    """Centred mean over ``n`` samples that skips NaN (NaN only where the whole window is)."""
-    v = np.asarray(values, dtype=float)
-    v2 = v.reshape(len(v), -1)
-    ok = np.isfinite(v2)
-    kernel = np.ones(n)
-    sums = np.column_stack([np.convolve(np.where(ok[:, c], v2[:, c], 0.0), kernel, "same") for c in range(v2.shape[1])])
-    counts = np.column_stack([np.convolve(ok[:, c].astype(float), kernel, "same") for c in range(v2.shape[1])])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        out = np.where(counts > 0, sums / counts, np.nan)
-    return out.reshape(v.shape)
-
-
-def runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """(start, stop) of each run of True in a bool array."""
-    m = np.concatenate([[False], np.asarray(mask, dtype=bool), [False]])
-    edges = np.flatnonzero(np.diff(m.astype(np.int8)))
-    return list(zip(edges[::2].tolist(), edges[1::2].tolist()))
 
 
 def _rate(time_s: np.ndarray) -> float:

@@ -22,7 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
+from ..pipeline.spectral import step_frequency
 
 __all__ = [
     "SquaredErrorStats",
@@ -158,8 +159,7 @@ def velocity_error(measured_vx_mps, measured_vz_mps, vx_hat_mps, vz_hat_mps, mas
     )
 
 
-def prediction_error(measured_vx_mps, measured_vz_mps, predicted_vx_mps, predicted_vz_mps,
-                     mask=None) -> VelocityError:
+def prediction_error(measured_vx_mps, measured_vz_mps, predicted_vx_mps, predicted_vz_mps, mask=None) -> VelocityError:
     """Squared error of predicted velocities, in 10^-2 (m/s)^2.
 
     The predictions must already be aligned to the sample they predict (the
@@ -196,8 +196,16 @@ def convergence_time_s(time_s, error, tolerance, mask=None) -> float:
     return float(t[idx[last_bad + 1]] - t0)
 
 
-def step_frequency_error(time_s, estimated_hz, reference_hz, *, mask=None, skip_s: float = 0.0,
-                         tolerance_hz: float = 0.1, signed: bool = False) -> StepFrequencyError:
+def step_frequency_error(
+    time_s,
+    estimated_hz,
+    reference_hz,
+    *,
+    mask=None,
+    skip_s: float = 0.0,
+    tolerance_hz: float = 0.1,
+    signed: bool = False,
+) -> StepFrequencyError:
     """Step frequency error against a reference (truth, or gait events for real data).
 
     By default the magnitude of the estimate is compared (the EKF has a mirror
@@ -225,8 +233,9 @@ def step_frequency_error(time_s, estimated_hz, reference_hz, *, mask=None, skip_
     abs_err = np.abs(err[keep])
     has_est = walking & np.isfinite(est)
     wrong = float(np.mean(est[has_est] < 0)) if has_est.any() else np.nan
-    return StepFrequencyError(float(np.median(abs_err)), float(np.percentile(abs_err, 90)), wrong,
-                              converge, int(keep.sum()))
+    return StepFrequencyError(
+        float(np.median(abs_err)), float(np.percentile(abs_err, 90)), wrong, converge, int(keep.sum())
+    )
 
 
 def speed_error(estimated_speed_mps, reference_speed_mps, mask=None) -> SpeedError:
@@ -262,8 +271,9 @@ def parameter_error(time_s, estimated_m, true_m, *, mask=None, settle_s: float =
     err = est[keep] - true[keep]
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.abs(err) / np.abs(true[keep])
-    return ParameterError(float(np.median(np.abs(err))), float(np.sqrt(np.mean(err**2))),
-                          float(np.median(rel)), int(keep.sum()))
+    return ParameterError(
+        float(np.median(np.abs(err))), float(np.sqrt(np.mean(err**2))), float(np.median(rel)), int(keep.sum())
+    )
 
 
 def dft_step_frequency_hz(time_s, signal, *, fmin_hz: float = 0.5, fmax_hz: float = 4.0) -> float:
@@ -271,12 +281,10 @@ def dft_step_frequency_hz(time_s, signal, *, fmin_hz: float = 0.5, fmax_hz: floa
 
     The paper's reference line in Fig. 3.  Use the vertical velocity.  NaN
     samples are filled by linear interpolation; the grid must be (nearly)
-    uniform.  The step frequency is :func:`yoyogait.spectral.step_frequency`:
+    uniform.  The step frequency is :func:`yoyogait.pipeline.spectral.step_frequency`:
     the DFT peak, or the peak near half of it in slow walks where the pelvis
     rises twice per step.
     """
-    from .spectral import step_frequency
-
     t = _arr(time_s, "time_s")
     y = _arr(signal, "signal")
     _same_length((t, "time_s"), (y, "signal"))
@@ -284,13 +292,14 @@ def dft_step_frequency_hz(time_s, signal, *, fmin_hz: float = 0.5, fmax_hz: floa
     if good.sum() < 8:
         return float("nan")
     first, last = np.flatnonzero(good)[[0, -1]]
-    t, y, good = t[first:last + 1], y[first:last + 1], good[first:last + 1]
+    t, y, good = t[first : last + 1], y[first : last + 1], good[first : last + 1]
     y = np.interp(t, t[good], y[good])
     return step_frequency(y, 1.0 / float(np.median(np.diff(t))), min_hz=fmin_hz, max_hz=fmax_hz)
 
 
-def step_frequency_from_contacts(contact_times_s, time_s, *, max_step_s: float = 1.5,
-                                 stride_average: bool = False) -> np.ndarray:
+def step_frequency_from_contacts(
+    contact_times_s, time_s, *, max_step_s: float = 1.5, stride_average: bool = False
+) -> np.ndarray:
     """Reference step frequency (Hz) on ``time_s`` from heel strikes of both feet.
 
     Between two successive heel strikes (either foot) the step frequency is
@@ -318,17 +327,17 @@ def step_frequency_from_contacts(contact_times_s, time_s, *, max_step_s: float =
         nxt = np.concatenate((interval[1:], [np.nan]))
         nxt_ok = np.concatenate((step[1:], [False]))
         both = prev_ok & nxt_ok
-        smoothed = np.where(both, 0.5 * interval + 0.25 * (np.where(prev_ok, prev, 0) + np.where(nxt_ok, nxt, 0)),
-                            np.where(prev_ok, 0.5 * (interval + np.where(prev_ok, prev, 0)),
-                                     np.where(nxt_ok, 0.5 * (interval + np.where(nxt_ok, nxt, 0)), interval)))
+        smoothed = np.where(
+            both,
+            0.5 * interval + 0.25 * (np.where(prev_ok, prev, 0) + np.where(nxt_ok, nxt, 0)),
+            np.where(
+                prev_ok,
+                0.5 * (interval + np.where(prev_ok, prev, 0)),
+                np.where(nxt_ok, 0.5 * (interval + np.where(nxt_ok, nxt, 0)), interval),
+            ),
+        )
         interval = smoothed
     f = np.where(step, 1.0 / interval, np.nan)
-    out[inside] = f[i[inside]]
-    return out
-    i = np.searchsorted(c, t, side="right") - 1
-    inside = (i >= 0) & (i < c.size - 1)
-    interval = np.diff(c)
-    f = np.where(interval <= max_step_s, 1.0 / interval, np.nan)
     out[inside] = f[i[inside]]
     return out
 
@@ -427,8 +436,9 @@ def evaluate(
     if truth is not None:
         tr = truth.at(t)
         walking = tr.walking if walking is None else walking
-        reference_step_frequency_hz = (tr.step_frequency_hz if reference_step_frequency_hz is None
-                                       else reference_step_frequency_hz)
+        reference_step_frequency_hz = (
+            tr.step_frequency_hz if reference_step_frequency_hz is None else reference_step_frequency_hz
+        )
         reference_speed_mps = tr.speed_mps if reference_speed_mps is None else reference_speed_mps
         true_R_m = tr.R_m if true_R_m is None else true_R_m
         true_r_m = tr.r_m if true_r_m is None else true_r_m
@@ -453,10 +463,15 @@ def evaluate(
     put_velocity("pred200ms_", predicted_200ms)
 
     if f_hat is not None and reference_step_frequency_hz is not None:
-        fe = step_frequency_error(t, f_hat, reference_step_frequency_hz, mask=walk, skip_s=skip_s,
-                                  tolerance_hz=tolerance_hz)
-        out.update(f_err_median_hz=fe.median_abs_hz, f_err_p90_hz=fe.p90_abs_hz,
-                   f_wrong_sign_fraction=fe.wrong_sign_fraction, f_converge_time_s=fe.converge_time_s)
+        fe = step_frequency_error(
+            t, f_hat, reference_step_frequency_hz, mask=walk, skip_s=skip_s, tolerance_hz=tolerance_hz
+        )
+        out.update(
+            f_err_median_hz=fe.median_abs_hz,
+            f_err_p90_hz=fe.p90_abs_hz,
+            f_wrong_sign_fraction=fe.wrong_sign_fraction,
+            f_converge_time_s=fe.converge_time_s,
+        )
     if speed_hat is not None and reference_speed_mps is not None:
         se = speed_error(speed_hat, reference_speed_mps, walk)
         out.update(speed_err_median_mps=se.median_abs_mps, speed_err_rms_mps=se.rms_mps)

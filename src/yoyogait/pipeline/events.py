@@ -28,9 +28,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.signal import find_peaks
 
-from .errors import InputError
-from .io.recording import AXES, Recording
-from .velocities import fill_short_gaps, moving_mean, runs, walking_heading
+from ..errors import InputError
+from ..io.recording import AXES, Recording
+from . import points
+from .signals import fill_short_gaps, moving_mean, runs, walking_heading
 
 __all__ = ["GaitEvents", "detect_gait_events", "feet_of", "walking_mask", "walking_from_speed"]
 
@@ -58,7 +59,11 @@ class GaitEvents:
 
     @property
     def walking_time_s(self) -> float:
-        return float(np.sum(self.walking_segments_s[:, 1] - self.walking_segments_s[:, 0])) if len(self.walking_segments_s) else 0.0
+        return (
+            float(np.sum(self.walking_segments_s[:, 1] - self.walking_segments_s[:, 0]))
+            if len(self.walking_segments_s)
+            else 0.0
+        )
 
     @property
     def mean_step_frequency_hz(self) -> float:
@@ -83,10 +88,18 @@ class GaitEvents:
         return out
 
 
-def detect_gait_events(recording: Recording, feet=None, *, up_axis: str | None = None,
-                       min_step_s: float = 0.25, max_step_s: float = 1.5, min_steps: int = 2,
-                       min_excursion_m: float = 0.05, max_gap_s: float = 0.2,
-                       heading_window_s: float = 1.0) -> GaitEvents:
+def detect_gait_events(
+    recording: Recording,
+    feet=None,
+    *,
+    up_axis: str | None = None,
+    min_step_s: float = 0.25,
+    max_step_s: float = 1.5,
+    min_steps: int = 2,
+    min_excursion_m: float = 0.05,
+    max_gap_s: float = 0.2,
+    heading_window_s: float = 1.0,
+) -> GaitEvents:
     """Foot contacts and steps from foot points (heel, ankle, toe, foot).
 
     ``feet``: {"left": name, "right": name} or a list of names; found by name
@@ -94,7 +107,6 @@ def detect_gait_events(recording: Recording, feet=None, *, up_axis: str | None =
     relative to the pelvis for a contact to count.  Steps outside
     ``min_step_s``-``max_step_s`` break a walking stretch.
     """
-    from . import points
 
     where = recording.source or "recording"
     feet = feet_of(recording, feet)
@@ -107,46 +119,60 @@ def detect_gait_events(recording: Recording, feet=None, *, up_axis: str | None =
     rate = 1.0 / float(np.median(np.diff(t)))
 
     pelvis = fill_short_gaps(points.point_trajectory(recording, None).positions_m, rate, max_gap_s)[:, horizontal]
-    relative = {side: fill_short_gaps(recording.point(name), rate, max_gap_s)[:, horizontal] - pelvis
-                for side, name in feet.items()}
+    relative = {
+        side: fill_short_gaps(recording.point(name), rate, max_gap_s)[:, horizontal] - pelvis
+        for side, name in feet.items()
+    }
     heading = walking_heading(np.gradient(pelvis, axis=0) * rate, rate, heading_window_s)
     if heading is None:  # the pelvis stays in place: a treadmill
         heading = np.broadcast_to(_feet_axis(relative, rate), pelvis.shape)
 
-    contacts, sides = [], []
+    contact_list: list[float] = []
+    side_list: list[str] = []
     for side, rel in relative.items():
         ahead = np.sum(rel * heading, axis=1)
         for start, stop in runs(np.isfinite(ahead)):
-            peaks, _ = find_peaks(ahead[start:stop], distance=max(1, int(2 * min_step_s * rate)),
-                                  prominence=min_excursion_m)
-            contacts.extend(t[start + peaks])
-            sides.extend([side] * len(peaks))
-    order = np.argsort(contacts, kind="stable")
-    contacts = np.asarray(contacts, dtype=float)[order]
-    sides = tuple(np.asarray(sides, dtype=object)[order]) if len(order) else ()
+            peaks, _ = find_peaks(
+                ahead[start:stop], distance=max(1, int(2 * min_step_s * rate)), prominence=min_excursion_m
+            )
+            contact_list.extend(t[start + peaks])
+            side_list.extend([side] * len(peaks))
+    order = np.argsort(contact_list, kind="stable")
+    contacts = np.asarray(contact_list, dtype=float)[order]
+    sides = tuple(np.asarray(side_list, dtype=object)[order]) if len(order) else ()
 
-    starts, ends = _steps(contacts, sides, both_feet=len(feet) == 2,
-                          min_step_s=min_step_s, max_step_s=max_step_s)
+    starts, ends = _steps(contacts, sides, both_feet=len(feet) == 2, min_step_s=min_step_s, max_step_s=max_step_s)
     segments = _segments(starts, ends, min_steps)
     keep = np.zeros(len(starts), dtype=bool)
     for a, b in segments:
         keep |= (starts >= a) & (ends <= b)
     return GaitEvents(
-        contacts_s=contacts, contact_sides=sides, step_start_s=starts[keep], step_end_s=ends[keep],
-        walking_segments_s=_widen(segments, starts, ends, t[0], t[-1]), feet=dict(feet), source=where,
+        contacts_s=contacts,
+        contact_sides=sides,
+        step_start_s=starts[keep],
+        step_end_s=ends[keep],
+        walking_segments_s=_widen(segments, starts, ends, t[0], t[-1]),
+        feet=dict(feet),
+        source=where,
     )
 
 
-def walking_mask(recording: Recording, time_s, *, speed_mps=None, rate_hz: float | None = None,
-                 up_axis: str | None = None, walking_speed_mps: float = 0.15,
-                 min_walk_s: float = 1.0) -> np.ndarray:
+def walking_mask(
+    recording: Recording,
+    time_s,
+    *,
+    speed_mps=None,
+    rate_hz: float | None = None,
+    up_axis: str | None = None,
+    walking_speed_mps: float = 0.15,
+    min_walk_s: float = 1.0,
+) -> np.ndarray:
     """Walking (True) or standing per time in ``time_s``.
 
     From gait events when the recording has feet and a pelvis and some foot
     contact is found; else from ``speed_mps`` (horizontal speed on the
     ``time_s`` grid, see :func:`walking_from_speed`).
     """
-    from . import points
 
     t = np.asarray(time_s, dtype=float)
     if recording.velocities is None and points.find_feet(recording.point_names):
@@ -161,8 +187,9 @@ def walking_mask(recording: Recording, time_s, *, speed_mps=None, rate_hz: float
     return walking_from_speed(speed_mps, rate_hz, walking_speed_mps, min_walk_s)
 
 
-def walking_from_speed(speed_mps, rate_hz: float, walking_speed_mps: float = 0.15,
-                       min_walk_s: float = 1.0) -> np.ndarray:
+def walking_from_speed(
+    speed_mps, rate_hz: float, walking_speed_mps: float = 0.15, min_walk_s: float = 1.0
+) -> np.ndarray:
     """True where the speed averaged over ``min_walk_s`` exceeds ``walking_speed_mps`` for ``min_walk_s``."""
     n = max(1, int(round(min_walk_s * rate_hz)))
     mean = moving_mean(np.asarray(speed_mps, dtype=float), n)
@@ -176,7 +203,6 @@ def walking_from_speed(speed_mps, rate_hz: float, walking_speed_mps: float = 0.1
 
 def feet_of(recording: Recording, feet=None) -> dict[str, str]:
     """The foot points to use: ``feet`` checked, or found by name among the points seen in at least half the frames."""
-    from . import points
 
     if feet is None:
         seen = recording.visible().mean(axis=0)
@@ -236,7 +262,7 @@ def _widen(segments, starts, ends, t_first: float, t_last: float) -> np.ndarray:
     after the last one; half a mean step, kept inside the recording and
     clear of the neighbouring stretch, is that part.
     """
-    out = []
+    out: list[tuple[float, float]] = []
     for i, (a, b) in enumerate(segments):
         inside = (starts >= a) & (ends <= b)
         half = 0.5 * float(np.mean(ends[inside] - starts[inside]))

@@ -1,0 +1,183 @@
+"""What the estimators return: :class:`EstimateResult`, one row per sample.
+
+The native estimators (:class:`~yoyogait.estimators.GaitEstimator`) and the
+baselines (:mod:`~yoyogait.estimators.oscillator`,
+:mod:`~yoyogait.estimators.sliding_dft`) all give this type, so the evaluation
+scores them alike.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["EstimateResult", "PREDICTION_HORIZONS_S", "result_from_fit"]
+
+PREDICTION_HORIZONS_S = (0.04, 0.2)
+"""Horizons the evaluation predicts at [s]: one sample at 25 Hz, and 0.2 s."""
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass
+class EstimateResult:
+    """Estimates over a signal, one row per sample (the estimate after that sample).
+
+    Arrays in physical units: ``vx_hat``, ``vz_hat`` (the model's reconstruction,
+    m/s), ``R_m``, ``r_m`` (m), ``step_frequency_hz`` (paper: signed, as the
+    filter has it; default: > 0), ``omega_rad_s``, ``speed_mps`` (the forward
+    speed without the oscillation), ``A0_mps``, ``A1_mps``, their standard
+    deviations, the state (N, 4) in the paper's form of eq. 5 (default:
+    [X1, X2, w T, A0]) and the paper's ``R_hat_mps``, ``r_hat_mps``.  ``status``
+    holds a :class:`Status` code per sample.  When predictions were asked for,
+    ``vx_pred``/``vz_pred`` (N, H) hold the velocities predicted at each sample
+    for ``predict_ahead_s[j]`` later.
+
+    From the native estimators also (None for results built elsewhere):
+    ``vx_hat_h2``, ``vz_hat_h2`` (with the second harmonics), ``std_scale``,
+    ``walking``, ``acquiring`` and, for the default, ``gait_state`` (N, 8) =
+    [X1, X2, Z1, Z2, w, A0, dA0, dw].  For the paper these carry nothing new
+    and are not written per sample: ``vx_hat_h2`` is ``vx_hat``, the flags and
+    ``std_scale`` are constant read-only views (True, False, 1) and
+    ``gait_state`` is None (``GaitEstimator.step`` gives it in the gait form).
+    ``covariance`` (N, k, k): the filter's covariance after each sample (k = 4 for the
+    paper, 8 for the default), when ``run(..., covariance=True)`` asked for it, else None.
+    Derived when read, for every result with a state: ``amp_z_mps``,
+    ``phase_x_rel_z_rad``, ``signed_amp_x_mps``, ``omega_rate_rad_s2``,
+    ``accel_mps2`` (see the C++ ``yoyogait::Estimate``).
+    """
+
+    state: np.ndarray
+    vx_hat: np.ndarray
+    vz_hat: np.ndarray
+    R_hat_mps: np.ndarray
+    r_hat_mps: np.ndarray
+    R_m: np.ndarray
+    r_m: np.ndarray
+    omega_rad_s: np.ndarray
+    step_frequency_hz: np.ndarray
+    step_frequency_std_hz: np.ndarray
+    speed_mps: np.ndarray
+    speed_std_mps: np.ndarray
+    A0_mps: np.ndarray
+    A1_mps: np.ndarray
+    status: np.ndarray
+    parameters_updated: np.ndarray
+    sample_time_s: float
+    predict_ahead_s: tuple = ()
+    vx_pred: np.ndarray | None = None
+    vz_pred: np.ndarray | None = None
+    time_s: np.ndarray | None = field(default=None)
+    gait_state: np.ndarray | None = None
+    vx_hat_h2: np.ndarray | None = None
+    vz_hat_h2: np.ndarray | None = None
+    std_scale: np.ndarray | None = None
+    walking: np.ndarray | None = None
+    acquiring: np.ndarray | None = None
+    covariance: np.ndarray | None = None
+
+    def __len__(self) -> int:
+        return int(self.vx_hat.shape[0])
+
+    # Derived from the state when read, as yoyogait::Estimate does: from gait_state, or, for
+    # results without it (the paper's run, the baselines), from the paper-form state (eq. 5:
+    # Z is X turned by +90 degrees, no rates).
+
+    def _g(self) -> np.ndarray:
+        if self.gait_state is not None:
+            return self.gait_state
+        s = self.state
+        zero = np.zeros(s.shape[0])
+        return np.column_stack([s[:, 0], s[:, 1], -s[:, 1], s[:, 0], s[:, 2] / self.sample_time_s, s[:, 3], zero, zero])
+
+    @property
+    def amp_z_mps(self) -> np.ndarray:
+        """Amplitude of the vertical oscillation |Z| [m/s] (paper: A1)."""
+        g = self._g()
+        return np.hypot(g[:, 2], g[:, 3])
+
+    @property
+    def phase_x_rel_z_rad(self) -> np.ndarray:
+        """Phase of the forward oscillation relative to the vertical one, [-pi, pi], in the direction
+        of the gait phase: the Yoyo model has -pi/2, real walking about +pi/2; 0 where |X| or |Z| is
+        at most 1e-9 m/s (no oscillation, no relation)."""
+        g = self._g()
+        a = np.arctan2(g[:, 1] * g[:, 2] - g[:, 0] * g[:, 3], g[:, 0] * g[:, 2] + g[:, 1] * g[:, 3])
+        defined = (g[:, 0] ** 2 + g[:, 1] ** 2 > 1e-18) & (np.hypot(g[:, 2], g[:, 3]) > 1e-9)
+        return np.where(defined, np.where(g[:, 4] >= 0.0, a, -a), 0.0)
+
+    @property
+    def signed_amp_x_mps(self) -> np.ndarray:
+        """Forward amplitude signed by the relation (> 0 Yoyo, < 0 real walking) [m/s]."""
+        g = self._g()
+        az = np.hypot(g[:, 2], g[:, 3])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            p = np.where(az > 1e-9, (g[:, 0] * g[:, 3] - g[:, 1] * g[:, 2]) / az, 0.0)
+        return np.where(g[:, 4] >= 0.0, p, -p)
+
+    @property
+    def omega_rate_rad_s2(self) -> np.ndarray:
+        """Rate of the step angular frequency dw [rad/s^2] (paper: 0)."""
+        return self._g()[:, 7]
+
+    @property
+    def accel_mps2(self) -> np.ndarray:
+        """Rate of the forward-speed bias dA0 [m/s^2] (paper: 0)."""
+        return self._g()[:, 6]
+
+    def aligned_prediction(self, horizon_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """(vx, vz) predicted ``horizon_s`` before each sample, aligned to the sample they predict.
+
+        NaN where no prediction reaches (the first samples).
+        """
+        for j, h in enumerate(self.predict_ahead_s):  # noqa: B007 (j is used after the loop)
+            if math.isclose(h, horizon_s, rel_tol=1e-9, abs_tol=1e-12):
+                break
+        else:
+            raise InputError(f"no prediction {horizon_s} s ahead was computed; have {self.predict_ahead_s}")
+        shift = int(round(horizon_s / self.sample_time_s))
+        assert self.vx_pred is not None and self.vz_pred is not None  # set with predict_ahead_s
+        out_vx = np.full(len(self), np.nan)
+        out_vz = np.full(len(self), np.nan)
+        if shift < len(self):
+            out_vx[shift:] = self.vx_pred[: len(self) - shift, j]
+            out_vz[shift:] = self.vz_pred[: len(self) - shift, j]
+        return out_vx, out_vz
+
+
+def result_from_fit(omega_rad_s, a0, cos_part, sin_part, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, time_s):
+    """An EstimateResult from per-sample fit values (state in the paper's form, eq. 5), for the baselines."""
+    n = omega_rad_s.size
+    w = omega_rad_s * T
+    a1 = np.hypot(cos_part, sin_part)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        R_m = np.where(omega_rad_s > 0, a0 / omega_rad_s, np.nan)
+        r_m = np.where(omega_rad_s > 0, a1 / omega_rad_s, np.nan)
+    nan = np.full(n, np.nan)
+    return EstimateResult(
+        state=np.column_stack([cos_part, sin_part, w, a0]),
+        vx_hat=vx_hat,
+        vz_hat=vz_hat,
+        R_hat_mps=R_m / T,
+        r_hat_mps=r_m / T,
+        R_m=R_m,
+        r_m=r_m,
+        omega_rad_s=omega_rad_s,
+        step_frequency_hz=omega_rad_s / TWO_PI,
+        step_frequency_std_hz=nan,
+        speed_mps=a0,
+        speed_std_mps=nan,
+        A0_mps=a0,
+        A1_mps=a1,
+        status=np.zeros(n, dtype=np.uint8),
+        parameters_updated=np.ones(n, dtype=bool),
+        sample_time_s=T,
+        predict_ahead_s=tuple(horizons),
+        vx_pred=vx_pred,
+        vz_pred=vz_pred,
+        time_s=time_s,
+    )

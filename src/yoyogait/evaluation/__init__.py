@@ -1,0 +1,51 @@
+"""Evaluation of estimators over a data set, the way the paper did (Table I, Fig. 3-4) and more.
+
+* :mod:`.datasets`: the synthetic lab, a folder of recordings, a manifest;
+* :mod:`.running`: each recording through the pipeline and every estimator, scored;
+* :mod:`.metrics`: the scores of one recording;
+* :mod:`.tables`: Table I and the summary over recordings;
+* :mod:`.figures`: Fig. 3/4-style figures;
+* :mod:`.report`: everything written atomically into one folder.
+"""
+
+from __future__ import annotations
+
+from ..estimators.registry import check_estimators, estimators
+from ..estimators.results import PREDICTION_HORIZONS_S
+from .datasets import READABLE, Item, folder_items, manifest_items, resolve_dataset, synthetic_items
+from .report import write_report
+from .running import (
+    DEFAULT_ESTIMATORS,
+    RATE_HZ,
+    Evaluation,
+    ItemResult,
+    evaluate,
+    evaluate_item,
+    real_reference,
+)
+from .tables import SUMMARY_KEYS, summary_markdown, table_one, table_one_csv, table_one_markdown
+
+__all__ = [
+    "DEFAULT_ESTIMATORS",
+    "PREDICTION_HORIZONS_S",
+    "RATE_HZ",
+    "READABLE",
+    "SUMMARY_KEYS",
+    "Evaluation",
+    "Item",
+    "ItemResult",
+    "check_estimators",
+    "estimators",
+    "evaluate",
+    "evaluate_item",
+    "folder_items",
+    "manifest_items",
+    "real_reference",
+    "resolve_dataset",
+    "summary_markdown",
+    "synthetic_items",
+    "table_one",
+    "table_one_csv",
+    "table_one_markdown",
+    "write_report",
+]

@@ -1,0 +1,117 @@
+"""Tables of an evaluation: Table I of the paper per estimator, and the summary over recordings."""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import math
+
+import numpy as np
+
+from .running import Evaluation
+
+__all__ = ["table_one", "table_one_markdown", "table_one_csv", "summary_markdown", "SUMMARY_KEYS"]
+
+
+def _pool(stats) -> tuple[float, float]:
+    """Mean and standard deviation of the union of groups given as (n, mean, std)."""
+    stats = [(n, m, s) for n, m, s in stats if n and n > 0 and math.isfinite(m) and math.isfinite(s)]
+    if not stats:
+        return float("nan"), float("nan")
+    total = sum(n for n, _, _ in stats)
+    mean = sum(n * m for n, m, _ in stats) / total
+    second = sum(n * (s * s + m * m) for n, m, s in stats) / total
+    return mean, math.sqrt(max(second - mean * mean, 0.0))
+
+
+def table_one(evaluation: Evaluation, estimator: str):
+    """Table I: rows (walk type, component), columns subjects; cells (mean, std) in 1e-2 (m/s)^2.
+
+    A cell with several recordings pools their samples.
+    """
+    subjects = sorted({r.item.subject for r in evaluation.items})
+    walks = sorted({r.item.walk for r in evaluation.items})
+    rows = []
+    for walk in walks:
+        for comp in ("vx", "vz"):
+            cells = []
+            for subj in subjects:
+                group = [
+                    r.metrics[estimator] for r in evaluation.items if r.item.walk == walk and r.item.subject == subj
+                ]
+                cells.append(
+                    _pool(
+                        [(m["n_samples"], m[f"{comp}_sq_err_mean_1e-2"], m[f"{comp}_sq_err_std_1e-2"]) for m in group]
+                    )
+                    if group
+                    else None
+                )
+            rows.append((walk, comp, cells))
+    return subjects, rows
+
+
+def _cell(c) -> str:
+    if c is None:
+        return ""
+    mean, std = c
+    if not math.isfinite(mean):
+        return "n/a"
+    return f"{_num(mean)} (±{_num(std)})"
+
+
+def _num(v: float) -> str:
+    if v >= 100:
+        return f"{v:.0f}"
+    if v >= 10:
+        return f"{v:.1f}"
+    return f"{v:.2f}" if v >= 0.1 else f"{v:.3f}"
+
+
+def table_one_markdown(evaluation: Evaluation, estimator: str) -> str:
+    subjects, rows = table_one(evaluation, estimator)
+    head = "| walk type & component | " + " | ".join(subjects) + " |"
+    lines = [head, "|---|" + "---:|" * len(subjects)]
+    for walk, comp, cells in rows:
+        label = f"{walk}: v_x error" if comp == "vx" else "  v_z error"
+        lines.append(f"| {label} | " + " | ".join(_cell(c) for c in cells) + " |")
+    return "\n".join(lines)
+
+
+def table_one_csv(evaluation: Evaluation, estimator: str) -> str:
+    subjects, rows = table_one(evaluation, estimator)
+    buf = _io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["walk", "component"] + [f"{s} mean_1e-2" for s in subjects] + [f"{s} std_1e-2" for s in subjects])
+    for walk, comp, cells in rows:
+        w.writerow(
+            [walk, comp]
+            + [("" if c is None else f"{c[0]:.6g}") for c in cells]
+            + [("" if c is None else f"{c[1]:.6g}") for c in cells]
+        )
+    return buf.getvalue()
+
+
+SUMMARY_KEYS = (
+    ("vx_sq_err_mean_1e-2", "v_x sq. error (1e-2 (m/s)^2)"),
+    ("vz_sq_err_mean_1e-2", "v_z sq. error (1e-2 (m/s)^2)"),
+    ("f_err_median_hz", "step freq. error median (Hz)"),
+    ("f_wrong_sign_fraction", "negative-frequency fraction"),
+    ("speed_err_median_mps", "speed error median (m/s)"),
+    ("pred200ms_vx_sq_err_mean_1e-2", "0.2 s-ahead v_x error (1e-2 (m/s)^2)"),
+    ("pred200ms_vz_sq_err_mean_1e-2", "0.2 s-ahead v_z error (1e-2 (m/s)^2)"),
+)
+
+
+def summary_markdown(evaluation: Evaluation) -> str:
+    """Median over recordings of the main metrics, one column per estimator."""
+    lines = [
+        "| median over recordings | " + " | ".join(evaluation.estimators) + " |",
+        "|---|" + "---:|" * len(evaluation.estimators),
+    ]
+    for key, label in SUMMARY_KEYS:
+        vals = []
+        for est in evaluation.estimators:
+            v = np.array([r.metrics[est].get(key, np.nan) for r in evaluation.items], dtype=float)
+            vals.append(f"{np.nanmedian(v):.3g}" if np.isfinite(v).any() else "n/a")
+        lines.append(f"| {label} | " + " | ".join(vals) + " |")
+    return "\n".join(lines)
