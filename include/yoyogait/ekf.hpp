@@ -9,12 +9,13 @@
 /// about 200 flops, and arranged so that the loop-carried chain through sin w, cos w and 1 / det(S)
 /// stays short.
 ///
-/// The covariance guard (docs/paper_estimator.md, "Covariance guard"): positive_definite() tests
-/// the result of every step (about 30 flops, off the loop-carried chain); only where it fails,
-/// which walking data never reach, joseph_update() recomputes the update in the Joseph form and
-/// nearest_positive_definite() (covariance_guard.hpp) repairs what is still not positive definite.
-/// within_variance_bounds() and bound_variances() keep each variance within what the state's range
-/// allows.
+/// The covariance guard (docs/paper_estimator.md, "Covariance guard"): update() certifies its
+/// result positive definite by a rounding bound (a few flops); where it cannot (and after a
+/// prediction without update), positive_definite() tests it (about 30 flops); only where that
+/// fails, which walking data never reach, joseph_update() recomputes the update in the Joseph form
+/// and nearest_positive_definite() (covariance_guard.hpp) repairs what is still not positive
+/// definite. within_variance_bounds() and bound_variances() keep each variance within what the
+/// state's range allows.
 #pragma once
 
 #include <array>
@@ -119,14 +120,23 @@ inline void predict_scalar(const State& x, const SymMatrix4& P, const std::array
 /// adj S = det(S) S^-1, the gain is K = U adj(S) / det(S). The products with adj(S) do not wait
 /// for the division, which is then applied once per result:
 ///   x_post = x + (U adj(S) y) / det,   P_post = P - (U adj(S) U^T) / det.
+///
+/// certified: the covariance guard's certificate (docs/paper_estimator.md): true when rounding
+/// cannot have made P_post indefinite, i.e.
+///   kRoundingMargin trace(P) (1 + x1^2 + x2^2) s00 s11 <= guard_floor det(S),
+/// with guard_floor a lower bound on the smallest eigenvalue of P_post in exact arithmetic
+/// (PaperEstimator: q_min / (1 + q_min (2 / V11 + 1 / V22))), s00 s11 / det(S) >= 1 the condition
+/// that amplifies the rounding of the gain, (1 + x1^2 + x2^2) that of the prediction (F holds x1, x2).
 inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
-                          double v_vz_mps2, State& x_post, SymMatrix4& P_post) noexcept {
+                          double v_vz_mps2, double guard_floor, State& x_post, SymMatrix4& P_post,
+                          bool& certified) noexcept {
   const double u0 = P(0, 0) + P(0, 3), u1 = P(1, 0) + P(1, 3), u2 = P(2, 0) + P(2, 3), u3 = P(3, 0) + P(3, 3);
   const double v0 = P(0, 1), v1 = P(1, 1), v2 = P(2, 1), v3 = P(3, 1);
   // S = [[u0 + u3 + V11, -u1], [-u1, v1 + V22]]; adj S = [[s11, u1], [u1, s00]].
   const double s00 = P(0, 0) + ((P(0, 3) + u3) + v_vx_mps2);
   const double s11 = v1 + v_vz_mps2;
-  const double inv_det = 1.0 / (s00 * s11 - u1 * u1);
+  const double det = s00 * s11 - u1 * u1;
+  const double inv_det = 1.0 / det;
   // A = U adj(S): column a (with y0) and column b (with y1).
   const double a0 = u0 * s11 - v0 * u1, a1 = u1 * s11 - v1 * u1, a2 = u2 * s11 - v2 * u1, a3 = u3 * s11 - v3 * u1;
   const double b0 = u0 * u1 - v0 * s00, b1 = u1 * u1 - v1 * s00, b2 = u2 * u1 - v2 * s00, b3 = u3 * u1 - v3 * s00;
@@ -153,7 +163,18 @@ inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement
   // (Summed in the order of update_sse2.)
   const double check = ((x_post[0] + x_post[2]) + (P_post(0, 0) + P_post(2, 2))) +
                        ((x_post[1] + x_post[3]) + (P_post(1, 1) + P_post(3, 3)));
+  // The certificate (in the order of update_sse2).
+  const double trace = (P(0, 0) + P(2, 2)) + (P(1, 1) + P(3, 3));
+  const double amp2 = x[0] * x[0] + x[1] * x[1];
+  certified = ((kRoundingMargin * trace) * (1.0 + amp2)) * (s00 * s11) <= guard_floor * det;
   return std::isfinite(check);
+}
+
+/// update_scalar without the certificate.
+inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
+                          double v_vz_mps2, State& x_post, SymMatrix4& P_post) noexcept {
+  bool certified;
+  return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, 0.0, x_post, P_post, certified);
 }
 
 /// True when the symmetric P is positive definite (and finite), by the block test: with
@@ -243,7 +264,8 @@ inline void predict_sse2(const State& x, const SymMatrix4& P, const std::array<d
 }
 
 inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
-                        double v_vz_mps2, State& x_post, SymMatrix4& P_post) noexcept {
+                        double v_vz_mps2, double guard_floor, State& x_post, SymMatrix4& P_post,
+                        bool& certified) noexcept {
   using M = SymMatrix4;
   const __m128d X01 = load(&x.x[kCos]), X23 = load(&x.x[kOmega]);
   const __m128d diag01 = load(P.data() + M::kDiag01), off = load(P.data() + M::kOff);
@@ -257,7 +279,8 @@ inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& 
   const double u1 = hi(u01), u3 = hi(u23);
   const double s00 = lo(diag01) + ((lo(col3) + u3) + v_vx_mps2);
   const double s11 = hi(diag01) + v_vz_mps2;
-  const double inv_det = 1.0 / (s00 * s11 - u1 * u1);
+  const double det = s00 * s11 - u1 * u1;
+  const double inv_det = 1.0 / det;
   const __m128d S00 = _mm_set1_pd(s00), S11 = _mm_set1_pd(s11), U1 = _mm_set1_pd(u1);
   // A = U adj(S): a = u s11 - v u1, b = u u1 - v s00.
   const __m128d a01 = _mm_sub_pd(_mm_mul_pd(u01, S11), _mm_mul_pd(v01, U1));
@@ -285,7 +308,17 @@ inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& 
                                        _mm_unpacklo_pd(b01, b23), _mm_unpackhi_pd(v01, v23)));
   // |P_ij| <= sqrt(P_ii P_jj), so a finite state and diagonal mean everything is finite.
   const __m128d sum = _mm_add_pd(_mm_add_pd(X01n, X23n), _mm_add_pd(diag01n, diag23n));
+  // The guard's certificate (update_scalar).
+  const __m128d diag_sum = _mm_add_pd(diag01, diag23), X2 = _mm_mul_pd(X01, X01);
+  const double trace = lo(diag_sum) + hi(diag_sum), amp2 = lo(X2) + hi(X2);
+  certified = ((kRoundingMargin * trace) * (1.0 + amp2)) * (s00 * s11) <= guard_floor * det;
   return std::isfinite(lo(sum) + hi(sum));
+}
+
+inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
+                        double v_vz_mps2, State& x_post, SymMatrix4& P_post) noexcept {
+  bool certified;
+  return update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, 0.0, x_post, P_post, certified);
 }
 
 // positive_definite_scalar on the storage pairs, the same operations in the same order.
@@ -339,6 +372,17 @@ inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, do
   return detail::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, x_post, P_post);
 #else
   return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, x_post, P_post);
+#endif
+}
+
+/// The EKF update with the covariance guard's certificate (update_scalar); with SSE2 the same
+/// arithmetic on pairs, identical results.
+inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2, double v_vz_mps2,
+                   double guard_floor, State& x_post, SymMatrix4& P_post, bool& certified) noexcept {
+#ifdef YOYOGAIT_HAVE_SSE2
+  return detail::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, guard_floor, x_post, P_post, certified);
+#else
+  return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, guard_floor, x_post, P_post, certified);
 #endif
 }
 

@@ -21,12 +21,17 @@
 #define YOYOGAIT_ALWAYS_INLINE inline
 #endif
 
-// Keeps a rarely taken path (the covariance guard's repairs) out of the per-sample loop's code.
+// Keeps a rarely taken path (the covariance guard's tests and repairs) out of the per-sample
+// loop's code, so that the loop stays small enough to be inlined; COLD also moves it out of the
+// hot code's cache lines.
 #if defined(__GNUC__)
+#define YOYOGAIT_NOINLINE __attribute__((noinline))
 #define YOYOGAIT_COLD __attribute__((noinline, cold))
 #elif defined(_MSC_VER)
+#define YOYOGAIT_NOINLINE __declspec(noinline)
 #define YOYOGAIT_COLD __declspec(noinline)
 #else
+#define YOYOGAIT_NOINLINE
 #define YOYOGAIT_COLD
 #endif
 

@@ -227,8 +227,10 @@ SymMatrix4 random_covariance(std::mt19937& gen, double scale) {
 }  // namespace
 
 TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
-  // predict() and update() (SSE2 pairs where available) give exactly predict_scalar(), update_scalar().
+  // predict() and update() (SSE2 pairs where available) give exactly predict_scalar(), update_scalar(),
+  // the covariance guard's certificate included.
   std::mt19937 gen(13);
+  int certified = 0;
   std::uniform_real_distribution<double> u(-1.0, 1.0), w(-1.2, 1.2);
   const std::array<double, 4> q{1e-5, 2e-5, 1e-3, 3e-3};
   for (int n = 0; n < 2000; ++n) {
@@ -244,13 +246,20 @@ TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
     const Measurement z{3.0 * u(gen), u(gen)};
     State ya, yb;
     SymMatrix4 Qa, Qb;
-    const bool oka = update(xa, Pa, z, 1e-2, 2e-2, ya, Qa);
-    const bool okb = update_scalar(xb, Pb, z, 1e-2, 2e-2, yb, Qb);
+    // The guard's certificate too, with floors on both sides of where it flips.
+    const double floor = std::pow(10.0, -12.0 + 10.0 * (0.5 + 0.5 * u(gen)));
+    bool ca = false, cb = true;
+    const bool oka = update(xa, Pa, z, 1e-2, 2e-2, floor, ya, Qa, ca);
+    const bool okb = update_scalar(xb, Pb, z, 1e-2, 2e-2, floor, yb, Qb, cb);
     ASSERT_TRUE(oka);
     ASSERT_EQ(oka, okb);
+    ASSERT_EQ(ca, cb);
+    certified += ca;
     ASSERT_EQ(ya.x, yb.x);
     for (std::size_t k = 0; k < 10; ++k) ASSERT_EQ(Qa.data()[k], Qb.data()[k]) << k;
   }
+  EXPECT_GT(certified, 200);
+  EXPECT_LT(certified, 1800);
   // Both refuse the same overflowing measurement.
   State y;
   SymMatrix4 Q;
@@ -360,12 +369,14 @@ TEST(JosephUpdate, StaysPositiveDefiniteWhereTheStandardFormDoesNot) {
   // The plain filter on sequences like (0, 0), (a, 500..1000), (0, NaN) x 1-3, then small samples
   // (a corrupt sample within range, then missing ones: a huge, nearly singular prediction) loses
   // positive definiteness in the standard update in many of them; the Joseph form of the same
-  // update, from the same prediction, never does.
+  // update, from the same prediction, never does; and the guard's certificate never vouches for a
+  // standard update that lost it.
   std::mt19937 gen(37);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const std::array<double, 4> q{1e-5, 1e-5, 1e-3, 1e-3};
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  int standard_lost = 0, joseph_lost = 0;
+  int standard_lost = 0, joseph_lost = 0, certified_updates = 0;
+  const double guard_floor = 1e-5 / (1.0 + 1e-5 * (2.0 / 1e-2 + 1.0 / 1e-2));  // as PaperEstimator's
   for (int n = 0; n < 2000; ++n) {
     State x{{0.02, 0.0, 0.1, 0.2}};
     SymMatrix4 P(diagonal({1, 1, 1, 1}));
@@ -381,8 +392,14 @@ TEST(JosephUpdate, StaysPositiveDefiniteWhereTheStandardFormDoesNot) {
         P = Pp;
         continue;
       }
-      ASSERT_TRUE(update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, xa, Pa));
+      bool certified = false;
+      ASSERT_TRUE(update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, guard_floor, xa, Pa, certified));
       ASSERT_TRUE(joseph_update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, xb, Pb));
+      // The guard's certificate never vouches for an indefinite result.
+      if (certified) {
+        ASSERT_GT(min_eigenvalue(Pa.dense()), 0.0);
+        ++certified_updates;
+      }
       if (min_eigenvalue(Pa.dense()) < 0.0) {
         ++standard_lost;
         joseph_lost += !(min_eigenvalue(Pb.dense()) > 0.0 && positive_definite(Pb));
@@ -394,6 +411,7 @@ TEST(JosephUpdate, StaysPositiveDefiniteWhereTheStandardFormDoesNot) {
   }
   EXPECT_GT(standard_lost, 100);
   EXPECT_EQ(joseph_lost, 0);
+  EXPECT_GT(certified_updates, 1000);
 }
 
 TEST(CovarianceGuard, NearestPositiveDefiniteFloorsTheEigenvalues) {

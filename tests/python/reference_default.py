@@ -219,6 +219,7 @@ class _Ekf:
                 P[i, IDA] *= da
             P[IA0, IA0] += qb
             P[IDA, IDA] += qa
+            self.bound_variances(cfg)
             return
         phi = x[IW] * dt
         c, s = math.cos(phi), math.sin(phi)
@@ -275,6 +276,55 @@ class _Ekf:
             P[IDW, IDW] += (qlo + (cfg.q_omega_rate_rad2_per_s5 - qlo) * rr) * dt
         P[IA0, IA0] += qb
         P[IDA, IDA] += qa
+        self.bound_variances(cfg)
+
+    # --- the covariance guard (docs/default_estimator.md, sec. 2.7), written independently
+
+    def bound_variances(self, cfg):
+        """Popoviciu: phasors within +-v_max, A0 within [0, v_max], w within [w_min, w_max]; a row and
+        column beyond its bound are scaled to it (correlations kept); not finite: the initial P."""
+        P = self.P
+        if not np.all(np.isfinite(P)):
+            self.reset_covariance(cfg)
+            return
+        v2 = cfg.max_abs_velocity_mps**2
+        half_w = 0.5 * TWO_PI * (cfg.f_max_hz - cfg.f_min_hz)
+        bound = np.array([v2, v2, v2, v2, half_w**2, 0.25 * v2, np.inf, np.inf])
+        d = np.where(np.diag(P) > bound, np.sqrt(bound / np.diag(P)), 1.0)
+        if np.any(d != 1.0):
+            P[:, :] = P * np.outer(d, d)
+
+    def guard(self, cfg):
+        """After the updates: P positive semi-definite with exact zeros only (Cholesky of the rows that
+        are not all zero), else the nearest matrix with eigenvalues >= 1e-12 of the largest."""
+        P = self.P
+        live = np.any(P != 0.0, axis=1)
+        try:
+            np.linalg.cholesky(P[np.ix_(live, live)])
+            if np.all(np.isfinite(P)):
+                return
+        except np.linalg.LinAlgError:
+            pass
+        if not np.all(np.isfinite(P)):
+            self.reset_covariance(cfg)
+            return
+        lam, vec = np.linalg.eigh(P)
+        if not lam[-1] > 0:
+            self.reset_covariance(cfg)
+            return
+        lam = np.maximum(lam, 1e-12 * lam[-1])
+        out = (vec * lam) @ vec.T
+        P[:, :] = 0.5 * (out + out.T)
+
+    def reset_covariance(self, cfg):
+        P = self.P
+        P[:, :] = 0.0
+        sp = cfg.p0_phasor_std_mps**2
+        P[IX1, IX1] = P[IX2, IX2] = P[IZ1, IZ1] = P[IZ2, IZ2] = sp
+        P[IW, IW] = (TWO_PI * cfg.p0_f_std_hz) ** 2
+        P[IA0, IA0] = cfg.p0_bias_std_mps**2
+        P[IDA, IDA] = cfg.p0_accel_std_mps2**2
+        P[IDW, IDW] = cfg.p0_omega_rate_std_rad_s2**2 if cfg.use_omega_rate else 0.0
 
     def innovation(self, ch, y, r):
         """(nu, S) of a scalar measurement: CH_VX: vx = A0 + X1, CH_VZ: vz = Z1, CH_VX_STANDING: vx = A0."""
@@ -653,6 +703,7 @@ class DefaultEstimator:
                     e, _ = f.innovation(ch, y - yh, r)
                     fh[ch].update(u, v, e, r)
             f.clamp(c)
+            f.guard(c)
         if rejected:
             self.n_rejects += 1
             if status == STATUS_OK:

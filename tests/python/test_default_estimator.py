@@ -625,3 +625,40 @@ def test_estimate_fields_are_consistent():
     assert e.omega_rate_rad_s2 == res.omega_rate_rad_s2[-1] and e.accel_mps2 == res.accel_mps2[-1]
     vx_p, vz_p = est.predict(0.2)
     assert math.isfinite(vx_p) and math.isfinite(vz_p)
+
+
+# Found by fuzzing (bench/fuzz.py's harness): run-lengths (v_x, v_z, count) and the time steps that
+# are not 0.04 s. Before the guard the phasors' variances reached 1e16 and P_X1X1 went to -4.
+CORRUPT_RUNS = [
+    (-1e-310, -1e-310, 17),
+    (1.9831744511656755, 3.0, 44),
+    (1e-310, 1e-310, 33),
+    (-947.1952964154078, 2.0, 21),
+    (2.1616015615298843e107, 594.5506442545369, 42),
+    (943.7003116058006, 1e-310, 45),
+    (-6.209846825431072, -1.408230009794551, 7),
+]
+CORRUPT_DT = {
+    5: 0.03410081292515092, 7: 0.05986176768351978, 22: 0.057493166187579485, 29: 0.027381468507811802, 30: 2.0,
+    31: 2.0, 33: 0.020620462936428465, 41: 0.0, 49: 0.03642970305666759, 59: 0.027444499055358375,
+    61: 0.030930275928626683, 64: 0.04067162508793425, 70: 0.02095178077529118, 71: 0.022855399192357115,
+    72: 0.02290333756281176, 77: 0.022470304698953312, 96: 0.03147662339354626, 111: 0.04291558955500996,
+    112: 0.03797500351702445, 121: 0.024258486501735614, 128: 0.04982168487192745, 134: 0.04717603503965448,
+    149: 0.049216331335781294, 151: 0.0, 163: 0.02003119739286992, 196: 0.035422682267324056,
+}  # fmt: skip
+
+
+def test_covariance_stays_positive_semidefinite_on_a_corrupt_sequence():
+    """The fuzzed sequence above (values near 1000 m/s, 2e107, 1e-310, gaps): after every step P is
+    positive semi-definite (eigenvalues above -1e-9 of the largest), the phasors' variances within
+    (max_abs_velocity_mps)^2, and both standard deviations finite."""
+    vx = np.concatenate([np.full(n, a) for a, _, n in CORRUPT_RUNS])
+    vz = np.concatenate([np.full(n, b) for _, b, n in CORRUPT_RUNS])
+    est = GaitEstimator()
+    for k in range(vx.size):
+        e = est.step(vx[k], vz[k], CORRUPT_DT.get(k, 0.04))
+        P = est.covariance
+        ev = np.linalg.eigvalsh(P)
+        assert ev[0] >= -1e-9 * ev[-1], (k, ev)
+        assert np.all(np.diag(P) >= 0) and np.all(np.diag(P)[:4] <= 1e6), k
+        assert math.isfinite(e.step_frequency_std_hz) and math.isfinite(e.speed_std_mps)

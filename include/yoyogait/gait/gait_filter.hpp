@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/gait/bound_watchdog.hpp"
@@ -230,6 +231,17 @@ class GaitFilter {
     m.p0_harmonic = c.p0_harmonic_std_mps * c.p0_harmonic_std_mps;
     m.w_min = kTwoPi * c.f_min_hz;
     m.w_max = kTwoPi * c.f_max_hz;
+    // Popoviciu's inequality (a quantity within an interval of width L has a variance of at most
+    // L^2 / 4): the phasors within +-max_abs_velocity_mps (v_z = Z1, and the oscillation of v_x),
+    // A0 within [0, max_abs_velocity_mps], w within [w_min, w_max]. The rates are bounded by their
+    // decay (stationary variance q tau / 2); no bound.
+    const double v2 = c.max_abs_velocity_mps * c.max_abs_velocity_mps, half_w = 0.5 * (m.w_max - m.w_min);
+    const double inf = std::numeric_limits<double>::infinity();
+    m.max_variance = {v2, v2, v2, v2, half_w * half_w, 0.25 * v2, inf, inf};
+    // dw without its rate state is held at exactly zero (a zero row): no noise needed there.
+    m.q_floor = detail::py_min(detail::py_min(m.q_phasor, m.q_omega), detail::py_min(m.q_speed, m.q_accel));
+    if (m.use_omega_rate) m.q_floor = detail::py_min(m.q_floor, detail::py_min(m.q_rate_lo, m.q_rate_hi));
+    m.info = 2.0 / m.r_vx + 1.0 / m.r_vz;
     return m;
   }
 

@@ -4,9 +4,11 @@
 /// harmonic cancellation and the innovation gate (sec. 2.1, 2.5), projection onto the bounds.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 
+#include "yoyogait/covariance_guard.hpp"
 #include "yoyogait/gait/decay_factors.hpp"
 #include "yoyogait/gait/ekf.hpp"
 #include "yoyogait/gait/harmonic.hpp"
@@ -23,7 +25,11 @@ struct Ekf {
   GaitState x{};
   double loglik = 0.0;  ///< innovation log-likelihood with exponential memory (bank only)
   double dw_lp = 0.0;   ///< dw low-passed over omega_rate_lp_tau_s: the trend test of q_rate
+  /// Set by the prediction: the rounding of this step's updates cannot make P indefinite, so the
+  /// covariance guard need not test it (sec. 2.7).
+  bool psd_certified = false;
 };
+
 
 /// What a member's step needs of the configuration, derived once: noise densities, the initial
 /// covariance, the bounds. Shared by every member; holds no state.
@@ -41,18 +47,19 @@ struct MemberModel {
   double p0_phasor = 0.0, p0_omega = 0.0, p0_speed = 0.0, p0_accel = 0.0, p0_rate = 0.0, p0_harmonic = 0.0;
   // The frequency bounds [rad/s].
   double w_min = 0.0, w_max = 0.0;
+  /// The covariance guard's variance bounds (docs/default_estimator.md, sec. 2.7); infinite for
+  /// the rates, which their decay bounds (and which within_variance_bounds does not test).
+  std::array<double, kDim> max_variance{};
+  /// The smallest process-noise density on the diagonal of Q, and ||H^T R^-1 H|| of the two
+  /// updates (2 / r_vx + 1 / r_vz): the certificate's lower bound on the eigenvalues (sec. 2.7).
+  double q_floor = 0.0, info = 0.0;
 
   /// A fresh member at frequency f_hz and speed A0, with its initial covariance.
   void reset(Ekf& e, double f_hz, double A0) const noexcept {
     e.x = GaitState{};
     e.x[kW] = kTwoPi * f_hz;
     e.x[kA0] = A0;
-    e.P = GaitMatrix{};
-    e.P[kX1][kX1] = e.P[kX2][kX2] = e.P[kZ1][kZ1] = e.P[kZ2][kZ2] = p0_phasor;
-    e.P[kW][kW] = p0_omega;
-    e.P[kA0][kA0] = p0_speed;
-    e.P[kDA0][kDA0] = p0_accel;
-    e.P[kDW][kDW] = p0_rate;
+    reset_covariance(e);
     e.loglik = 0.0;
     e.dw_lp = 0.0;
   }
@@ -82,6 +89,8 @@ struct MemberModel {
     const double qb = q_speed * dt, qa = q_accel * dt;
     if (!oscillate) {
       predict_standing(e.x, e.P, dt, fc.accel_decay, qb, qa);
+      if (!within_variance_bounds(e.P)) bound_variances_of(e);
+      e.psd_certified = false;  // no noise on the frozen oscillator: no lower bound; the guard tests
       return;
     }
     GaitProcessNoise q;
@@ -105,6 +114,23 @@ struct MemberModel {
     const double qh = q_harmonic * dt;
     h[kVx].predict(qh);
     h[kVz].predict(qh);
+    if (!within_variance_bounds(e.P)) bound_variances_of(e);
+    certify(e, dt);
+  }
+
+  /// The covariance guard's certificate (sec. 2.7): P- >= Q, so lambda_min(P+) >=
+  /// 1 / (1 / (dt q_floor) + info) in exact arithmetic; the rounding of the prediction and the two
+  /// downdates moves an eigenvalue by a few units of round-off times trace(P-) (1 + dt^2 |phasors|^2).
+  /// With a margin of 1024 units (kRoundingMargin), P+ stays positive definite. Multiplied out, no
+  /// division; on walking data the two sides are some 1e8 apart.
+  void certify(Ekf& e, double dt) const noexcept {
+    const GaitMatrix& P = e.P;
+    const GaitState& x = e.x;
+    const double trace = ((P[kX1][kX1] + P[kX2][kX2]) + (P[kZ1][kZ1] + P[kZ2][kZ2])) +
+                         ((P[kW][kW] + P[kA0][kA0]) + (P[kDA0][kDA0] + P[kDW][kDW]));
+    const double amp2 = (x[kX1] * x[kX1] + x[kX2] * x[kX2]) + (x[kZ1] * x[kZ1] + x[kZ2] * x[kZ2]);
+    const double floor = dt * q_floor;
+    e.psd_certified = kRoundingMargin * trace * (1.0 + dt * dt * amp2) * (1.0 + floor * info) <= floor;
   }
 
   /// The measurement updates of one EKF (sec. 2.1, 2.5): for each usable channel, cancel the
@@ -143,6 +169,7 @@ struct MemberModel {
         }
       }
       clamp(e);
+      if (!e.psd_certified && !positive_semidefinite_upper(e.P)) restore_covariance(e);
       return rejected;
     }
     const bool harm = !kBank && use_harmonic;
@@ -207,6 +234,9 @@ struct MemberModel {
     }
     downdate(e.P, k1, ph1, k2, ph2);
     clamp(e);
+    // The covariance guard (docs/default_estimator.md, sec. 2.7): the full test only where the
+    // prediction could not certify the step; a repair never needed on walking data.
+    if (!e.psd_certified && !positive_semidefinite_upper(e.P)) restore_covariance(e);
     // Both harmonic gains from one division (1/S_x = S_z / (S_x S_z)).
     if (hx.on || hz.on) {
       const double inv = 1.0 / (hx.S * hz.S);
@@ -214,6 +244,55 @@ struct MemberModel {
       if (hz.on) h[kVz].apply(hz.ph0, hz.ph1, hz.e, hx.S * inv);
     }
     return rejected;
+  }
+
+  // The covariance guard (docs/default_estimator.md, sec. 2.7).
+
+  /// True when no variance of P exceeds its bound (and none of X, Z, w, A0 is NaN; the rates have
+  /// no bound).
+  bool within_variance_bounds(const GaitMatrix& P) const noexcept {
+    return ((P[kX1][kX1] <= max_variance[kX1]) & (P[kX2][kX2] <= max_variance[kX2])) &
+           ((P[kZ1][kZ1] <= max_variance[kZ1]) & (P[kZ2][kZ2] <= max_variance[kZ2])) &
+           ((P[kW][kW] <= max_variance[kW]) & (P[kA0][kA0] <= max_variance[kA0]));
+  }
+
+  /// A prediction beyond a variance bound: that row and column scaled (bound_variances), the
+  /// correlations kept; a covariance that is not finite restarts from the initial one.
+  YOYOGAIT_COLD void bound_variances_of(Ekf& e) const noexcept {
+    GaitMatrix P = full(e.P);
+    for (const auto& row : P)
+      for (double v : row)
+        if (!std::isfinite(v)) return reset_covariance(e);
+    bound_variances(P, max_variance);
+    e.P = P;
+  }
+
+  /// A covariance that the rounding of the updates left indefinite: the nearest positive definite
+  /// matrix (eigenvalues at least 1e-12 of the largest), or the initial covariance if none is left.
+  YOYOGAIT_COLD void restore_covariance(Ekf& e) const noexcept {
+    GaitMatrix P = full(e.P);
+    if (nearest_positive_definite(P))
+      e.P = P;
+    else
+      reset_covariance(e);
+  }
+
+  /// Both halves of the symmetric P of which the upper triangle is kept.
+  static GaitMatrix full(const GaitMatrix& P) noexcept {
+    GaitMatrix F = P;
+    for (std::size_t i = 0; i < kDim; ++i)
+      for (std::size_t j = 0; j < i; ++j) F[i][j] = P[j][i];
+    return F;
+  }
+
+  void reset_covariance(Ekf& e) const noexcept {
+    e.psd_certified = false;
+    e.P = GaitMatrix{};
+    e.P[kX1][kX1] = e.P[kX2][kX2] = e.P[kZ1][kZ1] = e.P[kZ2][kZ2] = p0_phasor;
+    e.P[kW][kW] = p0_omega;
+    e.P[kA0][kA0] = p0_speed;
+    e.P[kDA0][kDA0] = p0_accel;
+    e.P[kDW][kDW] = p0_rate;
   }
 };
 
