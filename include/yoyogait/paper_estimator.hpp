@@ -23,22 +23,26 @@ class PaperEstimator {
  public:
   PaperEstimator() noexcept : PaperEstimator(EstimatorConfig::paper()) {}
 
-  /// config must pass EstimatorConfig::validate() (the Estimator checks it).
+  /// config must pass EstimatorConfig::validate() (the Estimator checks it); the paper's estimator
+  /// reads its section, config.paper_estimator, and the shared fields.
   explicit PaperEstimator(const EstimatorConfig& config) noexcept
-      : T_(config.sample_time_s),
-        max_abs_velocity_mps_(config.max_abs_velocity_mps),
-        v_vx_mps2_(config.v_vx_mps2),
-        v_vz_mps2_(config.v_vz_mps2),
-        initial_R_hat_mps_(config.initial_R_hat_mps),
-        initial_r_hat_mps_(config.initial_r_hat_mps),
-        initial_omega_(config.initial_omega_rad_per_sample),
-        p0_{config.p0_oscillation_mps2, config.p0_oscillation_mps2, config.p0_omega_rad2, config.p0_bias_mps2},
-        window_(config.smoothing_window_samples),
-        gate_omega_(config.gate_omega_rad_per_sample),
-        gate_bias_(config.gate_bias_mps) {
+      : PaperEstimator(config.paper_estimator, config.sample_time_s, config.max_abs_velocity_mps) {}
+
+  PaperEstimator(const PaperConfig& p, double sample_time_s, double max_abs_velocity_mps) noexcept
+      : T_(sample_time_s),
+        max_abs_velocity_mps_(max_abs_velocity_mps),
+        v_vx_mps2_(p.v_vx_mps2),
+        v_vz_mps2_(p.v_vz_mps2),
+        initial_R_hat_mps_(p.initial_R_hat_mps),
+        initial_r_hat_mps_(p.initial_r_hat_mps),
+        initial_omega_(p.initial_omega_rad_per_sample),
+        p0_{p.p0_oscillation_mps2, p.p0_oscillation_mps2, p.p0_omega_rad2, p.p0_bias_mps2},
+        window_(p.smoothing_window_samples),
+        gate_omega_(p.gate_omega_rad_per_sample),
+        gate_bias_(p.gate_bias_mps) {
     inv_T_ = 1.0 / T_;
     inv_two_pi_T_ = 1.0 / (kTwoPi * T_);
-    q_ = {config.q_oscillation_mps2, config.q_oscillation_mps2, config.q_omega_rad2, config.q_bias_mps2};
+    q_ = {p.q_oscillation_mps2, p.q_oscillation_mps2, p.q_omega_rad2, p.q_bias_mps2};
     reset();
   }
 

@@ -233,7 +233,7 @@ TEST(GaitEstimator, StepDoesNotAllocate) {
 }
 
 TEST(Estimator, RejectsAnInvalidConfiguration) {
-  // A non-positive sample time, negative noise or too long a window is an error at construction.
+  // A non-positive or denormal sample time, a huge P0, zero or negative noise or too long a window is an error at construction.
   EstimatorConfig c = EstimatorConfig::paper();
   c.sample_time_s = 0.0;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
@@ -241,13 +241,19 @@ TEST(Estimator, RejectsAnInvalidConfiguration) {
   c.sample_time_s = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   c = EstimatorConfig::paper();
-  c.v_vz_mps2 = 0.0;
+  c.sample_time_s = 5e-324;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   c = EstimatorConfig::paper();
-  c.q_bias_mps2 = -1.0;
+  c.paper_estimator.p0_bias_mps2 = 1e300;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   c = EstimatorConfig::paper();
-  c.smoothing_window_samples = kMaxSmoothingWindow + 1;
+  c.paper_estimator.v_vz_mps2 = 0.0;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig::paper();
+  c.paper_estimator.q_bias_mps2 = -1.0;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig::paper();
+  c.paper_estimator.smoothing_window_samples = kMaxSmoothingWindow + 1;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   EXPECT_EQ(EstimatorConfig::paper().validate(), nullptr);
 }

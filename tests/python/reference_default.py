@@ -832,7 +832,11 @@ _NATIVE_NAMES = {
 
 def config_from(native_cfg) -> DefaultConfig:
     """The DefaultConfig with the values of a yoyogait.EstimatorConfig (or its native struct)."""
-    values = {ours: getattr(native_cfg, theirs) for ours, theirs in _NATIVE_NAMES.items()}
+    section = native_cfg.gait_filter
+    values = {
+        ours: getattr(section, theirs) if hasattr(section, theirs) else getattr(native_cfg, theirs)
+        for ours, theirs in _NATIVE_NAMES.items()
+    }
     values["bank_f_hz"] = tuple(values["bank_f_hz"])
     return DefaultConfig(**values)
 

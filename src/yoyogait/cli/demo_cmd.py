@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from .evaluate_cmd import run_evaluation
+from .evaluate_cmd import CONFIG_OPTION, run_evaluation
 
 
 @click.command()
@@ -19,6 +19,7 @@ from .evaluate_cmd import run_evaluation
 )
 @click.option("--force", is_flag=True, help="Replace an existing report folder.")
 @click.option("--estimators", default="paper,default", show_default=True, help="Presets and baselines to compare.")
-def demo(out, force, estimators):
+@CONFIG_OPTION
+def demo(out, force, estimators, config_files):
     """Evaluate the estimators on the built-in SYNTHETIC gait lab (3 subjects x 5 walks) and print Table I."""
-    run_evaluation("synthetic", Path(out), estimators, force, True, 0)
+    run_evaluation("synthetic", Path(out), estimators, force, True, 0, config_files)

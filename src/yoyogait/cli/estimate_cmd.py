@@ -10,7 +10,8 @@ import numpy as np
 from .. import io
 from .._files import atomic_file
 from ..errors import InputError
-from ..estimators.registry import check_estimators, estimators
+from ..estimators.config import EstimatorConfig
+from ..estimators.registry import check_estimators, estimators, preset_runner
 from ..evaluation import figures as plots
 from ..pipeline.velocities import gait_velocities
 
@@ -38,7 +39,14 @@ COLUMNS = (
 
 @click.command("estimate")
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--preset", default="default", show_default=True, help="Estimator preset or baseline.")
+@click.option("--preset", default=None, help="Estimator preset or baseline [default: default].")
+@click.option(
+    "--config",
+    "config_file",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Estimator configuration file (TOML, docs/configuration.md), instead of --preset.",
+)
 @click.option("--point", default=None, help="Point to track: 'pelvis' (default), 'hand', or a point name.")
 @click.option("--up", "up_axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis of the file.")
 @click.option("--unit", "length_unit_m", type=float, default=None, help="Metres per length unit (BVH, CSV).")
@@ -56,9 +64,17 @@ COLUMNS = (
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
-def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, force):
+def command(file, preset, config_file, point, up_axis, length_unit_m, rate_hz, out, figure, force):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV)."""
-    check_estimators([preset])
+    if preset and config_file:
+        raise InputError("give --preset or --config, not both")
+    if config_file:
+        run = preset_runner(EstimatorConfig.from_file(config_file))
+        label = Path(config_file).name
+    else:
+        label = preset or "default"
+        check_estimators([label])
+        run = estimators()[label]
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
     fig = None if figure == "none" else Path(figure or f"{stem}.estimate.png")
@@ -68,7 +84,7 @@ def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, f
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
     recording = io.read(file, **overrides)
     vel = gait_velocities(recording, point=point, up_axis=up_axis)
-    res = estimators()[preset](vel)
+    res = run(vel)
     state = res.state
     table = np.column_stack(
         [
@@ -101,7 +117,7 @@ def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, f
         ),
     )
     if fig is not None:
-        title = f"{stem} [{preset}]"
+        title = f"{stem} [{label}]"
         atomic_file(fig, lambda p: plots.parameter_figure(vel.time_s, res, title=title, measured_vz_mps=vel.vz, path=p))
     f = np.abs(res.step_frequency_hz[vel.walking]) if vel.walking.any() else np.abs(res.step_frequency_hz)
     click.echo(

@@ -8,6 +8,7 @@ import click
 
 from .. import evaluation as ev
 from ..errors import InputError
+from ..estimators.registry import config_estimators
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
@@ -17,16 +18,33 @@ def estimator_list(value: str) -> tuple[str, ...]:
     return names
 
 
-def run_evaluation(dataset, out, estimators, force, figures, seed):
+CONFIG_OPTION = click.option(
+    "--config",
+    "config_files",
+    type=click.Path(dir_okay=False),
+    multiple=True,
+    help="Also evaluate the estimator configured in this TOML file (docs/configuration.md), named by the "
+    "file's stem; repeatable.",
+)
+
+
+def run_evaluation(dataset, out, estimators, force, figures, seed, config_files=()):
     """Evaluate, print the summary and Table I, write the report; returns the evaluation."""
-    names = ev.check_estimators(estimator_list(estimators))
+    configs = config_estimators(config_files)
+    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
     if out.exists() and not force:
         raise InputError(f"{out} exists; use --force to replace it")
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
     click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
     result = ev.evaluate(
-        items, names, progress=True, dataset=str(dataset or "synthetic"), synthetic=synthetic, failures=problems
+        items,
+        names,
+        progress=True,
+        dataset=str(dataset or "synthetic"),
+        synthetic=synthetic,
+        failures=problems,
+        configs=configs,
     )
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
@@ -58,13 +76,14 @@ def run_evaluation(dataset, out, estimators, force, figures, seed):
 @click.option("--force", is_flag=True, help="Replace an existing report folder.")
 @click.option("--no-figures", is_flag=True, help="Skip the per-recording figures.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
-def command(dataset, out, estimators, force, no_figures, seed):
+@CONFIG_OPTION
+def command(dataset, out, estimators, force, no_figures, seed, config_files):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
     Fig. 3/4-style figures per recording and an index.md into --out. Exits 1 when some
     recording could not be evaluated (the others are still reported).
     """
-    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed)
+    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed, config_files)
     if result.failures:
         raise click.exceptions.Exit(1)
