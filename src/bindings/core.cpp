@@ -134,7 +134,7 @@ class Block {
 // The doubles are one row-major table, each column a strided view: a step writes its values to
 // one place (whole cache lines) rather than to a separate stream per column, which costs a
 // long run several ns per sample more.
-template <bool kGait>
+template <bool kGait, bool kDiag>
 nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
                   const double* pdt) {
   constexpr std::size_t kS = yoyogait::kStateDim;
@@ -147,7 +147,9 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     kCommon,  // the gait filter's columns follow
     kGstate = kCommon, kVxH2 = kGstate + kG, kVzH2, kScale, kGaitEnd
   };
-  const std::size_t kPred = kGait ? kGaitEnd : kCommon;  // vx_pred (nh), then vz_pred (nh)
+  // With diagnostics: innovation_vx_mps, innovation_vz_mps, nis; then vx_pred (nh), vz_pred (nh).
+  const std::size_t kDiagCol = kGait ? kGaitEnd : kCommon;
+  const std::size_t kPred = kDiagCol + (kDiag ? 3 : 0);
   const std::size_t width = kPred + 2 * nh;
   Block block(n * (sizeof(double) * width + (kGait ? 4 : 2)) + 64);
   double* rows = block.raw<double>(n * width);
@@ -191,6 +193,12 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
           walking.data[i] = e.walking;
           acquiring.data[i] = e.acquiring;
         }
+        if constexpr (kDiag) {
+          const yoyogait::Innovation d = local.innovation();
+          r[kDiagCol] = d.vx_mps;
+          r[kDiagCol + 1] = d.vz_mps;
+          r[kDiagCol + 2] = d.nis;
+        }
         for (std::size_t j = 0; j < nh; ++j) {
           const yoyogait::Velocity v = local.predict_ahead(ph[j]);
           r[kPred + j] = v.vx_mps;
@@ -231,6 +239,11 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     out["walking"] = walking.array;
     out["acquiring"] = acquiring.array;
   }
+  if constexpr (kDiag) {
+    out["innovation_vx_mps"] = column(kDiagCol);
+    out["innovation_vz_mps"] = column(kDiagCol + 1);
+    out["nis"] = column(kDiagCol + 2);
+  }
   if (nh) {
     out["vx_pred"] = block.view(rows + kPred, n, nh, width);
     out["vz_pred"] = block.view(rows + kPred + nh, n, nh, width);
@@ -240,13 +253,15 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
 
 
 nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
-             const std::optional<InArray>& dt) {
+             const std::optional<InArray>& dt, bool diagnostics) {
   const std::size_t n = vx.shape(0);
   if (vz.shape(0) != n) throw nb::value_error("vx and vz must have the same length");
   if (dt && dt->shape(0) != n) throw nb::value_error("dt_s must have the length of vx");
   const double* pdt = dt ? dt->data() : nullptr;
-  if (est.algorithm() == yoyogait::Algorithm::kPaper) return run_impl<false>(est, vx, vz, horizons, pdt);
-  return run_impl<true>(est, vx, vz, horizons, pdt);
+  const bool paper = est.algorithm() == yoyogait::Algorithm::kPaper;
+  if (diagnostics)
+    return paper ? run_impl<false, true>(est, vx, vz, horizons, pdt) : run_impl<true, true>(est, vx, vz, horizons, pdt);
+  return paper ? run_impl<false, false>(est, vx, vz, horizons, pdt) : run_impl<true, false>(est, vx, vz, horizons, pdt);
 }
 
 nb::dict yoyo_trajectory(double R_m, double r_m, double z0_m, const InArray& time_s, const InArray& f_hz,
@@ -373,6 +388,21 @@ nb::list config_schema() {
   return out;
 }
 
+// An estimate with the step's diagnostics (yoyogait::Innovation), for the streaming form.
+struct DiagnosedEstimate : Estimate {
+  double innovation_vx_mps = 0.0, innovation_vz_mps = 0.0, nis = 0.0;
+};
+
+DiagnosedEstimate diagnosed(const yoyogait::Estimator& est, const Estimate& e) {
+  const yoyogait::Innovation d = est.innovation();
+  DiagnosedEstimate out;
+  static_cast<Estimate&>(out) = e;
+  out.innovation_vx_mps = d.vx_mps;
+  out.innovation_vz_mps = d.vz_mps;
+  out.nis = d.nis;
+  return out;
+}
+
 }  // namespace
 
 NB_MODULE(_core, m) {
@@ -450,11 +480,21 @@ NB_MODULE(_core, m) {
                     static_cast<int>(e.status));
       });
 
+  nb::class_<DiagnosedEstimate, Estimate>(m, "DiagnosedEstimate")
+      .def_ro("innovation_vx_mps", &DiagnosedEstimate::innovation_vx_mps)
+      .def_ro("innovation_vz_mps", &DiagnosedEstimate::innovation_vz_mps)
+      .def_ro("nis", &DiagnosedEstimate::nis);
+
   nb::class_<yoyogait::Estimator>(m, "Estimator")
       .def(nb::init<const EstimatorConfig&>(), "config"_a)
       .def("step", nb::overload_cast<double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a)
       .def("step", nb::overload_cast<double, double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a, "dt_s"_a)
-      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none())
+      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none(), "diagnostics"_a = false)
+      .def("step_diagnosed",
+           [](yoyogait::Estimator& e, double vx, double vz) { return diagnosed(e, e.step(vx, vz)); }, "vx"_a, "vz"_a)
+      .def("step_diagnosed",
+           [](yoyogait::Estimator& e, double vx, double vz, double dt) { return diagnosed(e, e.step(vx, vz, dt)); },
+           "vx"_a, "vz"_a, "dt_s"_a)
       .def("reset", &yoyogait::Estimator::reset)
       .def("predict_ahead", [](const yoyogait::Estimator& e, double h) {
         const auto v = e.predict_ahead(h);

@@ -25,6 +25,7 @@
 #include <cstdint>
 
 #include "yoyogait/config.hpp"
+#include "yoyogait/estimate.hpp"
 #include "yoyogait/gait/bound_watchdog.hpp"
 #include "yoyogait/gait/decay_factors.hpp"
 #include "yoyogait/gait/ekf.hpp"
@@ -97,6 +98,7 @@ class GaitFilter {
     t_now_s_ = 0.0;
     spectral_.reset();
     radii_updated_ = false;
+    updated_ = false;
     out_hx_ = out_hz_ = 0.0;
     factors_.reset();
     // Defined outputs (w > 0) even before the first finite sample.
@@ -111,8 +113,25 @@ class GaitFilter {
   /// One sample dt_s [s] after the previous one. A non-finite or negative dt_s: the sample is not
   /// used (kNonFinite). dt_s of the first sample is not used.
   Outcome step(double vx_mps, double vz_mps, double dt_s) noexcept {
-    if (!(std::isfinite(dt_s) && dt_s >= 0.0)) return Outcome::kNonFinite;
+    if (!(std::isfinite(dt_s) && dt_s >= 0.0)) {
+      updated_ = false;
+      return Outcome::kNonFinite;
+    }
     return advance(vx_mps, vz_mps, dt_s);
+  }
+
+  /// The innovations and NIS of the last step (see yoyogait::Innovation): those of the EKF that
+  /// is active after it; all NaN when the step updated nothing.
+  Innovation innovation() const noexcept {
+    Innovation out;
+    if (!updated_) return out;
+    const gait::Innovations& in = active().innovations;
+    out.vx_mps = in.vx_mps;
+    out.vz_mps = in.vz_mps;
+    const bool x = !std::isnan(in.vx_mps), z = !std::isnan(in.vz_mps);
+    if (x || z)
+      out.nis = (x ? in.vx_mps * in.vx_mps / in.var_vx_mps2 : 0.0) + (z ? in.vz_mps * in.vz_mps / in.var_vz_mps2 : 0.0);
+    return out;
   }
 
   /// The estimates after the last step (sec. 2.6).
@@ -316,7 +335,10 @@ class GaitFilter {
     const bool use_z = fin_z && std::fabs(vz) <= cfg_.max_abs_velocity_mps;
     Outcome outcome = !(fin_x && fin_z) ? Outcome::kNonFinite : (use_x && use_z) ? Outcome::kOk : Outcome::kOutOfRange;
     if (!started_) {
-      if (!use_x) return outcome;
+      if (!use_x) {
+        updated_ = false;
+        return outcome;
+      }
       started_ = true;
       detector_.start(vx, vz, use_z);
       start_acquisition(vx, false, 0.0);
@@ -351,6 +373,7 @@ class GaitFilter {
       rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_,
                                       fc.std_gain);
     }
+    updated_ = true;
     if (rejected) outcome = Outcome::kOutlier;
     if (gate_.after_step(rejected)) {
       // Persistent disagreement was accepted: inflate P so that the filter follows again.
@@ -422,6 +445,7 @@ class GaitFilter {
   double out_hx_ = 0.0, out_hz_ = 0.0;  ///< second harmonics at the posterior phasors, for output()
   double t_now_s_ = 0.0;
   bool started_ = false, acquiring_ = true, radii_updated_ = false;
+  bool updated_ = false;  ///< the last step ran the updates (its innovations are in the active EKF)
   // Start-up: the bank and the spectral ring buffer.
   gait::HypothesisBank bank_;
   gait::SpectralInit spectral_;
