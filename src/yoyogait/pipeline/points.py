@@ -3,10 +3,14 @@
 * The **pelvis centre** (the default, the closest marker-based stand-in for the
   centre of mass the Yoyo-model describes): the average of the pelvis
   markers found by name (ASIS, PSIS, sacrum and pelvis clusters in their
-  common spellings), else a root joint (Hips, pelvis, root).
+  common spellings), else a root joint (Hips, pelvis, root).  The names are
+  data, not code: ``io/marker_sets.json`` (Plug-in Gait, IOR, ISB, Xsens,
+  OpenCap, MoCap Toolbox, Qualisys, OptiTrack), extended by the files named
+  in ``$YOYOGAIT_MARKER_SETS`` or given to :func:`add_marker_sets`.
 * The **hand** (the paper follows the hand that holds the tether): a hand
   joint or finger marker, else the wrist markers of that side averaged.
-* The **feet** (for gait events): per side a heel, else an ankle, toe or foot point.
+* The **feet** (for gait events), grouped by side: heel, ankle and toe of one
+  side are one foot; its heel is used, else its ankle, else its toe.
 * The **up axis**: the override, else the file's, else detected from the
   data (:func:`detect_up_axis`).
 
@@ -17,11 +21,15 @@ carries each marker's offset from the centre across its gaps.
 
 from __future__ import annotations
 
+import functools
+import json
+import os
 import re
 import warnings
 from collections.abc import Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
+from importlib import resources
 
 import numpy as np
 
@@ -35,6 +43,11 @@ __all__ = [
     "find_pelvis",
     "find_hand",
     "find_feet",
+    "find_foot_groups",
+    "side_of",
+    "add_marker_sets",
+    "marker_knowledge",
+    "MARKER_SETS_ENV",
     "choose_point",
     "point_trajectory",
     "robust_centre",
@@ -43,51 +56,157 @@ __all__ = [
     "axis_index",
 ]
 
-_SIDE = r"(?:l|r|left|right)"
-#: Pelvis markers, matched against the normalised name (lower case, letters and digits only).
-PELVIS_MARKER_PATTERNS = (
-    re.compile(rf"^{_SIDE}?asis?$|^asis?{_SIDE}$"),  # LASI, R_ASIS, R.ASIS, LASIS, asis_l
-    re.compile(rf"^{_SIDE}?psis?$|^psis?{_SIDE}$"),  # LPSI, L.PSIS, RPSIS
-    re.compile(r"^v?sac(?:r|rum|ral)?$|^s[12]$|^midsacrum$"),  # SACR, SACRUM, VSAC, V.Sacral, S2
-    re.compile(r"^(?:pv|pel|pelvis)\d+$"),  # PV1..PV4 technical pelvis clusters
-)
-#: Root joints of skeletons, in order of preference.
-ROOT_JOINT_NAMES = ("hips", "hip", "pelvis", "root")
+#: Environment variable naming extra marker-set files (JSON, the shape of io/marker_sets.json), path-separated.
+MARKER_SETS_ENV = "YOYOGAIT_MARKER_SETS"
+_BUILTIN_SETS = "marker_sets.json"
+_added_files: list[str] = []
 
-_HAND_WORDS = {
-    "hand": 0,
-    "hnd": 0,
-    "fin": 1,
-    "finger": 1,
-    "fingers": 1,
-    "palm": 1,
-    "wri": 2,
-    "wrist": 2,
-    "wra": 2,
-    "wrb": 2,
-    "wrt": 2,
-}
-_FOOT_WORDS = {
-    "hee": 0,
-    "heel": 0,
-    "cal": 0,
-    "calc": 0,
-    "ank": 1,
-    "ankle": 1,
-    "lma": 1,
-    "lm": 1,
-    "mal": 1,  # "foot" joints of skeletons sit at the ankle
-    "toe": 2,
-    "to": 2,
-    "mt1": 2,
-    "mt2": 2,
-    "mt5": 2,
-    "toetip": 2,
-    "toes": 2,
-    "foot": 1,
-}
-#: What may follow a body word: R.Wrist.Lat, L_Ankle_Lat, L_Toe_Tip, LeftToeBase, RWRA.
-_WORD_SUFFIXES = ("lat", "med", "tip", "base", "a", "b")
+#: Ranks of the kinds of hand and foot points: lower is preferred.
+HAND_KINDS = ("hand", "finger", "wrist")
+FOOT_KINDS = ("heel", "ankle", "toe")
+SIDES = ("left", "right")
+
+
+@dataclass
+class MarkerKnowledge:
+    """The marker-set table (io/marker_sets.json plus the user's files), ready for matching."""
+
+    strip: list  # compiled patterns removed from a name before it is normalised
+    not_prefixes: set
+    sides: dict  # side -> tokens ("l", "left")
+    suffixes: tuple
+    pelvis_sided: set
+    pelvis_words: set
+    pelvis_patterns: list
+    roots: list  # normalised root-joint names, in order of preference
+    hand_words: dict  # word -> rank
+    foot_words: dict  # word -> rank
+    exact: dict  # normalised name -> list of (role, side, rank); role: pelvis, root, hand, foot
+    sets: dict  # the named sets as written (for documentation and tests)
+    files: list
+
+
+def add_marker_sets(path) -> None:
+    """Extend the marker-set table with a JSON file of the shape of ``io/marker_sets.json`` (for this process)."""
+    path = str(path)
+    _read_table(path)  # InputError now rather than at the first lookup
+    _added_files.append(path)
+
+
+def marker_knowledge() -> MarkerKnowledge:
+    """The marker-set table: the built-in one, then the files of $YOYOGAIT_MARKER_SETS, then :func:`add_marker_sets`."""
+    extra = [f for f in os.environ.get(MARKER_SETS_ENV, "").split(os.pathsep) if f.strip()]
+    return _knowledge(tuple(extra + _added_files))
+
+
+@functools.lru_cache(maxsize=8)
+def _knowledge(files: tuple) -> MarkerKnowledge:
+    tables = [json.loads(resources.files("yoyogait.io").joinpath(_BUILTIN_SETS).read_text(encoding="utf-8"))]
+    tables += [_read_table(f) for f in files]
+    k = MarkerKnowledge([], set(), {side: [] for side in SIDES}, (), set(), set(), [], [], {}, {}, {}, {}, list(files))
+    for table in tables:
+        k.strip += [re.compile(x) for x in table.get("strip", [])]
+        k.not_prefixes |= {normalise_name(x) for x in table.get("not_prefixes", [])}
+        generic = table.get("generic", {})
+        for side, tokens in generic.get("sides", {}).items():
+            k.sides.setdefault(side, []).extend(t for t in tokens if t not in k.sides.get(side, []))
+        k.suffixes = tuple(dict.fromkeys(k.suffixes + tuple(generic.get("suffixes", []))))
+        pelvis = generic.get("pelvis", {})
+        k.pelvis_sided |= set(pelvis.get("sided_words", []))
+        k.pelvis_words |= set(pelvis.get("words", []))
+        k.pelvis_patterns += [re.compile(x) for x in pelvis.get("patterns", [])]
+        k.roots += [normalise_name(r) for r in pelvis.get("roots", []) if normalise_name(r) not in k.roots]
+        for kinds, target, group in ((HAND_KINDS, k.hand_words, "hand"), (FOOT_KINDS, k.foot_words, "foot")):
+            for rank, kind in enumerate(kinds):
+                for word in generic.get(group, {}).get(kind, []):
+                    target[word] = min(rank, target.get(word, rank))
+        for set_name, spec in table.get("sets", {}).items():
+            k.sets[set_name] = spec
+            for name in spec.get("pelvis", []):
+                k.exact.setdefault(_exact_key(name, k), []).append(("pelvis", None, 0))
+            for name in spec.get("root", []):  # after the generic roots, whose order is a preference
+                k.exact.setdefault(_exact_key(name, k), []).append(("root", None, 100))
+            for role, rank in (("hand", 0), ("wrist", 2)):
+                for side, names in spec.get(role, {}).items():
+                    for name in names:
+                        k.exact.setdefault(_exact_key(name, k), []).append(("hand", side, rank))
+            for side, kinds in spec.get("feet", {}).items():
+                for kind, names in kinds.items():
+                    for name in names:
+                        k.exact.setdefault(_exact_key(name, k), []).append(("foot", side, FOOT_KINDS.index(kind)))
+    return k
+
+
+def _read_table(path) -> dict:
+    try:
+        table = json.loads(open(path, encoding="utf-8").read())
+    except OSError as exc:
+        raise InputError(f"marker-set file {path} (${MARKER_SETS_ENV}): cannot read ({exc.strerror})") from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"marker-set file {path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    if not isinstance(table, dict) or not set(table) & {"sets", "generic", "strip"}:
+        raise InputError(f"marker-set file {path}: expected an object with 'sets' (see docs/input.md)")
+    for kinds in (spec.get("feet", {}) for spec in table.get("sets", {}).values()):
+        for side, by_kind in kinds.items():
+            bad = set(by_kind) - set(FOOT_KINDS)
+            if side not in SIDES or bad:
+                raise InputError(f"marker-set file {path}: feet must be left/right of heel/ankle/toe, not {side} {bad}")
+    return table
+
+
+def _exact_key(name: str, k: MarkerKnowledge) -> str:
+    return _keys(name, k)[0]
+
+
+def _keys(name: str, k: MarkerKnowledge) -> list[str]:
+    """Normalised forms of a name to match, best first: whole, then without a skeleton prefix (``Skeleton_Hip``)."""
+    bare = name.rsplit(":", 1)[-1]
+    for pattern in k.strip:
+        bare = pattern.sub("", bare)
+    keys = [normalise_name(bare)]
+    parts = re.split(r"[_ ]", bare)
+    for i in range(1, len(parts)):
+        prefix = normalise_name("".join(parts[:i]))
+        if prefix and prefix not in k.not_prefixes and not any(prefix in t for t in k.sides.values()):
+            rest = normalise_name("".join(parts[i:]))
+            if rest and rest not in keys:
+                keys.append(rest)
+    return [key for key in keys if key]
+
+
+def _sided(key: str, words: dict | set, k: MarkerKnowledge, *, optional: bool = False):
+    """(side, word) if ``key`` is a side token before or after one of ``words`` (plus a suffix), else None."""
+    parses = [(None, key)] if optional else []
+    for side, tokens in k.sides.items():
+        for tag in tokens:
+            if key.startswith(tag):
+                parses.append((side, key[len(tag) :]))
+            if key.endswith(tag):
+                parses.append((side, key[: -len(tag)]))
+    for side, rest in parses:
+        for word in words:
+            if rest == word or (rest.startswith(word) and rest[len(word) :] in k.suffixes):
+                return side, word
+    return None
+
+
+def _roles(name: str, k: MarkerKnowledge) -> list[tuple[str, str | None, int]]:
+    """What a name is: (role, side, rank) for pelvis markers, root joints, hands and feet."""
+    for key in _keys(name, k):
+        roles = list(k.exact.get(key, []))
+        if _sided(key, k.pelvis_sided, k, optional=True) or key in k.pelvis_words:
+            roles.append(("pelvis", None, 0))
+        if any(p.match(key) for p in k.pelvis_patterns):
+            roles.append(("pelvis", None, 0))
+        if key in k.roots:
+            roles.append(("root", None, k.roots.index(key)))
+        for role, words in (("hand", k.hand_words), ("foot", k.foot_words)):
+            parsed = _sided(key, words, k)
+            if parsed:
+                roles.append((role, parsed[0], words[parsed[1]]))
+        if roles:
+            return roles
+    return []
 
 
 @dataclass(frozen=True)
@@ -132,78 +251,92 @@ def normalise_name(name: str) -> str:
 
 
 def find_pelvis(names: Sequence[str]) -> PointChoice:
-    """The pelvis markers found by name, else a root joint; InputError if neither."""
-    markers = [n for n in names if any(p.match(normalise_name(n)) for p in PELVIS_MARKER_PATTERNS)]
+    """The pelvis markers found by name (marker-set table), else a root joint; InputError if neither."""
+    k = marker_knowledge()
+    roles = {n: _roles(n, k) for n in names}
+    markers = [n for n in names if any(r[0] == "pelvis" for r in roles[n])]
     if markers:
         return PointChoice(tuple(markers), "pelvis markers")
-    normalised = [normalise_name(n) for n in names]
-    for root in ROOT_JOINT_NAMES:
-        if root in normalised:
-            return PointChoice((names[normalised.index(root)],), "root joint")
+    roots = [
+        (min(r[2] for r in roles[n] if r[0] == "root"), i, n)
+        for i, n in enumerate(names)
+        if any(r[0] == "root" for r in roles[n])
+    ]
+    if roots:
+        return PointChoice((min(roots)[2],), "root joint")
     raise InputError(
         "no pelvis-like point (ASIS/PSIS/sacrum markers or a Hips/pelvis/root joint) among: "
         + (", ".join(names) or "(no points)")
-        + "; name one with point="
+        + "; name one with --point, or add your marker set to a file named by $"
+        + MARKER_SETS_ENV
     )
 
 
-def _side_and_word(name: str, words: dict[str, int]):
-    """('left'|'right', rank) if ``name`` is a side letter/word plus one of ``words``."""
-    n = normalise_name(name)
-    parses = []
-    for side, tags in (("left", ("left", "l")), ("right", ("right", "r"))):
-        for tag in tags:
-            if n.startswith(tag):
-                parses.append((side, n[len(tag) :]))
-            if n.endswith(tag):
-                parses.append((side, n[: -len(tag)]))
-    for side, rest in parses:
-        for word, rank in words.items():
-            if rest == word or (rest.startswith(word) and rest[len(word) :] in _WORD_SUFFIXES):
-                return side, rank
-    return None
+def side_of(name: str) -> str | None:
+    """ "left" or "right" if the name is a hand or foot point of that side, or has a side as a separate word
+    (``L_Marker``, ``Marker.R``, ``LeftThing``); else None."""
+    k = marker_knowledge()
+    sides = {r[1] for r in _roles(name, k) if r[1]}
+    if len(sides) == 1:
+        return sides.pop()
+    bare = name.rsplit(":", 1)[-1]
+    words = [w.lower() for w in re.split(r"[^A-Za-z0-9]+|(?<=[a-z])(?=[A-Z])", bare) if w]
+    found = {side for side, tokens in k.sides.items() for t in tokens if words and t in (words[0], words[-1])}
+    return found.pop() if len(found) == 1 else None
 
 
 def find_hand(names: Sequence[str], side: str = "right") -> PointChoice:
     """The hand of ``side``: a hand joint or finger marker, else its wrist markers (averaged)."""
     side = _check_side(side)
+    k = marker_knowledge()
     found: dict[int, list[str]] = {}
     for n in names:
-        parsed = _side_and_word(n, _HAND_WORDS)
-        if parsed and parsed[0] == side:
-            found.setdefault(parsed[1], []).append(n)
+        ranks = [r[2] for r in _roles(n, k) if r[0] == "hand" and r[1] == side]
+        if ranks:
+            found.setdefault(min(ranks), []).append(n)
     if not found:
         raise InputError(f"no {side} hand or wrist point among: {', '.join(names) or '(no points)'}")
     return PointChoice(tuple(found[min(found)]), "hand")
 
 
+def find_foot_groups(
+    names: Sequence[str], visibility: dict | None = None, min_visible_fraction: float = 0.5
+) -> dict[str, list[str]]:
+    """The points of each foot, by side: heel first, then ankle (or a skeleton's foot joint), then toe.
+
+    With ``visibility`` (name -> fraction of frames where the point is seen),
+    points seen in fewer than ``min_visible_fraction`` of the frames go to the
+    end of their foot's list (some files name heel markers that were never
+    seen); a point never seen is left out.
+    """
+    k = marker_knowledge()
+    groups: dict[str, list[tuple[int, int, str]]] = {}
+    for order, n in enumerate(names):
+        ranks = {(r[1], r[2]) for r in _roles(n, k) if r[0] == "foot" and r[1] in SIDES}
+        sides = {side for side, _ in ranks}
+        if len(sides) == 1:
+            side = sides.pop()
+            groups.setdefault(side, []).append((min(rank for _, rank in ranks), order, n))
+    out = {}
+    for side in SIDES:
+        found = sorted(groups.get(side, []))
+        if visibility is not None:
+            seen = [c for c in found if visibility.get(c[2], 0.0) >= min_visible_fraction]
+            rare = sorted(
+                (c for c in found if 0 < visibility.get(c[2], 0.0) < min_visible_fraction),
+                key=lambda c: -visibility.get(c[2], 0.0),
+            )
+            found = seen + rare
+        if found:
+            out[side] = [c[2] for c in found]
+    return out
+
+
 def find_feet(
     names: Sequence[str], visibility: dict | None = None, min_visible_fraction: float = 0.5
 ) -> dict[str, str]:
-    """One foot point per side that has one: heel, else ankle (or a skeleton's foot joint), else toe.
-
-    With ``visibility`` (name -> fraction of frames where the point is seen),
-    a point seen in fewer than ``min_visible_fraction`` of the frames gives
-    way to the next kind (some files name heel markers that were never seen);
-    if every candidate is that rare, the most visible one is taken.
-    """
-    candidates: dict[str, list[tuple[int, int, str]]] = {}
-    for order, n in enumerate(names):
-        parsed = _side_and_word(n, _FOOT_WORDS)
-        if parsed:
-            candidates.setdefault(parsed[0], []).append((parsed[1], order, n))
-    chosen = {}
-    for side, found in sorted(candidates.items()):
-        found.sort()
-        if visibility is not None:
-            seen = [c for c in found if visibility.get(c[2], 0.0) >= min_visible_fraction]
-            if not seen:
-                best = max(found, key=lambda c: visibility.get(c[2], 0.0))
-                seen = [best] if visibility.get(best[2], 0.0) > 0 else []
-            found = seen
-        if found:
-            chosen[side] = found[0][2]
-    return chosen
+    """One foot point per side that has one: the first of :func:`find_foot_groups` (heel, else ankle, else toe)."""
+    return {side: group[0] for side, group in find_foot_groups(names, visibility, min_visible_fraction).items()}
 
 
 def choose_point(rec: Recording, point=None, *, hand_side: str = "right") -> PointChoice:
