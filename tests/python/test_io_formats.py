@@ -184,11 +184,11 @@ def test_nexus_csv_with_devices_first_and_short_rows(tmp_path):
     path.write_text(
         "Devices,,,,,\n1000,,,,,\n,,Force Plate,,,\nFrame,Sub Frame,Fx,Fy,Fz\n,,N,N,N\n1,0,1,2,3\n\n"
         "Trajectories,,,,,,,,\n100,,,,,,,,\n,,S:LASI,,,S:RASI,,,\nFrame,Sub Frame,X,Y,Z,X,Y,Z\n,,mm,mm,mm,mm,mm,mm\n"
-        "1,0,1,2,3,4,5,6\n2,0,1,2,3\n"
+        "1,0,100,200,900,400,500,900\n2,0,101,200,900\n"
     )
     rec = yio.read(path)
     assert rec.point_names == ["S:LASI", "S:RASI"] and rec.n_frames == 2
-    assert rec.point("S:RASI")[0] == pytest.approx([0.004, 0.005, 0.006]) and np.isnan(rec.point("S:RASI")[1]).all()
+    assert rec.point("S:RASI")[0] == pytest.approx([0.4, 0.5, 0.9]) and np.isnan(rec.point("S:RASI")[1]).all()
 
 
 def test_comma_and_tab_trc_read_the_same(tmp_path):

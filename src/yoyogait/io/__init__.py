@@ -28,6 +28,7 @@ import inspect
 import numpy as np
 
 from ..errors import InputError
+from .plausibility import check_plausible
 from .recording import AXES, Recording, check_readable
 
 __all__ = ["Recording", "read", "READERS"]
@@ -58,7 +59,13 @@ NOT_READ = {
 
 
 def read(
-    path, *, length_unit_m: float | None = None, up_axis: str | None = None, rate_hz: float | None = None, **options
+    path,
+    *,
+    length_unit_m: float | None = None,
+    up_axis: str | None = None,
+    rate_hz: float | None = None,
+    plausibility: bool = True,
+    **options,
 ) -> Recording:
     """Read a motion-capture file into a :class:`Recording`.
 
@@ -69,6 +76,12 @@ def read(
       the BVH reader infers it from the standing pelvis height);
     * ``up_axis``: "x", "y" or "z" (else the file's own, else detected later);
     * ``rate_hz``: the sample rate (a CSV without a time column needs it).
+
+    With ``plausibility`` (the default) the result is checked against what a
+    person is and does (:func:`yoyogait.io.plausibility.check_plausible`): a
+    body off by a length-unit factor, a stated up axis that puts the pelvis
+    on the floor, or a pelvis faster than anyone can walk is an InputError
+    naming the likely cause and the option that fixes it.
 
     Other keyword ``options`` go to the reader.
     """
@@ -102,6 +115,8 @@ def read(
     elif rec.up_axis is not None:
         rec.metadata.setdefault("up_axis_from", "file")
     validate(rec)
+    if plausibility:
+        check_plausible(rec)
     return rec
 
 
