@@ -55,8 +55,11 @@ COLUMNS = (
     default=None,
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
+@click.option(
+    "--belt-speed-mps", type=float, default=None, help="Treadmill belt speed [m/s] (else found from the stance feet)."
+)
 @click.option("--force", is_flag=True, help="Overwrite existing outputs.")
-def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, force):
+def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, belt_speed_mps, force):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV)."""
     check_estimators([preset])
     stem = Path(file).name
@@ -67,7 +70,7 @@ def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, f
             raise InputError(f"{target} exists; use --force to overwrite it")
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
     recording = io.read(file, **overrides)
-    vel = gait_velocities(recording, point=point, up_axis=up_axis)
+    vel = gait_velocities(recording, point=point, up_axis=up_axis, belt_speed_mps=belt_speed_mps)
     res = estimators()[preset](vel)
     state = res.state
     table = np.column_stack(
@@ -108,4 +111,6 @@ def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, f
         f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
         f"median step frequency {np.median(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
     )
+    if vel.treadmill is not None and vel.treadmill.detected:
+        click.echo(vel.treadmill.reason)
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))

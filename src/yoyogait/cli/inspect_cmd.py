@@ -14,11 +14,19 @@ from ..pipeline.velocities import gait_velocities
 
 
 def inspect_file(
-    path: str, *, point=None, up_axis=None, length_unit_m=None, rate_hz=None, forward: str = "norm"
+    path: str,
+    *,
+    point=None,
+    up_axis=None,
+    length_unit_m=None,
+    rate_hz=None,
+    forward: str = "norm",
+    belt_speed_mps: float | None = None,
 ) -> dict:
     """Everything ``inspect`` prints, as a dict (computed before anything is printed)."""
     rec = read(path, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
-    velocities = gait_velocities(rec, point=point, up_axis=up_axis, forward=forward)
+    velocities = gait_velocities(rec, point=point, up_axis=up_axis, forward=forward, belt_speed_mps=belt_speed_mps)
+    treadmill = velocities.treadmill
     report: dict = {
         "file": rec.source,
         "format": rec.format,
@@ -41,6 +49,16 @@ def inspect_file(
         "events_step_frequency_hz": None,
         "steps": 0,
         "dft": None,
+        "treadmill": None
+        if treadmill is None
+        else {
+            "detected": treadmill.detected,
+            "belt_speed_mps": treadmill.belt_speed_mps,
+            "belt_from": treadmill.belt_from,
+            "pelvis_range_m": treadmill.pelvis_range_m,
+            "stance_foot_speed_mps": treadmill.stance_foot_speed_mps,
+            "summary": treadmill.reason,
+        },
     }
     if rec.velocities is None:  # a followed point other than the pelvis, no hand: not errors for inspect
         try:
@@ -107,15 +125,24 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
     show_default=True,
     help="Forward velocity: 2-norm of the horizontal velocity (paper) or signed along the heading.",
 )
+@click.option(
+    "--belt-speed-mps", type=float, default=None, help="Treadmill belt speed [m/s] (else found from the stance feet)."
+)
 @click.option("--all-points", is_flag=True, help="List every point name.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
-def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, as_json) -> None:
+def command(file, point, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json) -> None:
     """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
     mean speed, dominant step frequency and the DFT check of the Yoyo-model."""
     if point is not None and "," in point:
         point = [p.strip() for p in point.split(",") if p.strip()]
     report = inspect_file(
-        file, point=point, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward
+        file,
+        point=point,
+        up_axis=up_axis,
+        length_unit_m=length_unit_m,
+        rate_hz=rate_hz,
+        forward=forward,
+        belt_speed_mps=belt_speed_mps,
     )
     if as_json:
         click.echo(json.dumps(report, indent=1, default=float))
@@ -138,6 +165,10 @@ def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, a
         lines.append(("hand", ", ".join(report["hand"]) if report["hand"] else "none found"))
         feet = ", ".join(f"{side} {name}" for side, name in report["feet"].items())
         lines.append(("feet", feet or "none found"))
+    if report["treadmill"] is not None and (
+        report["treadmill"]["detected"] or "stays" in report["treadmill"]["summary"]
+    ):
+        lines.append(("treadmill", report["treadmill"]["summary"]))
     lines.append(("walking", f"{report['walking_s']:.2f} s (from {report['walking_from']})"))
     speed = _fmt(report["mean_speed_mps"], "m/s")
     if report["mean_signed_speed_mps"] is not None and forward == "norm":

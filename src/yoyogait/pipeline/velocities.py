@@ -30,6 +30,7 @@ from ..errors import InputError
 from ..io.recording import AXES, Recording
 from . import events, points
 from .signals import fill_short_gaps, resample, runs, walking_heading
+from .treadmill import Treadmill, detect_treadmill
 
 __all__ = [
     "GaitVelocities",
@@ -68,6 +69,9 @@ class GaitVelocities:
     walking: np.ndarray
     source: str = ""
     settings: dict = field(default_factory=dict)
+    treadmill: Treadmill | None = (
+        None  # the treadmill check (its belt is in vx when detected); None for given velocities
+    )
 
     @property
     def finite(self) -> np.ndarray:
@@ -106,6 +110,7 @@ def gait_velocities(
     heading_window_s: float = 1.0,
     min_usable_s: float = 1.5,
     hand_side: str = "right",
+    belt_speed_mps: float | None = None,
 ) -> GaitVelocities:
     """Forward and vertical velocity of ``point`` at ``rate_hz``, by the paper's pipeline.
 
@@ -117,6 +122,10 @@ def gait_velocities(
     velocity than this raise InputError ("shorter than the filter needs"),
     because neither the DFT check nor the estimator can lock onto a step
     frequency from less than about three steps (1.5 s at a normal cadence).
+    On a treadmill (detected: :mod:`yoyogait.pipeline.treadmill`) the belt's
+    velocity is added to the horizontal velocity, so that ``vx`` is the walking
+    speed; ``belt_speed_mps`` gives the belt speed (and marks the recording a
+    treadmill walk) instead of the stance feet.
     """
     if forward not in FORWARD_DEFINITIONS:
         raise InputError(f"forward must be one of {', '.join(FORWARD_DEFINITIONS)}, not {forward!r}")
@@ -131,7 +140,10 @@ def gait_velocities(
         min_usable_s=min_usable_s,
     )
 
+    treadmill = None
     if recording.velocities is not None:  # a CSV of ready velocities
+        if belt_speed_mps is not None:
+            raise InputError(f"{where}: holds ready velocities; a belt speed applies to positions only")
         up = "z"
         label = f"velocities from {where}"
         t = np.asarray(recording.time_s, dtype=float)
@@ -156,6 +168,9 @@ def gait_velocities(
         k = AXES.index(up)
         horizontal = [a for a in range(3) if a != k]
         v_h = v_out[:, horizontal]
+        treadmill = detect_treadmill(recording, up, belt_speed_mps=belt_speed_mps)
+        if treadmill.detected:  # the belt carries the person: add its velocity to the point's own
+            v_h = v_h + treadmill.belt_velocity()
         vz = v_out[:, k]
         vx_signed = v_h_along_heading(v_h, rate_hz, heading_window_s)
         vx = np.hypot(v_h[:, 0], v_h[:, 1]) if forward == "norm" else vx_signed
@@ -183,6 +198,7 @@ def gait_velocities(
         walking=walking,
         source=where,
         settings=settings,
+        treadmill=treadmill,
     )
 
 
