@@ -52,7 +52,7 @@ def lines_by_label(fig):
 
 
 def test_parameter_figure_plots_fig3_panels(walk, fake_result, tmp_path):
-    """Fig. 3: |f| against DFT average and truth, R and r estimated and true, A0 and A1; PNG saved."""
+    """Fig. 3: signed f (0 marked) vs DFT average and truth, R and r estimated and true, A0 and A1; PNG saved."""
     t, tr, result = fake_result
     out = tmp_path / "figs" / "params.png"
     fig = plots.parameter_figure(
@@ -62,7 +62,7 @@ def test_parameter_figure_plots_fig3_panels(walk, fake_result, tmp_path):
     assert out.is_file() and out.stat().st_size > 10_000
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     lines = lines_by_label(fig)
-    np.testing.assert_allclose(lines["estimate |f|"].get_ydata(), np.abs(result.step_frequency_hz))
+    np.testing.assert_allclose(lines["estimate f (signed)"].get_ydata(), result.step_frequency_hz)  # < 0 here
     np.testing.assert_allclose(lines["reference"].get_xdata(), walk.truth.time_s)
     np.testing.assert_allclose(lines["R est."].get_ydata(), result.R_m)
     np.testing.assert_allclose(lines["r true"].get_ydata(), walk.truth.r_m)
