@@ -348,8 +348,8 @@ def estimate_figure(
     ax_s = fig.add_subplot(rows[3], sharex=ax_x)
     for ax in (ax_x, ax_z, ax_f):
         ax.tick_params(labelbottom=False)
-    bottom = outer[1].subgridspec(1, 2, wspace=0.22)
-    zoom_x, zoom_z = fig.add_subplot(bottom[0, 0]), fig.add_subplot(bottom[0, 1])
+    zoom_row = outer[1].subgridspec(1, 2, wspace=0.22)
+    zoom_x, zoom_z = fig.add_subplot(zoom_row[0, 0]), fig.add_subplot(zoom_row[0, 1])
     lo, hi = _zoom_window(t, walking, zoom_s)
 
     for ax in (ax_x, ax_z, ax_f, ax_s):
