@@ -12,7 +12,7 @@ from .. import evaluation as ev
 from .. import io
 from .._files import check_output_folder
 from ..errors import InputError
-from .options import ESTIMATOR_NAMES, estimators_option, force_option, input_options
+from .options import ESTIMATOR_NAMES, check_points, estimators_option, force_option, input_options
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
@@ -25,6 +25,13 @@ def estimator_list(value: str) -> tuple[str, ...]:
             f"--estimators: unknown estimator(s) {', '.join(unknown)}; known: {', '.join(ESTIMATOR_NAMES)}"
         )
     return names
+
+
+def _load_checked(load, point, feet):
+    """load(), then an InputError naming --point or --feet if the recording lacks those points."""
+    recording = load()
+    check_points(recording, point, feet)
+    return recording
 
 
 def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=None, rate_hz=None):
@@ -46,6 +53,8 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
             if not isinstance(load, functools.partial) or load.func is not io.read:
                 raise InputError("--up-axis, --length-unit-m and --rate-hz apply to files, not to the synthetic lab")
             changes["load"] = functools.partial(io.read, *load.args, **{**load.keywords, **read_overrides})
+        if point is not None or feet is not None:
+            changes["load"] = functools.partial(_load_checked, changes.get("load", item.load), point, feet)
         out.append(dataclasses.replace(item, **changes))
     return out
 
