@@ -63,7 +63,7 @@ def test_parameter_figure_plots_fig3_panels(walk, fake_result, tmp_path):
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     lines = lines_by_label(fig)
     np.testing.assert_allclose(lines["estimate f (signed)"].get_ydata(), result.step_frequency_hz)  # < 0 here
-    np.testing.assert_allclose(lines["reference"].get_xdata(), walk.truth.time_s)
+    np.testing.assert_allclose(lines["truth"].get_xdata(), walk.truth.time_s)
     np.testing.assert_allclose(lines["R est."].get_ydata(), result.R_m)
     np.testing.assert_allclose(lines["r true"].get_ydata(), walk.truth.r_m)
     np.testing.assert_allclose(lines["A1 (amplitude)"].get_ydata(), result.A1_mps)

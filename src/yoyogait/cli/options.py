@@ -46,6 +46,7 @@ def cli_message(message: str) -> str:
         return OPTION_OF_ARGUMENT[name] or ""
 
     message = _PASS.sub(lambda m: f"use {option(m[1])}" if option(m[1]) else "", message)
+
     def assign(m: re.Match) -> str:
         value_follows = m.end() < len(message) and not message[m.end()].isspace()
         return (option(m[1]) + (" " if value_follows else "")) if option(m[1]) else ""

@@ -205,7 +205,7 @@ def parameter_figure(
             color=_REF,
             lw=1.0,
             ls="--",
-            label="reference",
+            label="truth" if truth is not None else "reference (foot contacts)",
         )
     if dft_step_frequency_hz is not None and np.isfinite(dft_step_frequency_hz):
         ax_f.axhline(
@@ -352,12 +352,22 @@ def estimate_figure(
     zoom_x, zoom_z = fig.add_subplot(zoom_row[0, 0]), fig.add_subplot(zoom_row[0, 1])
     lo, hi = _zoom_window(t, walking, zoom_s)
 
+    whole = hi - lo >= 0.9 * (t[-1] - t[0])  # a short recording: the zoom shows all of it, no box
     for ax in (ax_x, ax_z, ax_f, ax_s):
         _shade_standing(ax, t, walking, label=ax is ax_x)
-        ax.axvspan(lo, hi, facecolor="none", edgecolor="tab:purple", lw=1.0, ls="--", zorder=1)
+        if not whole:
+            ax.axvspan(
+                lo,
+                hi,
+                facecolor="none",
+                edgecolor="tab:purple",
+                lw=1.0,
+                ls="--",
+                zorder=1,
+                label="zoom (bottom)" if ax is ax_x else None,
+            )
         ax.grid(True, alpha=0.3)
         ax.margins(x=0)
-    ax_x.text(lo, 1.0, " zoom", transform=ax_x.get_xaxis_transform(), color="tab:purple", fontsize="small", va="top")
 
     for ax, zoom, measured, estimate, name in ((ax_x, zoom_x, vx, vx_hat, "v_x"), (ax_z, zoom_z, vz, vz_hat, "v_z")):
         for a in (ax, zoom):
