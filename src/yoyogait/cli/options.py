@@ -13,8 +13,10 @@ import re
 
 import click
 
+from ..errors import InputError
 from ..estimators.config import PRESETS
 from ..estimators.registry import BASELINES
+from ..pipeline import events, points
 
 ESTIMATOR_NAMES = (*PRESETS, *BASELINES)
 """Every estimator the commands can run: the presets, then the baselines."""
@@ -140,9 +142,6 @@ def force_option(what: str):
 
 def check_points(recording, point=None, feet=None) -> None:
     """InputError naming --point or --feet when the recording lacks what they ask for (or no pelvis is found)."""
-    from ..errors import InputError
-    from ..pipeline import events, points
-
     if recording.velocities is not None:  # ready velocities: no points to choose
         return
     try:
