@@ -65,29 +65,31 @@ def _check(t, **arrays):
 
 
 def mark_synthetic(fig: Figure) -> None:
-    """A boxed SYNTHETIC DATA label in the top right corner and a faint diagonal watermark."""
+    """A boxed SYNTHETIC DATA label in the bottom right corner and a faint diagonal watermark."""
+    width_in, height_in = fig.get_size_inches()
     fig.text(
         0.5,
         0.5,
         "SYNTHETIC",
-        rotation=30,
-        fontsize=90,
+        rotation=float(np.degrees(np.arctan2(height_in, width_in))),
+        fontsize=6.5 * float(np.hypot(width_in, height_in)),  # about 3/4 of the diagonal
+        rotation_mode="anchor",
         weight="bold",
         color="tab:red",
-        alpha=0.07,
+        alpha=0.09,
         ha="center",
         va="center",
         zorder=0,
     )
-    fig.text(
+    fig.text(  # bottom right: the one corner no title, legend or axis label reaches
         0.995,
-        0.995,
+        0.005,
         "SYNTHETIC DATA",
         fontsize=9,
         weight="bold",
         color="darkred",
         ha="right",
-        va="top",
+        va="bottom",
         bbox=dict(boxstyle="round,pad=0.3", facecolor="#fde0dc", edgecolor="tab:red"),
     )
 
