@@ -15,6 +15,7 @@ from .options import estimators_option, force_option
 @click.option(
     "--out",
     type=click.Path(file_okay=False),
+    metavar="FOLDER",
     default="yoyogait-demo",
     show_default=True,
     help="Folder for the report: new, empty, or a report of yoyogait's (with --force).",

@@ -99,6 +99,7 @@ REPORT_FORCE_HELP = (
     "--out",
     "out",
     type=click.Path(file_okay=False),
+    metavar="FOLDER",
     default="yoyogait-evaluation",
     show_default=True,
     help="Folder for the report: new, empty, or a report of yoyogait's (with --force).",

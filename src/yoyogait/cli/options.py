@@ -75,6 +75,7 @@ _INPUT_OPTIONS = (
     # (its values are the defaults the options below override).
     click.option(
         "--point",
+        metavar="NAME[,NAME...]",
         default=None,
         callback=_split_names,
         help="Point to follow: 'pelvis' (default: the pelvis centre, found by name), 'hand', "
@@ -82,6 +83,7 @@ _INPUT_OPTIONS = (
     ),
     click.option(
         "--feet",
+        metavar="NAME,NAME",
         default=None,
         callback=_split_names,
         help="Foot points for contacts and the walking part, separated by commas "
@@ -96,12 +98,14 @@ _INPUT_OPTIONS = (
     click.option(
         "--length-unit-m",
         type=_POSITIVE,
+        metavar="METRES",
         default=None,
         help="Metres per length unit of the file (default: the file's; BVH: inferred from the pelvis height).",
     ),
     click.option(
         "--rate-hz",
         type=_POSITIVE,
+        metavar="HZ",
         default=None,
         help="Sample rate of a file that has none [Hz].",
     ),
@@ -130,6 +134,7 @@ def estimators_option(default: str = "paper,default"):
     """--estimators: several estimators, comma-separated, each one of the listed names."""
     return click.option(
         "--estimators",
+        metavar="NAME[,NAME...]",
         default=default,
         show_default=True,
         help=f"Estimators to compare, comma-separated, from: {', '.join(ESTIMATOR_NAMES)}.",
