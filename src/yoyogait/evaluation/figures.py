@@ -323,7 +323,7 @@ def estimate_figure(
     Rows, on one time axis: forward and vertical velocity, measured and reconstructed
     (eq. 13-14); the signed step frequency with its +-2 sigma band (0 marked) and the cadence
     from foot contacts (``reference_step_frequency_hz`` on the velocity grid) when known; the
-    speed with its +-2 sigma band against the measured forward velocity averaged over 1 s.
+    speed with its +-2 sigma band against the measured forward velocity averaged over a stride.
     Standing periods (``velocities.walking`` False) are shaded.  Bottom: ``zoom_s`` seconds in
     the middle of the longest walking stretch, where each step and the phase of the
     reconstruction against the measurement show, foot contacts (``contacts_s``) marked.
@@ -402,8 +402,13 @@ def estimate_figure(
         ax_s.fill_between(
             t, speed - 2 * speed_std, speed + 2 * speed_std, where=band, color=_EST2, alpha=0.25, lw=0, label="±2σ"
         )
-    mean_vx = moving_mean(vx, max(1, int(round(1.0 * vel.rate_hz))))
-    ax_s.plot(t, mean_vx, color="0.4", lw=1.0, label="measured $v_x$, 1 s mean")
+    # Averaged over a stride (two steps), where the oscillation cancels: the stride of the foot-contact
+    # cadence, else of the estimate; 1.8 Hz when neither is known.
+    cadence = f_ref if f_ref is not None and np.isfinite(f_ref).any() else f
+    known = np.abs(cadence[np.isfinite(cadence) & (np.asarray(walking, bool) if walking is not None else True)])
+    f_typ = float(np.clip(np.median(known), 0.6, 3.0)) if known.size else 1.8
+    mean_vx = moving_mean(vx, max(1, int(round(2.0 / f_typ * vel.rate_hz))))
+    ax_s.plot(t, mean_vx, color="0.4", lw=1.0, label="measured $v_x$, stride mean")
     ax_s.plot(t, speed, color=_EST2, lw=1.2, label="speed estimate")
     ax_s.set_ylabel("speed (m/s)")
     ax_s.set_xlabel("time (s)")
