@@ -81,6 +81,7 @@ def test_library_argument_names_become_option_names():
     assert cli_message("at least min_usable_s=1.5 s are needed") == "at least 1.5 s are needed"
     assert cli_message("point= must name at least one point") == "--point must name at least one point"
     assert cli_message("the option rate_hz_file stays") == "the option rate_hz_file stays"
+    assert cli_message("no pelvis-like point; the point is missing") == "no pelvis-like point; the point is missing"
 
 
 def test_a_missing_rate_names_the_option(tmp_path, capsys):

@@ -34,7 +34,8 @@ OPTION_OF_ARGUMENT = {
 _NAMES = "|".join(OPTION_OF_ARGUMENT)
 _PASS = re.compile(rf"\bpass ({_NAMES})=")
 _ASSIGN = re.compile(rf"(?<![\w-])({_NAMES})=")
-_SUBJECT = re.compile(rf"(?<![\w-])({_NAMES}) (must|is|has)\b")
+# Only names that cannot be English words ("point", "feet" can) as the subject of a sentence.
+_SUBJECT = re.compile(rf"(?<![\w-])({'|'.join(n for n in OPTION_OF_ARGUMENT if '_' in n)}) (must|is|has)\b")
 
 
 def cli_message(message: str) -> str:
