@@ -50,3 +50,28 @@ def test_belt_speed_override_wins_and_is_checked():
     assert v.treadmill.belt_from == "override" and speed == pytest.approx(1.0, rel=0.08)
     with pytest.raises(InputError, match="belt-speed-mps"):
         detect_treadmill(rec, belt_speed_mps=-1.0)
+
+
+def _write_csv(path, rec):
+    """The recording in yoyogait's CSV layout (metres, z up)."""
+    header = "time_s," + ",".join(f"{n}_{a}" for n in rec.point_names for a in "xyz")
+    rows = [f"{t:.4f}," + ",".join(f"{v:.5f}" for v in frame.ravel()) for t, frame in zip(rec.time_s, rec.positions_m)]
+    path.write_text("# up_axis: z\n" + header + "\n" + "\n".join(rows) + "\n")
+    return path
+
+
+def test_inspect_states_the_treadmill_and_takes_a_belt_speed(tmp_path, capsys):
+    """inspect prints a treadmill line and the belt-inclusive speed; --belt-speed-mps replaces the belt."""
+    from yoyogait.cli import main
+
+    rec, _ = stepping_walk(stand_before_s=0.5, walk_s=6.0, stand_after_s=0.5, treadmill=True)
+    path = _write_csv(tmp_path / "treadmill.csv", rec)
+    assert main(["inspect", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "treadmill" in out and "move back at 1.2" in out
+    speed = float(out.split("mean speed")[1].split()[0])
+    assert speed == pytest.approx(BELT_MPS, rel=0.08)
+    assert main(["inspect", str(path), "--belt-speed-mps", "0.9"]) == 0
+    out = capsys.readouterr().out
+    assert "belt 0.90 m/s (--belt-speed-mps)" in out
+    assert float(out.split("mean speed")[1].split()[0]) == pytest.approx(0.9, rel=0.08)

@@ -45,6 +45,7 @@ def inspect_file(
         "pelvis": None,
         "hand": None,
         "feet": {},
+        "foot_points": {},
         "walking_s": velocities.walking_s,
         "walking_from": "",
         "mean_speed_mps": None,
@@ -73,7 +74,8 @@ def inspect_file(
             report["hand"] = list(points.find_hand(rec.point_names).names)
         except InputError:
             pass
-        report["feet"] = events.feet_of(rec, feet)
+        report["foot_points"] = events.foot_groups_of(rec, feet)
+        report["feet"] = {side: group[0] for side, group in report["foot_points"].items()}
     report["walking_from"] = "pelvis speed"
     if report["feet"] and report["pelvis"]:
         ev = events.detect_gait_events(rec, feet=feet, up_axis=velocities.up_axis)
@@ -163,7 +165,10 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_sp
         lines.append(("followed", report["point"]))
     if names:
         lines.append(("hand", ", ".join(report["hand"]) if report["hand"] else "none found"))
-        feet = ", ".join(f"{side} {name}" for side, name in report["feet"].items())
+        feet = ", ".join(
+            f"{side} {group[0]}" + (f" (with {', '.join(group[1:])})" if len(group) > 1 else "")
+            for side, group in report["foot_points"].items()
+        )
         lines.append(("feet", feet or "none found"))
     if report["treadmill"] is not None and (
         report["treadmill"]["detected"] or "stays" in report["treadmill"]["summary"]

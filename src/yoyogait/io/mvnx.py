@@ -96,7 +96,7 @@ def read_mvnx(path, *, length_unit_m: float | None = None, rate_hz: float | None
             "format": "mvnx",
             "length_unit_m": scale_m,
             "length_unit_from": "override" if length_unit_m is not None else "metres (MVNX)",
-            "up_axis_from": "MVNX convention (Z up)",
+            "up_axis_from": "MVNX convention: Z up",
             "mvnx_version": root.get("version"),
             "configuration": subject.get("configuration"),
         },

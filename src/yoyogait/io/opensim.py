@@ -118,7 +118,7 @@ def read_opensim(path, *, length_unit_m: float | None = None, rate_hz: float | N
             "coordinates_rad": coordinates,
             "length_unit_m": scale_m,
             "length_unit_from": "override" if length_unit_m is not None else "metres (OpenSim)",
-            "up_axis_from": "OpenSim ground frame (Y up)",
+            "up_axis_from": "OpenSim ground frame: Y up",
         },
     )
 
