@@ -27,50 +27,37 @@ __all__ = ["read_mvnx"]
 def read_mvnx(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
     """Read the segment origins and anatomical points of an MVNX file."""
     p = check_readable(path)
+    # Streamed: a long MVN take is hundreds of MB of XML; each frame is dropped once read.
+    root_tag = None
+    version = None
+    subject: dict | None = None
+    segment_names: list[str] = []
+    anatomical: list[tuple[str, int, np.ndarray]] = []  # (point, segment index, offset in the segment frame)
+    times: list[float] = []
+    positions: list[np.ndarray] = []
+    orientations: list[np.ndarray] = []
     try:
-        root = ET.parse(p).getroot()
+        for event, elem in ET.iterparse(p, events=("start", "end")):
+            tag = elem.tag.rsplit("}", 1)[-1]
+            if event == "start":
+                if root_tag is None:
+                    root_tag, version = tag, elem.get("version")
+                    if tag != "mvnx":
+                        raise InputError(f"{p}: an XML file but not an MVNX export (its root is <{tag}>)")
+                elif tag == "subject" and subject is None:
+                    subject = dict(elem.attrib)
+                continue
+            if tag == "segment":
+                _add_segment(elem, segment_names, anatomical)
+            elif tag == "frame":
+                _add_frame(p, elem, len(segment_names), times, positions, orientations)
+                elem.clear()
     except ET.ParseError as exc:
         raise InputError(f"{p}: not a readable MVNX (XML) file: {exc}") from None
-    ns = root.tag[: root.tag.index("}") + 1] if root.tag.startswith("{") else ""
-    if root.tag != f"{ns}mvnx":
-        raise InputError(f"{p}: an XML file but not an MVNX export (its root is <{root.tag[len(ns) :]}>)")
-    subject = root.find(f"{ns}subject")
     if subject is None:
         raise InputError(f"{p}: the MVNX file holds no <subject>")
-    segments = subject.findall(f"{ns}segments/{ns}segment")
-    if not segments:
+    if not segment_names:
         raise InputError(f"{p}: the MVNX subject declares no segments")
-    segment_names = [s.get("label", f"segment{i + 1}") for i, s in enumerate(segments)]
-    anatomical: list[tuple[str, int, np.ndarray]] = []  # (point, segment index, offset in the segment frame)
-    seen = set(segment_names)
-    for i, segment in enumerate(segments):
-        for point in segment.findall(f"{ns}points/{ns}point"):
-            label, pos_b = point.get("label"), point.find(f"{ns}pos_b")
-            if not label or label in seen or pos_b is None or not pos_b.text:
-                continue
-            seen.add(label)
-            anatomical.append((label, i, np.array(pos_b.text.split(), dtype=float)))
-
-    n_seg = len(segments)
-    times, positions, orientations = [], [], []
-    for frame in subject.iterfind(f"{ns}frames/{ns}frame"):
-        if frame.get("type", "normal") != "normal":
-            continue  # identity and T-pose calibration frames
-        pos, ori = frame.find(f"{ns}position"), frame.find(f"{ns}orientation")
-        if pos is None or ori is None or pos.text is None or ori.text is None:
-            raise InputError(f"{p}: MVNX frame {frame.get('index')} lacks segment positions or orientations")
-        try:
-            xyz = np.array(pos.text.split(), dtype=float)
-            quat = np.array(ori.text.split(), dtype=float)
-        except ValueError:
-            raise InputError(f"{p}: MVNX frame {frame.get('index')} holds a value that is not a number") from None
-        if xyz.size != 3 * n_seg or quat.size != 4 * n_seg:
-            raise InputError(
-                f"{p}: MVNX frame {frame.get('index')} gives {xyz.size // 3} segment positions for {n_seg} segments"
-            )
-        times.append(float(frame.get("time", "nan")))
-        positions.append(xyz.reshape(n_seg, 3))
-        orientations.append(quat.reshape(n_seg, 4))
     if not positions:
         raise InputError(f"{p}: the MVNX file holds no recorded frames (only calibration poses)")
 
@@ -97,10 +84,47 @@ def read_mvnx(path, *, length_unit_m: float | None = None, rate_hz: float | None
             "length_unit_m": scale_m,
             "length_unit_from": "override" if length_unit_m is not None else "metres (MVNX)",
             "up_axis_from": "MVNX convention: Z up",
-            "mvnx_version": root.get("version"),
+            "mvnx_version": version,
             "configuration": subject.get("configuration"),
         },
     )
+
+
+def _add_segment(segment, names: list, anatomical: list) -> None:
+    """A declared segment: its name, and its anatomical points not declared before (a joint is in two)."""
+    names.append(segment.get("label", f"segment{len(names) + 1}"))
+    seen = set(names) | {name for name, _, _ in anatomical}
+    for point in segment.iter():
+        if point.tag.rsplit("}", 1)[-1] != "point":
+            continue
+        label = point.get("label")
+        pos_b = next((c for c in point if c.tag.rsplit("}", 1)[-1] == "pos_b"), None)
+        if not label or label in seen or pos_b is None or not pos_b.text:
+            continue
+        seen.add(label)
+        anatomical.append((label, len(names) - 1, np.array(pos_b.text.split(), dtype=float)))
+
+
+def _add_frame(p, frame, n_seg: int, times: list, positions: list, orientations: list) -> None:
+    """A recorded frame's segment positions and orientations (calibration frames are skipped)."""
+    if frame.get("type", "normal") != "normal":
+        return  # identity and T-pose calibration frames
+    parts = {c.tag.rsplit("}", 1)[-1]: c.text for c in frame}
+    pos, ori = parts.get("position"), parts.get("orientation")
+    if pos is None or ori is None:
+        raise InputError(f"{p}: MVNX frame {frame.get('index')} lacks segment positions or orientations")
+    try:
+        xyz = np.array(pos.split(), dtype=float)
+        quat = np.array(ori.split(), dtype=float)
+    except ValueError:
+        raise InputError(f"{p}: MVNX frame {frame.get('index')} holds a value that is not a number") from None
+    if xyz.size != 3 * n_seg or quat.size != 4 * n_seg:
+        raise InputError(
+            f"{p}: MVNX frame {frame.get('index')} gives {xyz.size // 3} segment positions for {n_seg} segments"
+        )
+    times.append(float(frame.get("time", "nan")))
+    positions.append(xyz.reshape(n_seg, 3))
+    orientations.append(quat.reshape(n_seg, 4))
 
 
 def _rotation_matrices(q: np.ndarray) -> np.ndarray:
