@@ -201,7 +201,7 @@ def test_heel_and_toe_of_a_side_are_one_foot(feet):
 def test_a_listed_foot_without_a_side_is_an_error():
     """A foot point whose name tells no side cannot make a per-side contact series: the error says how to fix it."""
     rec, _ = stepping_walk()
-    with pytest.raises(InputError, match="cannot tell which foot 'SACR'.*left"):
+    with pytest.raises(InputError, match="feet=SACR: cannot tell which foot .SACR.*left"):
         events.detect_gait_events(rec, feet=["LHEE", "SACR"])
 
 

@@ -77,7 +77,10 @@ def check_plausible(rec: Recording) -> Recording:
     m = body_measures(rec, up)
     unit = float(rec.metadata.get("length_unit_m", 1.0))
     unit_from = rec.metadata.get("length_unit_from", "")
-    said = f"the length unit {_unit_name(unit)} ({unit_from})" if unit_from else f"the length unit {_unit_name(unit)}"
+    if unit_from == "override":
+        said = f"--length-unit-m {unit:g}"
+    else:
+        said = f"the length unit {_unit_name(unit)}" + (f" ({unit_from})" if unit_from else "")
     height = m["pelvis_height_m"]
     size = m["size_m"]
 

@@ -235,7 +235,8 @@ def foot_groups_of(recording: Recording, feet=None) -> dict[str, list[str]]:
             side = points.side_of(name)
             if side is None:
                 raise InputError(
-                    f'cannot tell which foot {name!r} belongs to; give feet as {{"left": [...], "right": [...]}}'
+                    f"feet={name}: cannot tell which foot {name!r} belongs to, its name says neither left nor right; "
+                    'give heel, ankle or toe points named by side (LHEE, R_Heel) or {"left": [...], "right": [...]}'
                 )
             given.setdefault(side, []).append(name)
     for group in given.values():
