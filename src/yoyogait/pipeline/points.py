@@ -185,10 +185,13 @@ def find_feet(
 
 def choose_point(rec: Recording, point=None, *, hand_side: str = "right") -> PointChoice:
     """What to follow: None or "pelvis" (the pelvis centre), "hand", a point name or a list of names."""
-    if point is None or (isinstance(point, str) and point.lower() == "pelvis" and "pelvis" not in rec.point_names):
-        return find_pelvis(rec.point_names)
-    if isinstance(point, str) and point.lower() == "hand" and "hand" not in rec.point_names:
-        return find_hand(rec.point_names, hand_side)
+    try:
+        if point is None or (isinstance(point, str) and point.lower() == "pelvis" and "pelvis" not in rec.point_names):
+            return find_pelvis(rec.point_names)
+        if isinstance(point, str) and point.lower() == "hand" and "hand" not in rec.point_names:
+            return find_hand(rec.point_names, hand_side)
+    except InputError as exc:  # say which file
+        raise InputError(f"{rec.source}: {exc}" if rec.source else str(exc)) from None
     names = (point,) if isinstance(point, str) else tuple(point)
     if not names:
         raise InputError("point= must name at least one point")
