@@ -67,7 +67,9 @@ def reference_paper_estimator(
     mu_A0=0.1,
     v_max=1000.0,
 ):
-    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat, P)."""
+    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat, the
+    covariance P after each sample, and the diagnostics: innovation (N, 2) = z - H x- at the
+    prediction, nis = y^T S^-1 y; NaN where unused)."""
     N = len(vx)
     x = np.array([r0 * w0, 0.0, w0, R0 * w0])
     P = np.eye(4) * P0
@@ -83,6 +85,8 @@ def reference_paper_estimator(
     R_hist[0], r_hist[0] = R0, r0
     vx_hat = np.empty(N)
     vz_hat = np.empty(N)
+    innovation = np.full((N, 2), np.nan)
+    nis = np.full(N, np.nan)
     for k in range(1, N + 1):
         # Prediction through eq. 6 with F evaluated at the prior state.
         x1, x2, w, A0 = x
@@ -102,8 +106,12 @@ def reference_paper_estimator(
         if np.all(np.isfinite(z)) and np.all(np.abs(z) <= v_max):
             x_pred, P_pred = x, P
             S = H @ P @ H.T + Vm
-            K = P @ H.T @ np.linalg.inv(S)
-            x = x + K @ (z - H @ x)
+            S_inv = np.linalg.inv(S)
+            K = P @ H.T @ S_inv
+            y = z - H @ x
+            innovation[k - 1] = y
+            nis[k - 1] = y @ S_inv @ y
+            x = x + K @ y
             P = (np.eye(4) - K @ H) @ P
             if not positive_definite(P):
                 # The guard: the Joseph form of the same update, from a positive definite prediction.
@@ -136,5 +144,7 @@ def reference_paper_estimator(
         "r_hat": r_hist[1:],
         "vx_hat": vx_hat,
         "vz_hat": vz_hat,
+        "innovation": innovation,
+        "nis": nis,
         "P": covariances,
     }

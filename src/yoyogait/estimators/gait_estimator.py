@@ -52,19 +52,24 @@ class GaitEstimator:
         self._impl = _core.Estimator(self.config.to_native())
         self._last_time_s: float | None = None
 
-    def step(self, vx: float, vz: float, dt_s: float | None = None):
+    def step(self, vx: float, vz: float, dt_s: float | None = None, *, diagnostics: bool = False):
         """Process one sample of forward and vertical velocity [m/s]; returns the estimate after it.
 
         ``dt_s``: time since the previous sample [s] (None: ``sample_time_s``).  The default
         estimator propagates over it; the paper's works per sample and does not use it.
         A NaN or infinite sample (default: channel) is not used and is flagged in ``status``.
+        ``diagnostics``: the estimate also carries ``innovation_vx_mps``, ``innovation_vz_mps``
+        and ``nis`` (see :class:`EstimateResult`).
         """
         self._last_time_s = None
+        step = self._impl.step_diagnosed if diagnostics else self._impl.step
         if dt_s is None:
-            return self._impl.step(vx, vz)
-        return self._impl.step(vx, vz, dt_s)
+            return step(vx, vz)
+        return step(vx, vz, dt_s)
 
-    def run(self, vx, vz, *, predict_ahead_s=(), time_s=None, covariance=False) -> EstimateResult:
+    def run(
+        self, vx, vz, *, predict_ahead_s=(), time_s=None, diagnostics: bool = False, covariance: bool = False
+    ) -> EstimateResult:
         """Process arrays of samples, continuing from the current state.
 
         ``predict_ahead_s``: horizons [s] for which to also predict the velocities at each sample.
@@ -72,6 +77,8 @@ class GaitEstimator:
         their differences (irregular sampling, gaps), continuing from the last timestamp of the
         previous ``run``.  Without it every sample is ``sample_time_s`` after the previous one.
         The paper's estimator works per sample and does not use them.
+        ``diagnostics``: also the innovations and the NIS of every sample (``innovation_vx_mps``,
+        ``innovation_vz_mps``, ``nis``); without, they are not computed.
         ``covariance``: also return the filter's covariance after every sample (for checks).
 
         The arrays are views of one table written row by row (one row per sample), so most are
@@ -98,7 +105,7 @@ class GaitEstimator:
                     dt[1:] = time_s[1:] - time_s[:-1]
                 dt[0] = (time_s[0] - self._last_time_s) if self._last_time_s is not None else self.config.sample_time_s
         horizons = np.asarray(horizons_s, dtype=np.float64) / self.config.sample_time_s
-        out = self._impl.run(vx, vz, horizons, dt, bool(covariance))
+        out = self._impl.run(vx, vz, horizons, dt, bool(diagnostics), bool(covariance))
         if "covariance" in out:
             k = 4 if paper else 8
             out["covariance"] = out["covariance"].reshape(vx.size, k, k)

@@ -30,6 +30,16 @@ class Recording:
     source: str = ""
     metadata: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        names = list(self.point_names)
+        shown = ", ".join(names[:6]) + (f", ... ({len(names) - 6} more)" if len(names) > 6 else "")
+        rate = f"{self.rate_hz:g} Hz" if self.rate_hz else "irregular rate"
+        what = f"{len(names)} points: {shown}" if names else "ready velocities"
+        return (
+            f"Recording({self.source or 'in memory'}: {self.n_frames} frames at {rate}, {self.duration_s:.2f} s, "
+            f"up {self.up_axis or 'not given'}, {what})"
+        )
+
     @property
     def n_frames(self) -> int:
         return int(self.positions_m.shape[0])
@@ -154,3 +164,14 @@ def _is_float(text: str) -> bool:
 def uniform_time(n_frames: int, rate_hz: float, start_s: float = 0.0) -> np.ndarray:
     """Timestamps of ``n_frames`` samples at ``rate_hz`` from ``start_s``."""
     return start_s + np.arange(n_frames, dtype=float) / float(rate_hz)
+
+
+def unique_names(names) -> list[str]:
+    """Names made unique: a repeated name gets ``#2``, ``#3`` (as the C3D reader does)."""
+    seen: dict[str, int] = {}
+    out = []
+    for n in names:
+        k = seen.get(n, 0) + 1
+        seen[n] = k
+        out.append(n if k == 1 else f"{n}#{k}")
+    return out
