@@ -79,8 +79,12 @@ constexpr Measurement measure(const State& s) noexcept {
 ///
 /// Out of place (x_pred, P_pred must not alias x, P), so that each entry is stored as soon as it is
 /// computed: done in place, all of them would be held in registers until the last read of P.
-inline void predict_scalar(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q,
-                           State& x_pred, SymMatrix4& P_pred) noexcept {
+///
+/// Returns whether every variance of P_pred is within max_variance (the covariance guard's bounds,
+/// docs/paper_estimator.md; false also for a NaN), compared while the diagonal is in registers.
+inline bool predict_scalar(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q,
+                           const std::array<double, kStateDim>& max_variance, State& x_pred,
+                           SymMatrix4& P_pred) noexcept {
   // The sincos first: its out-of-line fallback (std::sin) would otherwise force everything
   // computed before it out of the registers.
   double sn, c;
@@ -98,17 +102,33 @@ inline void predict_scalar(const State& x, const SymMatrix4& P, const std::array
   x_pred.bias_mps() = x.bias_mps();
   const double cc = c * c, ss = sn * sn, cs = c * sn;
   // G B G^T + Q(01): q enters first, the late products last.
-  P_pred(0, 0) = (q[kCos] + cc * b00) + (ss * b11 - (cs + cs) * b01);
+  const double p00 = (q[kCos] + cc * b00) + (ss * b11 - (cs + cs) * b01);
+  const double p11 = (q[kSin] + ss * b00) + (cc * b11 + (cs + cs) * b01);
+  P_pred(0, 0) = p00;
   P_pred(0, 1) = cs * (b00 - b11) + (cc - ss) * b01;
-  P_pred(1, 1) = (q[kSin] + ss * b00) + (cc * b11 + (cs + cs) * b01);
+  P_pred(1, 1) = p11;
   // G E(:, 23).
   P_pred(0, 2) = c * e02 - sn * e12;
   P_pred(1, 2) = sn * e02 + c * e12;
   P_pred(0, 3) = c * e03 - sn * e13;
   P_pred(1, 3) = sn * e03 + c * e13;
-  P_pred(2, 2) = P(2, 2) + q[kOmega];
+  const double p22 = P(2, 2) + q[kOmega], p33 = P(3, 3) + q[kBias];
+  P_pred(2, 2) = p22;
   P_pred(2, 3) = P(2, 3);
-  P_pred(3, 3) = P(3, 3) + q[kBias];
+  P_pred(3, 3) = p33;
+  return (p00 <= max_variance[kCos]) & (p11 <= max_variance[kSin]) & (p22 <= max_variance[kOmega]) &
+         (p33 <= max_variance[kBias]);
+}
+
+/// No variance bound: the largest double for each.
+inline constexpr std::array<double, kStateDim> kNoVarianceBound{
+    std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max()};
+
+/// predict_scalar without the bounds.
+inline void predict_scalar(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q,
+                           State& x_pred, SymMatrix4& P_pred) noexcept {
+  predict_scalar(x, P, q, kNoVarianceBound, x_pred, P_pred);
 }
 
 /// EKF update with eq. 9, H = [[1, 0, 0, 1], [0, -1, 0, 0]], from the prediction (x, P) to the
@@ -123,12 +143,12 @@ inline void predict_scalar(const State& x, const SymMatrix4& P, const std::array
 ///
 /// certified: the covariance guard's certificate (docs/paper_estimator.md): true when rounding
 /// cannot have made P_post indefinite, i.e.
-///   kRoundingMargin trace(P) (1 + x1^2 + x2^2) s00 s11 <= guard_floor det(S),
-/// with guard_floor a lower bound on the smallest eigenvalue of P_post in exact arithmetic
+///   cert_scale trace(P) (1 + x1^2 + x2^2) s00 s11 <= det(S),   cert_scale = kRoundingMargin / floor,
+/// with floor a lower bound on the smallest eigenvalue of P_post in exact arithmetic
 /// (PaperEstimator: q_min / (1 + q_min (2 / V11 + 1 / V22))), s00 s11 / det(S) >= 1 the condition
 /// that amplifies the rounding of the gain, (1 + x1^2 + x2^2) that of the prediction (F holds x1, x2).
 inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
-                          double v_vz_mps2, double guard_floor, State& x_post, SymMatrix4& P_post,
+                          double v_vz_mps2, double cert_scale, State& x_post, SymMatrix4& P_post,
                           bool& certified) noexcept {
   const double u0 = P(0, 0) + P(0, 3), u1 = P(1, 0) + P(1, 3), u2 = P(2, 0) + P(2, 3), u3 = P(3, 0) + P(3, 3);
   const double v0 = P(0, 1), v1 = P(1, 1), v2 = P(2, 1), v3 = P(3, 1);
@@ -166,7 +186,7 @@ inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement
   // The certificate (in the order of update_sse2).
   const double trace = (P(0, 0) + P(2, 2)) + (P(1, 1) + P(3, 3));
   const double amp2 = x[0] * x[0] + x[1] * x[1];
-  certified = ((kRoundingMargin * trace) * (1.0 + amp2)) * (s00 * s11) <= guard_floor * det;
+  certified = ((cert_scale * trace) * (1.0 + amp2)) * (s00 * s11) <= det;
   return std::isfinite(check);
 }
 
@@ -174,7 +194,8 @@ inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement
 inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
                           double v_vz_mps2, State& x_post, SymMatrix4& P_post) noexcept {
   bool certified;
-  return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, 0.0, x_post, P_post, certified);
+  return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, std::numeric_limits<double>::infinity(), x_post, P_post,
+                       certified);
 }
 
 /// True when the symmetric P is positive definite (and finite), by the block test: with
@@ -223,8 +244,9 @@ inline __m128d rotate(__m128d v, __m128d C, __m128d S) noexcept {
   return _mm_add_pd(_mm_mul_pd(C, v), _mm_mul_pd(S, perp(v)));
 }
 
-inline void predict_sse2(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q,
-                         State& x_pred, SymMatrix4& P_pred) noexcept {
+inline bool predict_sse2(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q,
+                         const std::array<double, kStateDim>& max_variance, State& x_pred,
+                         SymMatrix4& P_pred) noexcept {
   using M = SymMatrix4;
   // The sincos first: its out-of-line fallback (std::sin) would otherwise force everything
   // computed before it out of the registers.
@@ -260,11 +282,16 @@ inline void predict_sse2(const State& x, const SymMatrix4& P, const std::array<d
   store(P_pred.data() + M::kOff, _mm_move_sd(off, _mm_set_sd(p01)));  // [p01, P(w, A0)]
   store(P_pred.data() + M::kCol2, rotate(E2, C, S));
   store(P_pred.data() + M::kCol3, rotate(E3, C, S));
-  store(P_pred.data() + M::kDiag23, _mm_add_pd(diag23, load(&q[kOmega])));
+  const __m128d diag23n = _mm_add_pd(diag23, load(&q[kOmega]));
+  store(P_pred.data() + M::kDiag23, diag23n);
+  // The variance bounds, on the diagonal pairs in registers (predict_scalar).
+  const __m128d within = _mm_and_pd(_mm_cmple_pd(diag, load(&max_variance[kCos])),
+                                    _mm_cmple_pd(diag23n, load(&max_variance[kOmega])));
+  return _mm_movemask_pd(within) == 3;
 }
 
 inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
-                        double v_vz_mps2, double guard_floor, State& x_post, SymMatrix4& P_post,
+                        double v_vz_mps2, double cert_scale, State& x_post, SymMatrix4& P_post,
                         bool& certified) noexcept {
   using M = SymMatrix4;
   const __m128d X01 = load(&x.x[kCos]), X23 = load(&x.x[kOmega]);
@@ -311,14 +338,15 @@ inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& 
   // The guard's certificate (update_scalar).
   const __m128d diag_sum = _mm_add_pd(diag01, diag23), X2 = _mm_mul_pd(X01, X01);
   const double trace = lo(diag_sum) + hi(diag_sum), amp2 = lo(X2) + hi(X2);
-  certified = ((kRoundingMargin * trace) * (1.0 + amp2)) * (s00 * s11) <= guard_floor * det;
+  certified = ((cert_scale * trace) * (1.0 + amp2)) * (s00 * s11) <= det;
   return std::isfinite(lo(sum) + hi(sum));
 }
 
 inline bool update_sse2(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
                         double v_vz_mps2, State& x_post, SymMatrix4& P_post) noexcept {
   bool certified;
-  return update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, 0.0, x_post, P_post, certified);
+  return update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, std::numeric_limits<double>::infinity(), x_post, P_post,
+                     certified);
 }
 
 // positive_definite_scalar on the storage pairs, the same operations in the same order.
@@ -355,14 +383,21 @@ inline bool positive_definite(const SymMatrix4& P) noexcept {
 #endif
 }
 
-/// The EKF prediction (predict_scalar); with SSE2 the same arithmetic on pairs, identical results.
+/// The EKF prediction (predict_scalar), with the covariance guard's bound test; with SSE2 the same
+/// arithmetic on pairs, identical results.
+inline bool predict(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q,
+                    const std::array<double, kStateDim>& max_variance, State& x_pred, SymMatrix4& P_pred) noexcept {
+#ifdef YOYOGAIT_HAVE_SSE2
+  return detail::predict_sse2(x, P, q, max_variance, x_pred, P_pred);
+#else
+  return predict_scalar(x, P, q, max_variance, x_pred, P_pred);
+#endif
+}
+
+/// The EKF prediction without the bounds.
 inline void predict(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q, State& x_pred,
                     SymMatrix4& P_pred) noexcept {
-#ifdef YOYOGAIT_HAVE_SSE2
-  detail::predict_sse2(x, P, q, x_pred, P_pred);
-#else
-  predict_scalar(x, P, q, x_pred, P_pred);
-#endif
+  predict(x, P, q, kNoVarianceBound, x_pred, P_pred);
 }
 
 /// The EKF update (update_scalar); with SSE2 the same arithmetic on pairs, identical results.
@@ -378,11 +413,11 @@ inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, do
 /// The EKF update with the covariance guard's certificate (update_scalar); with SSE2 the same
 /// arithmetic on pairs, identical results.
 inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2, double v_vz_mps2,
-                   double guard_floor, State& x_post, SymMatrix4& P_post, bool& certified) noexcept {
+                   double cert_scale, State& x_post, SymMatrix4& P_post, bool& certified) noexcept {
 #ifdef YOYOGAIT_HAVE_SSE2
-  return detail::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, guard_floor, x_post, P_post, certified);
+  return detail::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, cert_scale, x_post, P_post, certified);
 #else
-  return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, guard_floor, x_post, P_post, certified);
+  return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, cert_scale, x_post, P_post, certified);
 #endif
 }
 

@@ -53,8 +53,10 @@ class PaperEstimator {
     max_variance_ = {v2, v2, kPi * kPi, v2};
     // The certificate's lower bound on the posterior's eigenvalues: P- >= Q gives
     // lambda_min(P+) >= 1 / (1 / q_min + ||H^T V^-1 H||), ||H^T V^-1 H|| <= 2 / V11 + 1 / V22.
+    // The update's certificate takes kRoundingMargin / that bound (no bound without process noise).
     const double q_min = detail::py_min(detail::py_min(q_[0], q_[1]), detail::py_min(q_[2], q_[3]));
-    guard_floor_ = q_min / (1.0 + q_min * (2.0 / v_vx_mps2_ + 1.0 / v_vz_mps2_));
+    const double floor = q_min / (1.0 + q_min * (2.0 / v_vx_mps2_ + 1.0 / v_vz_mps2_));
+    cert_scale_ = floor > 0.0 ? kRoundingMargin / floor : std::numeric_limits<double>::infinity();
     reset();
   }
 
@@ -76,17 +78,17 @@ class PaperEstimator {
   YOYOGAIT_ALWAYS_INLINE Estimate step(double vx_mps, double vz_mps) noexcept {
     // The prediction goes to scratch members and the update back into state_, P_ (out of place,
     // see predict); a sample that is not used leaves the prediction as the posterior.
-    predict(state_, P_, q_, pred_state_, pred_P_);
+    // The covariance guard (docs/paper_estimator.md): the prediction tests its variance bounds, the
+    // update certifies its result; one branch to the rest, which walking data never need.
+    const bool within = predict(state_, P_, q_, max_variance_, pred_state_, pred_P_);
     z_ = Measurement{vx_mps, vz_mps};  // for innovation(), which recomputes from the prediction
-    // The covariance guard (docs/paper_estimator.md): two tests, whose repairs walking data never need.
-    if (!within_variance_bounds(pred_P_, max_variance_)) bound_prediction();
     Status status = Status::kUpdated;
     bool certified = false;
     if (!(std::isfinite(vx_mps) && std::isfinite(vz_mps))) {
       status = Status::kRejectedNonFinite;
     } else if (!(std::fabs(vx_mps) <= max_abs_velocity_mps_ && std::fabs(vz_mps) <= max_abs_velocity_mps_)) {
       status = Status::kRejectedOutOfRange;
-    } else if (!update(pred_state_, pred_P_, Measurement{vx_mps, vz_mps}, v_vx_mps2_, v_vz_mps2_, guard_floor_,
+    } else if (!update(pred_state_, pred_P_, Measurement{vx_mps, vz_mps}, v_vx_mps2_, v_vz_mps2_, cert_scale_,
                        state_, P_, certified)) {
       status = Status::kRejectedNumerical;
     }
@@ -95,8 +97,7 @@ class PaperEstimator {
       P_ = pred_P_;
       certified = false;
     }
-    // An update certifies its covariance (ekf.hpp); anything else is tested.
-    if (!certified) verify_covariance(status, vx_mps, vz_mps);
+    if (!(certified & within)) status = settle_covariance(status, within, vx_mps, vz_mps);
     const double x1 = state_.a1_cos(), x2 = state_.a1_sin(), w = state_.omega_rad_per_sample();
     const double a1 = sqrt1(x1 * x1 + x2 * x2);
     const bool opened = params_.update(w, state_.bias_mps(), a1);
@@ -145,6 +146,31 @@ class PaperEstimator {
  private:
   // The guard's cold paths (docs/paper_estimator.md, "Covariance guard").
 
+  /// The rest of the guard, out of line (rare on data: NaN samples). A prediction beyond its variance
+  /// bounds is bounded (bound_prediction) and a usable sample's update redone from it; then a
+  /// covariance that no update certified is tested, and repaired if it fails (guard_covariance).
+  /// Returns the step's status; by value, so that the caller's status stays in a register.
+  YOYOGAIT_NOINLINE Status settle_covariance(Status status, bool within, double vx_mps, double vz_mps) noexcept {
+    if (!within) {
+      bound_prediction();
+      state_ = pred_state_;
+      P_ = pred_P_;
+      if (status == Status::kUpdated || status == Status::kRejectedNumerical) {
+        bool certified = false;
+        if (update(pred_state_, pred_P_, Measurement{vx_mps, vz_mps}, v_vx_mps2_, v_vz_mps2_, cert_scale_, state_, P_,
+                   certified)) {
+          status = Status::kUpdated;
+          if (certified) return status;
+        } else {
+          state_ = pred_state_;
+          P_ = pred_P_;
+          status = Status::kRejectedNumerical;
+        }
+      }
+    }
+    return positive_definite(P_) ? status : guard_covariance(status, vx_mps, vz_mps);
+  }
+
   /// A prediction with a variance beyond its bound: bounded by bound_variances (correlations kept);
   /// a prediction that is not finite (possible only from an absurd state) restarts from P0.
   YOYOGAIT_COLD void bound_prediction() noexcept {
@@ -159,16 +185,10 @@ class PaperEstimator {
     pred_P_ = SymMatrix4(P);
   }
 
-  /// The covariance after a prediction without update, or after an update that could not certify
-  /// it: tested, and repaired if it fails (out of line: rare on data, NaN samples).
-  YOYOGAIT_NOINLINE void verify_covariance(Status& status, double vx_mps, double vz_mps) noexcept {
-    if (!positive_definite(P_)) guard_covariance(status, vx_mps, vz_mps);
-  }
-
   /// P_ failed positive_definite. After an update: the prediction is made positive definite if it
   /// is not, and the update is recomputed from it in the Joseph form (the same equations); whatever
   /// is still not positive definite is replaced by the nearest matrix that is.
-  YOYOGAIT_COLD void guard_covariance(Status& status, double vx_mps, double vz_mps) noexcept {
+  YOYOGAIT_COLD Status guard_covariance(Status status, double vx_mps, double vz_mps) noexcept {
     if (status == Status::kUpdated) {
       if (!positive_definite(pred_P_)) restore(pred_P_);
       if (!joseph_update(pred_state_, pred_P_, Measurement{vx_mps, vz_mps}, v_vx_mps2_, v_vz_mps2_, state_, P_)) {
@@ -178,6 +198,7 @@ class PaperEstimator {
       }
     }
     if (!positive_definite(P_)) restore(P_);
+    return status;
   }
 
   /// The nearest positive definite matrix (covariance_guard.hpp); P0 if P has nothing to keep.
@@ -229,7 +250,7 @@ class PaperEstimator {
   double initial_R_hat_mps_ = 2.0, initial_r_hat_mps_ = 0.2, initial_omega_ = 0.1;
   std::array<double, kStateDim> q_{}, p0_{};
   std::array<double, kStateDim> max_variance_{};  // the guard's variance bounds
-  double guard_floor_ = 0.0;                       // the guard's lower bound on the eigenvalues
+  double cert_scale_ = 0.0;                        // the guard's certificate: margin / eigenvalue bound
   std::size_t window_ = 10;
   double gate_omega_ = 0.1, gate_bias_ = 0.1;
   // The filter.

@@ -230,7 +230,7 @@ TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
   // predict() and update() (SSE2 pairs where available) give exactly predict_scalar(), update_scalar(),
   // the covariance guard's certificate included.
   std::mt19937 gen(13);
-  int certified = 0;
+  int certified = 0, within = 0;
   std::uniform_real_distribution<double> u(-1.0, 1.0), w(-1.2, 1.2);
   const std::array<double, 4> q{1e-5, 2e-5, 1e-3, 3e-3};
   for (int n = 0; n < 2000; ++n) {
@@ -239,8 +239,14 @@ TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
     const SymMatrix4 P = random_covariance(gen, scale);
     State xa, xb;
     SymMatrix4 Pa, Pb;
-    predict(x, P, q, xa, Pa);
-    predict_scalar(x, P, q, xb, Pb);
+    // The variance bounds on both sides of the predicted diagonal.
+    std::array<double, 4> bound;
+    for (double& b : bound) b = scale * std::pow(10.0, 1.0 + 1.5 * u(gen));
+    const bool ina = predict(x, P, q, bound, xa, Pa);
+    const bool inb = predict_scalar(x, P, q, bound, xb, Pb);
+    ASSERT_EQ(ina, inb);
+    ASSERT_EQ(ina, within_variance_bounds(Pa, bound));
+    within += ina;
     ASSERT_EQ(xa.x, xb.x);
     for (std::size_t k = 0; k < 10; ++k) ASSERT_EQ(Pa.data()[k], Pb.data()[k]) << k;
     const Measurement z{3.0 * u(gen), u(gen)};
@@ -249,8 +255,8 @@ TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
     // The guard's certificate too, with floors on both sides of where it flips.
     const double floor = std::pow(10.0, -12.0 + 10.0 * (0.5 + 0.5 * u(gen)));
     bool ca = false, cb = true;
-    const bool oka = update(xa, Pa, z, 1e-2, 2e-2, floor, ya, Qa, ca);
-    const bool okb = update_scalar(xb, Pb, z, 1e-2, 2e-2, floor, yb, Qb, cb);
+    const bool oka = update(xa, Pa, z, 1e-2, 2e-2, kRoundingMargin / floor, ya, Qa, ca);
+    const bool okb = update_scalar(xb, Pb, z, 1e-2, 2e-2, kRoundingMargin / floor, yb, Qb, cb);
     ASSERT_TRUE(oka);
     ASSERT_EQ(oka, okb);
     ASSERT_EQ(ca, cb);
@@ -260,6 +266,8 @@ TEST(FilterStep, DispatchedFormEqualsTheScalarFormBitForBit) {
   }
   EXPECT_GT(certified, 200);
   EXPECT_LT(certified, 1800);
+  EXPECT_GT(within, 100);
+  EXPECT_LT(within, 1900);
   // Both refuse the same overflowing measurement.
   State y;
   SymMatrix4 Q;
@@ -376,7 +384,7 @@ TEST(JosephUpdate, StaysPositiveDefiniteWhereTheStandardFormDoesNot) {
   const std::array<double, 4> q{1e-5, 1e-5, 1e-3, 1e-3};
   const double nan = std::numeric_limits<double>::quiet_NaN();
   int standard_lost = 0, joseph_lost = 0, certified_updates = 0;
-  const double guard_floor = 1e-5 / (1.0 + 1e-5 * (2.0 / 1e-2 + 1.0 / 1e-2));  // as PaperEstimator's
+  const double cert_scale = kRoundingMargin / (1e-5 / (1.0 + 1e-5 * (2.0 / 1e-2 + 1.0 / 1e-2)));  // as PaperEstimator's
   for (int n = 0; n < 2000; ++n) {
     State x{{0.02, 0.0, 0.1, 0.2}};
     SymMatrix4 P(diagonal({1, 1, 1, 1}));
@@ -393,7 +401,7 @@ TEST(JosephUpdate, StaysPositiveDefiniteWhereTheStandardFormDoesNot) {
         continue;
       }
       bool certified = false;
-      ASSERT_TRUE(update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, guard_floor, xa, Pa, certified));
+      ASSERT_TRUE(update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, cert_scale, xa, Pa, certified));
       ASSERT_TRUE(joseph_update(xp, Pp, Measurement{s[0], s[1]}, 1e-2, 1e-2, xb, Pb));
       // The guard's certificate never vouches for an indefinite result.
       if (certified) {

@@ -222,7 +222,6 @@ class _Ekf:
                 P[i, IDA] *= da
             P[IA0, IA0] += qb
             P[IDA, IDA] += qa
-            self.bound_variances(cfg)
             return
         phi = x[IW] * dt
         c, s = math.cos(phi), math.sin(phi)
@@ -279,7 +278,6 @@ class _Ekf:
             P[IDW, IDW] += (qlo + (cfg.q_omega_rate_rad2_per_s5 - qlo) * rr) * dt
         P[IA0, IA0] += qb
         P[IDA, IDA] += qa
-        self.bound_variances(cfg)
 
     # --- the covariance guard (docs/default_estimator.md, sec. 2.7), written independently
 
@@ -298,8 +296,10 @@ class _Ekf:
             P[:, :] = P * np.outer(d, d)
 
     def guard(self, cfg):
-        """After the updates: P positive semi-definite with exact zeros only (Cholesky of the rows that
-        are not all zero), else the nearest matrix with eigenvalues >= 1e-12 of the largest."""
+        """After the updates: variances within their bounds, and P positive semi-definite with exact
+        zeros only (Cholesky of the rows that are not all zero), else the nearest matrix with
+        eigenvalues >= 1e-12 of the largest."""
+        self.bound_variances(cfg)
         P = self.P
         live = np.any(P != 0.0, axis=1)
         try:
@@ -719,11 +719,13 @@ class DefaultEstimator:
                 status = STATUS_OUTLIER
         else:
             if self.n_rejects >= c.max_consecutive_rejects:
-                # persistent disagreement was accepted: inflate P so the filter follows again
+                # persistent disagreement was accepted: inflate P so the filter follows again (up to
+                # the variance bounds of the covariance guard)
                 m = self.main
+                v2 = c.max_abs_velocity_mps**2
                 for i in (IX1, IX2, IZ1, IZ2):
-                    m.P[i, i] += c.p0_phasor_std_mps**2
-                m.P[IA0, IA0] += c.p0_bias_std_mps**2
+                    m.P[i, i] += max(min(c.p0_phasor_std_mps**2, v2 - m.P[i, i]), 0.0)
+                m.P[IA0, IA0] += max(min(c.p0_bias_std_mps**2, 0.25 * v2 - m.P[IA0, IA0]), 0.0)
             self.n_rejects = 0
 
         if self.acquiring:

@@ -390,12 +390,13 @@ class GaitFilter {
     // A non-finite or out-of-range channel says more about the sample than the gate.
     if (rejected && outcome == Outcome::kOk) outcome = Outcome::kOutlier;
     if (gate_.after_step(rejected)) {
-      // Persistent disagreement was accepted: inflate P so that the filter follows again.
-      main_.P[kX1][kX1] += model_.p0_phasor;
-      main_.P[kX2][kX2] += model_.p0_phasor;
-      main_.P[kZ1][kZ1] += model_.p0_phasor;
-      main_.P[kZ2][kZ2] += model_.p0_phasor;
-      main_.P[kA0][kA0] += model_.p0_speed;
+      // Persistent disagreement was accepted: inflate P so that the filter follows again (up to the
+      // variance bounds, sec. 2.7; a non-negative diagonal increment keeps P positive definite).
+      model_.inflate(main_, kX1, model_.p0_phasor);
+      model_.inflate(main_, kX2, model_.p0_phasor);
+      model_.inflate(main_, kZ1, model_.p0_phasor);
+      model_.inflate(main_, kZ2, model_.p0_phasor);
+      model_.inflate(main_, kA0, model_.p0_speed);
     }
 
     if (acquiring_) {

@@ -37,8 +37,8 @@ struct Ekf {
   double loglik = 0.0;  ///< innovation log-likelihood with exponential memory (bank only)
   double dw_lp = 0.0;   ///< dw low-passed over omega_rate_lp_tau_s: the trend test of q_rate
   Innovations innovations;  ///< of the last update (diagnostics; the filter does not read them)
-  /// Set by the prediction: the rounding of this step's updates cannot make P indefinite, so the
-  /// covariance guard need not test it (sec. 2.7).
+  /// Set by the prediction: P- is within its variance bounds and the rounding of this step's
+  /// updates cannot make P indefinite, so the covariance guard has nothing to do (sec. 2.7).
   bool psd_certified = false;
 };
 
@@ -101,8 +101,7 @@ struct MemberModel {
     const double qb = q_speed * dt, qa = q_accel * dt;
     if (!oscillate) {
       predict_standing(e.x, e.P, dt, fc.accel_decay, qb, qa);
-      if (!within_variance_bounds(e.P)) bound_variances_of(e);
-      e.psd_certified = false;  // no noise on the frozen oscillator: no lower bound; the guard tests
+      e.psd_certified = false;  // no noise on the frozen oscillator, no lower bound: settle() tests
       return;
     }
     GaitProcessNoise q;
@@ -126,15 +125,15 @@ struct MemberModel {
     const double qh = q_harmonic * dt;
     h[kVx].predict(qh);
     h[kVz].predict(qh);
-    if (!within_variance_bounds(e.P)) bound_variances_of(e);
     certify(e, dt);
   }
 
-  /// The covariance guard's certificate (sec. 2.7): P- >= Q, so lambda_min(P+) >=
-  /// 1 / (1 / (dt q_floor) + info) in exact arithmetic; the rounding of the prediction and the two
-  /// downdates moves an eigenvalue by a few units of round-off times trace(P-) (1 + dt^2 |phasors|^2).
-  /// With a margin of 1024 units (kRoundingMargin), P+ stays positive definite. Multiplied out, no
-  /// division; on walking data the two sides are some 1e8 apart.
+  /// The covariance guard's certificate (sec. 2.7): P- is within its variance bounds, and P+ stays
+  /// positive definite: P- >= Q, so lambda_min(P+) >= 1 / (1 / (dt q_floor) + info) in exact
+  /// arithmetic, and the rounding of the prediction and the two downdates moves an eigenvalue by a
+  /// few units of round-off times trace(P-) (1 + dt^2 |phasors|^2), far within a margin of 1024
+  /// units (kRoundingMargin). Multiplied out, no division; on walking data the two sides are some
+  /// 1e8 apart.
   void certify(Ekf& e, double dt) const noexcept {
     const GaitMatrix& P = e.P;
     const GaitState& x = e.x;
@@ -142,7 +141,8 @@ struct MemberModel {
                          ((P[kW][kW] + P[kA0][kA0]) + (P[kDA0][kDA0] + P[kDW][kDW]));
     const double amp2 = (x[kX1] * x[kX1] + x[kX2] * x[kX2]) + (x[kZ1] * x[kZ1] + x[kZ2] * x[kZ2]);
     const double floor = dt * q_floor;
-    e.psd_certified = kRoundingMargin * trace * (1.0 + dt * dt * amp2) * (1.0 + floor * info) <= floor;
+    e.psd_certified = within_variance_bounds(P) &
+                      (kRoundingMargin * trace * (1.0 + dt * dt * amp2) * (1.0 + floor * info) <= floor);
   }
 
   /// The measurement updates of one EKF (sec. 2.1, 2.5): for each usable channel, cancel the
@@ -184,7 +184,7 @@ struct MemberModel {
         }
       }
       clamp(e);
-      if (!e.psd_certified && !positive_semidefinite_upper(e.P)) restore_covariance(e);
+      if (!e.psd_certified) settle(e, true);
       return rejected;
     }
     const bool harm = !kBank && use_harmonic;
@@ -253,9 +253,9 @@ struct MemberModel {
     }
     downdate(e.P, k1, ph1, k2, ph2);
     clamp(e);
-    // The covariance guard (docs/default_estimator.md, sec. 2.7): the full test only where the
-    // prediction could not certify the step; a repair never needed on walking data.
-    if (!e.psd_certified && !positive_semidefinite_upper(e.P)) restore_covariance(e);
+    // The covariance guard (docs/default_estimator.md, sec. 2.7): out of line where the prediction
+    // could not certify the step; a repair never needed on walking data.
+    if (!e.psd_certified) settle(e, false);
     // Both harmonic gains from one division (1/S_x = S_z / (S_x S_z)).
     if (hx.on || hz.on) {
       const double inv = 1.0 / (hx.S * hz.S);
@@ -267,6 +267,12 @@ struct MemberModel {
 
   // The covariance guard (docs/default_estimator.md, sec. 2.7).
 
+  /// P[i][i] += add, but not beyond the variance bound (nor below the current value).
+  void inflate(Ekf& e, std::size_t i, double add) const noexcept {
+    const double room = max_variance[i] - e.P[i][i];
+    e.P[i][i] += detail::py_max(detail::py_min(add, room), 0.0);
+  }
+
   /// True when no variance of P exceeds its bound (and none of X, Z, w, A0 is NaN; the rates have
   /// no bound).
   bool within_variance_bounds(const GaitMatrix& P) const noexcept {
@@ -275,7 +281,28 @@ struct MemberModel {
            ((P[kW][kW] <= max_variance[kW]) & (P[kA0][kA0] <= max_variance[kA0]));
   }
 
-  /// A prediction beyond a variance bound: that row and column scaled (bound_variances), the
+  /// The rest of the guard, out of line, for a step the prediction could not certify: variances
+  /// beyond their bounds are bounded, and the covariance is tested and repaired if it fails. While
+  /// standing (the oscillator frozen and decoupled from A0, dA0 since the stop, as after a reset),
+  /// only the (A0, dA0) block changes, so that block is tested when the decoupling holds.
+  YOYOGAIT_NOINLINE void settle(Ekf& e, bool standing) const noexcept {
+    if (!within_variance_bounds(e.P)) bound_variances_of(e);
+    if (standing && standing_block_positive_definite(e.P)) return;
+    if (!positive_semidefinite_upper(e.P)) restore_covariance(e);
+  }
+
+  /// True when A0 and dA0 have no covariance with the other states and their 2x2 block is positive
+  /// definite: then P is positive definite if the rest is, and the rest has not changed since the
+  /// last step that was certified or tested.
+  static bool standing_block_positive_definite(const GaitMatrix& P) noexcept {
+    bool decoupled = true;
+    for (std::size_t i = 0; i < kA0; ++i) decoupled &= (P[i][kA0] == 0.0) & (P[i][kDA0] == 0.0);
+    decoupled &= (P[kA0][kDW] == 0.0) & (P[kDA0][kDW] == 0.0);
+    const double a = P[kA0][kA0], b = P[kA0][kDA0], d = P[kDA0][kDA0];
+    return decoupled & (a > 0.0) & (a * d - b * b > 0.0) & (a * d <= std::numeric_limits<double>::max());
+  }
+
+  /// Variances beyond their bounds: those rows and columns scaled (bound_variances), the
   /// correlations kept; a covariance that is not finite restarts from the initial one.
   YOYOGAIT_COLD void bound_variances_of(Ekf& e) const noexcept {
     GaitMatrix P = full(e.P);
