@@ -134,10 +134,7 @@ class Block {
 // The doubles are one row-major table, each column a strided view: a step writes its values to
 // one place (whole cache lines) rather than to a separate stream per column, which costs a
 // long run several ns per sample more.
-//
-// kCov: the covariance after every step is also written, (n, k * k) row-major, k = 4 (paper) or 8
-// (gait filter): for checks over many samples, not for the estimates.
-template <bool kGait, bool kDiag, bool kCov>
+template <bool kGait, bool kDiag>
 nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
                   const double* pdt) {
   constexpr std::size_t kS = yoyogait::kStateDim;
@@ -154,11 +151,8 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
   const std::size_t kDiagCol = kGait ? kGaitEnd : kCommon;
   const std::size_t kPred = kDiagCol + (kDiag ? 3 : 0);
   const std::size_t width = kPred + 2 * nh;
-  constexpr std::size_t kCovDim = kGait ? kG : kS;
-  constexpr std::size_t kCovSize = kCov ? kCovDim * kCovDim : 0;
-  Block block(n * (sizeof(double) * (width + kCovSize) + (kGait ? 4 : 2)) + 64);
+  Block block(n * (sizeof(double) * width + (kGait ? 4 : 2)) + 64);
   double* rows = block.raw<double>(n * width);
-  double* covs = block.raw<double>(n * kCovSize);
   auto status = block.take<std::uint8_t>(n);
   auto updated = block.take<bool>(n);
   auto walking = block.take<bool>(kGait ? n : 0), acquiring = block.take<bool>(kGait ? n : 0);
@@ -210,18 +204,6 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
           r[kPred + j] = v.vx_mps;
           r[kPred + nh + j] = v.vz_mps;
         }
-        if constexpr (kCov) {
-          double* c = covs + i * kCovSize;
-          if constexpr (kGait) {
-            const yoyogait::GaitMatrix P = local.gait_covariance();
-            for (std::size_t a = 0; a < kCovDim; ++a)
-              for (std::size_t b = 0; b < kCovDim; ++b) c[a * kCovDim + b] = P[a][b];
-          } else {
-            const yoyogait::Matrix4 P = local.covariance();
-            for (std::size_t a = 0; a < kCovDim; ++a)
-              for (std::size_t b = 0; b < kCovDim; ++b) c[a * kCovDim + b] = P[a][b];
-          }
-        }
       }
     };
     if (pdt) {
@@ -266,21 +248,42 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     out["vx_pred"] = block.view(rows + kPred, n, nh, width);
     out["vz_pred"] = block.view(rows + kPred + nh, n, nh, width);
   }
-  if constexpr (kCov) out["covariance"] = block.view(covs, n, kCovSize, kCovSize);
   return out;
 }
 
 
-// run_impl with the optional outputs chosen at run time.
+// The covariance after every step, (n, k * k) row-major (k = 4 for the paper, 8 for the gait
+// filter), for checks over many samples. From a pass over a copy of the estimator before run_impl
+// runs: the estimator is deterministic, so the copy goes through the same states, and run_impl's
+// loop stays as it is.
 template <bool kGait>
-nb::dict run_with(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
-                  const double* pdt, bool diagnostics, bool covariance) {
-  if (diagnostics) {
-    return covariance ? run_impl<kGait, true, true>(est, vx, vz, horizons, pdt)
-                      : run_impl<kGait, true, false>(est, vx, vz, horizons, pdt);
+nb::object covariances(const yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const double* pdt) {
+  constexpr std::size_t k = kGait ? yoyogait::gait::kDim : yoyogait::kStateDim;
+  const std::size_t n = vx.shape(0);
+  auto out = owned<double>(n, k * k);
+  const double* px = vx.data();
+  const double* pz = vz.data();
+  {
+    nb::gil_scoped_release release;
+    yoyogait::Estimator copy = est;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (pdt)
+        copy.step(px[i], pz[i], pdt[i]);
+      else
+        copy.step(px[i], pz[i]);
+      double* c = out.data + i * k * k;
+      if constexpr (kGait) {
+        const yoyogait::GaitMatrix P = copy.gait_covariance();
+        for (std::size_t a = 0; a < k; ++a)
+          for (std::size_t b = 0; b < k; ++b) c[a * k + b] = P[a][b];
+      } else {
+        const yoyogait::Matrix4 P = copy.covariance();
+        for (std::size_t a = 0; a < k; ++a)
+          for (std::size_t b = 0; b < k; ++b) c[a * k + b] = P[a][b];
+      }
+    }
   }
-  return covariance ? run_impl<kGait, false, true>(est, vx, vz, horizons, pdt)
-                    : run_impl<kGait, false, false>(est, vx, vz, horizons, pdt);
+  return out.array;
 }
 
 nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
@@ -290,8 +293,15 @@ nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, con
   if (dt && dt->shape(0) != n) throw nb::value_error("dt_s must have the length of vx");
   const double* pdt = dt ? dt->data() : nullptr;
   const bool paper = est.algorithm() == yoyogait::Algorithm::kPaper;
-  return paper ? run_with<false>(est, vx, vz, horizons, pdt, diagnostics, covariance)
-               : run_with<true>(est, vx, vz, horizons, pdt, diagnostics, covariance);
+  nb::object cov;
+  if (covariance) cov = paper ? covariances<false>(est, vx, vz, pdt) : covariances<true>(est, vx, vz, pdt);
+  nb::dict out;
+  if (diagnostics)
+    out = paper ? run_impl<false, true>(est, vx, vz, horizons, pdt) : run_impl<true, true>(est, vx, vz, horizons, pdt);
+  else
+    out = paper ? run_impl<false, false>(est, vx, vz, horizons, pdt) : run_impl<true, false>(est, vx, vz, horizons, pdt);
+  if (covariance) out["covariance"] = cov;
+  return out;
 }
 
 nb::dict yoyo_trajectory(double R_m, double r_m, double z0_m, const InArray& time_s, const InArray& f_hz,
