@@ -148,8 +148,9 @@ def main():
         centre, _ = points.robust_centre(rec.points(list(synthetic.PELVIS_MARKERS)))
         for cand in CANDIDATES:
             L, rms = compare(cand, rec.time_s, centre, 2, rate)
-            rows.append((f"synthetic {rate} Hz", f"{cand[0]} {cand[1]:g}", L, rms, gain_2hz(cand, rate),
-                         noise_gain(cand, rate)))
+            rows.append(
+                (f"synthetic {rate} Hz", f"{cand[0]} {cand[1]:g}", L, rms, gain_2hz(cand, rate), noise_gain(cand, rate))
+            )
     from yoyogait.evaluation.datasets import manifest_items
 
     items, _ = manifest_items(Path(args.datasets) / "manifest.json")
@@ -162,8 +163,16 @@ def main():
         up = "xyz".index(item.up_axis or "z")
         for cand in CANDIDATES:
             L, rms = compare(cand, rec.time_s, centre, up, rate)
-            rows.append((f"{item.name} {rate:.0f} Hz", f"{cand[0]} {cand[1]:g}", L, rms, gain_2hz(cand, rate),
-                         noise_gain(cand, rate)))
+            rows.append(
+                (
+                    f"{item.name} {rate:.0f} Hz",
+                    f"{cand[0]} {cand[1]:g}",
+                    L,
+                    rms,
+                    gain_2hz(cand, rate),
+                    noise_gain(cand, rate),
+                )
+            )
     print(f"{'recording':50s} {'candidate':10s} {'lag ms':>7s} {'rms m/s':>8s} {'gain2Hz':>8s} {'noise m/s':>9s}")
     for r in rows:
         print(f"{r[0]:50s} {r[1]:10s} {1e3 * r[2]:7.1f} {r[3]:8.4f} {r[4]:8.3f} {r[5]:9.4f}")
