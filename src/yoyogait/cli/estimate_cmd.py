@@ -10,6 +10,7 @@ import numpy as np
 from .. import io
 from .._files import atomic_file
 from ..errors import InputError
+from ..estimators.online import OnlineEstimator
 from ..estimators.registry import check_estimators, estimators
 from ..evaluation import figures as plots
 from ..pipeline.velocities import gait_velocities
@@ -134,8 +135,6 @@ ONLINE_COLUMNS = (
 
 def online_estimate(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, force):
     """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator."""
-    from ..estimators.online import OnlineEstimator
-
     if preset != "default":
         raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
     if figure not in (None, "none"):
