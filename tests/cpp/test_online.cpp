@@ -2,6 +2,7 @@
 // the causal centre, the differentiator's delay, bad input.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -9,6 +10,9 @@
 #include <vector>
 
 #include "yoyogait/online.hpp"
+
+// Heap allocations counted by the replaced operator new of test_estimator.cpp.
+extern std::atomic<long> g_allocations;
 
 using namespace yoyogait;
 
@@ -274,4 +278,23 @@ TEST(OnlineEstimator, ConstructorRejectsBadArguments) {
   c = OnlineConfig{};
   c.estimator = EstimatorConfig::paper();
   EXPECT_THROW(OnlineEstimator(4, 2, 1.0, c), std::invalid_argument);
+}
+
+// update() makes no heap allocation: through start-up, walking, dropouts, bad frames and a gap restart.
+TEST(OnlineEstimator, UpdateDoesNotAllocate) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  const long before = g_allocations.load();
+  for (int k = 0; k < 3000; ++k) {
+    double t = k / 100.0;
+    if (k >= 2000) t += 100.0;  // a gap restart
+    walk.markers(t, p);
+    if (k % 37 == 0) p[0] = p[1] = p[2] = kNaN;
+    if (k % 101 == 0)
+      for (double& x : p) x = kNaN;
+    est.update(t, p);
+    if (k % 53 == 0) est.update(t, p);  // timestamp not increasing
+  }
+  EXPECT_EQ(g_allocations.load(), before);
 }
