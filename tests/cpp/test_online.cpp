@@ -50,10 +50,10 @@ struct SyntheticPelvis {
 };
 
 bool all_finite(const OnlineEstimate& e) {
-  const double v[] = {e.vx_mps,         e.vz_mps,       e.vh_a_mps,          e.vh_b_mps,
-                      e.heading_rad,    e.walk_a_mps,   e.walk_b_mps,        e.vx_hat_mps,
-                      e.vz_hat_mps,     e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps,
-                      e.speed_std_mps,  e.gait_phase,   e.input_latency_s,   e.estimate_age_s};
+  const double v[] = {
+      e.vx_mps,        e.vz_mps,     e.vh_a_mps,        e.vh_b_mps,          e.heading_rad,           e.walk_a_mps,
+      e.walk_b_mps,    e.vx_hat_mps, e.vz_hat_mps,      e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps,
+      e.speed_std_mps, e.gait_phase, e.input_latency_s, e.estimate_age_s};
   for (double x : v)
     if (!std::isfinite(x)) return false;
   return true;
@@ -100,7 +100,11 @@ TEST(OnlineEstimator, VerticalVelocityDelayMatchesReportedLatency) {
     if (t > 10.0) {
       // True vz = -A sin(th): write the estimate as -A' sin(th - w d).
       const double c = std::cos(walk.theta(t)), s = std::sin(walk.theta(t));
-      cc += c * c; ss += s * s; cs += c * s; yc += e.vz_mps * c; ys += e.vz_mps * s;
+      cc += c * c;
+      ss += s * s;
+      cs += c * s;
+      yc += e.vz_mps * c;
+      ys += e.vz_mps * s;
     }
   }
   const double det = cc * ss - cs * cs;
