@@ -302,3 +302,18 @@ TEST(OnlineEstimator, UpdateDoesNotAllocate) {
   }
   EXPECT_EQ(g_allocations.load(), before);
 }
+
+// Frames a microsecond apart, timestamps far in the future and huge jumps keep every output finite.
+TEST(OnlineEstimator, ExtremeTimestampsStayFinite) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  double t = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    t += (k % 10 == 0) ? 1e-6 : 0.01;
+    if (k == 1500) t += 1e12;
+    walk.markers(t < 1e6 ? t : t - 1e12, p);
+    const OnlineEstimate e = est.update(t, p);
+    ASSERT_TRUE(all_finite(e)) << k;
+  }
+}

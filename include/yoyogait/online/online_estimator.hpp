@@ -182,6 +182,8 @@ class OnlineEstimator {
         if (lp_dir_known_) {
           const double sin_turn = lp_dir_[0] * ub - lp_dir_[1] * ua;  // sin of the turn since the last frame
           turn_rate_rad_s_ += alpha_ * (sin_turn / gap_s - turn_rate_rad_s_);
+          // No walker turns faster than this; it also keeps frames microseconds apart harmless.
+          if (!(std::fabs(turn_rate_rad_s_) <= 10.0)) turn_rate_rad_s_ = turn_rate_rad_s_ > 0.0 ? 10.0 : -10.0;
         }
         lp_dir_ = {ua, ub};
         lp_dir_known_ = true;
