@@ -1,5 +1,6 @@
 // Native OnlineEstimator::update loop (front-end and estimator): median ns per frame over rounds.
-// Usage: bench_online [ROUNDS]. Synthetic 4-marker pelvis at 100 Hz with 1 mm noise, 120 s.
+// Usage: bench_online [ROUNDS [ESTIMATOR_PERIOD_S [RATE_HZ]]]. Synthetic 4-marker pelvis (default 100 Hz)
+// with 1 mm noise, 120 s.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,7 +21,8 @@ int main(int argc, char** argv) {
   // Optional: the estimator's sample_time_s [s] (default 0.04: fed every 40 ms; 0.001: every frame).
   yoyogait::OnlineConfig config;
   if (argc > 2) config.estimator.sample_time_s = std::atof(argv[2]);
-  const double rate = 100.0, f = 1.8, pi = 3.141592653589793;
+  // Optional: the capture rate [Hz] (default 100).
+  const double rate = argc > 3 ? std::atof(argv[3]) : 100.0, f = 1.8, pi = 3.141592653589793;
   const std::size_t n = static_cast<std::size_t>(120.0 * rate);
   std::vector<double> t(n), p(n * 12);
   std::mt19937 rng(1);
@@ -50,8 +52,8 @@ int main(int argc, char** argv) {
   }
   std::sort(ns.begin(), ns.end());
   std::printf(
-      "OnlineEstimator::update, 4 points at 100 Hz, estimator every %.3f s, -O3: median %.0f ns per frame, min %.0f ns "
+      "OnlineEstimator::update, 4 points at %g Hz, estimator every %.3f s, -O3: median %.0f ns per frame, min %.0f ns "
       "(%d rounds of %zu frames; f=%.3f Hz)\n",
-      config.estimator.sample_time_s, ns[ns.size() / 2], ns.front(), rounds, n, sink / rounds);
+      rate, config.estimator.sample_time_s, ns[ns.size() / 2], ns.front(), rounds, n, sink / rounds);
   return 0;
 }

@@ -103,6 +103,8 @@ class OnlineEstimator {
     tick_span_s_ = 0.0;
     phase_ = 0.0;
     latency_s_ = 0.0;
+    latency_dt_s_ = -1.0;
+    latency_t_s_ = 0.0;
     alpha_dt_s_ = -1.0;
     aa_started_ = false;
     aa_delay_s_ = 0.0;
@@ -221,7 +223,13 @@ class OnlineEstimator {
         t_tick_s_ = t_s;
         tick_span_s_ = span_s_;
         sum_vx_ = sum_vz_ = span_s_ = 0.0;
-        latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
+        // The delay changes only with the frame interval and the (converging) gain: evaluated when
+        // the interval changes, else once a second.
+        if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
+          latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
+          latency_dt_s_ = gap_s;
+          latency_t_s_ = t_s;
+        }
         aa_delay_s_ = config_.antialias_hz > 0.0 ? aa_.delay_s(config_.latency_f_hz) : 0.0;
       }
     }
@@ -314,7 +322,7 @@ class OnlineEstimator {
   double turn_rate_rad_s_ = 0.0;
   double alpha_dt_s_ = -1.0, alpha_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, tick_span_s_ = 0.0;
-  double phase_ = 0.0, latency_s_ = 0.0;
+  double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;
 };
 
 }  // namespace yoyogait
