@@ -59,18 +59,19 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
     return out
 
 
-def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=None):
+def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=None, online=False):
     """Evaluate, print the summary and Table I, write the report; returns the evaluation."""
     names = ev.check_estimators(estimator_list(estimators))
     check_output_folder(out, force)
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
+    if online:  # the online estimator and the oscillator; the synthetic lab gains its cadence-step walks
+        names, items = ev.ONLINE_ESTIMATORS, items + (ev.step_walk_items(seed=seed) if synthetic else [])
     if overrides:
         items = with_overrides(items, **overrides)
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
     click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
-    result = ev.evaluate(
-        items, names, progress=True, dataset=str(dataset or "synthetic"), synthetic=synthetic, failures=problems
-    )
+    run = ev.evaluate_online if online else functools.partial(ev.evaluate, names=names)
+    result = run(items, progress=True, dataset=str(dataset or "synthetic"), synthetic=synthetic, failures=problems)
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
     ev.write_report(result, out, force=force, figures=figures, progress=True)
@@ -111,7 +112,13 @@ REPORT_FORCE_HELP = (
 @force_option(REPORT_FORCE_HELP)
 @click.option("--no-figures", is_flag=True, help="Skip the per-recording figures.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
-def command(dataset, point, feet, up_axis, length_unit_m, rate_hz, estimators, out, force, no_figures, seed):
+@click.option(
+    "--online",
+    is_flag=True,
+    help="Online evaluation: replay each recording frame by frame through "
+    "OnlineEstimator (the oscillator beside it; --estimators is not used). See docs/online.md.",
+)
+def command(dataset, point, feet, up_axis, length_unit_m, rate_hz, estimators, out, force, no_figures, seed, online):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
@@ -121,6 +128,6 @@ def command(dataset, point, feet, up_axis, length_unit_m, rate_hz, estimators, o
     """
     overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     overrides = {k: v for k, v in overrides.items() if v is not None}
-    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed, overrides)
+    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed, overrides, online)
     if result.failures:
         raise click.exceptions.Exit(1)

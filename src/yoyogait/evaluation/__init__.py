@@ -5,6 +5,7 @@
 * :mod:`.metrics`: the scores of one recording;
 * :mod:`.tables`: Table I and the summary over recordings;
 * :mod:`.figures`: Fig. 3/4-style figures;
+* :mod:`.online`: the online evaluation (each recording frame by frame through OnlineEstimator);
 * :mod:`.report`: everything written atomically into one folder.
 """
 
@@ -13,6 +14,7 @@ from __future__ import annotations
 from ..estimators.registry import check_estimators, estimators
 from ..estimators.results import PREDICTION_HORIZONS_S
 from .datasets import READABLE, Item, folder_items, manifest_items, resolve_dataset, synthetic_items
+from .online import ONLINE_ESTIMATORS, ONLINE_METRIC_KEYS, OnlineEvaluation, evaluate_online, step_walk_items
 from .report import write_report
 from .running import (
     DEFAULT_ESTIMATORS,
@@ -27,6 +29,9 @@ from .tables import SUMMARY_KEYS, summary_markdown, table_one, table_one_csv, ta
 
 __all__ = [
     "DEFAULT_ESTIMATORS",
+    "ONLINE_ESTIMATORS",
+    "ONLINE_METRIC_KEYS",
+    "OnlineEvaluation",
     "PREDICTION_HORIZONS_S",
     "RATE_HZ",
     "READABLE",
@@ -38,10 +43,12 @@ __all__ = [
     "estimators",
     "evaluate",
     "evaluate_item",
+    "evaluate_online",
     "folder_items",
     "manifest_items",
     "real_reference",
     "resolve_dataset",
+    "step_walk_items",
     "summary_markdown",
     "synthetic_items",
     "table_one",

@@ -58,7 +58,8 @@ def write_report(
 
 def _write(ev: Evaluation, folder: Path, *, figures: bool, progress: bool) -> None:
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if ev.synthetic else f"data set {ev.dataset}"
-    md = [f"# yoyogait evaluation: {label}", ""]
+    md = [f"# {getattr(ev, 'title', 'yoyogait evaluation')}: {label}", ""]
+    md += list(getattr(ev, "preamble", []))
     md += [f"Recordings evaluated: {len(ev.items)}; estimators: {', '.join(ev.estimators)}.", ""]
     if ev.failures:
         md += ["Not evaluated:", ""] + [f"- `{n}`: {m}" for n, m in ev.failures] + [""]
@@ -76,13 +77,15 @@ def _write(ev: Evaluation, folder: Path, *, figures: bool, progress: bool) -> No
         (folder / f"table1_{est}.md").write_text(table_one_markdown(ev, est) + "\n")
         (folder / f"table1_{est}.csv").write_text(table_one_csv(ev, est))
     rows = ev.rows()
-    keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(metrics.METRIC_KEYS)
+    keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(
+        getattr(ev, "metric_keys", metrics.METRIC_KEYS)
+    )
     with open(folder / "recordings.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         for row in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    if figures:
+    if figures and getattr(ev, "figures", True):
         md += ["## Figures", ""] + _figures(ev, folder, progress=progress)
     (folder / "index.md").write_text("\n".join(md) + "\n")
 
