@@ -3,6 +3,7 @@
 
 #include <nanobind/ndarray.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -69,7 +70,7 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
 #define YOYO_STORE(name) name.first[i] = e.name;
       YOYO_FIELDS(YOYO_STORE)
 #undef YOYO_STORE
-      t_out.first[i] = t[i];
+      t_out.first[i] = std::isfinite(t[i]) ? t[i] : e.t_s;  // the row of a NaN timestamp: the last one accepted
       status.first[i] = static_cast<std::uint8_t>(e.status);
       estimator_status.first[i] = static_cast<std::uint8_t>(e.estimator_status);
       walking.first[i] = e.walking;

@@ -34,7 +34,7 @@ enum class OnlineStatus : std::uint8_t {
 /// One estimate, at the time of one frame. Velocities in m/s in the frame of the data (the up
 /// axis given at construction; "horizontal" = the two other axes in increasing order, a then b).
 struct OnlineEstimate {
-  double t_s = 0.0;          ///< the frame's timestamp [s]
+  double t_s = 0.0;          ///< the frame's timestamp [s] (an ignored frame: the last one accepted)
   double vx_mps = 0.0;       ///< front-end: horizontal velocity along the heading
   double vz_mps = 0.0;       ///< front-end: vertical velocity
   double vh_a_mps = 0.0;     ///< front-end: horizontal velocity, first horizontal axis
@@ -151,6 +151,11 @@ class OnlineEstimator {
     const bool restart = !diff_.started() || gap_s > config_.max_gap_s;
     if (restart) centre_.reset();
     const online::CausalCentre::Result c = centre_.update(pos_.data(), vis_.data(), restart ? 0.0 : gap_s);
+    if (!c.ok) {  // cannot happen with a point seen; kept so that no unset centre is ever used
+      o.status = OnlineStatus::kAllMissing;
+      carry_estimate(t_s);
+      return o;
+    }
     o.status = (restart && have_seen_) ? OnlineStatus::kGapRestart : OnlineStatus::kUsed;
     if (restart) {
       start_front_end(t_s, c.centre_m);

@@ -62,9 +62,17 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     person walks, from foot contacts or speed), the reconstruction vx_hat_mps, vz_hat_mps,
     step_frequency_hz and speed_mps with their standard deviations, R_m, r_m, A0_mps, A1_mps, the
     state x1_mps, x2_mps, x3_rad_per_sample, x4_mps, estimator_walking (0: the estimator holds its
-    last walking values) and status (0: the sample was used). --online: see online_estimate.
+    last walking values) and status (0: the sample was used).
+
+    --online replays FILE frame by frame through the online estimator (nothing from the future;
+    default estimator, no figure): one row per capture frame with time_s, vx_mps, vz_mps,
+    vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz, speed_mps, speed_std_mps,
+    heading_rad, gait_phase, walking, status (0 used, 1 no point seen, 2 timestamp not increasing,
+    3 restart after a gap, 4 non-finite) and input_latency_s; --out defaults to FILE's name + .online.csv.
     """
     if online:
+        if belt_speed_mps is not None:
+            raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")
         return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force)
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
