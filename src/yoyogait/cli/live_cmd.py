@@ -1,0 +1,87 @@
+"""``yoyogait live --source NAME``: gait estimated live from an LSL marker stream."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+
+def _points(value):
+    if value is None or "," not in value:
+        return value
+    return [p.strip() for p in value.split(",") if p.strip()]
+
+
+@click.command("live")
+@click.option("--source", required=True, help="Name of the LSL marker stream to estimate from.")
+@click.option("--publish", default=None, help="Name of the LSL estimate stream to publish (docs/live.md).")
+@click.option("--record", type=click.Path(dir_okay=False), default=None, help="CSV of the estimates.")
+@click.option("--force", is_flag=True, help="Overwrite an existing --record file.")
+@click.option(
+    "--point",
+    default=None,
+    help="Point(s) to follow: a name, several separated by commas (averaged), 'pelvis' (default) or 'hand'.",
+)
+@click.option(
+    "--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis, when the stream does not say."
+)
+@click.option("--length-unit-m", type=float, default=None, help="Metres per stream unit, when the stream does not say.")
+@click.option("--duration", type=float, default=None, help="Stop after this many seconds.")
+@click.option("--exit-on-end", is_flag=True, help="Stop when the source stream ends (else wait for it to come back).")
+@click.option("--timeout", type=float, default=10.0, show_default=True, help="Seconds to wait for the source.")
+@click.option("--max-buffer-s", type=float, default=1.0, show_default=True, help="Frames kept when falling behind [s].")
+@click.option("--ros2-topic", default=None, help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).")
+def command(
+    source, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout, max_buffer_s,
+    ros2_topic,
+):  # fmt: skip
+    """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates."""
+    from ..live.live import run_live
+    from ..live.status import StatusLine
+
+    status = StatusLine(sys.stderr) if sys.stderr.isatty() else None
+    sink = None
+    if ros2_topic:
+        from ..live.ros2 import Ros2Publisher
+
+        sink = Ros2Publisher(ros2_topic)
+
+    def setup(s):
+        click.echo(
+            f"live: {s.source!r} at {s.nominal_rate_hz:g} Hz, following {s.choice.label}, up {s.up_axis}"
+            + (f", publishing {publish!r}" if publish else ""),
+            err=True,
+        )
+
+    try:
+        counters = run_live(
+            source,
+            publish=publish,
+            point=_points(point),
+            up_axis=up_axis,
+            length_unit_m=length_unit_m,
+            resolve_timeout_s=timeout,
+            duration_s=duration,
+            exit_on_end=exit_on_end,
+            record=Path(record) if record else None,
+            force=force,
+            max_buffer_s=max_buffer_s,
+            on_setup=setup,
+            on_estimate=sink.publish if sink is not None else None,
+            on_status=status.show if status is not None else None,
+        )
+    finally:
+        if status is not None:
+            status.close()
+        if sink is not None:
+            sink.close()
+    click.echo(
+        f"live: {counters.frames} frames, {counters.estimates} estimates; dropped (time not increasing) "
+        f"{counters.dropped_not_increasing}, missing by the nominal rate {counters.missing_frames}, "
+        f"restarts {counters.restarts}" + ("; the source ended" if counters.source_ended else ""),
+        err=True,
+    )
+    if record:
+        click.echo(f"wrote {record}", err=True)
