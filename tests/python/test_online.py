@@ -141,3 +141,25 @@ def test_config_mirrors_the_native_struct():
     py = OnlineConfig()
     for name in names - {"estimator"}:
         assert getattr(py, name) == getattr(native, name), name
+
+
+def test_estimate_online_writes_one_row_per_frame(datasets_dir, tmp_path, capsys):
+    """`yoyogait estimate FILE --online` writes one finite CSV row per capture frame and keeps an existing file."""
+    import csv
+
+    from yoyogait.cli import main
+
+    path = datasets_dir / "c3d_org_samples" / "sample10_TYPE-3.c3d"
+    out = tmp_path / "online.csv"
+    assert main(["estimate", str(path), "--online", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(open(out)))
+    assert len(rows) == io.read(path).n_frames
+    needed = "time_s vx_mps vz_mps vx_hat_mps vz_hat_mps step_frequency_hz step_frequency_std_hz speed_mps"
+    needed += " speed_std_mps heading_rad gait_phase walking status"
+    assert set(needed.split()) <= set(rows[0])
+    assert all(np.isfinite(float(v)) for r in rows for v in r.values())
+    assert {int(r["status"]) for r in rows} >= {int(OnlineStatus.USED), int(OnlineStatus.ALL_MISSING)}
+    before = out.read_bytes()
+    assert main(["estimate", str(path), "--online", "--out", str(out)]) != 0
+    assert out.read_bytes() == before
+    assert "--force" in capsys.readouterr().err

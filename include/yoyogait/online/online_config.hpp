@@ -35,9 +35,10 @@ struct OnlineConfig {
   /// No point seen for longer than this: the front-end restarts (kGapRestart) [s].
   double max_gap_s = 0.25;
 
-  /// Heading: first-order low-pass of the horizontal velocity over about a stride [s]; below
+  /// Heading: first-order low-pass of the horizontal velocity over about half a stride, turned
+  /// forward by its lag in a turn (atan of the low-passed turn rate times heading_tau_s) [s]; below
   /// heading_min_speed_mps of low-passed speed the last heading is held [m/s].
-  double heading_tau_s = 1.0;
+  double heading_tau_s = 0.5;
   double heading_min_speed_mps = 0.1;
 
   /// Frequency at which input_latency_s is evaluated (a typical step frequency) [Hz].

@@ -90,6 +90,9 @@ class OnlineEstimator {
     heading_lp_ = {0.0, 0.0};
     heading_unit_ = {1.0, 0.0};
     heading_known_ = false;
+    lp_dir_ = {1.0, 0.0};
+    lp_dir_known_ = false;
+    turn_rate_rad_s_ = 0.0;
     sum_vx_ = sum_vz_ = span_s_ = 0.0;
     fed_ = false;
     tick_span_s_ = 0.0;
@@ -158,6 +161,8 @@ class OnlineEstimator {
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
     if (settled && !restart) {
       // Heading: the horizontal velocity low-passed over about a stride, so that the sway cancels.
+      // A first-order low-pass of a vector turning at w lags it by atan(w tau): the turn rate of the
+      // low-passed direction (itself low-passed) turns the heading forward by that much.
       if (gap_s != alpha_dt_s_) {
         alpha_dt_s_ = gap_s;
         alpha_ = 1.0 - std::exp(-gap_s / config_.heading_tau_s);
@@ -166,8 +171,20 @@ class OnlineEstimator {
       heading_lp_[1] += alpha_ * (vb - heading_lp_[1]);
       const double s = std::hypot(heading_lp_[0], heading_lp_[1]);
       if (s >= config_.heading_min_speed_mps && s > 0.0) {
-        heading_unit_ = {heading_lp_[0] / s, heading_lp_[1] / s};
+        const double ua = heading_lp_[0] / s, ub = heading_lp_[1] / s;
+        if (lp_dir_known_) {
+          const double sin_turn = lp_dir_[0] * ub - lp_dir_[1] * ua;  // sin of the turn since the last frame
+          turn_rate_rad_s_ += alpha_ * (sin_turn / gap_s - turn_rate_rad_s_);
+        }
+        lp_dir_ = {ua, ub};
+        lp_dir_known_ = true;
+        const double k = turn_rate_rad_s_ * config_.heading_tau_s;  // tan of the lag
+        const double cs = 1.0 / std::sqrt(1.0 + k * k), sn = k * cs;
+        heading_unit_ = {ua * cs - ub * sn, ua * sn + ub * cs};
         heading_known_ = true;
+      } else {
+        lp_dir_known_ = false;
+        turn_rate_rad_s_ = 0.0;
       }
     }
     o.heading_rad = std::atan2(heading_unit_[1], heading_unit_[0]);
@@ -270,7 +287,9 @@ class OnlineEstimator {
   std::array<bool, online::kMaxPoints> vis_{};
   bool have_time_ = false, have_seen_ = false, heading_known_ = false, fed_ = false;
   double t_last_s_ = 0.0, t_seen_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0;
-  std::array<double, 2> heading_lp_{}, heading_unit_{1.0, 0.0};
+  std::array<double, 2> heading_lp_{}, heading_unit_{1.0, 0.0}, lp_dir_{1.0, 0.0};
+  bool lp_dir_known_ = false;
+  double turn_rate_rad_s_ = 0.0;
   double alpha_dt_s_ = -1.0, alpha_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, tick_span_s_ = 0.0;
   double phase_ = 0.0, latency_s_ = 0.0;

@@ -67,8 +67,8 @@ class OnlineConfig:
     """A coordinate beyond this counts as missing [m]."""
     max_gap_s: float = 0.25
     """No point seen for longer than this restarts the front-end [s]."""
-    heading_tau_s: float = 1.0
-    """Low-pass of the horizontal velocity for the heading, about a stride [s]."""
+    heading_tau_s: float = 0.5
+    """Low-pass of the horizontal velocity for the heading (its lag in turns is compensated) [s]."""
     heading_min_speed_mps: float = 0.1
     """Below this low-passed speed the heading is held [m/s]."""
     latency_f_hz: float = 2.0
