@@ -10,6 +10,7 @@ import numpy as np
 from .. import io
 from .._files import atomic_file
 from ..errors import InputError
+from ..estimators.online import OnlineEstimator
 from ..estimators.registry import check_estimators, estimators
 from ..evaluation import figures as plots
 from ..pipeline.velocities import gait_velocities
@@ -130,12 +131,12 @@ ONLINE_COLUMNS = (
     "status",
     "input_latency_s",
 )
+#: printf formats of ONLINE_COLUMNS (``live --record`` writes the same).
+ONLINE_FORMATS = ("%.6f",) + ("%.6g",) * 10 + ("%d", "%d", "%.6g")
 
 
 def online_estimate(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, force):
     """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator."""
-    from ..estimators.online import OnlineEstimator
-
     if preset != "default":
         raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
     if figure not in (None, "none"):
@@ -149,7 +150,7 @@ def online_estimate(file, preset, point, up_axis, length_unit_m, rate_hz, out, f
     est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis)
     res = est.run(recording)
     table = np.column_stack([getattr(res, c).astype(float) for c in ONLINE_COLUMNS])
-    fmt = ["%.6f"] + ["%.6g"] * 10 + ["%d", "%d", "%.6g"]
+    fmt = list(ONLINE_FORMATS)
     atomic_file(
         out, lambda p: np.savetxt(p, table, delimiter=",", header=",".join(ONLINE_COLUMNS), comments="", fmt=fmt)
     )

@@ -7,6 +7,11 @@ from pathlib import Path
 
 import click
 
+from ..live.live import run_live
+from ..live.ros2 import Ros2Publisher
+from ..live.status import StatusLine
+from .estimate_cmd import ONLINE_COLUMNS, ONLINE_FORMATS
+
 
 def _points(value):
     if value is None or "," not in value:
@@ -17,7 +22,12 @@ def _points(value):
 @click.command("live")
 @click.option("--source", required=True, help="Name of the LSL marker stream to estimate from.")
 @click.option("--publish", default=None, help="Name of the LSL estimate stream to publish (docs/live.md).")
-@click.option("--record", type=click.Path(dir_okay=False), default=None, help="CSV of the estimates.")
+@click.option(
+    "--record",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="CSV of the estimates (the columns of estimate --online).",
+)
 @click.option("--force", is_flag=True, help="Overwrite an existing --record file.")
 @click.option(
     "--point",
@@ -38,14 +48,9 @@ def command(
     ros2_topic,
 ):  # fmt: skip
     """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates."""
-    from ..live.live import run_live
-    from ..live.status import StatusLine
-
     status = StatusLine(sys.stderr) if sys.stderr.isatty() else None
     sink = None
     if ros2_topic:
-        from ..live.ros2 import Ros2Publisher
-
         sink = Ros2Publisher(ros2_topic)
 
     def setup(s):
@@ -66,6 +71,8 @@ def command(
             duration_s=duration,
             exit_on_end=exit_on_end,
             record=Path(record) if record else None,
+            record_columns=ONLINE_COLUMNS,
+            record_formats=ONLINE_FORMATS,
             force=force,
             max_buffer_s=max_buffer_s,
             on_setup=setup,

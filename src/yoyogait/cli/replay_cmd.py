@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 
 from .. import io
+from ..live.replay import replay
 
 
 @click.command("replay")
@@ -29,8 +30,6 @@ def command(file, name, speed, loop, up_axis, length_unit_m, rate_hz, wait_s):
     file's rate times --speed; up axis, unit and point names in the stream's description
     (docs/live.md).
     """
-    from ..live.replay import replay
-
     rec = io.read(file, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
 
     def ready():

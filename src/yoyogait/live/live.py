@@ -33,6 +33,7 @@ from typing import Any, TextIO
 import numpy as np
 
 from ..errors import InputError
+from ..estimators.online import OnlineEstimator
 from ..io.recording import Recording
 from ..pipeline import points
 from ._lsl import pylsl
@@ -169,10 +170,25 @@ def _unit_of(column: str) -> str:
 
 
 class CsvRecord:
-    """Estimates appended to a CSV as they come; written under a temporary name, renamed on close."""
+    """Estimates appended to a CSV as they come; written under a temporary name, renamed on close.
 
-    def __init__(self, path: Path, columns: Sequence[str], force: bool = False):
+    ``columns``: the estimate-stream channels to write, each with its printf format in ``formats``
+    (default: every channel, every digit).
+    """
+
+    def __init__(
+        self,
+        path: Path,
+        columns: Sequence[str] = ESTIMATE_COLUMNS,
+        formats: Sequence[str] | None = None,
+        force: bool = False,
+    ):
         self.path = Path(path)
+        unknown = [c for c in columns if c not in ESTIMATE_COLUMNS]
+        if unknown:
+            raise InputError(f"no estimate channel {', '.join(unknown)}; channels: {', '.join(ESTIMATE_COLUMNS)}")
+        self._index = [ESTIMATE_COLUMNS.index(c) for c in columns]
+        self._formats = list(formats) if formats is not None else ["%r"] * len(columns)
         if self.path.exists() and not force:
             raise InputError(f"{self.path} exists; use --force to overwrite it")
         self._tmp = self.path.with_name(f".{self.path.name}.partial")
@@ -182,7 +198,7 @@ class CsvRecord:
 
     def write(self, row: Sequence[float]) -> None:
         assert self._file is not None
-        self._file.write(",".join(repr(v) for v in row) + "\n")
+        self._file.write(",".join(f % row[i] for f, i in zip(self._formats, self._index)) + "\n")
         self.rows += 1
 
     def close(self) -> None:
@@ -210,6 +226,8 @@ def run_live(
     duration_s: float | None = None,
     exit_on_end: bool = False,
     record: Path | None = None,
+    record_columns: Sequence[str] = ESTIMATE_COLUMNS,
+    record_formats: Sequence[str] | None = None,
     force: bool = False,
     max_buffer_s: float = 1.0,
     reacquire_after_s: float = 2.0,
@@ -223,18 +241,17 @@ def run_live(
     ``exit_on_end``) or ``stop``. Returns the counters.
 
     ``publish``: name of the estimate stream (created first, before the source is resolved, so a
-    subscriber can connect before the first estimate); ``record``: CSV of the estimates;
+    subscriber can connect before the first estimate); ``record``: CSV of the estimates (the channels
+    ``record_columns`` in ``record_formats``);
     ``on_estimate(row, timestamp)`` after each estimate; ``on_status(counters, last_row)`` every
     ``status_interval_s``.
     """
-    from ..estimators.online import OnlineEstimator
-
     lsl = pylsl()
     if not (math.isfinite(max_buffer_s) and max_buffer_s > 0):
         raise InputError(f"--max-buffer-s must be a positive number, not {max_buffer_s!r}")
     if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"--duration must be a positive number of seconds, not {duration_s!r}")
-    recorder = CsvRecord(record, ESTIMATE_COLUMNS, force) if record is not None else None
+    recorder = CsvRecord(record, record_columns, record_formats, force) if record is not None else None
     try:
         outlet = lsl.StreamOutlet(estimate_stream_info(publish), 1, 10) if publish else None
         info = resolve_source(source, resolve_timeout_s)
