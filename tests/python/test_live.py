@@ -317,3 +317,23 @@ def test_replay_of_a_velocity_file_or_at_zero_speed_exits_2(tmp_path, capsys):
     write_csv(short_walk(0.5), walk)
     assert main(["replay", str(walk), "--name", unique("v"), "--speed", "0"]) == 2
     assert "--speed" in capsys.readouterr().err
+
+
+def test_list_points_describes_a_qualisys_like_stream(capsys):
+    """--list-points on a QTM-app-like stream (marker/type fields, float32, no rate, no up axis) says what it found."""
+    name = unique("qtm")
+    markers = ["R_IAS", "L_IAS", "R_IPS", "L_IPS", "R_FCC"]
+    info = pylsl.StreamInfo(name, "Mocap", 3 * len(markers), 0.0, pylsl.cf_float32, name)
+    channels = info.desc().append_child("channels")
+    for m in markers:
+        for axis in "XYZ":
+            ch = channels.append_child("channel").append_child_value("label", f"{m}_{axis}")
+            ch.append_child_value("marker", m).append_child_value("type", f"Position{axis}")
+            ch.append_child_value("unit", "meters")
+    outlet = pylsl.StreamOutlet(info)
+    code = main(["live", "--source", name, "--list-points", "--timeout", "5"])
+    out = capsys.readouterr().out
+    del outlet
+    assert code == 0
+    assert f"points (5): {', '.join(markers)}" in out and "length unit: 1 m" in out and "irregular rate" in out
+    assert "up axis: not stated (pass --up-axis)" in out and "pelvis points must be named" in out

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from ..live.live import run_live
+from ..live.live import describe_source, run_live
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
 from .estimate_cmd import ONLINE_COLUMNS, ONLINE_FORMATS
@@ -42,12 +42,17 @@ def _points(value):
 @click.option("--exit-on-end", is_flag=True, help="Stop when the source stream ends (else wait for it to come back).")
 @click.option("--timeout", type=float, default=10.0, show_default=True, help="Seconds to wait for the source.")
 @click.option("--max-buffer-s", type=float, default=1.0, show_default=True, help="Frames kept when falling behind [s].")
+@click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
 @click.option("--ros2-topic", default=None, help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).")
 def command(
     source, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout, max_buffer_s,
-    ros2_topic,
+    list_points, ros2_topic,
 ):  # fmt: skip
     """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates."""
+    if list_points:
+        for line in describe_source(source, timeout):
+            click.echo(line)
+        return
     status = StatusLine(sys.stderr) if sys.stderr.isatty() else None
     sink = None
     if ros2_topic:

@@ -144,6 +144,29 @@ def setup_from_info(
     return LiveSetup(source, layout, choice, layout.up_axis, layout.length_unit_m, float(info.nominal_srate()))
 
 
+def describe_source(name: str, timeout_s: float) -> list[str]:
+    """What ``live`` would make of the marker stream ``name``: its layout, unit, up axis and pelvis."""
+    lsl = pylsl()
+    info = lsl.StreamInlet(resolve_source(name, timeout_s)).info(timeout_s)
+    layout = read_layout(info)
+    rate = info.nominal_srate()
+    lines = [
+        f"stream {name!r}: type {info.type()!r}, {info.channel_count()} channels, "
+        + (f"{rate:g} Hz" if rate > 0 else "irregular rate")
+        + f", from {info.hostname() or 'unknown host'}",
+        f"points ({len(layout.point_names)}): {', '.join(layout.point_names)}",
+        "length unit: "
+        + (f"{layout.length_unit_m:g} m" if layout.length_unit_m else "not stated (pass --length-unit-m)"),
+        f"up axis: {layout.up_axis or 'not stated (pass --up-axis)'}",
+        "time: " + ("the time_s channel" if layout.time_channel is not None else "the LSL timestamps"),
+    ]
+    try:
+        lines.append(f"followed by default: {choose_points(layout, name, None).label}")
+    except InputError as exc:
+        lines.append(f"followed by default: none ({exc})")
+    return lines
+
+
 def estimate_stream_info(name: str, setup: LiveSetup | None = None) -> Any:
     """StreamInfo of the estimate stream: irregular rate (one sample per input frame), double64."""
     lsl = pylsl()
