@@ -235,7 +235,7 @@ def test_slow_consumer_keeps_a_bounded_buffer_and_counts_the_frames_it_lost():
 
 
 def test_layout_reads_yoyogait_and_other_systems_labels_units_and_xdf_fields():
-    """Labels NAME_x, NAME.X, NAME X, NAMEX and XDF marker/type fields are read; millimetres give 0.001."""
+    """Labels NAME_x, NAME.X, NAME X, NAMEX, Subject:NAME_x and XDF marker/type fields are read; mm give 0.001."""
     for labels in (
         [f"{p}_{a}" for p in PELVIS for a in "xyz"],
         [f"{p}.{a.upper()}" for p in PELVIS for a in "xyz"],
@@ -246,6 +246,8 @@ def test_layout_reads_yoyogait_and_other_systems_labels_units_and_xdf_fields():
         assert setup.layout.point_names == PELVIS
         assert setup.length_unit_m == 0.001
         np.testing.assert_array_equal(setup.layout.position_channels, np.arange(1, 13).reshape(4, 3))
+    setup = setup_from_info(marker_info(pylsl, "v", [f"Walker:{p}_{a}" for p in PELVIS for a in "xyz"], unit="mm"))
+    assert setup.choice.names == tuple(f"Walker:{p}" for p in PELVIS) and setup.length_unit_m == 0.001
     info = pylsl.StreamInfo("q", "Mocap", 6, 100.0, pylsl.cf_float32, "q")
     channels = info.desc().append_child("channels")
     for axis in "ZYX":  # any order: the type says which axis

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 from pathlib import Path
 
 import click
@@ -53,6 +55,9 @@ def command(
         for line in describe_source(source, timeout):
             click.echo(line)
         return
+    # SIGTERM (a launcher stopping live) ends the run like --duration: the CSV is completed, exit 0.
+    stop = threading.Event()
+    previous = signal.signal(signal.SIGTERM, lambda *_: stop.set())
     status = StatusLine(sys.stderr) if sys.stderr.isatty() else None
     sink = None
     if ros2_topic:
@@ -83,8 +88,10 @@ def command(
             on_setup=setup,
             on_estimate=sink.publish if sink is not None else None,
             on_status=status.show if status is not None else None,
+            stop=stop,
         )
     finally:
+        signal.signal(signal.SIGTERM, previous)
         if status is not None:
             status.close()
         if sink is not None:
