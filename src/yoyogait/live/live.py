@@ -282,11 +282,14 @@ def run_live(
         rate = info.nominal_srate()
         buflen = max(1, math.ceil(max_buffer_s if rate > 0 else max_buffer_s * 10))
         inlet = lsl.StreamInlet(info, max_buflen=buflen, recover=not exit_on_end, processing_flags=0)
-        full_info = inlet.info(resolve_timeout_s)
-        setup = setup_from_info(full_info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
-        if on_setup is not None:
-            on_setup(setup)
-        inlet.open_stream(resolve_timeout_s)
+        try:
+            full_info = inlet.info(resolve_timeout_s)
+            setup = setup_from_info(full_info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
+            if on_setup is not None:
+                on_setup(setup)
+            inlet.open_stream(resolve_timeout_s)
+        except (lsl.util.TimeoutError, lsl.util.LostError) as exc:
+            raise InputError(f"stream {source!r}: could not connect within {resolve_timeout_s:g} s ({exc})") from None
         counters = _loop(
             inlet, outlet, recorder, setup, OnlineEstimator, duration_s, reacquire_after_s, stop,
             on_estimate, on_status, status_interval_s,
