@@ -339,3 +339,32 @@ def test_list_points_describes_a_qualisys_like_stream(capsys):
     assert code == 0
     assert f"points (5): {', '.join(markers)}" in out and "length unit: 1 m" in out and "irregular rate" in out
     assert "up axis: not stated (pass --up-axis)" in out and "pelvis points must be named" in out
+
+
+def test_sigterm_ends_live_with_exit_0_and_a_complete_record(tmp_path):
+    """SIGTERM (a launcher stopping live) ends it like --duration: exit 0, one CSV row per frame."""
+    rec = short_walk(1.0)
+    frames = pelvis_frames(rec)
+    name = unique("term")
+    outlet = pylsl.StreamOutlet(marker_info(pylsl, name, pelvis_labels()))
+    record = tmp_path / "est.csv"
+    live = subprocess.Popen(
+        yoyogait_cmd("live", "--source", name, "--record", record, "--max-buffer-s", 10),
+        env=dict(os.environ),
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert outlet.wait_for_consumers(30)
+        base = pylsl.local_clock()
+        for k in range(rec.n_frames):
+            outlet.push_sample(frames[k].tolist(), base + rec.time_s[k])
+        time.sleep(1.0)
+        live.terminate()
+        assert live.wait(20) == 0, live.stderr.read()
+    finally:
+        if live.poll() is None:
+            live.kill()
+    rows = np.loadtxt(record, delimiter=",", skiprows=1)
+    assert rows.shape[0] == rec.n_frames
+    np.testing.assert_allclose(rows[:, 0], base + rec.time_s, rtol=0, atol=1e-6)  # written with %.6f

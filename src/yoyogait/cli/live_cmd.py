@@ -57,7 +57,8 @@ def command(
         return
     # SIGTERM (a launcher stopping live) ends the run like --duration: the CSV is completed, exit 0.
     stop = threading.Event()
-    previous = signal.signal(signal.SIGTERM, lambda *_: stop.set())
+    in_main = threading.current_thread() is threading.main_thread()  # signals can only be caught there
+    previous = signal.signal(signal.SIGTERM, lambda *_: stop.set()) if in_main else None
     status = StatusLine(sys.stderr) if sys.stderr.isatty() else None
     sink = None
     if ros2_topic:
@@ -91,7 +92,8 @@ def command(
             stop=stop,
         )
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        if in_main:
+            signal.signal(signal.SIGTERM, previous)
         if status is not None:
             status.close()
         if sink is not None:
