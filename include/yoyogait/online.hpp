@@ -4,5 +4,6 @@
 
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/lowpass.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimator.hpp"

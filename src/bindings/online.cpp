@@ -99,7 +99,7 @@ void bind_online(nb::module_& m) {
         const char* e = c.validate();
         return e ? nb::cast(e) : nb::none();
       })
-      YOYO_FIELD(estimator) YOYO_FIELD(q_jerk_m2_per_s5) YOYO_FIELD(meas_position_std_m)
+      YOYO_FIELD(estimator) YOYO_FIELD(antialias_hz) YOYO_FIELD(q_jerk_m2_per_s5) YOYO_FIELD(meas_position_std_m)
       YOYO_FIELD(initial_velocity_std_mps) YOYO_FIELD(initial_accel_std_mps2) YOYO_FIELD(settle_s)
       YOYO_FIELD(centre_blend_tau_s) YOYO_FIELD(centre_forget_s) YOYO_FIELD(max_abs_position_m)
       YOYO_FIELD(max_gap_s) YOYO_FIELD(heading_tau_s) YOYO_FIELD(heading_min_speed_mps) YOYO_FIELD(latency_f_hz);

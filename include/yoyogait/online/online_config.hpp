@@ -16,6 +16,11 @@ struct OnlineConfig {
   /// anti-aliasing filter of the decimation).
   EstimatorConfig estimator{};
 
+  /// Anti-aliasing in front of the decimation: second-order Butterworth low-pass of the forward and
+  /// vertical velocity at this cutoff (0: only the mean over the interval) [Hz]. Its delay is
+  /// compensated by the estimator's prediction, so the estimates stay aligned with the frame time.
+  double antialias_hz = 0.0;
+
   /// Differentiator: constant-acceleration Kalman filter, white-jerk noise density [m^2/s^5] ...
   double q_jerk_m2_per_s5 = 1000.0;
   /// ... and the noise of the centre's position [m] (marker noise, about 1 mm).
@@ -49,6 +54,7 @@ struct OnlineConfig {
     auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
     auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
     if (const char* e = estimator.validate()) return e;
+    if (!nonneg(antialias_hz)) return "antialias_hz must be finite and >= 0";
     if (!positive(q_jerk_m2_per_s5)) return "q_jerk_m2_per_s5 must be finite and > 0";
     if (!positive(meas_position_std_m)) return "meas_position_std_m must be finite and > 0";
     if (!positive(initial_velocity_std_mps)) return "initial_velocity_std_mps must be finite and > 0";

@@ -17,6 +17,7 @@
 #include "yoyogait/estimator.hpp"
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/lowpass.hpp"
 #include "yoyogait/online/online_config.hpp"
 
 namespace yoyogait {
@@ -72,7 +73,8 @@ class OnlineEstimator {
         unit_(length_unit_m), estimator_(config_.estimator),
         centre_(n_points, config_.centre_blend_tau_s, config_.centre_forget_s),
         diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
-              config_.initial_accel_std_mps2) {
+              config_.initial_accel_std_mps2),
+        aa_(config_.antialias_hz) {
     ha_ = up_ == 0 ? 1 : 0;
     hb_ = up_ == 2 ? 1 : 2;
     reset();
@@ -99,6 +101,8 @@ class OnlineEstimator {
     phase_ = 0.0;
     latency_s_ = 0.0;
     alpha_dt_s_ = -1.0;
+    aa_started_ = false;
+    aa_delay_s_ = 0.0;
   }
 
   /// One frame: t_s [s], positions_xyz: n_points x 3 coordinates (x, y, z of each point, in the
@@ -191,9 +195,17 @@ class OnlineEstimator {
     o.vx_mps = heading_known_ ? va * heading_unit_[0] + vb * heading_unit_[1] : std::hypot(va, vb);
 
     if (settled && !restart) {
-      // Decimation: the mean velocity over the interval is the anti-aliasing filter.
-      sum_vx_ += o.vx_mps * gap_s;
-      sum_vz_ += o.vz_mps * gap_s;
+      // Decimation: a Butterworth low-pass (antialias_hz; 0: none), then the mean over the interval.
+      std::array<double, 2> v_in{o.vx_mps, o.vz_mps};
+      if (config_.antialias_hz > 0.0) {
+        if (!aa_started_) {
+          aa_.start(v_in);
+          aa_started_ = true;
+        }
+        v_in = aa_.step(v_in, gap_s);
+      }
+      sum_vx_ += v_in[0] * gap_s;
+      sum_vz_ += v_in[1] * gap_s;
       span_s_ += gap_s;
       const double T = config_.estimator.sample_time_s;
       if (span_s_ + 0.5 * gap_s >= T * (1.0 - 1e-9)) {
@@ -205,6 +217,7 @@ class OnlineEstimator {
         tick_span_s_ = span_s_;
         sum_vx_ = sum_vz_ = span_s_ = 0.0;
         latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
+        aa_delay_s_ = config_.antialias_hz > 0.0 ? aa_.delay_s(config_.latency_f_hz) : 0.0;
       }
     }
     o.input_latency_s = latency_s_;
@@ -235,6 +248,7 @@ class OnlineEstimator {
     diff_.start(centre_m);
     start_t_s_ = t_s;
     sum_vx_ = sum_vz_ = span_s_ = 0.0;
+    aa_started_ = false;
   }
 
   // The estimator's last estimate carried to t_s: its prediction over the time since its sample,
@@ -257,7 +271,7 @@ class OnlineEstimator {
       return;
     }
     o.estimate_age_s = t_s - t_tick_s_;
-    const double h_s = o.estimate_age_s + 0.5 * tick_span_s_ + latency_s_;
+    const double h_s = o.estimate_age_s + 0.5 * tick_span_s_ + aa_delay_s_ + latency_s_;
     const Velocity p = estimator_.predict_ahead(h_s / config_.estimator.sample_time_s);
     o.vx_hat_mps = p.vx_mps;
     o.vz_hat_mps = p.vz_mps;
@@ -281,6 +295,9 @@ class OnlineEstimator {
   Estimator estimator_;
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
+  online::Lowpass2 aa_;
+  bool aa_started_ = false;
+  double aa_delay_s_ = 0.0;
   Estimate est_{};
   OnlineEstimate out_{};
   std::array<online::Vec3, online::kMaxPoints> pos_{};

@@ -49,6 +49,8 @@ class OnlineConfig:
 
     estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
     """The gait estimator behind the front-end, fed every ``estimator.sample_time_s``."""
+    antialias_hz: float = 0.0
+    """Butterworth low-pass (2nd order) before the decimation, delay compensated (0: none) [Hz]."""
     q_jerk_m2_per_s5: float = 1000.0
     """White-jerk noise density of the constant-acceleration Kalman differentiator [m^2/s^5]."""
     meas_position_std_m: float = 0.001
