@@ -278,7 +278,6 @@ class OnlineEstimator {
     const GaitState& x = e.gait_state;
     const double z1 = x[gait::kZ1], z2 = x[gait::kZ2];
     if (e.walking && z1 * z1 + z2 * z2 > 1e-12) {
-      constexpr double kTwoPi = 6.283185307179586476925286766559;
       const double th = std::atan2(z2, z1) + x[gait::kW] * h_s + 0.5 * x[gait::kDW] * h_s * h_s;
       double ph = th / kTwoPi;
       ph -= std::floor(ph);
