@@ -129,6 +129,9 @@ def main() -> None:
     parser.add_argument("--duration", type=float, default=60.0, help="seconds of walk per rate")
     parser.add_argument("--rates", default="100,250", help="capture rates [Hz], comma-separated")
     args = parser.parse_args()
+    # The replayer's thread and the subscriber share this interpreter: a short GIL switch interval
+    # keeps the subscriber from waiting up to 5 ms for the replayer to yield (live runs alone).
+    sys.setswitchinterval(1e-4)
     with tempfile.TemporaryDirectory() as tmp:
         cfg = Path(tmp) / "lsl_api.cfg"
         cfg.write_text(CFG.format(session=uuid.uuid4().hex))
