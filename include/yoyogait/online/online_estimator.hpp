@@ -278,8 +278,9 @@ class OnlineEstimator {
     const GaitState& x = e.gait_state;
     const double z1 = x[gait::kZ1], z2 = x[gait::kZ2];
     if (e.walking && z1 * z1 + z2 * z2 > 1e-12) {
+      constexpr double two_pi = 6.283185307179586476925286766559;
       const double th = std::atan2(z2, z1) + x[gait::kW] * h_s + 0.5 * x[gait::kDW] * h_s * h_s;
-      double ph = th / kTwoPi;
+      double ph = th / two_pi;
       ph -= std::floor(ph);
       if (ph >= 1.0) ph = 0.0;
       phase_ = ph;

@@ -13,12 +13,7 @@ from ..live.live import describe_source, run_live
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
 from .estimate_cmd import ONLINE_COLUMNS, ONLINE_FORMATS
-
-
-def _points(value):
-    if value is None or "," not in value:
-        return value
-    return [p.strip() for p in value.split(",") if p.strip()]
+from .options import POSITIVE, split_names
 
 
 @click.command("live")
@@ -33,17 +28,38 @@ def _points(value):
 @click.option("--force", is_flag=True, help="Overwrite an existing --record file.")
 @click.option(
     "--point",
+    metavar="NAME[,NAME...]",
     default=None,
-    help="Point(s) to follow: a name, several separated by commas (averaged), 'pelvis' (default) or 'hand'.",
+    callback=split_names,
+    help="Point to follow: 'pelvis' (default: the pelvis centre, found by name), 'hand', "
+    "or point names separated by commas (averaged).",
+)
+@click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis (default: the stream's).")
+@click.option(
+    "--length-unit-m",
+    type=POSITIVE,
+    metavar="METRES",
+    default=None,
+    help="Metres per length unit of the stream (default: the stream's).",
+)
+@click.option("--duration", type=POSITIVE, metavar="SECONDS", default=None, help="Stop after this many seconds.")
+@click.option("--exit-on-end", is_flag=True, help="Stop when the source stream ends (else wait for it to come back).")
+@click.option(
+    "--timeout",
+    type=POSITIVE,
+    metavar="SECONDS",
+    default=10.0,
+    show_default=True,
+    help="Seconds to wait for the source.",
 )
 @click.option(
-    "--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis, when the stream does not say."
+    "--max-buffer-s",
+    type=POSITIVE,
+    metavar="SECONDS",
+    default=1.0,
+    show_default=True,
+    help="Frames kept when falling behind [s].",
 )
-@click.option("--length-unit-m", type=float, default=None, help="Metres per stream unit, when the stream does not say.")
-@click.option("--duration", type=float, default=None, help="Stop after this many seconds.")
-@click.option("--exit-on-end", is_flag=True, help="Stop when the source stream ends (else wait for it to come back).")
-@click.option("--timeout", type=float, default=10.0, show_default=True, help="Seconds to wait for the source.")
-@click.option("--max-buffer-s", type=float, default=1.0, show_default=True, help="Frames kept when falling behind [s].")
 @click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
 @click.option("--ros2-topic", default=None, help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).")
 def command(
@@ -75,7 +91,7 @@ def command(
         counters = run_live(
             source,
             publish=publish,
-            point=_points(point),
+            point=point,
             up_axis=up_axis,
             length_unit_m=length_unit_m,
             resolve_timeout_s=timeout,

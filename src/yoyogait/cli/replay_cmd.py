@@ -6,20 +6,30 @@ import click
 
 from .. import io
 from ..live.replay import replay
+from .options import POSITIVE
 
 
 @click.command("replay")
 @click.argument("file", type=click.Path(dir_okay=False))
 @click.option("--name", required=True, help="Name of the LSL marker stream (type Mocap).")
-@click.option("--speed", type=float, default=1.0, show_default=True, help="Playback speed (2: twice as fast).")
+@click.option("--speed", type=POSITIVE, default=1.0, show_default=True, help="Playback speed (2: twice as fast).")
 @click.option("--loop", is_flag=True, help="Start over at the end (after a 1 s pause), until interrupted.")
-@click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Override the up axis.")
-@click.option("--length-unit-m", type=float, default=None, help="Metres per file length unit (BVH, or to override).")
-@click.option("--rate-hz", type=float, default=None, help="Sample rate for a file without one.")
+@click.option(
+    "--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis (default: the file's, else detected)."
+)
+@click.option(
+    "--length-unit-m",
+    type=POSITIVE,
+    metavar="METRES",
+    default=None,
+    help="Metres per length unit of the file (default: the file's; BVH: inferred from the pelvis height).",
+)
+@click.option("--rate-hz", type=POSITIVE, metavar="HZ", default=None, help="Sample rate of a file that has none [Hz].")
 @click.option(
     "--wait-for-consumer",
     "wait_s",
-    type=float,
+    type=POSITIVE,
+    metavar="SECONDS",
     default=None,
     help="Wait up to this many seconds for a consumer before the first frame (error when none comes).",
 )
