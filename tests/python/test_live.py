@@ -8,6 +8,7 @@ import subprocess
 import sys
 import threading
 import time
+from io import StringIO
 
 import numpy as np
 import pytest
@@ -25,8 +26,9 @@ from live_helpers import (
 from yoyogait import OnlineEstimator, io
 from yoyogait.cli import main
 from yoyogait.errors import InputError
-from yoyogait.live.live import ESTIMATE_COLUMNS, estimate_row, setup_from_info
+from yoyogait.live.live import ESTIMATE_COLUMNS, LiveCounters, estimate_row, setup_from_info
 from yoyogait.live.replay import replay
+from yoyogait.live.status import StatusLine
 
 pylsl = pytest.importorskip("pylsl")
 
@@ -368,3 +370,33 @@ def test_sigterm_ends_live_with_exit_0_and_a_complete_record(tmp_path):
     rows = np.loadtxt(record, delimiter=",", skiprows=1)
     assert rows.shape[0] == rec.n_frames
     np.testing.assert_allclose(rows[:, 0], base + rec.time_s, rtol=0, atol=1e-6)  # written with %.6f
+
+
+def test_duration_ends_live_with_exit_0_and_the_summary_line(capsys):
+    """--duration S: live stops after S seconds on a silent source and exits 0 with its summary."""
+    name = unique("quiet")
+    outlet = pylsl.StreamOutlet(marker_info(pylsl, name, pelvis_labels()))
+    started = time.monotonic()
+    code = main(["live", "--source", name, "--duration", "0.5", "--timeout", "5"])
+    elapsed = time.monotonic() - started
+    err = capsys.readouterr().err
+    del outlet
+    assert code == 0 and elapsed < 5
+    assert "live: 0 frames, 0 estimates" in err
+
+
+def test_status_line_shows_rate_step_frequency_speed_and_latency_on_one_line():
+    """The terminal status line is rewritten in place (\\r) with rate, step frequency, speed, latency, counts."""
+    stream = StringIO()
+    line = StatusLine(stream)
+    row = [0.0] * len(ESTIMATE_COLUMNS)
+    row[ESTIMATE_COLUMNS.index("step_frequency_hz")] = 1.85
+    row[ESTIMATE_COLUMNS.index("speed_mps")] = 1.3
+    row[ESTIMATE_COLUMNS.index("walking")] = 1.0
+    counters = LiveCounters(frames=50, dropped_not_increasing=2, missing_frames=3, latency_s=[0.0004, 0.0006])
+    line.show(counters, row)
+    line.close()
+    text = stream.getvalue()
+    assert text.startswith("\r") and text.endswith("\n") and text.count("\n") == 1
+    assert "step 1.85 Hz" in text and "speed 1.30 m/s" in text and "walking" in text
+    assert "latency 0.50 ms" in text and "dropped 2 missing 3" in text and "frames/s" in text
