@@ -17,8 +17,10 @@ from .options import POSITIVE, split_names
 
 
 @click.command("live")
-@click.option("--source", required=True, help="Name of the LSL marker stream to estimate from.")
-@click.option("--publish", default=None, help="Name of the LSL estimate stream to publish (docs/live.md).")
+@click.option("--source", required=True, metavar="NAME", help="Name of the LSL marker stream to estimate from.")
+@click.option(
+    "--publish", default=None, metavar="NAME", help="Name of the LSL estimate stream to publish (docs/live.md)."
+)
 @click.option(
     "--record",
     type=click.Path(dir_okay=False),
@@ -61,7 +63,12 @@ from .options import POSITIVE, split_names
     help="Frames kept when falling behind [s].",
 )
 @click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
-@click.option("--ros2-topic", default=None, help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).")
+@click.option(
+    "--ros2-topic",
+    default=None,
+    metavar="TOPIC",
+    help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).",
+)
 def command(
     source, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout, max_buffer_s,
     list_points, ros2_topic,

@@ -11,8 +11,10 @@ from .options import POSITIVE
 
 @click.command("replay")
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--name", required=True, help="Name of the LSL marker stream (type Mocap).")
-@click.option("--speed", type=POSITIVE, default=1.0, show_default=True, help="Playback speed (2: twice as fast).")
+@click.option("--name", required=True, metavar="NAME", help="Name of the LSL marker stream (type Mocap).")
+@click.option(
+    "--speed", type=POSITIVE, metavar="X", default=1.0, show_default=True, help="Playback speed (2: twice as fast)."
+)
 @click.option("--loop", is_flag=True, help="Start over at the end (after a 1 s pause), until interrupted.")
 @click.option(
     "--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis (default: the file's, else detected)."
