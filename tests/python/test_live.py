@@ -27,7 +27,7 @@ from yoyogait import OnlineEstimator, io
 from yoyogait.cli import main
 from yoyogait.errors import InputError
 from yoyogait.live.live import ESTIMATE_COLUMNS, LiveCounters, estimate_row, setup_from_info
-from yoyogait.live.replay import replay
+from yoyogait.live.replay import LOOP_PAUSE_S, replay
 from yoyogait.live.status import StatusLine
 
 pylsl = pytest.importorskip("pylsl")
@@ -400,3 +400,35 @@ def test_status_line_shows_rate_step_frequency_speed_and_latency_on_one_line():
     assert text.startswith("\r") and text.endswith("\n") and text.count("\n") == 1
     assert "step 1.85 Hz" in text and "speed 1.30 m/s" in text and "walking" in text
     assert "latency 0.50 ms" in text and "dropped 2 missing 3" in text and "frames/s" in text
+
+
+def test_looped_replay_starts_over_after_a_pause_with_time_still_increasing():
+    """--loop: the second pass repeats the frames, its time_s shifted by the duration plus the pause."""
+    rec = short_walk(0.3)
+    name = unique("loop")
+    stop = threading.Event()
+    player = threading.Thread(
+        target=lambda: replay(rec, name, speed=5.0, loop=True, wait_for_consumer_s=10, stop=stop), daemon=True
+    )
+    player.start()
+    inlet = pylsl.StreamInlet(pylsl.resolve_byprop("name", name, 1, 10)[0], max_buflen=60)
+    inlet.open_stream(5)
+    frames = []
+    while len(frames) < 2 * rec.n_frames:
+        sample, _ = inlet.pull_sample(timeout=5)
+        assert sample is not None
+        frames.append(sample)
+    stop.set()
+    player.join(5)
+    frames = np.array(frames)
+    first, second = frames[: rec.n_frames], frames[rec.n_frames :]
+    np.testing.assert_array_equal(second[:, :-1], first[:, :-1])
+    period = rec.time_s[-1] - rec.time_s[0] + LOOP_PAUSE_S
+    np.testing.assert_allclose(second[:, -1], first[:, -1] + period, rtol=0, atol=1e-12)
+    assert np.all(np.diff(frames[:, -1]) > 0)
+
+
+def test_live_refuses_to_publish_under_the_source_name(capsys):
+    """--publish equal to --source would make live read its own estimates: one line, exit 2."""
+    assert main(["live", "--source", "same", "--publish", "same", "--timeout", "1"]) == 2
+    assert "other than the source" in capsys.readouterr().err

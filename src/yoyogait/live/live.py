@@ -270,6 +270,8 @@ def run_live(
     ``status_interval_s``.
     """
     lsl = pylsl()
+    if publish is not None and publish == source:
+        raise InputError(f"--publish {publish!r}: the estimate stream needs a name other than the source's")
     if not (math.isfinite(max_buffer_s) and max_buffer_s > 0):
         raise InputError(f"--max-buffer-s must be a positive number, not {max_buffer_s!r}")
     if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
