@@ -14,7 +14,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
 #include <yoyogait/online.hpp>
 
 namespace {

@@ -32,9 +32,9 @@ std::pair<T*, nb::object> fresh(std::size_t n) {
 const double* frame_of(const OnlineEstimator& est, const Positions& p) {
   const std::size_t need = 3 * est.points();
   if (p.size() != need)
-    throw nb::value_error(("positions must hold " + std::to_string(est.points()) + " x 3 coordinates, got " +
-                           std::to_string(p.size()))
-                              .c_str());
+    throw nb::value_error(
+        ("positions must hold " + std::to_string(est.points()) + " x 3 coordinates, got " + std::to_string(p.size()))
+            .c_str());
   return p.data();
 }
 
@@ -45,6 +45,7 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
     throw nb::value_error(("positions must be frames x " + std::to_string(k) + " x 3 with " + std::to_string(n) +
                            " frames, got " + std::to_string(positions.size()) + " values")
                               .c_str());
+  // clang-format off: the field lists are macro chains
 #define YOYO_DOUBLE(name) auto name = fresh<double>(n);
 #define YOYO_FIELDS(X)                                                                                             \
   X(vx_mps) X(vz_mps) X(vh_a_mps) X(vh_b_mps) X(heading_rad) X(walk_a_mps) X(walk_b_mps) X(vx_hat_mps)            \
@@ -52,6 +53,7 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
   X(input_latency_s) X(estimate_age_s)
   YOYO_FIELDS(YOYO_DOUBLE)
 #undef YOYO_DOUBLE
+  // clang-format on
   auto t_out = fresh<double>(n);
   auto status = fresh<std::uint8_t>(n);
   auto estimator_status = fresh<std::uint8_t>(n);
@@ -91,6 +93,7 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
 
 }  // namespace
 
+// clang-format off: the bindings are macro chains
 void bind_online(nb::module_& m) {
 #define YOYO_FIELD(name) .def_rw(#name, &OnlineConfig::name)
   nb::class_<OnlineConfig>(m, "OnlineConfig")
@@ -142,3 +145,4 @@ void bind_online(nb::module_& m) {
       .def_prop_ro("config", &OnlineEstimator::config)
       .def_prop_ro("estimate", &OnlineEstimator::estimate);
 }
+// clang-format on

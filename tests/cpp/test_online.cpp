@@ -2,6 +2,7 @@
 // the causal centre, the differentiator's delay, bad input.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -9,6 +10,9 @@
 #include <vector>
 
 #include "yoyogait/online.hpp"
+
+// Heap allocations counted by the replaced operator new of test_estimator.cpp.
+extern std::atomic<long> g_allocations;
 
 using namespace yoyogait;
 
@@ -46,10 +50,10 @@ struct SyntheticPelvis {
 };
 
 bool all_finite(const OnlineEstimate& e) {
-  const double v[] = {e.vx_mps,         e.vz_mps,       e.vh_a_mps,          e.vh_b_mps,
-                      e.heading_rad,    e.walk_a_mps,   e.walk_b_mps,        e.vx_hat_mps,
-                      e.vz_hat_mps,     e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps,
-                      e.speed_std_mps,  e.gait_phase,   e.input_latency_s,   e.estimate_age_s};
+  const double v[] = {
+      e.vx_mps,        e.vz_mps,     e.vh_a_mps,        e.vh_b_mps,          e.heading_rad,           e.walk_a_mps,
+      e.walk_b_mps,    e.vx_hat_mps, e.vz_hat_mps,      e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps,
+      e.speed_std_mps, e.gait_phase, e.input_latency_s, e.estimate_age_s};
   for (double x : v)
     if (!std::isfinite(x)) return false;
   return true;
@@ -96,7 +100,11 @@ TEST(OnlineEstimator, VerticalVelocityDelayMatchesReportedLatency) {
     if (t > 10.0) {
       // True vz = -A sin(th): write the estimate as -A' sin(th - w d).
       const double c = std::cos(walk.theta(t)), s = std::sin(walk.theta(t));
-      cc += c * c; ss += s * s; cs += c * s; yc += e.vz_mps * c; ys += e.vz_mps * s;
+      cc += c * c;
+      ss += s * s;
+      cs += c * s;
+      yc += e.vz_mps * c;
+      ys += e.vz_mps * s;
     }
   }
   const double det = cc * ss - cs * cs;
@@ -274,4 +282,38 @@ TEST(OnlineEstimator, ConstructorRejectsBadArguments) {
   c = OnlineConfig{};
   c.estimator = EstimatorConfig::paper();
   EXPECT_THROW(OnlineEstimator(4, 2, 1.0, c), std::invalid_argument);
+}
+
+// update() makes no heap allocation: through start-up, walking, dropouts, bad frames and a gap restart.
+TEST(OnlineEstimator, UpdateDoesNotAllocate) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  const long before = g_allocations.load();
+  for (int k = 0; k < 3000; ++k) {
+    double t = k / 100.0;
+    if (k >= 2000) t += 100.0;  // a gap restart
+    walk.markers(t, p);
+    if (k % 37 == 0) p[0] = p[1] = p[2] = kNaN;
+    if (k % 101 == 0)
+      for (double& x : p) x = kNaN;
+    est.update(t, p);
+    if (k % 53 == 0) est.update(t, p);  // timestamp not increasing
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+// Frames a microsecond apart, timestamps far in the future and huge jumps keep every output finite.
+TEST(OnlineEstimator, ExtremeTimestampsStayFinite) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  double t = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    t += (k % 10 == 0) ? 1e-6 : 0.01;
+    if (k == 1500) t += 1e12;
+    walk.markers(t < 1e6 ? t : t - 1e12, p);
+    const OnlineEstimate e = est.update(t, p);
+    ASSERT_TRUE(all_finite(e)) << k;
+  }
 }

@@ -70,8 +70,10 @@ class CausalCentre {
       n_vis += visible[j];
       n_known += known_[j];
       if (known_[j]) {
-        if (visible[j]) ++n_known_vis;
-        else all_known_visible = false;
+        if (visible[j])
+          ++n_known_vis;
+        else
+          all_known_visible = false;
       }
     }
     if (n_vis == 0) return r;

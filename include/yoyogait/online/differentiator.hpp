@@ -22,7 +22,9 @@ class KalmanDifferentiator {
   KalmanDifferentiator() noexcept = default;
   /// q_jerk_m2_per_s5: white-jerk noise density; meas_std_m: position noise; initial std of v and a.
   KalmanDifferentiator(double q_jerk_m2_per_s5, double meas_std_m, double v0_std_mps, double a0_std_mps2) noexcept
-      : q_(q_jerk_m2_per_s5), r2_(meas_std_m * meas_std_m), v0_var_(v0_std_mps * v0_std_mps),
+      : q_(q_jerk_m2_per_s5),
+        r2_(meas_std_m * meas_std_m),
+        v0_var_(v0_std_mps * v0_std_mps),
         a0_var_(a0_std_mps2 * a0_std_mps2) {}
 
   /// Starts at position p_m at rest (velocity and acceleration unknown).
@@ -60,9 +62,15 @@ class KalmanDifferentiator {
     const double q = q_;
     const double q00 = q * h3 * h2 / 20.0, q01 = q * h2 * h2 / 8.0, q02 = q * h3 / 6.0;
     const double q11 = q * h3 / 3.0, q12 = q * h2 / 2.0, q22 = q * h;
-    N[0][0] += q00; N[0][1] += q01; N[0][2] += q02;
-    N[1][0] += q01; N[1][1] += q11; N[1][2] += q12;
-    N[2][0] += q02; N[2][1] += q12; N[2][2] += q22;
+    N[0][0] += q00;
+    N[0][1] += q01;
+    N[0][2] += q02;
+    N[1][0] += q01;
+    N[1][1] += q11;
+    N[1][2] += q12;
+    N[2][0] += q02;
+    N[2][1] += q12;
+    N[2][2] += q22;
     // Keep it symmetric.
     N[1][0] = N[0][1] = 0.5 * (N[0][1] + N[1][0]);
     N[2][0] = N[0][2] = 0.5 * (N[0][2] + N[2][0]);

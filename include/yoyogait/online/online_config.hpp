@@ -67,7 +67,8 @@ struct OnlineConfig {
     if (!positive(heading_tau_s)) return "heading_tau_s must be finite and > 0";
     if (!nonneg(heading_min_speed_mps)) return "heading_min_speed_mps must be finite and >= 0";
     if (!positive(latency_f_hz)) return "latency_f_hz must be finite and > 0";
-    if (estimator.algorithm != Algorithm::kGaitFilter) return "the online estimator runs the gait filter (algorithm gait_filter)";
+    if (estimator.algorithm != Algorithm::kGaitFilter)
+      return "the online estimator runs the gait filter (algorithm gait_filter)";
     return nullptr;
   }
 };

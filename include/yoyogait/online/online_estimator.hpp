@@ -34,19 +34,19 @@ enum class OnlineStatus : std::uint8_t {
 /// One estimate, at the time of one frame. Velocities in m/s in the frame of the data (the up
 /// axis given at construction; "horizontal" = the two other axes in increasing order, a then b).
 struct OnlineEstimate {
-  double t_s = 0.0;              ///< the frame's timestamp [s]
-  double vx_mps = 0.0;           ///< front-end: horizontal velocity along the heading
-  double vz_mps = 0.0;           ///< front-end: vertical velocity
-  double vh_a_mps = 0.0;         ///< front-end: horizontal velocity, first horizontal axis
-  double vh_b_mps = 0.0;         ///< ... second horizontal axis
-  double heading_rad = 0.0;      ///< atan2(b, a) of the low-passed horizontal velocity (held when slow)
-  double walk_a_mps = 0.0;       ///< walking velocity without the oscillation: speed_mps along the heading, axis a
-  double walk_b_mps = 0.0;       ///< ... axis b
-  double vx_hat_mps = 0.0;       ///< the estimator's reconstruction of v_x (with harmonics), at t_s
-  double vz_hat_mps = 0.0;       ///< ... of v_z, at t_s
+  double t_s = 0.0;          ///< the frame's timestamp [s]
+  double vx_mps = 0.0;       ///< front-end: horizontal velocity along the heading
+  double vz_mps = 0.0;       ///< front-end: vertical velocity
+  double vh_a_mps = 0.0;     ///< front-end: horizontal velocity, first horizontal axis
+  double vh_b_mps = 0.0;     ///< ... second horizontal axis
+  double heading_rad = 0.0;  ///< atan2(b, a) of the low-passed horizontal velocity (held when slow)
+  double walk_a_mps = 0.0;   ///< walking velocity without the oscillation: speed_mps along the heading, axis a
+  double walk_b_mps = 0.0;   ///< ... axis b
+  double vx_hat_mps = 0.0;   ///< the estimator's reconstruction of v_x (with harmonics), at t_s
+  double vz_hat_mps = 0.0;   ///< ... of v_z, at t_s
   double step_frequency_hz = 0.0;
   double step_frequency_std_hz = 0.0;
-  double speed_mps = 0.0;        ///< forward speed without the oscillation (A0)
+  double speed_mps = 0.0;  ///< forward speed without the oscillation (A0)
   double speed_std_mps = 0.0;
   /// Phase within the current step, in [0, 1): the angle of the vertical oscillation's phasor,
   /// v_z ~ |Z| cos(2 pi gait_phase). 0: fastest rise of the pelvis; 0.25: highest; 0.5: fastest
@@ -56,9 +56,9 @@ struct OnlineEstimate {
   double estimate_age_s = 0.0;   ///< time since the estimator's last sample [s]
   OnlineStatus status = OnlineStatus::kUsed;
   Status estimator_status = Status::kUpdated;  ///< of the estimator's last sample
-  bool walking = false;          ///< the estimator's walking/standing detector
-  bool estimator_fed = false;    ///< this frame completed an interval and fed the estimator
-  std::uint8_t points_seen = 0;  ///< points used on this frame
+  bool walking = false;                        ///< the estimator's walking/standing detector
+  bool estimator_fed = false;                  ///< this frame completed an interval and fed the estimator
+  std::uint8_t points_seen = 0;                ///< points used on this frame
 };
 
 /// The online gait estimator. update() is noexcept and allocates nothing; the constructor throws
@@ -69,8 +69,11 @@ class OnlineEstimator {
   /// coordinate unit (1 for metres, 0.001 for millimetres).
   OnlineEstimator(std::size_t n_points, int up_axis, double length_unit_m = 1.0,
                   const OnlineConfig& config = OnlineConfig{})
-      : config_(checked(config, n_points, up_axis, length_unit_m)), n_(n_points), up_(up_axis),
-        unit_(length_unit_m), estimator_(config_.estimator),
+      : config_(checked(config, n_points, up_axis, length_unit_m)),
+        n_(n_points),
+        up_(up_axis),
+        unit_(length_unit_m),
+        estimator_(config_.estimator),
         centre_(n_points, config_.centre_blend_tau_s, config_.centre_forget_s),
         diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
               config_.initial_accel_std_mps2),
@@ -179,6 +182,8 @@ class OnlineEstimator {
         if (lp_dir_known_) {
           const double sin_turn = lp_dir_[0] * ub - lp_dir_[1] * ua;  // sin of the turn since the last frame
           turn_rate_rad_s_ += alpha_ * (sin_turn / gap_s - turn_rate_rad_s_);
+          // No walker turns faster than this; it also keeps frames microseconds apart harmless.
+          if (!(std::fabs(turn_rate_rad_s_) <= 10.0)) turn_rate_rad_s_ = turn_rate_rad_s_ > 0.0 ? 10.0 : -10.0;
         }
         lp_dir_ = {ua, ub};
         lp_dir_known_ = true;
