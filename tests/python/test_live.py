@@ -340,7 +340,8 @@ def test_list_points_describes_a_qualisys_like_stream(capsys):
     del outlet
     assert code == 0
     assert f"points (5): {', '.join(markers)}" in out and "length unit: 1 m" in out and "irregular rate" in out
-    assert "up axis: not stated (pass --up-axis)" in out and "pelvis points must be named" in out
+    assert "up axis: not stated (pass --up-axis)" in out
+    assert "followed by default: pelvis centre of R_IAS, L_IAS, R_IPS, L_IPS" in out  # not the foot marker
 
 
 def test_sigterm_ends_live_with_exit_0_and_a_complete_record(tmp_path):
