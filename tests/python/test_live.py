@@ -433,3 +433,19 @@ def test_live_refuses_to_publish_under_the_source_name(capsys):
     """--publish equal to --source would make live read its own estimates: one line, exit 2."""
     assert main(["live", "--source", "same", "--publish", "same", "--timeout", "1"]) == 2
     assert "other than the source" in capsys.readouterr().err
+
+
+def test_real_qualisys_walk_replayed_and_estimated_live_equals_the_offline_online_run(datasets_dir):
+    """A real C3D walk (Qualisys, 240 Hz, mm) through replay and live: each frame's estimate = the offline run's."""
+    rec = io.read(datasets_dir / "c3d_org_samples" / "sample26_Qualisys_Walking_Hybrid_1_2.c3d")
+    name = unique("real")
+    live = LiveThread(name, resolve_timeout_s=10, max_buffer_s=30)
+    player = threading.Thread(target=lambda: replay(rec, name, speed=4, wait_for_consumer_s=10), daemon=True)
+    player.start()
+    player.join(30)
+    live.wait_for(rec.n_frames)
+    counters = live.stop()
+    assert counters.estimates == rec.n_frames and counters.dropped_not_increasing == counters.missing_frames == 0
+    result = OnlineEstimator.for_recording(rec).run(rec)
+    expected = np.column_stack([np.asarray(getattr(result, c), dtype=float) for c in ESTIMATE_COLUMNS])
+    np.testing.assert_array_equal(np.array(live.rows), expected)

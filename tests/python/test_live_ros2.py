@@ -48,7 +48,7 @@ def test_live_publishes_every_estimate_on_the_ros2_topic_as_a_float64_multiarray
     end = time.monotonic() + 15
     while node.count_publishers(topic) == 0 and time.monotonic() < end:
         rclpy.spin_once(node, timeout_sec=0.05)
-    time.sleep(0.5)  # let discovery match the subscription to the publisher
+    time.sleep(2.0)  # discovery seen from the subscriber; give the publisher side time to match it too
     base = pylsl.local_clock()
     for k in range(rec.n_frames):
         outlet.push_sample(frames[k].tolist(), base + rec.time_s[k])
@@ -60,7 +60,8 @@ def test_live_publishes_every_estimate_on_the_ros2_topic_as_a_float64_multiarray
     live.join(15)
     node.destroy_node()
     assert done.get("code") == 0
-    assert len(received) == rec.n_frames
+    got_times = [m.data[0] for m in received]
+    assert len(received) == rec.n_frames, f"missing: {sorted(set(base + rec.time_s) - set(got_times))[:5]}"
     assert received[0].layout.dim[0].label == "estimate" and received[0].layout.dim[0].size == len(ESTIMATE_COLUMNS)
     est = OnlineEstimator(["LASI", "RASI", "LPSI", "RPSI"], "z", 1.0)
     expected = [estimate_row(est.update(base + t, f.reshape(4, 3))) for t, f in zip(rec.time_s, frames)]

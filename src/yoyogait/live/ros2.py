@@ -25,6 +25,12 @@ def _ros() -> tuple[Any, Any]:
     return rclpy, (Float64MultiArray, MultiArrayDimension)
 
 
+def _duration(seconds: float) -> Any:
+    from rclpy.duration import Duration
+
+    return Duration(seconds=seconds)
+
+
 class Ros2Publisher:
     """Publishes estimate rows on ``topic``; ``close()`` shuts the node down."""
 
@@ -53,6 +59,9 @@ class Ros2Publisher:
     def close(self) -> None:
         node = getattr(self, "node", None)
         if node is not None:
+            publisher = getattr(self, "publisher", None)
+            if publisher is not None:  # reliable delivery of the last estimates before the node goes
+                publisher.wait_for_all_acked(_duration(1.0))
             node.destroy_node()
             self.node = None
         if self._owns_context and self._rclpy.ok():
