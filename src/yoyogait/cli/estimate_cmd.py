@@ -158,6 +158,8 @@ ONLINE_COLUMNS = (
     "status",
     "input_latency_s",
 )
+#: printf formats of ONLINE_COLUMNS (``live --record`` writes the same).
+ONLINE_FORMATS = ("%.6f",) + ("%.6g",) * 10 + ("%d", "%d", "%.6g")
 
 
 def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force):
@@ -177,7 +179,7 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis)
     res = est.run(recording)
     table = np.column_stack([getattr(res, c).astype(float) for c in ONLINE_COLUMNS])
-    fmt = ["%.6f"] + ["%.6g"] * 10 + ["%d", "%d", "%.6g"]
+    fmt = list(ONLINE_FORMATS)
     atomic_file(
         out, lambda p: np.savetxt(p, table, delimiter=",", header=",".join(ONLINE_COLUMNS), comments="", fmt=fmt)
     )
