@@ -163,3 +163,15 @@ def test_estimate_online_writes_one_row_per_frame(datasets_dir, tmp_path, capsys
     assert main(["estimate", str(path), "--online", "--out", str(out)]) != 0
     assert out.read_bytes() == before
     assert "--force" in capsys.readouterr().err
+
+
+def test_for_recording_finds_the_pelvis_and_runs_a_recording(datasets_dir):
+    """for_recording finds a BVH's root joint and the file's up axis; run(recording) equals run(time, positions)."""
+    rec = io.read(datasets_dir / "bandai_namco_motion" / "dataset-2_walk_normal_001.bvh", length_unit_m=0.01)
+    est = OnlineEstimator.for_recording(rec)
+    assert est.point_names == ("Hips",) and est.up_axis == "y"
+    a = est.run(rec)
+    b = OnlineEstimator.for_recording(rec).run(rec.time_s, rec.points(["Hips"]))
+    assert np.array_equal(a.step_frequency_hz, b.step_frequency_hz) and np.array_equal(a.vz_mps, b.vz_mps)
+    walking = a.walking
+    assert walking.mean() > 0.5 and 1.2 < np.median(a.step_frequency_hz[walking]) < 2.4

@@ -183,7 +183,7 @@ class OnlineEstimator {
       }
       heading_lp_[0] += alpha_ * (va - heading_lp_[0]);
       heading_lp_[1] += alpha_ * (vb - heading_lp_[1]);
-      const double s = std::hypot(heading_lp_[0], heading_lp_[1]);
+      const double s = std::sqrt(heading_lp_[0] * heading_lp_[0] + heading_lp_[1] * heading_lp_[1]);
       if (s >= config_.heading_min_speed_mps && s > 0.0) {
         const double ua = heading_lp_[0] / s, ub = heading_lp_[1] / s;
         if (lp_dir_known_) {
@@ -204,7 +204,7 @@ class OnlineEstimator {
       }
     }
     o.heading_rad = std::atan2(heading_unit_[1], heading_unit_[0]);
-    o.vx_mps = heading_known_ ? va * heading_unit_[0] + vb * heading_unit_[1] : std::hypot(va, vb);
+    o.vx_mps = heading_known_ ? va * heading_unit_[0] + vb * heading_unit_[1] : std::sqrt(va * va + vb * vb);
 
     if (settled && !restart) {
       // Decimation: a Butterworth low-pass (antialias_hz; 0: none), then the mean over the interval.

@@ -10,13 +10,14 @@ import numpy as np
 from .. import io
 from .._files import atomic_file
 from ..errors import InputError, OutputError
+from ..estimators.config import EstimatorConfig
 from ..estimators.online import OnlineEstimator
-from ..estimators.registry import estimators
+from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..evaluation import metrics
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
-from .options import check_points, force_option, input_options, preset_option
+from .options import check_points, estimator_config_option, force_option, input_options, preset_option
 
 
 def foot_contacts(recording, feet, up_axis):
@@ -34,6 +35,7 @@ def foot_contacts(recording, feet, up_axis):
 @click.argument("file", type=click.Path(dir_okay=False))
 @input_options
 @preset_option
+@estimator_config_option(multiple=False)
 @click.option(
     "--out",
     type=click.Path(dir_okay=False),
@@ -55,7 +57,23 @@ def foot_contacts(recording, feet, up_axis):
 )
 @force_option("Overwrite the --out and --figure files if they exist.")
 @click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
-def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, figure, belt_speed_mps, force, online):
+@click.pass_context
+def command(
+    ctx,
+    file,
+    point,
+    feet,
+    up_axis,
+    length_unit_m,
+    rate_hz,
+    preset,
+    config_file,
+    out,
+    figure,
+    belt_speed_mps,
+    force,
+    online,
+):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
     The CSV has one row per 25 Hz sample: time_s, the measured vx_mps, vz_mps, walking (1: the
@@ -73,7 +91,15 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     if online:
         if belt_speed_mps is not None:
             raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")
+        if config_file is not None:
+            raise InputError("--config is not available with --online (the online estimator runs the default)")
         return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force)
+    run = estimators()[preset]
+    if config_file is not None:
+        if ctx.get_parameter_source("preset") == click.core.ParameterSource.COMMANDLINE:
+            raise InputError("give --preset or --config, not both")
+        run = preset_runner(EstimatorConfig.from_file(config_file))
+        preset = Path(config_file).name
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
     fig = None if figure == "none" else Path(figure or f"{stem}.estimate.png")
@@ -84,7 +110,7 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     recording = io.read(file, **overrides)
     check_points(recording, point, feet)
     vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
-    res = estimators()[preset](vel)
+    res = run(vel)
     res.to_csv(out, velocities=vel)
     if fig is not None:
         contacts = foot_contacts(recording, feet, vel.up_axis)
@@ -132,6 +158,8 @@ ONLINE_COLUMNS = (
     "status",
     "input_latency_s",
 )
+#: printf formats of ONLINE_COLUMNS (``live --record`` writes the same).
+ONLINE_FORMATS = ("%.6f",) + ("%.6g",) * 10 + ("%d", "%d", "%.6g")
 
 
 def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force):
@@ -151,7 +179,7 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis)
     res = est.run(recording)
     table = np.column_stack([getattr(res, c).astype(float) for c in ONLINE_COLUMNS])
-    fmt = ["%.6f"] + ["%.6g"] * 10 + ["%d", "%d", "%.6g"]
+    fmt = list(ONLINE_FORMATS)
     atomic_file(
         out, lambda p: np.savetxt(p, table, delimiter=",", header=",".join(ONLINE_COLUMNS), comments="", fmt=fmt)
     )

@@ -12,7 +12,15 @@ from .. import evaluation as ev
 from .. import io
 from .._files import check_output_folder
 from ..errors import InputError
-from .options import ESTIMATOR_NAMES, check_points, estimators_option, force_option, input_options
+from ..estimators.registry import config_estimators
+from .options import (
+    ESTIMATOR_NAMES,
+    check_points,
+    estimator_config_option,
+    estimators_option,
+    force_option,
+    input_options,
+)
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
@@ -59,9 +67,13 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
     return out
 
 
-def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=None, online=False):
-    """Evaluate, print the summary and Table I, write the report; returns the evaluation."""
-    names = ev.check_estimators(estimator_list(estimators))
+def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=None, config_files=(), online=False):
+    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
+    config_files: estimator configurations (TOML) evaluated too, each named by its file's stem."""
+    if online and config_files:
+        raise InputError("--config applies to the estimators of the offline evaluation, not to --online")
+    configs = config_estimators(config_files)
+    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
     check_output_folder(out, force)
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
     if online:  # the online estimator and the oscillator; the synthetic lab gains its cadence-step walks
@@ -70,7 +82,7 @@ def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=Non
         items = with_overrides(items, **overrides)
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
     click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
-    run = ev.evaluate_online if online else functools.partial(ev.evaluate, names=names)
+    run = ev.evaluate_online if online else functools.partial(ev.evaluate, names=names, configs=configs)
     result = run(items, progress=True, dataset=str(dataset or "synthetic"), synthetic=synthetic, failures=problems)
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
@@ -112,13 +124,28 @@ REPORT_FORCE_HELP = (
 @force_option(REPORT_FORCE_HELP)
 @click.option("--no-figures", is_flag=True, help="Skip the per-recording figures.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
+@estimator_config_option(multiple=True)
 @click.option(
     "--online",
     is_flag=True,
     help="Online evaluation: replay each recording frame by frame through "
     "OnlineEstimator (the oscillator beside it; --estimators is not used). See docs/online.md.",
 )
-def command(dataset, point, feet, up_axis, length_unit_m, rate_hz, estimators, out, force, no_figures, seed, online):
+def command(
+    dataset,
+    point,
+    feet,
+    up_axis,
+    length_unit_m,
+    rate_hz,
+    estimators,
+    out,
+    force,
+    no_figures,
+    seed,
+    config_files,
+    online,
+):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
@@ -128,6 +155,8 @@ def command(dataset, point, feet, up_axis, length_unit_m, rate_hz, estimators, o
     """
     overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     overrides = {k: v for k, v in overrides.items() if v is not None}
-    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed, overrides, online)
+    result = run_evaluation(
+        dataset, Path(out), estimators, force, not no_figures, seed, overrides, config_files, online
+    )
     if result.failures:
         raise click.exceptions.Exit(1)

@@ -103,8 +103,9 @@ def real_reference(recording, vel, item: Item):
     return f_ref, speed, walking
 
 
-def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE_HZ) -> ItemResult:
-    """Load one item, take its velocities by the paper's pipeline, run and score every estimator."""
+def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE_HZ, configs=None) -> ItemResult:
+    """Load one item, take its velocities by the paper's pipeline, run and score every estimator
+    (``configs``: further configurations by name, see :func:`~yoyogait.estimators.registry.estimators`)."""
     recording = item.load()
     point = item.pelvis if item.pelvis else None
     vel = gait_velocities(recording, point=point, rate_hz=rate_hz, up_axis=item.up_axis)
@@ -119,7 +120,7 @@ def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE
         walking = np.isfinite(vel.vx) & np.isfinite(vel.vz)
     dft = metrics.dft_step_frequency_hz(t[walking], vel.vz[walking]) if walking.sum() > 10 else float("nan")
     out = ItemResult(item, vel, f_ref, speed_ref, walking, dft)
-    runners = estimators()
+    runners = estimators(configs)
     for name in names:
         res = runners[name](vel)
         out.results[name] = res
@@ -147,9 +148,11 @@ def evaluate(
     dataset: str = "",
     synthetic: bool = False,
     failures=None,
+    configs=None,
 ) -> Evaluation:
-    """Evaluate every item; an item that cannot be read or processed is reported, not fatal."""
-    names = check_estimators(names)
+    """Evaluate every item; an item that cannot be read or processed is reported, not fatal.
+    ``configs``: further configurations by name, which ``names`` may use."""
+    names = check_estimators(names, configs)
     failures = list(failures or [])
     done = []
     iterator = items
@@ -157,7 +160,7 @@ def evaluate(
         iterator = tqdm(items, desc="evaluating", unit="recording", leave=False, disable=None)
     for item in iterator:
         try:
-            done.append(evaluate_item(item, names))
+            done.append(evaluate_item(item, names, configs=configs))
         except InputError as exc:
             failures.append((item.name, str(exc)))
     return Evaluation(names, done, failures, dataset, synthetic)
