@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 import click
 
 from .. import evaluation as ev
 from ..errors import InputError
+from ..evaluation import parallel
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
@@ -17,20 +19,46 @@ def estimator_list(value: str) -> tuple[str, ...]:
     return names
 
 
-def run_evaluation(dataset, out, estimators, force, figures, seed):
-    """Evaluate, print the summary and Table I, write the report; returns the evaluation."""
+def run_evaluation(dataset, out, estimators, force, figures, seed, *, jobs=None, scheduler=None, ship_files=False):
+    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
+
+    ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
+    (by the size of the data set). ``jobs``: worker processes (None: every core). ``scheduler``:
+    the address of a Dask scheduler that evaluates the recordings instead (figures are drawn here).
+    """
     names = ev.check_estimators(estimator_list(estimators))
+    jobs = parallel.default_jobs() if jobs is None else jobs
+    if jobs < 1:
+        raise InputError(f"--jobs must be at least 1, not {jobs}")
+    if ship_files and not scheduler:
+        raise InputError("--ship-files goes with --scheduler")
     if out.exists() and not force:
         raise InputError(f"{out} exists; use --force to replace it")
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
+    mode = ev.report.figure_mode(figures, len(items))
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
-    click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
-    result = ev.evaluate(
-        items, names, progress=True, dataset=str(dataset or "synthetic"), synthetic=synthetic, failures=problems
-    )
+    with contextlib.ExitStack() as stack:
+        executor = None
+        where = f"{jobs} process{'es' if jobs > 1 else ''}"
+        if scheduler:
+            executor = stack.enter_context(parallel.dask_executor(scheduler))
+            where = f"the Dask cluster at {scheduler}"
+            if ship_files:
+                items = [ev.datasets.shipped(item) for item in items]
+        click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings ({where}): {label}", err=True)
+        result = ev.evaluate(
+            items,
+            names,
+            progress=True,
+            dataset=str(dataset or "synthetic"),
+            synthetic=synthetic,
+            failures=problems,
+            jobs=jobs,
+            executor=executor,
+        )
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
-    ev.write_report(result, out, force=force, figures=figures, progress=True)
+    ev.write_report(result, out, force=force, figures=mode, progress=True, jobs=jobs)
     click.echo(f"\n{label}\n")
     click.echo(ev.summary_markdown(result))
     for name in names:
@@ -39,6 +67,8 @@ def run_evaluation(dataset, out, estimators, force, figures, seed):
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:
         click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)
+    for name, message in result.figure_failures:
+        click.echo(f"yoyogait: figure not drawn: {name}: {message}", err=True)
     return result
 
 
@@ -56,15 +86,43 @@ def run_evaluation(dataset, out, estimators, force, figures, seed):
     "--estimators", default="paper,default", show_default=True, help="Comma-separated presets and baselines to compare."
 )
 @click.option("--force", is_flag=True, help="Replace an existing report folder.")
-@click.option("--no-figures", is_flag=True, help="Skip the per-recording figures.")
+@click.option(
+    "--figures",
+    type=click.Choice(ev.report.FIGURE_MODES),
+    default=None,
+    help="all: every recording's; summary: distributions over recordings and the best and worst recordings; "
+    f"none. Default: summary above {ev.report.SUMMARY_ABOVE} recordings, else all.",
+)
+@click.option("--no-figures", is_flag=True, help="Same as --figures none.")
+@click.option(
+    "--jobs",
+    "-j",
+    type=int,
+    default=None,
+    help="Worker processes for the recordings and the figures. Default: every core.",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="Evaluate on the Dask cluster of this scheduler (e.g. tcp://host:8786); needs yoyogait[distributed] "
+    "and the recordings at the same paths on the workers (or --ship-files).",
+)
+@click.option("--ship-files", is_flag=True, help="With --scheduler: send each file's bytes with its task.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
-def command(dataset, out, estimators, force, no_figures, seed):
+def command(dataset, out, estimators, force, figures, no_figures, jobs, scheduler, ship_files, seed):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
-    Fig. 3/4-style figures per recording and an index.md into --out. Exits 1 when some
-    recording could not be evaluated (the others are still reported).
+    Fig. 3/4-style figures and an index.md into --out. Recordings are evaluated in parallel
+    (--jobs, or a Dask cluster with --scheduler); the results do not depend on how. Exits 1 when
+    some recording could not be evaluated (the others are still reported).
     """
-    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed)
-    if result.failures:
+    if no_figures and figures not in (None, "none"):
+        raise InputError(f"--no-figures contradicts --figures {figures}")
+    mode = "none" if no_figures else figures
+    result = run_evaluation(
+        dataset, Path(out), estimators, force, mode, seed, jobs=jobs, scheduler=scheduler, ship_files=ship_files
+    )
+    if result.failures or result.figure_failures:
         raise click.exceptions.Exit(1)

@@ -7,8 +7,10 @@ type, and the ground truth where there is one).  The manifest follows the schema
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,7 +20,7 @@ from ..errors import InputError
 from ..io.recording import Recording
 from ..synthetic import SyntheticTruth
 
-__all__ = ["Item", "READABLE", "synthetic_items", "manifest_items", "folder_items", "resolve_dataset"]
+__all__ = ["Item", "READABLE", "synthetic_items", "manifest_items", "folder_items", "resolve_dataset", "shipped"]
 
 READABLE = (".c3d", ".trc", ".bvh", ".csv")
 
@@ -134,3 +136,27 @@ def resolve_dataset(spec: str | None, seed: int = 0) -> tuple[list[Item], list[t
     if not path.exists():
         raise InputError(f"data set not found: {spec} (give 'synthetic', a folder or a manifest .json)")
     raise InputError(f"not a data set: {spec} (give 'synthetic', a folder or a manifest .json)")
+
+
+def read_shipped(data: bytes, name: str, **overrides) -> Recording:
+    """Read a recording from the bytes of its file (``name`` gives the extension and the messages)."""
+    with tempfile.TemporaryDirectory(prefix="yoyogait-") as folder:
+        path = Path(folder) / Path(name).name
+        path.write_bytes(data)
+        return io.read(path, **overrides)
+
+
+def shipped(item: Item) -> Item:
+    """The item with its file's bytes inside it, for workers that do not see the file (Dask).
+
+    Items that are not read from a file (the synthetic lab) already carry their data.
+    """
+    load = item.load
+    if not (isinstance(load, functools.partial) and load.func is io.read and load.args):
+        return item
+    path = Path(load.args[0])
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
+    return dataclasses.replace(item, load=functools.partial(read_shipped, data, str(path), **load.keywords))

@@ -10,6 +10,7 @@ Figures of synthetic data always say so in their title.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -19,7 +20,7 @@ from matplotlib.figure import Figure
 from ..errors import InputError
 from . import metrics as _metrics
 
-__all__ = ["parameter_figure", "velocity_figure", "recording_title"]
+__all__ = ["parameter_figure", "velocity_figure", "distribution_figure", "recording_title"]
 
 _EST = "tab:blue"
 _EST2 = "tab:orange"
@@ -71,46 +72,34 @@ A fixed layout instead of matplotlib's constrained layout, which measured every 
 figure and took about half of the time to make one."""
 
 
-_MATHTEXT: list = []
-"""One mathtext parser for every figure: each new renderer makes its own, whose cache then starts
-empty, and parsing labels such as ``$v_x$`` again took about a fifth of a figure's time."""
-
-
 def _new_figure(width_in: float, height_in: float) -> Figure:
     fig = Figure(figsize=(width_in, height_in), dpi=DPI)
     FigureCanvasAgg(fig)
     return fig
 
 
-def _share_mathtext(fig: Figure) -> None:
-    renderer = fig.canvas.get_renderer()  # the one savefig at the figure's own dpi draws with
-    parser = getattr(renderer, "mathtext_parser", None)
-    if parser is None:
-        return
-    if not _MATHTEXT:
-        _MATHTEXT.append(parser)
-    renderer.mathtext_parser = _MATHTEXT[0]
-
-
-def _layout(fig: Figure) -> None:
+def _layout(fig: Figure, hspace: float = 0.15, wspace: float = 0.2) -> None:
     """Place the axes within fixed margins and align the y labels at a fixed distance from the axes."""
     w, h = fig.get_size_inches()
     m = _MARGINS_IN
     fig.subplots_adjust(
-        left=m["left"] / w, right=1 - m["right"] / w, top=1 - m["top"] / h, bottom=m["bottom"] / h, hspace=0.15
+        left=m["left"] / w,
+        right=1 - m["right"] / w,
+        top=1 - m["top"] / h,
+        bottom=m["bottom"] / h,
+        hspace=hspace,
+        wspace=wspace,
     )
     for ax in fig.axes:
         # Fixed label coordinates align the labels across axes without measuring tick labels.
         ax.yaxis.set_label_coords(-0.62 / (w * ax.get_position().width), 0.5)
 
 
-def _finish(fig: Figure, path) -> Figure:
-    _layout(fig)
+def _finish(fig: Figure, path, **spacing) -> Figure:
+    _layout(fig, **spacing)
     if path is not None:
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        fig.set_dpi(DPI)
-        _share_mathtext(fig)
         fig.savefig(path, dpi=DPI)
     return fig
 
@@ -268,3 +257,40 @@ def velocity_figure(
     ax_z.set_xlabel("time (s)")
     fig.suptitle(_title(title, synthetic))
     return _finish(fig, path)
+
+
+def distribution_figure(values: dict, *, labels: dict | None = None, title: str = "", path=None) -> Figure:
+    """The distribution over recordings of some metrics, one panel per metric, one box per estimator.
+
+    ``values``: estimator -> metric -> one value per recording (NaN where unknown, left out).
+    Boxes span the quartiles around the median, whiskers reach 1.5 interquartile ranges, and every
+    recording is a dot. A panel whose values are all positive has a log scale.
+    """
+    estimators = list(values)
+    keys = list(dict.fromkeys(k for est in estimators for k in values[est]))
+    labels = labels or {}
+    ncols = 2 if len(keys) > 1 else 1
+    nrows = max(1, math.ceil(len(keys) / ncols))
+    fig = _new_figure(8.0, 2.6 * nrows + 0.8)
+    axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
+    positions = np.arange(len(estimators), dtype=float)
+    for ax, key in zip(axes, keys):
+        data = [np.asarray(values[est].get(key, []), dtype=float) for est in estimators]
+        data = [d[np.isfinite(d)] for d in data]
+        shown = [(p, d) for p, d in zip(positions, data) if d.size]
+        if shown:
+            ax.boxplot([d for _, d in shown], positions=[p for p, _ in shown], widths=0.5, showfliers=False)
+            for p, d in shown:
+                # Spread the dots evenly across the box by rank: deterministic, no overlap in order.
+                offsets = (np.argsort(np.argsort(d)) / max(d.size - 1, 1) - 0.5) * 0.3
+                ax.plot(p + offsets, d, "o", ms=2.5, alpha=0.5, color=_EST, mec="none")
+            if all(d.min() > 0 for _, d in shown):
+                ax.set_yscale("log")
+        ax.set_xticks(positions, estimators)
+        ax.set_xlim(-0.6, len(estimators) - 0.4)
+        ax.set_ylabel(labels.get(key, key), fontsize="small")
+        ax.grid(True, axis="y", alpha=0.3)
+    for ax in axes[len(keys) :]:
+        ax.set_visible(False)
+    fig.suptitle(title)
+    return _finish(fig, path, hspace=0.25, wspace=0.35)
