@@ -11,3 +11,7 @@ class YoyogaitError(Exception):
 
 class InputError(YoyogaitError, ValueError):
     """A file, array or argument that yoyogait cannot use (says what is wrong)."""
+
+
+class OutputError(YoyogaitError, OSError):
+    """An output that could not be written (says which, and why; never a temporary name)."""

@@ -12,6 +12,7 @@ import click
 
 from ..errors import YoyogaitError
 from . import demo_cmd, estimate_cmd, evaluate_cmd, inspect_cmd
+from .options import cli_message
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -34,11 +35,15 @@ def main(argv=None) -> int:
     except click.exceptions.Abort:
         click.echo("yoyogait: interrupted", err=True)
         return 130
+    except click.UsageError as exc:  # one line naming the option, not click's usage block
+        where = exc.ctx.command_path if exc.ctx is not None else "yoyogait"
+        click.echo(f"yoyogait: error: {exc.format_message()} (see '{where} --help')", err=True)
+        return exc.exit_code
     except click.ClickException as exc:
-        exc.show()
+        click.echo(f"yoyogait: error: {exc.format_message()}", err=True)
         return exc.exit_code
     except (YoyogaitError, ValueError, OSError) as exc:
-        click.echo(f"yoyogait: error: {exc}", err=True)
+        click.echo(f"yoyogait: error: {cli_message(str(exc))}", err=True)
         return 2
     except KeyboardInterrupt:
         click.echo("yoyogait: interrupted", err=True)

@@ -3,23 +3,67 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import functools
 from pathlib import Path
 
 import click
 
 from .. import evaluation as ev
+from .. import io
+from .._files import check_output_folder
 from ..errors import InputError
 from ..evaluation import parallel
+from .options import ESTIMATOR_NAMES, check_points, estimators_option, force_option, input_options
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
     names = tuple(n.strip() for n in value.split(",") if n.strip())
     if not names:
         raise InputError("--estimators needs at least one name")
+    unknown = [n for n in names if n not in ESTIMATOR_NAMES]
+    if unknown:
+        raise InputError(
+            f"--estimators: unknown estimator(s) {', '.join(unknown)}; known: {', '.join(ESTIMATOR_NAMES)}"
+        )
     return names
 
 
-def run_evaluation(dataset, out, estimators, force, figures, seed, *, jobs=None, scheduler=None, ship_files=False):
+def _load_checked(load, point, feet):
+    """load(), then an InputError naming --point or --feet if the recording lacks those points."""
+    recording = load()
+    check_points(recording, point, feet)
+    return recording
+
+
+def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=None, rate_hz=None):
+    """The items with the command line's input options applied to every one (they win over a manifest's)."""
+    read_overrides = {k: v for k, v in (("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v is not None}
+    if up_axis is not None:
+        read_overrides["up_axis"] = up_axis
+    out = []
+    for item in items:
+        changes: dict = {}
+        if point is not None:
+            changes["pelvis"] = point  # a name, "pelvis", "hand", or names to average
+        if feet is not None:
+            changes["feet"] = list(feet)
+        if up_axis is not None:
+            changes["up_axis"] = up_axis
+        if read_overrides:
+            load = item.load
+            if not isinstance(load, functools.partial) or load.func is not io.read:
+                raise InputError("--up-axis, --length-unit-m and --rate-hz apply to files, not to the synthetic lab")
+            changes["load"] = functools.partial(io.read, *load.args, **{**load.keywords, **read_overrides})
+        if point is not None or feet is not None:
+            changes["load"] = functools.partial(_load_checked, changes.get("load", item.load), point, feet)
+        out.append(dataclasses.replace(item, **changes))
+    return out
+
+
+def run_evaluation(
+    dataset, out, estimators, force, figures, seed, overrides=None, *, jobs=None, scheduler=None, ship_files=False
+):
     """Evaluate, print the summary and Table I, write the report; returns the evaluation.
 
     ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
@@ -32,9 +76,10 @@ def run_evaluation(dataset, out, estimators, force, figures, seed, *, jobs=None,
         raise InputError(f"--jobs must be at least 1, not {jobs}")
     if ship_files and not scheduler:
         raise InputError("--ship-files goes with --scheduler")
-    if out.exists() and not force:
-        raise InputError(f"{out} exists; use --force to replace it")
+    check_output_folder(out, force)
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
+    if overrides:
+        items = with_overrides(items, **overrides)
     mode = ev.report.figure_mode(figures, len(items))
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
     with contextlib.ExitStack() as stack:
@@ -72,20 +117,26 @@ def run_evaluation(dataset, out, estimators, force, figures, seed, *, jobs=None,
     return result
 
 
+REPORT_FORCE_HELP = (
+    "Replace a report yoyogait wrote in --out before: only the files listed in its .yoyogait-report; "
+    "other files there stay."
+)
+
+
 @click.command("evaluate")
 @click.argument("dataset", required=False, default="synthetic")
+@input_options
+@estimators_option()
 @click.option(
     "--out",
     "out",
-    type=click.Path(),
+    type=click.Path(file_okay=False),
+    metavar="FOLDER",
     default="yoyogait-evaluation",
     show_default=True,
-    help="Folder for the report (replaced only with --force).",
+    help="Folder for the report: new, empty, or a report of yoyogait's (with --force).",
 )
-@click.option(
-    "--estimators", default="paper,default", show_default=True, help="Comma-separated presets and baselines to compare."
-)
-@click.option("--force", is_flag=True, help="Replace an existing report folder.")
+@force_option(REPORT_FORCE_HELP)
 @click.option(
     "--figures",
     type=click.Choice(ev.report.FIGURE_MODES),
@@ -110,19 +161,47 @@ def run_evaluation(dataset, out, estimators, force, figures, seed, *, jobs=None,
 )
 @click.option("--ship-files", is_flag=True, help="With --scheduler: send each file's bytes with its task.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
-def command(dataset, out, estimators, force, figures, no_figures, jobs, scheduler, ship_files, seed):
+def command(
+    dataset,
+    point,
+    feet,
+    up_axis,
+    length_unit_m,
+    rate_hz,
+    estimators,
+    out,
+    force,
+    figures,
+    no_figures,
+    jobs,
+    scheduler,
+    ship_files,
+    seed,
+):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
-    Fig. 3/4-style figures and an index.md into --out. Recordings are evaluated in parallel
-    (--jobs, or a Dask cluster with --scheduler); the results do not depend on how. Exits 1 when
-    some recording could not be evaluated (the others are still reported).
+    Fig. 3/4-style figures and an index.md into --out (recordings and figures in parallel: --jobs,
+    or a Dask cluster with --scheduler; the results do not depend on how). The input options apply to
+    every recording (and win over a manifest's entries). Exits 1 when some recording could not
+    be evaluated (the others are still reported).
     """
     if no_figures and figures not in (None, "none"):
         raise InputError(f"--no-figures contradicts --figures {figures}")
     mode = "none" if no_figures else figures
+    overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
+    overrides = {k: v for k, v in overrides.items() if v is not None}
     result = run_evaluation(
-        dataset, Path(out), estimators, force, mode, seed, jobs=jobs, scheduler=scheduler, ship_files=ship_files
+        dataset,
+        Path(out),
+        estimators,
+        force,
+        mode,
+        seed,
+        overrides,
+        jobs=jobs,
+        scheduler=scheduler,
+        ship_files=ship_files,
     )
     if result.failures or result.figure_failures:
         raise click.exceptions.Exit(1)

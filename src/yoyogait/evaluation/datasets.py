@@ -151,12 +151,22 @@ def shipped(item: Item) -> Item:
 
     Items that are not read from a file (the synthetic lab) already carry their data.
     """
-    load = item.load
-    if not (isinstance(load, functools.partial) and load.func is io.read and load.args):
-        return item
-    path = Path(load.args[0])
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
-    return dataclasses.replace(item, load=functools.partial(read_shipped, data, str(path), **load.keywords))
+    return dataclasses.replace(item, load=_ship(item.load))
+
+
+def _ship(load):
+    """``load`` with io.read(path) replaced by a read of the file's bytes, also inside a wrapping
+    partial (such as one that checks the points after reading)."""
+    if not isinstance(load, functools.partial) or not load.args:
+        return load
+    if load.func is io.read:
+        path = Path(load.args[0])
+        try:
+            data = path.read_bytes()
+        except OSError as exc:
+            raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
+        return functools.partial(read_shipped, data, str(path), **load.keywords)
+    inner = _ship(load.args[0])
+    if inner is load.args[0]:
+        return load
+    return functools.partial(load.func, inner, *load.args[1:], **load.keywords)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import shutil
 import tempfile
 import time
@@ -13,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import give_default_mode
-from ..errors import InputError
+from .._files import check_output_folder, install_folder, why
+from ..errors import InputError, OutputError
 from . import figures as plots
 from . import metrics
 from .parallel import TaskFailure, run_tasks
@@ -75,33 +74,30 @@ def write_report(
     in ``jobs`` worker processes. A figure that cannot be drawn is listed in the index and in
     ``evaluation.figure_failures``.
 
-    Written into a temporary folder beside it and renamed at the end, so an
-    interrupted run leaves no half-written report; an existing ``out_dir`` is
-    replaced only with ``force``.
+    Written into a temporary folder beside it and moved into place at the end, so an
+    interrupted run leaves no half-written report.  ``out_dir`` may be new or empty; a
+    report yoyogait wrote there before is replaced only with ``force``, and then only the
+    files it lists in its marker (``.yoyogait-report``): the user's other files stay.  A
+    non-empty folder without the marker is refused.
     """
     mode = figure_mode(figures, len(evaluation.items))
     out = Path(out_dir)
-    if out.exists() and not force:
-        raise InputError(f"{out} exists; use --force to replace it")
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out} exists and is not a folder")
+    check_output_folder(out, force)
     parent = out.resolve().parent
-    parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
+    except OSError as exc:
+        raise OutputError(f"cannot write the report {out}: {why(exc)}") from None
     try:
         _write(evaluation, tmp, mode=mode, progress=progress, jobs=jobs)
-        for item in (tmp, *tmp.rglob("*")):
-            give_default_mode(item)
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=parent))
-            os.replace(out, old / out.name)
-            os.replace(tmp, out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        install_folder(tmp, out)
+    except OutputError:
         raise
+    except OSError as exc:
+        raise OutputError(f"cannot write the report {out}: {why(exc, tmp)}") from None
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     return out
 
 
