@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -27,6 +28,7 @@ __all__ = [
     "Evaluation",
     "evaluate_item",
     "run_item",
+    "score",
     "evaluate",
     "real_reference",
     "RATE_HZ",
@@ -151,26 +153,32 @@ def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE
     t0 = clock()
     timings["metrics"] += t0 - t1
     for name in names:
-        res = runners[name](vel)
+        res = runners[name](out.velocities)
         t1 = clock()
         timings["estimators"] += t1 - t0
-        out.results[name] = res
-        out.metrics[name] = metrics.evaluate(
-            t,
-            vel.vx,
-            vel.vz,
-            res,
-            truth=item.truth,
-            walking=walking,
-            reference_step_frequency_hz=f_ref,
-            reference_speed_mps=speed_ref,
-            predicted_1step=res.aligned_prediction(PREDICTION_HORIZONS_S[0]),
-            predicted_200ms=res.aligned_prediction(PREDICTION_HORIZONS_S[1]),
-            skip_s=3.0,
-        )
+        score(out, name, res)
         t0 = clock()
         timings["metrics"] += t0 - t1
     return out
+
+
+def score(out: ItemResult, name: str, res) -> None:
+    """Score an estimator's result on the item (its velocities and reference) into ``out``."""
+    vel: Any = out.velocities
+    out.results[name] = res
+    out.metrics[name] = metrics.evaluate(
+        vel.time_s,
+        vel.vx,
+        vel.vz,
+        res,
+        truth=out.item.truth,
+        walking=out.walking,
+        reference_step_frequency_hz=out.reference_step_frequency_hz,
+        reference_speed_mps=out.reference_speed_mps,
+        predicted_1step=res.aligned_prediction(PREDICTION_HORIZONS_S[0]),
+        predicted_200ms=res.aligned_prediction(PREDICTION_HORIZONS_S[1]),
+        skip_s=3.0,
+    )
 
 
 def run_item(item: Item, names=DEFAULT_ESTIMATORS, rate_hz: float = RATE_HZ) -> ItemResult | TaskFailure:
