@@ -45,8 +45,15 @@ def foot_contacts(recording, feet, up_axis):
     default=None,
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
+@click.option(
+    "--belt-speed-mps",
+    type=float,
+    default=None,
+    metavar="M/S",
+    help="Treadmill belt speed (else found from the stance feet).",
+)
 @force_option("Overwrite the --out and --figure files if they exist.")
-def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, figure, force):
+def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, figure, belt_speed_mps, force):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
     The CSV has one row per 25 Hz sample: time_s, the measured vx_mps, vz_mps, walking (1: the
@@ -64,7 +71,7 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
     recording = io.read(file, **overrides)
     check_points(recording, point, feet)
-    vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet)
+    vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
     res = estimators()[preset](vel)
     res.to_csv(out, velocities=vel)
     if fig is not None:
@@ -92,4 +99,6 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
         f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
         f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
     )
+    if vel.treadmill is not None and vel.treadmill.detected:
+        click.echo(vel.treadmill.reason)
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))

@@ -109,6 +109,10 @@ def run_evaluation(
     for name in names:
         click.echo(f"\nTable I, estimator '{name}': mean (± std) squared error, 1e-2 (m/s)^2\n")
         click.echo(ev.table_one_markdown(result, name))
+    for r in result.items:  # a treadmill walk's speed includes the belt: say so
+        treadmill = getattr(r.velocities, "treadmill", None)
+        if treadmill is not None and treadmill.detected:
+            click.echo(f"{r.item.name}: {treadmill.reason}")
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:
         click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)
