@@ -27,6 +27,7 @@ import numpy as np
 from ..errors import InputError
 from ..estimators.config import EstimatorConfig
 from ..estimators.registry import preset_runner
+from .metrics import METRIC_KEYS
 from .parallel import TaskFailure, run_tasks
 from .running import ItemResult, run_item, score
 
@@ -81,8 +82,6 @@ class TuneResult:
 
 def parse_weights(specs) -> dict[str, float]:
     """``["key=w", ...]`` over :data:`DEFAULT_WEIGHTS`; InputError for a bad one."""
-    from .metrics import METRIC_KEYS
-
     weights = dict(DEFAULT_WEIGHTS)
     for spec in specs or ():
         key, sep, value = str(spec).partition("=")
