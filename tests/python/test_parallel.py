@@ -108,12 +108,13 @@ def test_figures_in_parallel_and_the_summary_mode(small_manifest, tmp_path):
     worst recording of each estimator, and the index links every PNG."""
     items, _, _ = ev.resolve_dataset(str(small_manifest))
     result = ev.evaluate(items, ("paper", "default"), jobs=2)
-    one = ev.write_report(result, tmp_path / "one", figures="all", jobs=1)
-    two = ev.write_report(result, tmp_path / "two", figures="all", jobs=2)
-    assert not result.figure_failures, result.figure_failures
+    few = ev.evaluate(items[:2], ("default",), jobs=1)
+    one = ev.write_report(few, tmp_path / "one", figures="all", jobs=1)
+    two = ev.write_report(few, tmp_path / "two", figures="all", jobs=2)
+    assert not few.figure_failures, few.figure_failures
     names = sorted(p.name for p in (one / "figures").glob("*.png"))
     assert names == sorted(p.name for p in (two / "figures").glob("*.png"))
-    assert len(names) == 2 * 2 * len(items)
+    assert len(names) == 2 * 2
     assert (one / "index.md").read_bytes() == (two / "index.md").read_bytes()
     summary = ev.write_report(result, tmp_path / "summary", figures="summary", jobs=2)
     pngs = sorted((summary / "figures").glob("*.png"))
@@ -138,10 +139,11 @@ def test_evaluate_command_jobs_and_figure_options(small_manifest, tmp_path, caps
     """--jobs 2 --figures summary writes the summary figures; --no-figures is --figures none; a bad
     --jobs or contradicting options are one error line."""
     out = tmp_path / "ev"
-    assert main([*("evaluate", str(small_manifest), "--out", str(out)), "--jobs", "2", "--figures", "summary"]) == 0
+    args = ["evaluate", str(small_manifest), "--estimators", "default", "--jobs", "2"]
+    assert main([*args, "--out", str(out), "--figures", "summary"]) == 0
     assert (out / "figures" / "distributions.png").is_file()
     out2 = tmp_path / "ev2"
-    assert main(["evaluate", str(small_manifest), "--out", str(out2), "--jobs", "2", "--no-figures"]) == 0
+    assert main([*args, "--out", str(out2), "--no-figures"]) == 0
     assert not (out2 / "figures").exists()
     assert (out / "recordings.csv").read_bytes() == (out2 / "recordings.csv").read_bytes()
     capsys.readouterr()
