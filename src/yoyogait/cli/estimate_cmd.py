@@ -10,12 +10,13 @@ import numpy as np
 from .. import io
 from .._files import atomic_file
 from ..errors import InputError, OutputError
-from ..estimators.registry import estimators
+from ..estimators.config import EstimatorConfig
+from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..evaluation import metrics
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
-from .options import check_points, force_option, input_options, preset_option
+from .options import check_points, estimator_config_option, force_option, input_options, preset_option
 
 
 def foot_contacts(recording, feet, up_axis):
@@ -33,6 +34,7 @@ def foot_contacts(recording, feet, up_axis):
 @click.argument("file", type=click.Path(dir_okay=False))
 @input_options
 @preset_option
+@estimator_config_option(multiple=False)
 @click.option(
     "--out",
     type=click.Path(dir_okay=False),
@@ -53,7 +55,10 @@ def foot_contacts(recording, feet, up_axis):
     help="Treadmill belt speed (else found from the stance feet).",
 )
 @force_option("Overwrite the --out and --figure files if they exist.")
-def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, figure, belt_speed_mps, force):
+@click.pass_context
+def command(
+    ctx, file, point, feet, up_axis, length_unit_m, rate_hz, preset, config_file, out, figure, belt_speed_mps, force
+):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
     The CSV has one row per 25 Hz sample: time_s, the measured vx_mps, vz_mps, walking (1: the
@@ -62,6 +67,12 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     state x1_mps, x2_mps, x3_rad_per_sample, x4_mps, estimator_walking (0: the estimator holds its
     last walking values) and status (0: the sample was used).
     """
+    run = estimators()[preset]
+    if config_file is not None:
+        if ctx.get_parameter_source("preset") == click.core.ParameterSource.COMMANDLINE:
+            raise InputError("give --preset or --config, not both")
+        run = preset_runner(EstimatorConfig.from_file(config_file))
+        preset = Path(config_file).name
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
     fig = None if figure == "none" else Path(figure or f"{stem}.estimate.png")
@@ -72,7 +83,7 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     recording = io.read(file, **overrides)
     check_points(recording, point, feet)
     vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
-    res = estimators()[preset](vel)
+    res = run(vel)
     res.to_csv(out, velocities=vel)
     if fig is not None:
         contacts = foot_contacts(recording, feet, vel.up_axis)

@@ -13,8 +13,16 @@ from .. import evaluation as ev
 from .. import io
 from .._files import check_output_folder
 from ..errors import InputError
+from ..estimators.registry import config_estimators
 from ..evaluation import parallel
-from .options import ESTIMATOR_NAMES, check_points, estimators_option, force_option, input_options
+from .options import (
+    ESTIMATOR_NAMES,
+    check_points,
+    estimator_config_option,
+    estimators_option,
+    force_option,
+    input_options,
+)
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
@@ -62,15 +70,28 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
 
 
 def run_evaluation(
-    dataset, out, estimators, force, figures, seed, overrides=None, *, jobs=None, scheduler=None, ship_files=False
+    dataset,
+    out,
+    estimators,
+    force,
+    figures,
+    seed,
+    overrides=None,
+    config_files=(),
+    *,
+    jobs=None,
+    scheduler=None,
+    ship_files=False,
 ):
     """Evaluate, print the summary and Table I, write the report; returns the evaluation.
 
+    ``config_files``: estimator configurations (TOML) evaluated too, each named by its file's stem.
     ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
     (by the size of the data set). ``jobs``: worker processes (None: every core). ``scheduler``:
     the address of a Dask scheduler that evaluates the recordings instead (figures are drawn here).
     """
-    names = ev.check_estimators(estimator_list(estimators))
+    configs = config_estimators(config_files)
+    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
     jobs = parallel.default_jobs() if jobs is None else jobs
     if jobs < 1:
         raise InputError(f"--jobs must be at least 1, not {jobs}")
@@ -100,6 +121,7 @@ def run_evaluation(
             failures=problems,
             jobs=jobs,
             executor=executor,
+            configs=configs,
         )
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
@@ -165,6 +187,7 @@ REPORT_FORCE_HELP = (
 )
 @click.option("--ship-files", is_flag=True, help="With --scheduler: send each file's bytes with its task.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
+@estimator_config_option(multiple=True)
 def command(
     dataset,
     point,
@@ -181,6 +204,7 @@ def command(
     scheduler,
     ship_files,
     seed,
+    config_files,
 ):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
@@ -203,6 +227,7 @@ def command(
         mode,
         seed,
         overrides,
+        config_files,
         jobs=jobs,
         scheduler=scheduler,
         ship_files=ship_files,

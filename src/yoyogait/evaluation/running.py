@@ -121,8 +121,9 @@ def real_reference(recording, vel, item: Item):
     return f_ref, speed, walking
 
 
-def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE_HZ) -> ItemResult:
-    """Load one item, take its velocities by the paper's pipeline, run and score every estimator.
+def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE_HZ, configs=None) -> ItemResult:
+    """Load one item, take its velocities by the paper's pipeline, run and score every estimator
+    (``configs``: further configurations by name, see :func:`~yoyogait.estimators.registry.estimators`).
 
     The wall time of each stage (:data:`STAGES`) is in the result's ``timings_s``.
     """
@@ -149,7 +150,7 @@ def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE
     timings["events"] = t1 - t0
     dft = metrics.dft_step_frequency_hz(t[walking], vel.vz[walking]) if walking.sum() > 10 else float("nan")
     out = ItemResult(item, vel, f_ref, speed_ref, walking, dft, timings_s=timings)
-    runners = estimators()
+    runners = estimators(configs)
     t0 = clock()
     timings["metrics"] += t0 - t1
     for name in names:
@@ -181,11 +182,11 @@ def score(out: ItemResult, name: str, res) -> None:
     )
 
 
-def run_item(item: Item, names=DEFAULT_ESTIMATORS, rate_hz: float = RATE_HZ) -> ItemResult | TaskFailure:
+def run_item(item: Item, names=DEFAULT_ESTIMATORS, rate_hz: float = RATE_HZ, configs=None) -> ItemResult | TaskFailure:
     """:func:`evaluate_item`, with what stops it as a :class:`TaskFailure`: the function that worker
     processes and Dask workers run."""
     try:
-        return evaluate_item(item, names, rate_hz=rate_hz)
+        return evaluate_item(item, names, rate_hz=rate_hz, configs=configs)
     except InputError as exc:
         return TaskFailure(str(exc))
 
@@ -200,19 +201,21 @@ def evaluate(
     failures=None,
     jobs: int = 1,
     executor=None,
+    configs=None,
 ) -> Evaluation:
     """Evaluate every item; an item that cannot be read or processed is reported, not fatal.
 
-    ``jobs`` > 1 evaluates the items in that many worker processes; ``executor`` (any
-    ``concurrent.futures.Executor``, e.g. :func:`~yoyogait.evaluation.parallel.dask_executor`)
-    runs them there instead. The result is the same either way, in the order of ``items``.
+    ``configs``: further configurations by name, which ``names`` may use. ``jobs`` > 1 evaluates
+    the items in that many worker processes; ``executor`` (any ``concurrent.futures.Executor``,
+    e.g. :func:`~yoyogait.evaluation.parallel.dask_executor`) runs them there instead. The result
+    is the same either way, in the order of ``items``.
     """
-    names = check_estimators(names)
+    names = check_estimators(names, configs)
     failures = list(failures or [])
     items = list(items)
     outcomes = run_tasks(
         run_item,
-        [(item, names) for item in items],
+        [(item, names, RATE_HZ, configs) for item in items],
         jobs=jobs,
         executor=executor,
         progress="evaluating" if progress else None,

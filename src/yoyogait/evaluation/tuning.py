@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import tomli_w
 
 from ..errors import InputError
 from ..estimators.config import EstimatorConfig
@@ -40,9 +41,13 @@ __all__ = [
     "objective_of",
     "config_toml",
     "parse_weights",
+    "SECTION",
 ]
 
 TUNE_EXTRA = "yoyogait[tune]"
+
+SECTION = "gait_filter"
+"""The section of :class:`EstimatorConfig` that holds every tuned parameter (the default estimator's)."""
 
 SEARCH_SPACE: dict[str, tuple[float, float, bool]] = {
     # name: (low, high, log scale); all inside what EstimatorConfig validation accepts.
@@ -56,8 +61,9 @@ SEARCH_SPACE: dict[str, tuple[float, float, bool]] = {
     "gate_sigma": (3.0, 8.0, False),
     "radii_tau_s": (0.5, 5.0, False),
 }
-"""The parameters tuned, with their ranges: the noise levels of the gait filter, its innovation gate
-and the low-pass of the radii. The structure (bank, detector thresholds, bounds) is left alone."""
+"""The parameters tuned (fields of the ``gait_filter`` section), with their ranges: the noise levels
+of the gait filter, its innovation gate and the low-pass of the radii. The structure (bank, detector
+thresholds, bounds) is left alone."""
 
 DEFAULT_WEIGHTS: dict[str, float] = {
     "vx_sq_err_mean_1e-2": 1.0,
@@ -150,8 +156,7 @@ def _optimise(optuna, study, prepared, weights, n_trials: int, on_trial: Callabl
         params = {
             name: trial.suggest_float(name, low, high, log=log) for name, (low, high, log) in SEARCH_SPACE.items()
         }
-        config = dataclasses.replace(EstimatorConfig(), **params)
-        config.to_native()  # validation: an InputError here would be a range outside what it accepts
+        config = tuned_config(params)  # validated: an InputError here would be a range it does not accept
         value = objective_of(_medians(_metrics_of(config, prepared), weights), baseline, weights)
         if on_trial:
             on_trial(study.study_name, trial.number, value)
@@ -159,7 +164,7 @@ def _optimise(optuna, study, prepared, weights, n_trials: int, on_trial: Callabl
 
     if not study.trials:
         # The default first: the configuration written out is never worse than it on the data tuned on.
-        defaults = EstimatorConfig()
+        defaults = getattr(EstimatorConfig(), SECTION)
         study.enqueue_trial({name: getattr(defaults, name) for name in SEARCH_SPACE})
     done = sum(1 for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE)
     if n_trials > done:
@@ -201,37 +206,25 @@ def tune(
             held = [r for r in prepared if r.item.subject == g]
             study = _study(optuna, f"yoyogait-tune-without-{g}", url, seed)
             best = _optimise(optuna, study, train, weights, n_trials, on_trial)
-            config = dataclasses.replace(EstimatorConfig(), **best.params)
+            config = tuned_config(best.params)
             baseline = _medians(_metrics_of(EstimatorConfig(), held), weights)
             value = objective_of(_medians(_metrics_of(config, held), weights), baseline, weights)
             folds.append((g, value, len(held)))
     study = _study(optuna, "yoyogait-tune-all", url, seed)
     best = _optimise(optuna, study, prepared, weights, n_trials, on_trial)
-    config = dataclasses.replace(EstimatorConfig(), **best.params)
+    config = tuned_config(best.params)
     return TuneResult(dict(best.params), float(best.value), config, folds, weights, n_trials)
 
 
-def _toml_value(value) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        if math.isnan(value):
-            return "nan"
-        return repr(value)
-    if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(value, (tuple, list)):
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    raise TypeError(f"no TOML form for {value!r}")
+def tuned_config(params: dict) -> EstimatorConfig:
+    """The default configuration with ``params`` (names of :data:`SEARCH_SPACE`) set, validated."""
+    return EstimatorConfig().with_values({SECTION: dict(params)})
 
 
 def config_toml(result: TuneResult) -> str:
-    """The tuned configuration as TOML: every field of EstimatorConfig under ``[estimator]``, with the
-    objective, weights and cross-validation as comments."""
+    """The tuned configuration as TOML, as :meth:`EstimatorConfig.save` writes it (every field; it
+    loads with :meth:`EstimatorConfig.from_file` and ``--config``), after comments with the
+    objective, weights and cross-validation."""
     lines = [
         "# yoyogait tune: the default estimator with the parameters below tuned.",
         f"# objective (weighted median metrics relative to the default; lower is better): {result.best_objective:.4g}",
@@ -239,7 +232,5 @@ def config_toml(result: TuneResult) -> str:
     ]
     for group, value, n in result.folds:
         lines.append(f"# held-out group {group} ({n} recordings): objective {value:.4g} when tuned on the others")
-    lines += ["# tuned: " + ", ".join(sorted(result.best_params)), "", "[estimator]"]
-    for key, value in result.config.to_dict().items():
-        lines.append(f"{key} = {_toml_value(value)}")
-    return "\n".join(lines) + "\n"
+    lines += [f"# tuned ({SECTION}): " + ", ".join(sorted(result.best_params)), ""]
+    return "\n".join(lines) + "\n" + tomli_w.dumps(result.config.to_dict())
