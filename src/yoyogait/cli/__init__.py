@@ -11,7 +11,7 @@ import sys
 import click
 
 from ..errors import YoyogaitError
-from . import demo_cmd, estimate_cmd, evaluate_cmd, inspect_cmd, live_cmd, replay_cmd
+from . import demo_cmd, estimate_cmd, evaluate_cmd, inspect_cmd, live_cmd, replay_cmd, tune_cmd
 from .options import cli_message
 
 
@@ -23,7 +23,7 @@ def cli() -> None:
 
 def _register() -> None:
     cli.add_command(demo_cmd.demo)
-    for module in (inspect_cmd, estimate_cmd, evaluate_cmd, replay_cmd, live_cmd):
+    for module in (inspect_cmd, estimate_cmd, evaluate_cmd, replay_cmd, live_cmd, tune_cmd):
         cli.add_command(module.command)
 
 

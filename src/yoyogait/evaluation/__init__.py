@@ -6,16 +6,19 @@
 * :mod:`.tables`: Table I and the summary over recordings;
 * :mod:`.figures`: Fig. 3/4-style figures;
 * :mod:`.online`: the online evaluation (each recording frame by frame through OnlineEstimator);
-* :mod:`.report`: everything written atomically into one folder.
+* :mod:`.report`: everything written atomically into one folder;
+* :mod:`.parallel`: recordings and figures in worker processes or on a Dask cluster.
 """
 
 from __future__ import annotations
 
 from ..estimators.registry import check_estimators, estimators
 from ..estimators.results import PREDICTION_HORIZONS_S
-from .datasets import READABLE, Item, folder_items, manifest_items, resolve_dataset, synthetic_items
+from . import parallel
+from .datasets import READABLE, Item, folder_items, manifest_items, resolve_dataset, shipped, synthetic_items
 from .online import ONLINE_ESTIMATORS, ONLINE_METRIC_KEYS, OnlineEvaluation, evaluate_online, step_walk_items
-from .report import write_report
+from .parallel import TaskFailure, dask_executor, default_jobs
+from .report import FIGURE_MODES, write_report
 from .running import (
     DEFAULT_ESTIMATORS,
     RATE_HZ,
@@ -24,6 +27,7 @@ from .running import (
     evaluate,
     evaluate_item,
     real_reference,
+    run_item,
 )
 from .tables import SUMMARY_KEYS, summary_markdown, table_one, table_one_csv, table_one_markdown
 
@@ -32,6 +36,13 @@ __all__ = [
     "ONLINE_ESTIMATORS",
     "ONLINE_METRIC_KEYS",
     "OnlineEvaluation",
+    "FIGURE_MODES",
+    "TaskFailure",
+    "dask_executor",
+    "default_jobs",
+    "parallel",
+    "run_item",
+    "shipped",
     "PREDICTION_HORIZONS_S",
     "RATE_HZ",
     "READABLE",

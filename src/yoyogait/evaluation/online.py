@@ -26,7 +26,6 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 
 import numpy as np
-from tqdm import tqdm
 
 from .. import synthetic as synth
 from ..errors import InputError
@@ -36,6 +35,7 @@ from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
 from . import metrics
 from .datasets import Item, _recording_of
+from .parallel import TaskFailure, run_tasks
 from .running import RATE_HZ, Evaluation, ItemResult, real_reference
 
 __all__ = [
@@ -45,6 +45,7 @@ __all__ = [
     "OnlineEvaluation",
     "evaluate_online",
     "evaluate_item_online",
+    "run_item_online",
     "step_walk_items",
     "lag_s",
     "circular_std_pct",
@@ -458,18 +459,43 @@ def step_walk_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:
     ]
 
 
+def run_item_online(item: Item) -> ItemResult | TaskFailure:
+    """:func:`evaluate_item_online`, with what stops it as a :class:`TaskFailure` (what worker
+    processes and Dask workers run)."""
+    try:
+        return evaluate_item_online(item)
+    except InputError as exc:
+        return TaskFailure(str(exc))
+
+
 def evaluate_online(
-    items, *, progress: bool = False, dataset: str = "", synthetic: bool = False, failures=None
+    items,
+    *,
+    progress: bool = False,
+    dataset: str = "",
+    synthetic: bool = False,
+    failures=None,
+    jobs: int = 1,
+    executor=None,
 ) -> OnlineEvaluation:
-    """The online evaluation of every item; an item that cannot be read or processed is reported."""
+    """The online evaluation of every item; an item that cannot be read or processed is reported.
+
+    ``jobs`` > 1: in that many worker processes; ``executor``: any ``concurrent.futures.Executor``
+    (e.g. :func:`~yoyogait.evaluation.parallel.dask_executor`). Same result, in the order of ``items``.
+    """
     failures = list(failures or [])
+    items = list(items)
+    outcomes = run_tasks(
+        run_item_online,
+        [(item,) for item in items],
+        jobs=jobs,
+        executor=executor,
+        progress="evaluating online" if progress else None,
+    )
     done = []
-    iterator = items
-    if progress:
-        iterator = tqdm(items, desc="evaluating online", unit="recording", leave=False, disable=None)
-    for item in iterator:
-        try:
-            done.append(evaluate_item_online(item))
-        except InputError as exc:
-            failures.append((item.name, str(exc)))
+    for item, outcome in zip(items, outcomes):
+        if isinstance(outcome, TaskFailure):
+            failures.append((item.name, outcome.message))
+        else:
+            done.append(outcome)
     return OnlineEvaluation(ONLINE_ESTIMATORS, done, failures, dataset, synthetic)
