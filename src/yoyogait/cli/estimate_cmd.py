@@ -8,8 +8,8 @@ import click
 import numpy as np
 
 from .. import io
-from .._files import atomic_file
-from ..errors import InputError
+from .._files import atomic_files
+from ..errors import InputError, about_file
 from ..estimators.registry import check_estimators, estimators
 from ..evaluation import figures as plots
 from ..pipeline.velocities import gait_velocities
@@ -66,9 +66,10 @@ def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, f
         if target is not None and target.exists() and not force:
             raise InputError(f"{target} exists; use --force to overwrite it")
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
-    recording = io.read(file, **overrides)
-    vel = gait_velocities(recording, point=point, up_axis=up_axis)
-    res = estimators()[preset](vel)
+    with about_file(file):
+        recording = io.read(file, **overrides)
+        vel = gait_velocities(recording, point=point, up_axis=up_axis)
+        res = estimators()[preset](vel)
     state = res.state
     table = np.column_stack(
         [
@@ -89,23 +90,25 @@ def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, f
             res.status,
         ]
     )
-    atomic_file(
-        out,
-        lambda p: np.savetxt(
+    f = np.abs(res.step_frequency_hz[vel.walking]) if vel.walking.any() else np.abs(res.step_frequency_hz)
+    summary = (
+        f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
+        f"median step frequency {np.median(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
+    )
+    writers = {
+        out: lambda p: np.savetxt(
             p,
             table,
             delimiter=",",
             header=",".join(COLUMNS),
             comments="",
             fmt=["%.4f"] + ["%.6g"] * (len(COLUMNS) - 2) + ["%d"],
-        ),
-    )
+        )
+    }
     if fig is not None:
         title = f"{stem} [{preset}]"
-        atomic_file(fig, lambda p: plots.parameter_figure(vel.time_s, res, title=title, measured_vz_mps=vel.vz, path=p))
-    f = np.abs(res.step_frequency_hz[vel.walking]) if vel.walking.any() else np.abs(res.step_frequency_hz)
-    click.echo(
-        f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
-        f"median step frequency {np.median(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
-    )
+        writers[fig] = lambda p: plots.parameter_figure(vel.time_s, res, title=title, measured_vz_mps=vel.vz, path=p)
+    # Both or neither: the figure is drawn before the CSV is renamed into place.
+    atomic_files(writers)
+    click.echo(summary)
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))

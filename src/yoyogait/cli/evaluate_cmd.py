@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from .. import evaluation as ev
+from .._guard import check_interrupted, output_lock
 from ..errors import InputError
 
 
@@ -17,25 +18,54 @@ def estimator_list(value: str) -> tuple[str, ...]:
     return names
 
 
+class _Checked:
+    """The items of a data set, with a check for a (maybe swallowed) interrupt before each."""
+
+    def __init__(self, items):
+        self.items = list(items)
+
+    def __len__(self) -> int:
+        return len(self.items)
+
+    def __iter__(self):
+        for item in self.items:
+            check_interrupted()
+            yield item
+
+
 def run_evaluation(dataset, out, estimators, force, figures, seed):
-    """Evaluate, print the summary and Table I, write the report; returns the evaluation."""
+    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
+
+    The whole run holds the lock on ``out`` (a second run on it fails at once), and the report is
+    renamed into place as the last step, after everything is printed.
+    """
     names = ev.check_estimators(estimator_list(estimators))
     if out.exists() and not force:
         raise InputError(f"{out} exists; use --force to replace it")
-    items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
-    label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
-    click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
-    result = ev.evaluate(
-        items, names, progress=True, dataset=str(dataset or "synthetic"), synthetic=synthetic, failures=problems
-    )
-    if not result.items:
-        raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
-    ev.write_report(result, out, force=force, figures=figures, progress=True)
-    click.echo(f"\n{label}\n")
-    click.echo(ev.summary_markdown(result))
-    for name in names:
-        click.echo(f"\nTable I, estimator '{name}': mean (± std) squared error, 1e-2 (m/s)^2\n")
-        click.echo(ev.table_one_markdown(result, name))
+    with output_lock(out):
+        if out.exists() and not force:  # written by a run that finished while this one started
+            raise InputError(f"{out} exists; use --force to replace it")
+        items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
+        label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
+        click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
+        result = ev.evaluate(
+            _Checked(items),
+            names,
+            progress=True,
+            dataset=str(dataset or "synthetic"),
+            synthetic=synthetic,
+            failures=problems,
+        )
+        if not result.items:
+            raise InputError(
+                "no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures)
+            )
+        click.echo(f"\n{label}\n")
+        click.echo(ev.summary_markdown(result))
+        for name in names:
+            click.echo(f"\nTable I, estimator '{name}': mean (± std) squared error, 1e-2 (m/s)^2\n")
+            click.echo(ev.table_one_markdown(result, name))
+        ev.write_report(result, out, force=force, figures=figures, progress=True)
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:
         click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)

@@ -4,14 +4,14 @@ atomically into one folder."""
 from __future__ import annotations
 
 import csv
-import os
 import shutil
 import tempfile
 from pathlib import Path
 
 from tqdm import tqdm
 
-from .._files import give_default_mode
+from .._files import give_default_mode, replace_folder
+from .._guard import check_interrupted, signals_deferred
 from ..errors import InputError
 from . import figures as plots
 from . import metrics
@@ -47,15 +47,10 @@ def write_report(
         _write(evaluation, tmp, figures=figures, progress=progress)
         for item in (tmp, *tmp.rglob("*")):
             give_default_mode(item)
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=parent))
-            os.replace(out, old / out.name)
-            os.replace(tmp, out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, out)
+        replace_folder(tmp, out)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        with signals_deferred():
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
     return out
 
@@ -99,6 +94,7 @@ def _figures(ev: Evaluation, folder: Path, *, progress: bool) -> list[str]:
     if progress:
         iterator = tqdm(ev.items, desc="figures", unit="recording", leave=False, disable=None)
     for r in iterator:
+        check_interrupted()
         vel = r.velocities
         links = []
         for est in ev.estimators:
