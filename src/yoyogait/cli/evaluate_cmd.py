@@ -57,9 +57,7 @@ def run_evaluation(dataset, out, estimators, force, figures, seed):
             failures=problems,
         )
         if not result.items:
-            raise InputError(
-                "no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures)
-            )
+            raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
         click.echo(f"\n{label}\n")
         click.echo(ev.summary_markdown(result))
         for name in names:

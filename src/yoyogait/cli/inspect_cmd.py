@@ -18,7 +18,9 @@ def inspect_file(
 ) -> dict:
     """Everything ``inspect`` prints, as a dict (computed before anything is printed)."""
     with about_file(path):
-        return _inspect(path, point=point, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward)
+        return _inspect(
+            path, point=point, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward
+        )
 
 
 def _inspect(path: str, *, point, up_axis, length_unit_m, rate_hz, forward: str) -> dict:
