@@ -44,6 +44,7 @@ def read_c3d(
     import ezc3d
 
     p = check_readable(path)
+    header_scale = _check_header(p)
     try:
         c = ezc3d.c3d(str(p), extract_forceplat_data=False)
     except (RuntimeError, OSError, ValueError, IndexError) as exc:
@@ -52,8 +53,14 @@ def read_c3d(
     point_group = c["parameters"].get("POINT", {})
     scale = _param(point_group, "SCALE")
     if scale and not (np.isfinite(float(scale[0])) and float(scale[0]) != 0):
-        raise InputError(f"{p}: corrupt C3D file: POINT:SCALE is {float(scale[0])}, it must be a non-zero number")
-    _check_header(p, float(scale[0]) if scale else None)
+        raise InputError(
+            f"{p}: not a readable C3D file (POINT:SCALE is {float(scale[0])}; it must be a non-zero number)"
+        )
+    if scale and header_scale is not None and (header_scale < 0) != (float(scale[0]) < 0):
+        raise InputError(
+            f"{p}: not a readable C3D file (corrupt header: the point scale factor {header_scale:g} and "
+            f"POINT:SCALE {float(scale[0]):g} disagree on whether the data are floats or integers)"
+        )
     data = c["data"]["points"]  # 4 x points x frames
     n_points, n_frames = data.shape[1], data.shape[2]
     if n_frames == 0:
@@ -119,7 +126,7 @@ def read_c3d(
     )
 
 
-def _check_header(p: Path, point_scale: float | None) -> None:
+def _check_header(p: Path) -> float | None:
     """InputError if the header's numbers cannot describe this file.
 
     Header words (16-bit, in the byte order of the processor type stored in
@@ -130,17 +137,18 @@ def _check_header(p: Path, point_scale: float | None) -> None:
     data by the header's scale and data block, so a zero or NaN scale or a data
     block inside the header gives numbers without meaning; and it quietly reads
     what there is of a truncated file, so the frame count is checked against
-    the file size.
+    the file size.  Returns the header's point scale factor (None when ezc3d is left to reject
+    the file).
     """
     size = p.stat().st_size
     with p.open("rb") as f:
         head = f.read(512)
         if len(head) < 512 or head[1] != 0x50 or head[0] < 1:
-            return  # ezc3d has already rejected such a file
+            return None  # ezc3d rejects such a file
         f.seek(512 * (head[0] - 1) + 2)
         param_info = f.read(2)
     if len(param_info) < 2:
-        raise InputError(f"{p}: corrupt C3D header: the parameter section lies past the end of the file")
+        raise InputError(f"{p}: not a readable C3D file (corrupt header: the parameters lie past the end of the file)")
     n_param_blocks, proc = param_info[0], param_info[1]
     order = ">" if proc == 86 else "<"  # 86: MIPS, big-endian
     words = struct.unpack(order + "12H", head[:24])
@@ -148,21 +156,17 @@ def _check_header(p: Path, point_scale: float | None) -> None:
     header_scale = _header_float(head[12:16], proc)
     if n_points and not (np.isfinite(header_scale) and header_scale != 0):
         raise InputError(
-            f"{p}: corrupt C3D header: the point scale factor is {header_scale:g}; it must be a non-zero number"
-        )
-    if n_points and point_scale is not None and (header_scale < 0) != (point_scale < 0):
-        raise InputError(
-            f"{p}: corrupt C3D header: the point scale factor {header_scale:g} and POINT:SCALE {point_scale:g} "
-            "disagree on whether the data are floats or integers"
+            f"{p}: not a readable C3D file (corrupt header: the point scale factor is {header_scale:g}; "
+            "it must be a non-zero number)"
         )
     parameters_end = head[0] + max(1, n_param_blocks)
     if data_block < parameters_end or (data_block - 1) * 512 >= size:
         raise InputError(
-            f"{p}: corrupt C3D header: the data start at block {data_block}, but the parameters end at block "
-            f"{parameters_end - 1} and the file holds {(size + 511) // 512} blocks"
+            f"{p}: not a readable C3D file (corrupt header: the data start at block {data_block}, but the "
+            f"parameters end at block {parameters_end - 1} and the file holds {(size + 511) // 512} blocks)"
         )
     if last == 0xFFFF or last < first:
-        return  # frame count held elsewhere (long files)
+        return header_scale  # frame count held elsewhere (long files)
     n_frames = last - first + 1
     bytes_per_value = 4 if header_scale < 0 else 2
     frame_bytes = (4 * n_points + n_analog) * bytes_per_value
@@ -170,6 +174,7 @@ def _check_header(p: Path, point_scale: float | None) -> None:
     if size < expected:
         have = max(0, size - (data_block - 1) * 512) // max(1, frame_bytes)
         raise InputError(f"{p}: truncated C3D file: the header announces {n_frames} frames, the file holds {have}")
+    return header_scale
 
 
 def _header_float(raw: bytes, proc: int) -> float:
