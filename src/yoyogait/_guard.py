@@ -69,7 +69,8 @@ def check_interrupted() -> None:
 
 @contextlib.contextmanager
 def handle_interrupts() -> Iterator[None]:
-    """SIGINT and SIGTERM raise :class:`Interrupted` and are remembered, for the block's duration.
+    """SIGINT and SIGTERM raise :class:`Interrupted` and are remembered, for the block's duration
+    (read :func:`interrupted_by` inside the block).
 
     Does nothing outside the main thread (where Python allows no signal handler); the previous
     handlers come back afterwards.
@@ -87,6 +88,7 @@ def handle_interrupts() -> Iterator[None]:
     finally:
         for s, h in previous.items():
             signal.signal(s, h if h is not None else signal.SIG_DFL)
+        _received = None  # library calls after the run owe nothing to its interrupt
 
 
 @contextlib.contextmanager
