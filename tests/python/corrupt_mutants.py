@@ -157,6 +157,85 @@ def _c3d_data_float(data: bytes, rng) -> tuple[bytes, str]:
     return bytes(b), f"{n} data floats set to {value}"
 
 
+def _pelvis_columns(names: list[str]) -> list[int]:
+    """Indices of the pelvis points among ``names`` (as yoyogait finds them), else the first three."""
+    from yoyogait.errors import InputError
+    from yoyogait.pipeline.points import find_pelvis
+
+    try:
+        chosen = find_pelvis(names).names
+    except InputError:
+        return list(range(min(3, len(names))))
+    return [names.index(n) for n in chosen if n in names]
+
+
+def _c3d_pelvis_cells(data: bytes, rng) -> tuple[bytes, str]:
+    """Bogus values in the pelvis markers' cells over a stretch of frames (where they matter most)."""
+    import tempfile
+
+    import ezc3d
+
+    with tempfile.NamedTemporaryFile(suffix=".c3d") as f:
+        f.write(data)
+        f.flush()
+        c = ezc3d.c3d(f.name)
+    labels = [s.strip() for s in c["parameters"]["POINT"]["LABELS"]["value"]]
+    b = bytearray(data)
+    proc = b[512 * (b[0] - 1) + 3]
+    order = ">" if proc == 86 else "<"
+    words = struct.unpack(order + "12H", bytes(b[:24]))
+    n_points, n_analog, first, last, data_block = words[1], words[2], words[3], words[4], words[8]
+    is_float = c["parameters"]["POINT"]["SCALE"]["value"][0] < 0
+    size = 4 if is_float else 2
+    frame_values = 4 * n_points + n_analog
+    n_frames = last - first + 1
+    point = int(rng.choice(_pelvis_columns(labels[:n_points])))
+    f0 = int(rng.integers(0, n_frames))
+    count = int(rng.choice([1, 3, 10, 50]))
+    axes = [int(rng.integers(0, 3))] if rng.random() < 0.5 else [0, 1, 2]
+    if is_float:
+        value = float(rng.choice([3e38, -3e38, np.inf, np.nan, 1e6, 1e4, 0.0]))
+        packed = struct.pack(order + "f", value)
+    else:
+        value = int(rng.choice([32767, -32768, 0]))
+        packed = struct.pack(order + "h", value)
+    start = (data_block - 1) * 512
+    for frame in range(f0, min(n_frames, f0 + count)):
+        for a in axes:
+            at = start + (frame * frame_values + 4 * point + a) * size
+            b[at : at + size] = packed
+    return bytes(b), f"point {labels[point]!r} axes {axes} = {value} on frames {f0}-{f0 + count - 1}"
+
+
+def _text_pelvis_cells(fmt):
+    """TRC: bogus values in a pelvis marker's cells; BVH: in the root's channels; over a stretch of lines."""
+
+    def op(data: bytes, rng) -> tuple[bytes, str]:
+        lines = _lines(data)
+        lo, hi = _data_line_range(lines, fmt)
+        sep = _cell_separator(fmt)
+        if fmt == "trc":
+            names = [c.strip() for c in lines[3].split("\t")[2:] if c.strip()]
+            marker = int(rng.choice(_pelvis_columns(names)))
+            columns = [2 + 3 * marker + a for a in range(3)]
+        else:
+            columns = list(range(6))  # the root's position and rotation channels
+        chosen = [int(rng.choice(columns))] if rng.random() < 0.5 else columns[:3]
+        value = str(rng.choice(["1e308", "-1e308", "1e30", "1e6", "1e4", "nan", "inf", "0", ""]))
+        k0 = int(rng.integers(lo, max(lo + 1, hi - 1)))
+        count = int(rng.choice([1, 3, 10, 50]))
+        for k in range(k0, min(hi, k0 + count)):
+            cells = lines[k].split(sep)
+            if len(cells) <= max(chosen):
+                continue
+            for c in chosen:
+                cells[c] = value
+            lines[k] = sep.join(cells)
+        return _join(lines), f"columns {chosen} = {value!r} on lines {k0 + 1}-{k0 + count}"
+
+    return op
+
+
 def _lines(data: bytes) -> list[str]:
     return data.decode("utf-8", errors="replace").split("\n")
 
@@ -287,6 +366,7 @@ OPERATORS = {
         "zero block": _zero_block,
         "header number": _c3d_header_number,
         "bogus data": _c3d_data_float,
+        "pelvis cells": _c3d_pelvis_cells,
     },
     **{
         fmt: {
@@ -297,6 +377,7 @@ OPERATORS = {
             "bogus time": _bogus_time(fmt) if fmt != "bvh" else _bogus_cells(fmt),
             "bogus cells": _bogus_cells(fmt),
             "lines": _delete_or_repeat_lines(fmt),
+            **({"pelvis cells": _text_pelvis_cells(fmt)} if fmt != "csv" else {}),
         }
         for fmt in ("trc", "bvh", "csv")
     },

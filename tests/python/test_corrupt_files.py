@@ -18,6 +18,7 @@ N_MUTANTS = int(os.environ.get("YOYOGAIT_MUTANTS", 32))
 
 def test_mutants_are_deterministic(datasets_dir, tmp_path):
     """The same seed and index give the same corrupt bytes; another seed gives other ones."""
+
     def mutant(folder: str, seed: int) -> bytes:
         (tmp_path / folder).mkdir()
         return cm.make_mutant(datasets_dir, tmp_path / folder, seed, 5).path.read_bytes()
