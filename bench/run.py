@@ -2,13 +2,15 @@
 -march=native builds), Python run(), Python step() in a loop, and the plain-numpy reference
 implementations, measured in one run on one signal.
 
-    python bench/run.py [--samples N] [--rounds R]
+    python bench/run.py [--samples N] [--rounds R] [--baseline REV]
 
 Prints a Markdown table of medians (and the C++ minimum, the least disturbed by other load) and
-the ratios default / paper. A benchmark, not a test. The machine's speed drifts (a shared virtual
-machine: up to 30 % within minutes), so every path is timed in each of R rounds, one after the
-other, and the medians are taken over all rounds: all paths see the same load, and a ratio
-compares like with like.
+the ratios default / paper. With --baseline REV, the native step loop is also built against the
+include/ of the git revision REV (same compiler, same flags) and timed in the same rounds, and a
+second table gives before (REV) and after (this tree) for both presets. A benchmark, not a test.
+The machine's speed drifts (a shared virtual machine: up to 30 % within minutes), so every path is
+timed in each of R rounds, one after the other, and the medians are taken over all rounds: all
+paths see the same load, and a ratio compares like with like.
 """
 
 from __future__ import annotations
@@ -20,12 +22,14 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
+import io
 import platform  # noqa: E402
 import re
 import shutil
 import statistics
 import subprocess
 import sys
+import tarfile
 import tempfile
 import time
 from pathlib import Path
@@ -50,20 +54,58 @@ def signal(n: int, seed: int = 0):
     return m.vx_mps + 0.05 * rng.standard_normal(n), m.vz_mps + 0.05 * rng.standard_normal(n)
 
 
-def build_native() -> dict:
+def baseline_include(rev: str) -> tuple[str, Path]:
+    """(commit, directory holding include/) of the git revision rev, extracted under build/bench."""
+    proc = subprocess.run(
+        ["git", "-C", ROOT, "rev-parse", "--verify", "--quiet", f"{rev}^{{commit}}"], capture_output=True, text=True
+    )
+    if proc.returncode != 0:
+        sys.exit(f"bench/run.py: --baseline {rev}: not a commit of this repository")
+    sha = proc.stdout.strip()
+    dest = ROOT / "build" / "bench" / f"baseline-{sha[:12]}"
+    if not (dest / "include").is_dir():
+        tar = subprocess.run(
+            ["git", "-C", ROOT, "archive", "--format=tar", sha, "include"], check=True, capture_output=True
+        ).stdout
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        tmp = tempfile.mkdtemp(dir=dest.parent)  # complete or absent: extracted, then renamed
+        try:
+            with tarfile.open(fileobj=io.BytesIO(tar)) as t:
+                t.extractall(tmp)
+            os.replace(tmp, dest)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    return sha, dest / "include"
+
+
+def build_native(baseline: Path | None = None) -> dict:
     """{build: path} of bench/bench_step.cpp (Release): "generic" (the compiler's default target,
     -O3) and, where the compiler has it, "native" (-O3 -march=native: this machine's instruction
-    set, e.g. AVX2 and FMA)."""
+    set, e.g. AVX2 and FMA). With baseline (an include/ directory) also "generic-baseline" and
+    "native-baseline": the same loop, built the same way, against those headers."""
     cmake = shutil.which("cmake") or "cmake"
     build = ROOT / "build" / "bench"
     gen = ["-G", "Ninja"] if shutil.which("ninja") else []
     subprocess.run(
-        [cmake, "-S", ROOT, "-B", build, *gen, "-DYOYOGAIT_BUILD_BENCH=ON", "-DCMAKE_BUILD_TYPE=Release"],
+        [
+            cmake,
+            "-S",
+            ROOT,
+            "-B",
+            build,
+            *gen,
+            "-DYOYOGAIT_BUILD_BENCH=ON",
+            "-DCMAKE_BUILD_TYPE=Release",
+            f"-DYOYOGAIT_BENCH_BASELINE_INCLUDE={baseline or ''}",
+        ],
         check=True,
         capture_output=True,
     )
-    subprocess.run([cmake, "--build", build], check=True, capture_output=True)
-    exes = {"generic": next(build.rglob("bench_step")), "native": next(build.rglob("bench_step_native"), None)}
+    subprocess.run([cmake, "--build", build, "--parallel", "2"], check=True, capture_output=True)
+    names = {"generic": "bench_step", "native": "bench_step_native"}
+    if baseline is not None:
+        names.update({"generic-baseline": "bench_step_baseline", "native-baseline": "bench_step_native_baseline"})
+    exes = {name: next(build.rglob(exe), None) for name, exe in names.items()}
     return {name: exe for name, exe in exes.items() if exe is not None}
 
 
@@ -89,7 +131,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=200_000)
     ap.add_argument("--rounds", type=int, default=11)
+    ap.add_argument(
+        "--baseline",
+        metavar="REV",
+        help="also time the C++ step loop built against include/ of this git revision (before/after)",
+    )
     args = ap.parse_args()
+    baseline = baseline_include(args.baseline) if args.baseline else None
     vx, vz = signal(args.samples)
     cfg = {p: yoyogait.EstimatorConfig.preset(p) for p in PRESETS}
     time_s = np.arange(args.samples) * 0.04
@@ -101,7 +149,7 @@ def main() -> None:
         for a, b in zip(sx, sz):
             step(a, b)
 
-    exes = build_native()
+    exes = build_native(baseline[1] if baseline else None)
     cpp = {b: {p: ([], []) for p in PRESETS} for b in exes}  # per round: median, min
     py_run = {p: [] for p in PRESETS}
     py_run_t = {p: [] for p in PRESETS}
@@ -109,8 +157,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         signal_path = Path(tmp) / "signal.f64"
         np.concatenate([vx, vz]).astype(np.float64).tofile(signal_path)
-        for _ in range(args.rounds):
-            for build, exe in exes.items():
+        for r in range(args.rounds):
+            # Every other round in the reverse order, so that no build always runs first.
+            for build, exe in list(exes.items()) if r % 2 == 0 else list(exes.items())[::-1]:
                 for p, (med, low) in native_step_ns(exe, signal_path, 7).items():
                     cpp[build][p][0].append(med)
                     cpp[build][p][1].append(low)
@@ -148,6 +197,8 @@ def main() -> None:
     print("|---|---:|---:|---:|---|")
     labels = {"generic": "C++ `Estimator::step` loop, -O3", "native": "C++ `Estimator::step` loop, -O3 -march=native"}
     for build, res in cpp.items():
+        if build not in labels:
+            continue
         print(
             f"| {labels[build]}, median | {res['paper'][0]:.1f} | {res['default'][0]:.1f} | "
             f"{res['default'][0] / res['paper'][0]:.2f} | paper <= 40 ns, default <= 60 ns |"
@@ -178,6 +229,27 @@ def main() -> None:
         f"| numpy reference (tests/python/reference_*.py) | {ref['paper']:.0f} | {ref['default']:.0f} | "
         f"{ref['default'] / ref['paper']:.2f} | - |"
     )
+    if baseline:
+        print()
+        print(
+            f"Before: include/ of {args.baseline} ({baseline[0][:12]}); after: this tree. The same bench_step.cpp, "
+            f"compiler and flags, timed in the same {args.rounds} rounds."
+        )
+        print()
+        print(
+            "| C++ `Estimator::step` loop | preset | before median | after median | after / before | "
+            "before min | after min | after / before |"
+        )
+        print("|---|---|---:|---:|---:|---:|---:|---:|")
+        for build in ("generic", "native"):
+            if build not in cpp or f"{build}-baseline" not in cpp:
+                continue
+            for p in PRESETS:
+                (a_med, a_min), (b_med, b_min) = cpp[build][p], cpp[f"{build}-baseline"][p]
+                print(
+                    f"| {labels[build][len('C++ `Estimator::step` loop, ') :]} | {p} | {b_med:.1f} | {a_med:.1f} | "
+                    f"{a_med / b_med:.3f} | {b_min:.1f} | {a_min:.1f} | {a_min / b_min:.3f} |"
+                )
 
 
 if __name__ == "__main__":

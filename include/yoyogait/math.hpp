@@ -1,8 +1,10 @@
 /// @file math.hpp
-/// @brief Small numeric kernels for the per-sample path.
+/// @brief Shared math: the constants, small numeric kernels for the per-sample path, and a small
+/// fixed-size SPD solver.
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -20,6 +22,17 @@
 #endif
 
 namespace yoyogait {
+
+/// 2 pi and 1 / (2 pi), the only copies in the core.
+inline constexpr double kTwoPi = 6.283185307179586476925286766559;
+inline constexpr double kInvTwoPi = 0.15915494309189533576888376337251;
+
+namespace detail {
+/// min(a, b) and max(a, b) as Python's: the first argument unless the second is strictly
+/// smaller (larger). Unlike std::fmin/fmax they compile to one instruction, no libm call.
+inline double py_min(double a, double b) noexcept { return b < a ? b : a; }
+inline double py_max(double a, double b) noexcept { return b > a ? b : a; }
+}  // namespace detail
 
 /// sqrt(a), correctly rounded as std::sqrt, but without the errno check that std::sqrt carries
 /// under the default -fmath-errno (a branch to a library call on the per-sample path).
@@ -69,6 +82,34 @@ inline void sincos(double x, double& s, double& c) noexcept {
   const double hz = 0.5 * z;
   const double w = 1.0 - hz;
   c = w + (((1.0 - w) - hz) + z * rc);
+}
+
+/// Solves A x = b for a small symmetric positive-definite A by Cholesky (fixed size; a pivot that
+/// is not positive is replaced by a tiny one, so the result stays finite for a semi-definite A).
+template <std::size_t N>
+void solve_spd(const double (&A)[N][N], const double (&b)[N], double (&x)[N]) noexcept {
+  double L[N][N] = {};
+  for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t j = 0; j <= i; ++j) {
+      double s = A[i][j];
+      for (std::size_t k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
+      if (i == j)
+        L[i][i] = s > 1e-300 ? std::sqrt(s) : 1e-150;
+      else
+        L[i][j] = s / L[j][j];
+    }
+  }
+  double y[N];
+  for (std::size_t i = 0; i < N; ++i) {
+    double s = b[i];
+    for (std::size_t k = 0; k < i; ++k) s -= L[i][k] * y[k];
+    y[i] = s / L[i][i];
+  }
+  for (std::size_t ii = N; ii-- > 0;) {
+    double s = y[ii];
+    for (std::size_t k = ii + 1; k < N; ++k) s -= L[k][ii] * x[k];
+    x[ii] = s / L[ii][ii];
+  }
 }
 
 }  // namespace yoyogait

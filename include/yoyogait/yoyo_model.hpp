@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "yoyogait/math.hpp"
+
 namespace yoyogait {
 
 /// Parameters of the Yoyo-model: the rolling radius R, the inner radius r and the height z0.
@@ -41,7 +43,6 @@ inline YoyoPoint yoyo_point(const YoyoParams& p, double theta_rad, double omega_
 /// yoyogait.model.yoyo_model. time_s must be increasing; n points are written to out.
 inline void yoyo_trajectory(const YoyoParams& p, const double* time_s, const double* step_frequency_hz,
                             std::size_t n, double phase_rad, YoyoPoint* out) noexcept {
-  constexpr double kTwoPi = 6.283185307179586476925286766559;
   double theta = phase_rad;
   for (std::size_t i = 0; i < n; ++i) {
     const double omega = kTwoPi * step_frequency_hz[i];

@@ -1,12 +1,15 @@
 /// @file yoyogait.hpp
-/// @brief Everything of the yoyogait core: the Yoyo-model, the paper's EKF and heuristics, the
-/// default gait filter and the estimator that runs either.
+/// @brief Everything of the yoyogait core: the Yoyo-model, the paper's estimator (EKF, heuristics),
+/// the default gait filter and the estimator that runs either.
 #pragma once
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/ekf.hpp"
+#include "yoyogait/estimate.hpp"
 #include "yoyogait/estimator.hpp"
-#include "yoyogait/gait_filter.hpp"
+#include "yoyogait/gait/gait_filter.hpp"
 #include "yoyogait/heuristics.hpp"
+#include "yoyogait/math.hpp"
+#include "yoyogait/paper_estimator.hpp"
 #include "yoyogait/state.hpp"
 #include "yoyogait/yoyo_model.hpp"

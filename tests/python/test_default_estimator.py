@@ -349,15 +349,20 @@ def test_stop_and_go_reacquires_within_2_s(seed):
     assert len(times) == 3 and max(times) <= 2.0, times
 
 
-def test_halving_the_cadence_after_a_stop_reacquires_within_2_5_s():
-    """The known slow case (docs: 2.3 s): resuming at 1.0 Hz after 1.9 Hz needs the 1 s
-    step-lengthening phase plus about one step at 1 Hz; it still re-acquires within 2.5 s."""
-    s = make_walk(
-        60.0, f_hz=1.8, seed=50, stops=[(10.0, 1.0, 2.2), (22.0, 3.0, 1.4), (36.0, 5.0, 1.9), (48.0, 2.0, 1.0)]
-    )
-    res = GaitEstimator().run(s["vx"], s["vz"], time_s=s["t"])
-    times = reacquisition_times(s["t"], s["gain"], res.step_frequency_hz, s["f_hz"])
-    assert max(times) <= 2.5, times
+def test_halving_the_cadence_after_a_stop_reacquires_within_two_steps_of_the_new_cadence():
+    """The known slow case: resuming at 1.0 Hz after 1.9 Hz needs the 1 s step-lengthening phase plus
+    steps at 1 Hz; over 8 seeds every re-acquisition takes at most that phase and two steps (3 s), and
+    the median at most the phase and one and a half steps (2.5 s)."""
+    slow = []
+    for seed in range(50, 58):
+        s = make_walk(
+            60.0, f_hz=1.8, seed=seed, stops=[(10.0, 1.0, 2.2), (22.0, 3.0, 1.4), (36.0, 5.0, 1.9), (48.0, 2.0, 1.0)]
+        )
+        res = GaitEstimator().run(s["vx"], s["vz"], time_s=s["t"])
+        times = reacquisition_times(s["t"], s["gain"], res.step_frequency_hz, s["f_hz"])
+        assert len(times) == 4, (seed, times)
+        slow.append(times[-1])
+    assert max(slow) <= 3.0 and float(np.median(slow)) <= 2.5, slow
 
 
 def test_stopping_brings_the_speed_down_without_a_jump():
@@ -502,14 +507,15 @@ def _lab_results():
 def test_synthetic_lab_accuracy():
     """On every walk of the synthetic lab (3 subjects x 5 walk types, realistic markers, through the
     paper's velocity pipeline), from 5 s after each walking onset: median step-frequency error
-    within 1 %, median R error within 5 %, median error of the stride-averaged speed within 0.03 m/s."""
+    within 1 %, median R = A0 / w error within 1.5 % (the frequency's 1 % and 0.5 % for A0), median
+    error of the stride-averaged speed within 0.03 m/s."""
     for name, truth, res, m in _lab_results():
         assert m.sum() > 300, name
         f_err = np.median(np.abs(res.step_frequency_hz[m] / truth.step_frequency_hz[m] - 1))
         R_err = np.median(np.abs(res.R_m[m] / truth.R_m[m] - 1))
         speed_err = np.median(np.abs(res.speed_mps[m] - truth.speed_mps[m]))
         assert f_err < 0.01, (name, f_err)
-        assert R_err < 0.05, (name, R_err)
+        assert R_err < 0.015, (name, R_err)
         assert speed_err < 0.03, (name, speed_err)
         assert np.all(res.step_frequency_hz > 0), name
 

@@ -55,9 +55,10 @@ def test_paper_preset_converges_on_clean_yoyo_walk():
 
 
 def test_physical_units_follow_from_the_papers():
-    """R_m = T R_hat, r_m = T r_hat, f = x3 / (2 pi T) on every sample."""
+    """Paper preset: R_m = T R_hat, r_m = T r_hat, f = x3 / (2 pi T) and A1 = |(x1, x2)| on every sample."""
     _, vx, vz = yoyo_walk(10.0, noise=0.05)
-    res = GaitEstimator().run(vx, vz)
+    res = GaitEstimator(EstimatorConfig.paper()).run(vx, vz)
+    assert res.parameters_updated.any(), "the comparison must cover samples where eq. 11-12 updated R_hat"
     np.testing.assert_allclose(res.R_m, T * res.R_hat_mps, rtol=1e-15)
     np.testing.assert_allclose(res.r_m, T * res.r_hat_mps, rtol=1e-15)
     np.testing.assert_allclose(res.step_frequency_hz, res.state[:, 2] / (2 * np.pi * T), rtol=1e-15)

@@ -1,0 +1,32 @@
+/// @file gait/bound_watchdog.hpp
+/// @brief The watchdog of the frequency bounds: w pinned at a bound while walking is a failed lock
+/// (sec. 2.3).
+#pragma once
+
+namespace yoyogait::gait {
+
+/// Counts the walking time with w within 5 % of a bound; w back well inside (15 %) resets it.
+/// Fires once the time exceeds limit_s (the filter then restarts the acquisition).
+class BoundWatchdog {
+ public:
+  BoundWatchdog() noexcept = default;
+  BoundWatchdog(double w_min, double w_max, double limit_s) noexcept
+      : w_min_(w_min), w_max_(w_max), limit_s_(limit_s) {}
+
+  void reset() noexcept { t_at_bound_s_ = 0.0; }
+
+  /// One walking step of dt [s] with the frequency w [rad/s]; true: restart the acquisition.
+  bool update(double w, double dt) noexcept {
+    if (w <= 1.05 * w_min_ || w >= 0.95 * w_max_)
+      t_at_bound_s_ += dt;
+    else if (1.15 * w_min_ < w && w < 0.85 * w_max_)
+      t_at_bound_s_ = 0.0;
+    return t_at_bound_s_ > limit_s_;
+  }
+
+ private:
+  double w_min_ = 0.0, w_max_ = 0.0, limit_s_ = 1.0;
+  double t_at_bound_s_ = 0.0;
+};
+
+}  // namespace yoyogait::gait

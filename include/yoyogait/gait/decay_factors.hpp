@@ -1,0 +1,59 @@
+/// @file gait/decay_factors.hpp
+/// @brief The gait filter's exp(-dt / tau) factors, cached per time step.
+#pragma once
+
+#include <cmath>
+
+namespace yoyogait::gait {
+
+/// Factors that depend on dt only through exp: recomputed only when dt changes by more than a
+/// relative 1e-9 (differences of regular timestamps jitter by rounding; a factor then differs
+/// from its exact value by < 1e-10 relative). The steady state runs no exp.
+class DecayFactors {
+ public:
+  /// The time constants [s] of the filter's first-order processes and low-passes.
+  struct TimeConstants {
+    double accel_tau_s = 1.0;          ///< dA0 decays
+    double omega_rate_tau_s = 3.0;     ///< dw decays
+    double omega_rate_lp_tau_s = 1.5;  ///< low-pass of dw for the trend test (0: none)
+    double walk_tau_s = 0.3;           ///< walking detector
+    double std_scale_tau_s = 10.0;     ///< NIS low-pass of the std scale
+    double bank_forget_s = 1.5;        ///< bank log-likelihood memory
+    double radii_tau_s = 2.0;          ///< R, r low-pass
+  };
+
+  /// The factors for one dt.
+  struct Values {
+    double dt = -1.0;
+    double accel_decay = 1.0, rate_decay = 1.0, rate_lp_gain = 0.0, walk_gain = 0.0, std_gain = 0.0,
+           forget = 1.0, radii_gain = 0.0;
+  };
+
+  DecayFactors() noexcept = default;
+  explicit DecayFactors(const TimeConstants& tau) noexcept : tau_(tau) {}
+
+  /// Forget the cached dt: the next at() computes.
+  void reset() noexcept { values_.dt = -1.0; }
+
+  const Values& at(double dt) noexcept {
+    // Regular sampling repeats dt (up to rounding of timestamp differences): no exp then.
+    if (std::fabs(dt - values_.dt) <= 1e-9 * dt) return values_;
+    Values& f = values_;
+    f.dt = dt;
+    f.accel_decay = std::exp(-dt / tau_.accel_tau_s);
+    f.rate_decay = std::exp(-dt / tau_.omega_rate_tau_s);
+    f.rate_lp_gain = tau_.omega_rate_lp_tau_s > 0.0 ? 1.0 - std::exp(-dt / tau_.omega_rate_lp_tau_s) : 1.0;
+    f.walk_gain = dt > 0.0 ? 1.0 - std::exp(-dt / tau_.walk_tau_s) : 0.0;
+    // Standard-deviation scale gain: 0.5 (1 - exp(-dt / tau)) (0 when dt = 0).
+    f.std_gain = dt > 0.0 ? 0.5 * (1.0 - std::exp(-dt / tau_.std_scale_tau_s)) : 0.0;
+    f.forget = std::exp(-dt / tau_.bank_forget_s);
+    f.radii_gain = 1.0 - std::exp(-dt / tau_.radii_tau_s);
+    return f;
+  }
+
+ private:
+  TimeConstants tau_;
+  Values values_;
+};
+
+}  // namespace yoyogait::gait

@@ -1,0 +1,427 @@
+/// @file gait/gait_filter.hpp
+/// @brief The default estimator: a dual-phasor EKF with a positive, bounded step frequency.
+///
+/// Equations and tuning: docs/default_estimator.md (sections cited as "sec."). In short:
+///
+///   x = [X1, X2, Z1, Z2, w, A0, dA0, dw]                          (sec. 2.1; gait/state.hpp)
+///   v_x = A0 + X1 + h_x,   v_z = Z1 + h_z      (two sequential scalar updates; h: second harmonics)
+///   Q = q_phasor dt I(X, Z) + q_phase dt g g^T + diag(q_omega, q_rate(dw_lp), q_speed, q_accel) dt,
+///   g = [-X2, X1, -Z2, Z1, 0, 0, 0, 0]                                  (sec. 2.2; gait/member.hpp)
+///
+/// This class composes the parts, each in its own header: the EKF kernels (gait/ekf.hpp), one EKF
+/// with its noise model, gate and harmonics (gait/member.hpp, gait/harmonic.hpp), the start-up
+/// bank of EKFs with a log-prior (gait/hypothesis_bank.hpp) and its spectral initialisation
+/// (gait/spectral_init.hpp, sec. 2.3), the walking/standing detector (gait/walking_detector.hpp,
+/// sec. 2.4), the innovation gate (gait/innovation_gate.hpp) and the actual time step everywhere
+/// (gait/decay_factors.hpp, sec. 2.5), the bound watchdog, the R/r low-pass and the NIS-scaled
+/// standard deviations (gait/bound_watchdog.hpp, gait/radii.hpp, gait/std_scale.hpp, sec. 2.6).
+/// step() makes no heap allocation and cannot throw; everything lives in fixed arrays. The steady
+/// state (walking, one EKF, the same dt as before) runs no exp, log, bank or spectral code.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "yoyogait/config.hpp"
+#include "yoyogait/gait/bound_watchdog.hpp"
+#include "yoyogait/gait/decay_factors.hpp"
+#include "yoyogait/gait/ekf.hpp"
+#include "yoyogait/gait/harmonic.hpp"
+#include "yoyogait/gait/hypothesis_bank.hpp"
+#include "yoyogait/gait/innovation_gate.hpp"
+#include "yoyogait/gait/member.hpp"
+#include "yoyogait/gait/radii.hpp"
+#include "yoyogait/gait/spectral_init.hpp"
+#include "yoyogait/gait/state.hpp"
+#include "yoyogait/gait/std_scale.hpp"
+#include "yoyogait/gait/walking_detector.hpp"
+#include "yoyogait/math.hpp"
+
+namespace yoyogait {
+
+/// The gait filter (the default estimator): everything of default_estimator.py's DefaultEstimator.
+/// Use it through yoyogait::Estimator; this class is public for tests and for embedding.
+class GaitFilter {
+ public:
+  /// What a step did with its sample (mapped to yoyogait::Status by the Estimator).
+  enum class Outcome : std::uint8_t {
+    kOk = 0,          ///< both channels used
+    kNonFinite = 1,   ///< a channel (or dt) was NaN or infinite, or dt < 0: that channel (or the sample) not used
+    kOutOfRange = 2,  ///< a channel was above max_abs_velocity_mps: not used
+    kOutlier = 3,     ///< a channel failed the innovation gate: not used
+    kNumerical = 4,   ///< the filter became non-finite and was restarted (not seen with in-range data)
+  };
+
+  /// Estimates after a step (sec. 2.6).
+  struct Output {
+    GaitState x{};                      ///< state of the active EKF
+    double step_frequency_std_hz = 0;   ///< sqrt(lambda P_ww) / 2 pi [Hz]
+    double speed_std_mps = 0;           ///< sqrt(lambda P_A0A0 + floor^2) [m/s]
+    double amp_x_mps = 0;               ///< |X| [m/s]
+    double vx_hat_mps = 0;              ///< model reconstruction A0 + X1 (standing: A0) [m/s]
+    double vz_hat_mps = 0;              ///< model reconstruction Z1 (standing: 0) [m/s]
+    double vx_hat_h2_mps = 0;           ///< ... with the second harmonic [m/s]
+    double vz_hat_h2_mps = 0;           ///< ... with the second harmonic [m/s]
+    double R_m = 0;                     ///< R = A0 / w, low-passed while walking [m]
+    double r_m = 0;                     ///< r = |Z| / w, low-passed while walking [m]
+    double std_scale = 1;               ///< lambda [1]
+    bool walking = false;               ///< the detector says walking
+    bool acquiring = false;             ///< the bank is running (start-up / re-acquisition)
+    bool radii_updated = false;         ///< R, r were updated at this step
+  };
+
+  /// (v_x, v_z) predicted ahead [m/s].
+  struct Prediction {
+    double vx_mps = 0.0;
+    double vz_mps = 0.0;
+  };
+
+  GaitFilter() noexcept : GaitFilter(EstimatorConfig{}) {}
+
+  /// config must pass EstimatorConfig::validate() (the Estimator checks it).
+  explicit GaitFilter(const EstimatorConfig& config) noexcept
+      : cfg_(config),
+        model_(member_model(config)),
+        factors_({config.accel_tau_s, config.omega_rate_tau_s, config.omega_rate_lp_tau_s, config.walk_tau_s,
+                  config.std_scale_tau_s, config.bank_forget_s, config.radii_tau_s}),
+        detector_({config.walk_tau_s, config.walk_speed_on_mps, config.walk_speed_off_mps, config.walk_vz_rms_on_mps,
+                   config.walk_vz_rms_off_mps}),
+        gate_(config.gate_sigma, config.gate_max_consecutive),
+        scale_(config.std_scale_adapt, config.std_scale_min, config.std_scale_max),
+        radii_(config.initial_R_m, config.initial_r_m),
+        watchdog_(kTwoPi * config.f_min_hz, kTwoPi * config.f_max_hz, config.bound_watchdog_s),
+        nominal_dt_(config.sample_time_s),
+        speed_floor2_(config.speed_std_floor_mps * config.speed_std_floor_mps),
+        bank_(bank_settings(config)),
+        spectral_({config.spectral_init, config.spectral_init_s, config.spectral_buffer_samples,
+                   config.spectral_grid_step_hz, config.f_min_hz, config.f_max_hz, model_.r_vx, model_.r_vz}) {
+    reset();
+  }
+
+  /// Back to the state before the first sample.
+  void reset() noexcept {
+    started_ = false;
+    acquiring_ = true;
+    detector_.reset();
+    radii_.reset();
+    last_w_ = kTwoPi * cfg_.bank_prior_f_hz;
+    gate_.reset();
+    watchdog_.reset();
+    scale_.reset();
+    t_now_s_ = 0.0;
+    spectral_.reset();
+    radii_updated_ = false;
+    out_hx_ = out_hz_ = 0.0;
+    factors_.reset();
+    // Defined outputs (w > 0) even before the first finite sample.
+    start_acquisition(0.0, false, 0.0);
+    collapse();
+    acquiring_ = true;
+  }
+
+  /// One sample at the nominal time step (sample_time_s) since the previous one.
+  Outcome step(double vx_mps, double vz_mps) noexcept { return advance(vx_mps, vz_mps, nominal_dt_); }
+
+  /// One sample dt_s [s] after the previous one. A non-finite or negative dt_s: the sample is not
+  /// used (kNonFinite). dt_s of the first sample is not used.
+  Outcome step(double vx_mps, double vz_mps, double dt_s) noexcept {
+    if (!(std::isfinite(dt_s) && dt_s >= 0.0)) return Outcome::kNonFinite;
+    return advance(vx_mps, vz_mps, dt_s);
+  }
+
+  /// The estimates after the last step (sec. 2.6).
+  Output output() const noexcept {
+    using namespace gait;
+    const Ekf& f = active();
+    const GaitState& x = f.x;
+    const bool walking = detector_.walking();
+    Output o;
+    o.x = x;
+    if (walking) {
+      o.vx_hat_mps = x[kA0] + x[kX1];  // model reconstruction: R w + phase-shifted oscillation
+      o.vz_hat_mps = x[kZ1];
+      // The second harmonics at the posterior phasors (computed at the end of the step).
+      o.vx_hat_h2_mps = o.vx_hat_mps + out_hx_;
+      o.vz_hat_h2_mps = o.vz_hat_mps + out_hz_;
+    } else {
+      o.vx_hat_mps = o.vx_hat_h2_mps = x[kA0];
+      o.vz_hat_mps = o.vz_hat_h2_mps = 0.0;
+    }
+    o.amp_x_mps = std::sqrt(x[kX1] * x[kX1] + x[kX2] * x[kX2]);
+    // |Z|, the X-Z phase relation and the rates: Estimate derives them from x on demand.
+    const double lam = scale_.value();
+    o.step_frequency_std_hz = std::sqrt(detail::py_max(lam * f.P[kW][kW], 0.0)) * kInvTwoPi;
+    o.speed_std_mps = std::sqrt(detail::py_max(lam * f.P[kA0][kA0], 0.0) + speed_floor2_);
+    o.R_m = radii_.R_m();
+    o.r_m = radii_.r_m();
+    o.std_scale = lam;
+    o.walking = walking;
+    o.acquiring = acquiring_;
+    o.radii_updated = radii_updated_;
+    return o;
+  }
+
+  /// (v_x, v_z) h_s [s] after the last sample: phasors turned by w h + dw h^2 / 2, A0 held, second
+  /// harmonics added unless harmonics is false or the bank is running. Standing: (A0, 0).
+  Prediction predict(double h_s, bool harmonics = true) const noexcept {
+    using namespace gait;
+    const GaitState& x = active().x;
+    const double A0 = x[kA0];
+    if (!detector_.walking()) return Prediction{A0, 0.0};
+    double s, c;
+    sincos(x[kW] * h_s + 0.5 * x[kDW] * h_s * h_s, s, c);
+    const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
+    const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
+    Prediction p{A0 + X1, Z1};
+    if (harmonics && model_.use_harmonic && !acquiring_) {
+      const gait::Harmonic* fh = active_harmonics();
+      double ux, vx2, uz, vz2;
+      harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
+      harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
+      p.vx_mps += fh[kVx].value(ux, vx2);
+      p.vz_mps += fh[kVz].value(uz, vz2);
+    }
+    return p;
+  }
+
+  const EstimatorConfig& config() const noexcept { return cfg_; }
+  /// State of the active EKF (the best bank member while acquiring).
+  const GaitState& state() const noexcept { return active().x; }
+  /// Covariance of the active EKF, both triangles filled.
+  GaitMatrix covariance() const noexcept {
+    GaitMatrix P = active().P;
+    for (std::size_t i = 0; i < gait::kDim; ++i)
+      for (std::size_t j = 0; j < i; ++j) P[i][j] = P[j][i];
+    return P;
+  }
+  bool walking() const noexcept { return detector_.walking(); }
+  bool acquiring() const noexcept { return acquiring_; }
+  double std_scale() const noexcept { return scale_.value(); }
+
+ private:
+  using Ekf = gait::Ekf;
+
+  static gait::MemberModel member_model(const EstimatorConfig& c) noexcept {
+    gait::MemberModel m;
+    m.q_phasor = c.q_phasor_m2_per_s3;
+    m.q_phase = c.q_phase_rad2_per_s;
+    m.q_omega = c.q_omega_rad2_per_s3;
+    m.q_speed = c.q_speed_m2_per_s3;
+    m.q_accel = c.q_accel_m2_per_s5;
+    m.use_omega_rate = c.use_omega_rate;
+    m.q_rate_lo = c.q_omega_rate_lo_rad2_per_s5;
+    m.q_rate_hi = c.q_omega_rate_hi_rad2_per_s5;
+    m.inv_rate_ref = 1.0 / c.omega_rate_ref_rad_s2;
+    m.rate_lowpass = c.omega_rate_lp_tau_s > 0.0;
+    m.use_harmonic = c.use_harmonic;
+    m.q_harmonic = c.q_harmonic_m2_per_s3;
+    m.harm_min2 = c.harmonic_min_amp_mps * c.harmonic_min_amp_mps;
+    m.r_vx = c.meas_vx_std_mps * c.meas_vx_std_mps;
+    m.r_vz = c.meas_vz_std_mps * c.meas_vz_std_mps;
+    m.p0_phasor = c.p0_phasor_std_mps * c.p0_phasor_std_mps;
+    const double sw = kTwoPi * c.p0_f_std_hz;
+    m.p0_omega = sw * sw;
+    m.p0_speed = c.p0_speed_std_mps * c.p0_speed_std_mps;
+    m.p0_accel = c.p0_accel_std_mps2 * c.p0_accel_std_mps2;
+    m.p0_rate = c.use_omega_rate ? c.p0_omega_rate_std_rad_s2 * c.p0_omega_rate_std_rad_s2 : 0.0;
+    m.p0_harmonic = c.p0_harmonic_std_mps * c.p0_harmonic_std_mps;
+    m.w_min = kTwoPi * c.f_min_hz;
+    m.w_max = kTwoPi * c.f_max_hz;
+    return m;
+  }
+
+  static gait::HypothesisBank::Settings bank_settings(const EstimatorConfig& c) noexcept {
+    gait::HypothesisBank::Settings s;
+    s.f_hz = c.bank_f_hz;
+    s.size = c.bank_size;
+    s.prior_f_hz = c.bank_prior_f_hz;
+    s.prior_bonus_nats = c.bank_prior_bonus_nats;
+    const double sw = kTwoPi * c.spectral_f_std_hz;
+    s.seed_f_var = sw * sw;
+    s.seed_phasor_var = c.spectral_phasor_std_mps * c.spectral_phasor_std_mps;
+    return s;
+  }
+
+  const Ekf& active() const noexcept { return acquiring_ ? bank_.best() : main_; }
+  Ekf& active() noexcept { return acquiring_ ? bank_.best() : main_; }
+  const gait::Harmonic* active_harmonics() const noexcept {
+    return acquiring_ ? bank_.best_harmonics() : main_h_.data();
+  }
+  gait::Harmonic* active_harmonics() noexcept { return acquiring_ ? bank_.best_harmonics() : main_h_.data(); }
+  bool harmonics_on() const noexcept { return model_.use_harmonic && !acquiring_; }
+
+  /// Sec. 2.3: the bank restarts (around the hint, if any), with a fresh spectral buffer and watchdog.
+  void start_acquisition(double A0, bool has_hint, double f_hint_hz) noexcept {
+    bank_.start(model_, A0, has_hint, f_hint_hz);
+    acquiring_ = true;
+    spectral_.reset();
+    watchdog_.reset();
+  }
+
+  /// The bank's best member becomes the one EKF.
+  void collapse() noexcept {
+    main_ = bank_.best();
+    main_h_ = bank_.best_harmonic_pair();
+    acquiring_ = false;
+  }
+
+  /// Walking stops: freeze the oscillator, drop the oscillation, decouple the bias. The bank
+  /// collapses first if it was running; otherwise the one EKF goes on (the bank holds stale members).
+  void stop_walking() noexcept {
+    using namespace gait;
+    if (acquiring_) collapse();
+    Ekf& m = main_;
+    m.x[kX1] = m.x[kX2] = m.x[kZ1] = m.x[kZ2] = m.x[kDW] = 0.0;
+    for (std::size_t i = 0; i < kDim; ++i) {
+      if (i == kA0 || i == kDA0) continue;
+      (i < kA0 ? m.P[i][kA0] : m.P[kA0][i]) = 0.0;
+      (i < kDA0 ? m.P[i][kDA0] : m.P[kDA0][i]) = 0.0;
+    }
+  }
+
+  /// While walking: R = A0 / w, r = |Z| / w and the output's harmonic bases (1 / |X|^2, 1 / |Z|^2
+  /// at the posterior phasors) from one division.
+  void walking_outputs(const Ekf& act, double radii_gain) noexcept {
+    using namespace gait;
+    const GaitState& x = act.x;
+    const double ax2 = x[kX1] * x[kX1] + x[kX2] * x[kX2], az2 = x[kZ1] * x[kZ1] + x[kZ2] * x[kZ2];
+    const bool hx = harmonics_on() && !(ax2 < model_.harm_min2), hz = harmonics_on() && !(az2 < model_.harm_min2);
+    const double dx = hx ? ax2 : 1.0, dz = hz ? az2 : 1.0, w = x[kW];
+    const double dxz = dx * dz;
+    const double inv = 1.0 / (w * dxz);
+    const double inv_w = dxz * inv;
+    out_hx_ = hx ? active_harmonics()[kVx].value((x[kX1] * x[kX1] - x[kX2] * x[kX2]) * (w * dz * inv),
+                                              2.0 * x[kX1] * x[kX2] * (w * dz * inv))
+                 : 0.0;
+    out_hz_ = hz ? active_harmonics()[kVz].value((x[kZ1] * x[kZ1] - x[kZ2] * x[kZ2]) * (w * dx * inv),
+                                              2.0 * x[kZ1] * x[kZ2] * (w * dx * inv))
+                 : 0.0;
+    last_w_ = w;
+    radii_.update(x[kA0] * inv_w, std::sqrt(az2) * inv_w, radii_gain);
+    radii_updated_ = true;
+  }
+
+  // ------------------------------------------------------------------------------------ one step
+
+  Outcome advance(double vx, double vz, double dt) noexcept {
+    using namespace gait;
+    const bool fin_x = std::isfinite(vx), fin_z = std::isfinite(vz);
+    // A channel out of range is dropped like a non-finite one (a corrupt 1e200 would overflow P).
+    const bool use_x = fin_x && std::fabs(vx) <= cfg_.max_abs_velocity_mps;
+    const bool use_z = fin_z && std::fabs(vz) <= cfg_.max_abs_velocity_mps;
+    Outcome outcome = !(fin_x && fin_z) ? Outcome::kNonFinite : (use_x && use_z) ? Outcome::kOk : Outcome::kOutOfRange;
+    if (!started_) {
+      if (!use_x) return outcome;
+      started_ = true;
+      detector_.start(vx, vz, use_z);
+      start_acquisition(vx, false, 0.0);
+      collapse();  // the one EKF is defined from the start
+      acquiring_ = true;
+      dt = 0.0;
+    }
+    t_now_s_ += dt;
+    const double dt_walk = dt;
+    if (dt > cfg_.max_gap_s) {
+      // Long gap: keep the speed, restart the acquisition around the last frequency; the fresh
+      // members are not propagated over the gap.
+      start_acquisition(active().x[kA0], radii_.have_estimate(), last_w_ / kTwoPi);
+      dt = 0.0;
+    }
+    const DecayFactors::Values& fc = factors_.at(dt);
+    const bool was_walking = detector_.walking();
+    detector_.update(vx, vz, use_x, use_z, dt_walk == dt ? fc.walk_gain : detector_.gain(dt_walk));
+    const bool walking = detector_.walking();
+    if (walking && !was_walking) {
+      // Walking (re)starts: re-open the acquisition, bias from this sample, one member at the
+      // frozen frequency.
+      start_acquisition(use_x ? vx : active().x[kA0], radii_.have_estimate(), last_w_ / kTwoPi);
+    }
+    if (was_walking && !walking) stop_walking();
+
+    bool rejected = false;
+    if (acquiring_) {
+      rejected = bank_.step(model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
+    } else {
+      model_.predict(main_, main_h_.data(), dt, fc, walking);
+      rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_,
+                                      fc.std_gain);
+    }
+    if (rejected) outcome = Outcome::kOutlier;
+    if (gate_.after_step(rejected)) {
+      // Persistent disagreement was accepted: inflate P so that the filter follows again.
+      main_.P[kX1][kX1] += model_.p0_phasor;
+      main_.P[kX2][kX2] += model_.p0_phasor;
+      main_.P[kZ1][kZ1] += model_.p0_phasor;
+      main_.P[kZ2][kZ2] += model_.p0_phasor;
+      main_.P[kA0][kA0] += model_.p0_speed;
+    }
+
+    if (acquiring_) {
+      bank_.forget(fc.forget);
+      if (walking) {
+        bank_.add_walk_time(dt);
+        if (fin_x && fin_z && use_x && use_z) spectral_.push(t_now_s_, vx, vz);
+        SpectralInit::Fit fit;
+        if (spectral_.due(bank_.walk_time_s()) && spectral_.fit(fit)) bank_.seed(model_, fit);
+      }
+      bank_.select_best();
+      if (bank_.walk_time_s() >= cfg_.bank_window_s) collapse();
+    }
+
+    // Watchdog: a frequency pinned at a bound is a failed lock: re-acquire.
+    if (walking && !acquiring_ && watchdog_.update(main_.x[kW], dt)) start_acquisition(main_.x[kA0], false, 0.0);
+    radii_updated_ = false;
+    Ekf& act = active();
+    if (walking) walking_outputs(act, fc.radii_gain);
+    // Never reached with in-range samples; keeps the state finite whatever comes in: a finite
+    // state and diagonal mean a finite covariance (|P_ij| <= sqrt(P_ii P_jj)).
+    const GaitState& xa = act.x;
+    const GaitMatrix& Pa = act.P;
+    const double check = ((xa[kX1] + xa[kX2]) + (xa[kZ1] + xa[kZ2])) + ((xa[kW] + xa[kA0]) + (xa[kDA0] + xa[kDW])) +
+                         ((Pa[kX1][kX1] + Pa[kX2][kX2]) + (Pa[kZ1][kZ1] + Pa[kZ2][kZ2])) +
+                         ((Pa[kW][kW] + Pa[kA0][kA0]) + (Pa[kDA0][kDA0] + Pa[kDW][kDW])) +
+                         (radii_.R_m() + radii_.r_m() + scale_.value());
+    if (!std::isfinite(check)) {
+      recover();
+      outcome = Outcome::kNumerical;
+    }
+    return outcome;
+  }
+
+  /// After a non-finite result: restart from the last finite speed and frequency.
+  void recover() noexcept {
+    const double A0 = detector_.recover();
+    radii_.recover();
+    if (!std::isfinite(last_w_)) last_w_ = kTwoPi * cfg_.bank_prior_f_hz;
+    scale_.reset();
+    gate_.reset();
+    out_hx_ = out_hz_ = 0.0;
+    start_acquisition(A0, radii_.have_estimate(), last_w_ / kTwoPi);
+    collapse();
+    acquiring_ = true;
+  }
+
+  EstimatorConfig cfg_;
+  gait::MemberModel model_;
+  // The one EKF of the steady state and its harmonics.
+  Ekf main_;
+  std::array<gait::Harmonic, 2> main_h_{};
+  gait::DecayFactors factors_;
+  gait::WalkingDetector detector_;
+  gait::InnovationGate gate_;
+  gait::StdScale scale_;
+  gait::RadiiSmoother radii_;
+  gait::BoundWatchdog watchdog_;
+  double nominal_dt_ = 0.04, speed_floor2_ = 0.0;
+  double last_w_ = 0.0;                 ///< the last walking frequency: the re-acquisition hint
+  double out_hx_ = 0.0, out_hz_ = 0.0;  ///< second harmonics at the posterior phasors, for output()
+  double t_now_s_ = 0.0;
+  bool started_ = false, acquiring_ = true, radii_updated_ = false;
+  // Start-up: the bank and the spectral ring buffer.
+  gait::HypothesisBank bank_;
+  gait::SpectralInit spectral_;
+};
+
+}  // namespace yoyogait

@@ -1,0 +1,220 @@
+/// @file gait/member.hpp
+/// @brief One EKF of the gait filter (the steady-state filter, or a member of the start-up bank)
+/// and its step: prediction with the process-noise model (sec. 2.2), measurement updates with the
+/// harmonic cancellation and the innovation gate (sec. 2.1, 2.5), projection onto the bounds.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+
+#include "yoyogait/gait/decay_factors.hpp"
+#include "yoyogait/gait/ekf.hpp"
+#include "yoyogait/gait/harmonic.hpp"
+#include "yoyogait/gait/innovation_gate.hpp"
+#include "yoyogait/gait/state.hpp"
+#include "yoyogait/gait/std_scale.hpp"
+#include "yoyogait/math.hpp"
+
+namespace yoyogait::gait {
+
+/// One EKF of sec. 2.1. P: upper triangle only (i <= j).
+struct Ekf {
+  GaitMatrix P{};
+  GaitState x{};
+  double loglik = 0.0;  ///< innovation log-likelihood with exponential memory (bank only)
+  double dw_lp = 0.0;   ///< dw low-passed over omega_rate_lp_tau_s: the trend test of q_rate
+};
+
+/// What a member's step needs of the configuration, derived once: noise densities, the initial
+/// covariance, the bounds. Shared by every member; holds no state.
+struct MemberModel {
+  // Process noise densities (sec. 2.2), multiplied by dt at each prediction.
+  double q_phasor = 0.0, q_phase = 0.0, q_omega = 0.0, q_speed = 0.0, q_accel = 0.0;
+  bool use_omega_rate = true;
+  double q_rate_lo = 0.0, q_rate_hi = 0.0, inv_rate_ref = 0.0;  ///< q_rate(dw_lp) between lo and hi
+  bool rate_lowpass = true;                                     ///< omega_rate_lp_tau_s > 0
+  bool use_harmonic = true;
+  double q_harmonic = 0.0, harm_min2 = 0.0;  ///< harmonic noise; squared minimum fundamental amplitude
+  // Measurement noise variances of v_x, v_z.
+  double r_vx = 0.0, r_vz = 0.0;
+  // Initial variances of a member: phasors, w, A0, dA0, dw (0 without the rate state), harmonics.
+  double p0_phasor = 0.0, p0_omega = 0.0, p0_speed = 0.0, p0_accel = 0.0, p0_rate = 0.0, p0_harmonic = 0.0;
+  // The frequency bounds [rad/s].
+  double w_min = 0.0, w_max = 0.0;
+
+  /// A fresh member at frequency f_hz and speed A0, with its initial covariance.
+  void reset(Ekf& e, double f_hz, double A0) const noexcept {
+    e.x = GaitState{};
+    e.x[kW] = kTwoPi * f_hz;
+    e.x[kA0] = A0;
+    e.P = GaitMatrix{};
+    e.P[kX1][kX1] = e.P[kX2][kX2] = e.P[kZ1][kZ1] = e.P[kZ2][kZ2] = p0_phasor;
+    e.P[kW][kW] = p0_omega;
+    e.P[kA0][kA0] = p0_speed;
+    e.P[kDA0][kDA0] = p0_accel;
+    e.P[kDW][kDW] = p0_rate;
+    e.loglik = 0.0;
+    e.dw_lp = 0.0;
+  }
+  void reset(Harmonic* h) const noexcept {
+    h[kVx].reset(p0_harmonic);
+    h[kVz].reset(p0_harmonic);
+  }
+
+  /// Projection onto the physical set: w in [w_min, w_max] (a rate pushing outward is zeroed), A0 >= 0.
+  void clamp(Ekf& e) const noexcept {
+    GaitState& x = e.x;
+    if (x[kA0] < 0.0) {
+      x[kA0] = 0.0;
+      if (x[kDA0] < 0.0) x[kDA0] = 0.0;
+    }
+    if (x[kW] < w_min) {
+      x[kW] = w_min;
+      if (x[kDW] < 0.0) x[kDW] = 0.0;
+    } else if (x[kW] > w_max) {
+      x[kW] = w_max;
+      if (x[kDW] > 0.0) x[kDW] = 0.0;
+    }
+  }
+
+  /// Prediction of one EKF and its harmonics over dt (sec. 2.1-2.2).
+  void predict(Ekf& e, Harmonic* h, double dt, const DecayFactors::Values& fc, bool oscillate) const noexcept {
+    const double qb = q_speed * dt, qa = q_accel * dt;
+    if (!oscillate) {
+      predict_standing(e.x, e.P, dt, fc.accel_decay, qb, qa);
+      return;
+    }
+    GaitProcessNoise q;
+    q.phasor = q_phasor * dt;
+    q.phase = q_phase * dt;
+    q.omega = q_omega * dt;
+    q.speed = qb;
+    q.accel = qa;
+    gait_predict(e.x, e.P, dt, fc.accel_decay, fc.rate_decay, q);
+    if (use_omega_rate) {
+      // Trend-adaptive rate noise on the low-passed rate (the raw dw would feed back on itself).
+      if (rate_lowpass)
+        e.dw_lp += fc.rate_lp_gain * (e.x[kDW] - e.dw_lp);
+      else
+        e.dw_lp = e.x[kDW];
+      double rr = e.dw_lp * inv_rate_ref;
+      rr = detail::py_min(rr * rr, 1.0);
+      const double qlo = q_rate_lo;
+      e.P[kDW][kDW] += (qlo + (q_rate_hi - qlo) * rr) * dt;
+    }
+    const double qh = q_harmonic * dt;
+    h[kVx].predict(qh);
+    h[kVz].predict(qh);
+  }
+
+  /// The measurement updates of one EKF (sec. 2.1, 2.5): for each usable channel, cancel the
+  /// predicted harmonic, gate, update, adapt the std scale, then let the harmonic learn from the
+  /// residual. Returns true when a channel was rejected by the gate.
+  ///
+  /// While walking the two channels are the sequential scalar updates of v_x (H = e_X1 + e_A0) and
+  /// then v_z (H = e_Z1); P is touched once: the second update's P H^T is the first-updated column,
+  /// P[:, Z1] - k1 ph1[Z1], and P -= k1 ph1^T + k2 ph2^T is the same as the two downdates in turn.
+  /// kBank: a member of the start-up bank (acquiring: no gate, no harmonics, no std scale, the
+  /// log-likelihood accumulates); else the one EKF of the steady state.
+  template <bool kBank>
+  bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z, bool oscillate,
+              const InnovationGate& gate_, StdScale& scale, double std_gain) const noexcept {
+    bool rejected = false;
+    const bool gate = !kBank && gate_.active();
+    GaitState& x = e.x;
+    if (!oscillate) {
+      // Standing: v_x = A0 (H = e_A0).
+      if (use_x) {
+        const double nu = vx - x[kA0];
+        const double S = e.P[kA0][kA0] + r_vx;
+        if (gate && gate_.rejects(nu, S)) {
+          rejected = true;
+        } else {
+          double ph[kDim], k[kDim];
+          const double zero[kDim] = {};
+          column<kA0>(e.P, ph);
+          const double inv_S = 1.0 / S;
+          for (std::size_t r = 0; r < kDim; ++r) {
+            k[r] = ph[r] * inv_S;
+            x[r] += k[r] * nu;
+          }
+          downdate(e.P, k, ph, zero, zero);
+          if (kBank) e.loglik += -0.5 * (nu * nu / S + std::log(S));
+        }
+      }
+      clamp(e);
+      return rejected;
+    }
+    const bool harm = !kBank && use_harmonic;
+    double ph1[kDim] = {}, k1[kDim] = {}, ph2[kDim], k2[kDim] = {};
+    HarmonicStep hx, hz;
+    if (use_x) {
+      double u = 0.0, v = 0.0;
+      if (harm) harmonic_basis(x[kX1], x[kX2], harm_min2, u, v);
+      const double yc = vx - h[kVx].value(u, v);  // the predicted harmonic is cancelled first
+      const double nu = yc - (x[kA0] + x[kX1]);
+      const double S = e.P[kX1][kX1] + 2.0 * e.P[kX1][kA0] + e.P[kA0][kA0] + r_vx;
+      if (gate && gate_.rejects(nu, S)) {
+        rejected = true;
+      } else {
+        double pa[kDim];
+        column<kX1>(e.P, ph1);
+        column<kA0>(e.P, pa);
+        const double inv_S = 1.0 / S;
+        for (std::size_t r = 0; r < kDim; ++r) {
+          ph1[r] += pa[r];
+          k1[r] = ph1[r] * inv_S;
+          x[r] += k1[r] * nu;
+        }
+        if (kBank) e.loglik += -0.5 * (nu * nu / S + std::log(S));
+        if (!kBank && scale.adapts()) scale.update(nu * nu * inv_S, std_gain);
+        // The harmonic learns from the residual left by the updated fundamental.
+        if (u != 0.0 || v != 0.0) {
+          hx.on = true;
+          hx.e = yc - (x[kA0] + x[kX1]);
+          hx.S = h[kVx].prepare(u, v, r_vx, hx.ph0, hx.ph1);
+        }
+      }
+    }
+    if (use_z) {
+      double u = 0.0, v = 0.0;
+      if (harm) harmonic_basis(x[kZ1], x[kZ2], harm_min2, u, v);
+      const double yc = vz - h[kVz].value(u, v);
+      const double nu = yc - x[kZ1];
+      // P H^T of the v_z update with P after the v_x update.
+      column<kZ1>(e.P, ph2);
+      const double c1 = ph1[kZ1];
+      for (std::size_t r = 0; r < kDim; ++r) ph2[r] -= k1[r] * c1;
+      const double S = ph2[kZ1] + r_vz;
+      if (gate && gate_.rejects(nu, S)) {
+        rejected = true;
+      } else {
+        const double inv_S = 1.0 / S;
+        for (std::size_t r = 0; r < kDim; ++r) {
+          k2[r] = ph2[r] * inv_S;
+          x[r] += k2[r] * nu;
+        }
+        if (kBank) e.loglik += -0.5 * (nu * nu / S + std::log(S));
+        if (!kBank && scale.adapts()) scale.update(nu * nu * inv_S, std_gain);
+        if (u != 0.0 || v != 0.0) {
+          hz.on = true;
+          hz.e = yc - x[kZ1];
+          hz.S = h[kVz].prepare(u, v, r_vz, hz.ph0, hz.ph1);
+        }
+      }
+    } else {
+      for (std::size_t r = 0; r < kDim; ++r) ph2[r] = 0.0;
+    }
+    downdate(e.P, k1, ph1, k2, ph2);
+    clamp(e);
+    // Both harmonic gains from one division (1/S_x = S_z / (S_x S_z)).
+    if (hx.on || hz.on) {
+      const double inv = 1.0 / (hx.S * hz.S);
+      if (hx.on) h[kVx].apply(hx.ph0, hx.ph1, hx.e, hz.S * inv);
+      if (hz.on) h[kVz].apply(hz.ph0, hz.ph1, hz.e, hx.S * inv);
+    }
+    return rejected;
+  }
+};
+
+}  // namespace yoyogait::gait

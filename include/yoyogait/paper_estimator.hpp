@@ -1,0 +1,151 @@
+/// @file paper_estimator.hpp
+/// @brief The paper's estimator, exactly as published (Sec. III and IV-B): the 4-state EKF
+/// (eq. 5-9, ekf.hpp), the heuristic filter of R_hat, r_hat (eq. 11-12) and the reconstruction
+/// (eq. 13-14, heuristics.hpp). docs/paper_estimator.md.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+#include "yoyogait/config.hpp"
+#include "yoyogait/ekf.hpp"
+#include "yoyogait/estimate.hpp"
+#include "yoyogait/heuristics.hpp"
+#include "yoyogait/math.hpp"
+#include "yoyogait/state.hpp"
+
+namespace yoyogait {
+
+/// The paper's estimator. Use it through yoyogait::Estimator (EstimatorConfig::paper()); this
+/// class is public for tests and for embedding. step() does no heap allocation and cannot throw.
+class PaperEstimator {
+ public:
+  PaperEstimator() noexcept : PaperEstimator(EstimatorConfig::paper()) {}
+
+  /// config must pass EstimatorConfig::validate() (the Estimator checks it).
+  explicit PaperEstimator(const EstimatorConfig& config) noexcept
+      : T_(config.sample_time_s),
+        max_abs_velocity_mps_(config.max_abs_velocity_mps),
+        v_vx_mps2_(config.v_vx_mps2),
+        v_vz_mps2_(config.v_vz_mps2),
+        initial_R_hat_mps_(config.initial_R_hat_mps),
+        initial_r_hat_mps_(config.initial_r_hat_mps),
+        initial_omega_(config.initial_omega_rad_per_sample),
+        p0_{config.p0_oscillation_mps2, config.p0_oscillation_mps2, config.p0_omega_rad2, config.p0_bias_mps2},
+        window_(config.smoothing_window_samples),
+        gate_omega_(config.gate_omega_rad_per_sample),
+        gate_bias_(config.gate_bias_mps) {
+    inv_T_ = 1.0 / T_;
+    inv_two_pi_T_ = 1.0 / (kTwoPi * T_);
+    q_ = {config.q_oscillation_mps2, config.q_oscillation_mps2, config.q_omega_rad2, config.q_bias_mps2};
+    reset();
+  }
+
+  /// Back to the state before the first sample: x(0), P0 and R_hat(0), r_hat(0).
+  void reset() noexcept {
+    const double w0 = initial_omega_;
+    // x(0) = [r0 w0, 0, w0, R0 w0] (Sec. IV-B): cosine and sine 90 degrees apart.
+    state_.a1_cos() = initial_r_hat_mps_ * w0;
+    state_.a1_sin() = 0.0;
+    state_.omega_rad_per_sample() = w0;
+    state_.bias_mps() = initial_R_hat_mps_ * w0;
+    P_ = SymMatrix4(diagonal(p0_));
+    params_ = ParameterFilter(window_, gate_omega_, gate_bias_, initial_R_hat_mps_, initial_r_hat_mps_);
+  }
+
+  /// One sample: prediction (eq. 6), update (eq. 9) unless the sample is not finite or out of
+  /// range, heuristic filter (eq. 11-12) and reconstruction (eq. 13-14).
+  YOYOGAIT_ALWAYS_INLINE Estimate step(double vx_mps, double vz_mps) noexcept {
+    // The prediction goes to scratch members and the update back into state_, P_ (out of place,
+    // see predict); a sample that is not used leaves the prediction as the posterior.
+    predict(state_, P_, q_, pred_state_, pred_P_);
+    Status status = Status::kUpdated;
+    if (!(std::isfinite(vx_mps) && std::isfinite(vz_mps))) {
+      status = Status::kRejectedNonFinite;
+    } else if (!(std::fabs(vx_mps) <= max_abs_velocity_mps_ && std::fabs(vz_mps) <= max_abs_velocity_mps_)) {
+      status = Status::kRejectedOutOfRange;
+    } else if (!update(pred_state_, pred_P_, Measurement{vx_mps, vz_mps}, v_vx_mps2_, v_vz_mps2_, state_, P_)) {
+      status = Status::kRejectedNumerical;
+    }
+    if (status != Status::kUpdated) {
+      state_ = pred_state_;
+      P_ = pred_P_;
+    }
+    const double x1 = state_.a1_cos(), x2 = state_.a1_sin(), w = state_.omega_rad_per_sample();
+    const double a1 = sqrt1(x1 * x1 + x2 * x2);
+    const bool opened = params_.update(w, state_.bias_mps(), a1);
+    return make_estimate(status, opened, a1);
+  }
+
+  /// Velocities predicted horizon_samples ahead of the last sample: eq. 13-14 with the phase
+  /// advanced by eq. 6 and the parameters held.
+  Reconstruction predict_ahead(double horizon_samples) const noexcept {
+    const double w = state_.omega_rad_per_sample();
+    double s, c;
+    sincos(w * horizon_samples, s, c);
+    const double x1 = state_.a1_cos() * c - state_.a1_sin() * s;
+    const double x2 = state_.a1_cos() * s + state_.a1_sin() * c;
+    return reconstruct(params_.R_hat_mps(), params_.r_hat_mps(), x1, x2, w, std::sqrt(x1 * x1 + x2 * x2));
+  }
+
+  /// x(k) of eq. 5.
+  const State& state() const noexcept { return state_; }
+  /// P (4x4) of eq. 5.
+  const SymMatrix4& covariance() const noexcept { return P_; }
+  const ParameterFilter& parameters() const noexcept { return params_; }
+
+ private:
+  // The builder initialises every field in declaration order: a default-constructed Estimate
+  // would first be zeroed (GCC: a string store) and then overwritten, ~20 ns per step.
+  Estimate make_estimate(Status status, bool opened, double a1) const noexcept {
+    const double x1 = state_.a1_cos(), x2 = state_.a1_sin(), w = state_.omega_rad_per_sample();
+    const double R_hat = params_.R_hat_mps(), r_hat = params_.r_hat_mps();
+    const Reconstruction v = reconstruct(R_hat, r_hat, x1, x2, w, a1);
+    double sd_omega, sd_bias;
+    sqrt2(P_(kOmega, kOmega), P_(kBias, kBias), sd_omega, sd_bias);
+    const double omega = w * inv_T_;
+    const double A0 = state_.bias_mps();
+    return Estimate{
+        /*state=*/state_,
+        // The same estimate in the gait filter's terms: Z is X turned by +90 degrees (v_z = -x2 = Z1).
+        /*gait_state=*/{x1, x2, -x2, x1, omega, A0, 0.0, 0.0},
+        /*vx_hat_mps=*/v.vx_mps,
+        /*vz_hat_mps=*/v.vz_mps,
+        /*R_hat_mps=*/R_hat,
+        /*r_hat_mps=*/r_hat,
+        /*R_m=*/T_ * R_hat,
+        /*r_m=*/T_ * r_hat,
+        /*omega_rad_s=*/omega,
+        /*step_frequency_hz=*/w * inv_two_pi_T_,
+        /*step_frequency_std_hz=*/sd_omega * inv_two_pi_T_,
+        /*speed_mps=*/R_hat * w,
+        /*speed_std_mps=*/sd_bias,
+        /*A0_mps=*/A0,
+        /*A1_mps=*/a1,
+        /*vx_hat_h2_mps=*/v.vx_mps,
+        /*vz_hat_h2_mps=*/v.vz_mps,
+        /*std_scale=*/1.0,
+        /*status=*/status,
+        /*parameters_updated=*/opened,
+        /*walking=*/true,
+        /*acquiring=*/false,
+    };
+  }
+
+  // The configuration (Sec. IV-B), as the step reads it.
+  double T_ = 0.04, inv_T_ = 25.0, inv_two_pi_T_ = 1.0;
+  double max_abs_velocity_mps_ = 1000.0, v_vx_mps2_ = 1e-2, v_vz_mps2_ = 1e-2;
+  double initial_R_hat_mps_ = 2.0, initial_r_hat_mps_ = 0.2, initial_omega_ = 0.1;
+  std::array<double, kStateDim> q_{}, p0_{};
+  std::size_t window_ = 10;
+  double gate_omega_ = 0.1, gate_bias_ = 0.1;
+  // The filter.
+  State state_;
+  SymMatrix4 P_;
+  State pred_state_;  // the prediction of the current step (scratch)
+  SymMatrix4 pred_P_;
+  ParameterFilter params_;
+};
+
+}  // namespace yoyogait
