@@ -39,6 +39,8 @@ __all__ = [
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 _received: int | None = None  # the first interrupting signal of this run
+_deferring = 0  # depth of signals_deferred blocks
+_pending = False  # a signal arrived inside one: raise when the outermost ends
 
 
 class Interrupted(KeyboardInterrupt):
@@ -50,9 +52,12 @@ class Interrupted(KeyboardInterrupt):
 
 
 def _handler(signum, frame) -> None:
-    global _received
+    global _received, _pending
     if _received is None:
         _received = int(signum)
+    if _deferring:
+        _pending = True
+        return
     raise Interrupted(signum)
 
 
@@ -75,11 +80,11 @@ def handle_interrupts() -> Iterator[None]:
     Does nothing outside the main thread (where Python allows no signal handler); the previous
     handlers come back afterwards.
     """
-    global _received
+    global _received, _pending
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    _received = None
+    _received, _pending = None, False
     previous = {s: signal.getsignal(s) for s in SIGNALS}
     for s in SIGNALS:
         signal.signal(s, _handler)
@@ -88,23 +93,31 @@ def handle_interrupts() -> Iterator[None]:
     finally:
         for s, h in previous.items():
             signal.signal(s, h if h is not None else signal.SIG_DFL)
-        _received = None  # library calls after the run owe nothing to its interrupt
+        _received, _pending = None, False  # library calls after the run owe nothing to its interrupt
 
 
 @contextlib.contextmanager
 def signals_deferred() -> Iterator[None]:
     """SIGINT and SIGTERM wait until the block ends (a commit or a clean-up is never cut in half).
 
-    A signal that arrives meanwhile is delivered when the block ends, and its handler then raises.
+    The handler only notes a signal that arrives meanwhile, and :class:`Interrupted` is raised when
+    the outermost such block ends (unless the block is already ending with an exception; the
+    signal is remembered either way, so the next commit point stops the run).  A flag rather than
+    a signal mask, because Python runs the handler in the main thread even when another thread
+    (tqdm's monitor, say) took the signal.
     """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
+    global _deferring, _pending
+    _deferring += 1
+    raise_now = False
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        _deferring -= 1
+        if _deferring == 0 and _pending:
+            _pending = False
+            raise_now = True
+    if raise_now:
+        raise Interrupted(_received if _received is not None else signal.SIGINT)
 
 
 @contextlib.contextmanager

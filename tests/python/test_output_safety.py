@@ -134,6 +134,22 @@ def test_an_interrupt_swallowed_by_a_finaliser_still_stops_the_run(walks, tmp_pa
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_signal_during_a_commit_waits_until_it_is_done():
+    """Inside signals_deferred a SIGINT only is noted; Interrupted comes when the block ends, and the
+    run remembers it."""
+    steps = []
+    with _guard.handle_interrupts():
+        with pytest.raises(_guard.Interrupted):
+            with _guard.signals_deferred():
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(0.05)  # the handler has run by now
+                steps.append("finished")
+        assert steps == ["finished"] and _guard.interrupted_by() == signal.SIGINT
+        with pytest.raises(_guard.Interrupted):
+            _guard.check_interrupted()
+    assert _guard.interrupted_by() is None
+
+
 def test_force_replaces_a_report_in_one_step(tmp_path):
     """replace_folder puts the new folder in place of the old one and leaves neither the old one nor a temporary."""
     old, new = tmp_path / "report", tmp_path / ".report.new"
