@@ -467,9 +467,7 @@ def run_estimate(mutant: Mutant, outdir: Path, figure: bool) -> Outcome:
     if exc is not None:
         return Outcome(mutant, "estimate", "traceback", None, f"{type(exc).__name__}: {exc}", dt)
     if code != 0:
-        problem = _error_problem(err, mutant)
-        if problem is None and new:
-            problem = "partial output"
+        problem = "partial output" if new else _error_problem(err, mutant)
         return Outcome(mutant, "estimate", problem or "ok", code, err.strip() + f" [left: {sorted(map(str, new))}]", dt)
     expected = {csv, png} if figure else {csv}
     if temps or new != expected:
