@@ -13,6 +13,10 @@ class InputError(YoyogaitError, ValueError):
     """A file, array or argument that yoyogait cannot use (says what is wrong)."""
 
 
+class OutputError(YoyogaitError, OSError):
+    """An output that could not be written (says which, and why; never a temporary name)."""
+
+
 class about_file:  # noqa: N801 (used as a context manager, like contextlib's)
     """Context manager: an InputError raised inside that does not name ``path`` gets it in front,
     so that every message about a file says which file."""

@@ -67,7 +67,7 @@ def test_table_cell_matches_the_recordings_metric(lab_evaluation):
 
 def test_report_is_complete_and_never_overwritten_without_force(lab_evaluation, tmp_path):
     """The report holds Table I (md, csv), a CSV row per recording, two PNGs per recording and an index;
-    it is replaced only with force."""
+    it is replaced only with force, and then only the files yoyogait wrote."""
     out = tmp_path / "report"
     ev.write_report(lab_evaluation, out)
     assert (out / "table1_paper.md").stat().st_size > 0
@@ -78,12 +78,13 @@ def test_report_is_complete_and_never_overwritten_without_force(lab_evaluation, 
     assert len(pngs) == 30 and all(p.stat().st_size > 5000 for p in pngs)
     index = (out / "index.md").read_text()
     assert "SYNTHETIC" in index and all(f"figures/{p.name}" in index for p in pngs)
-    (out / "marker").write_text("mine")
-    with pytest.raises(ValueError, match="--force"):
+    (out / "mine.txt").write_text("mine")
+    with pytest.raises(OSError, match="--force"):
         ev.write_report(lab_evaluation, out, figures=False)
-    assert (out / "marker").read_text() == "mine"
+    assert (out / "mine.txt").read_text() == "mine" and len(list((out / "figures").glob("*.png"))) == 30
     ev.write_report(lab_evaluation, out, figures=False, force=True)
-    assert not (out / "marker").exists()
+    assert (out / "mine.txt").read_text() == "mine"  # the user's file stays
+    assert not (out / "figures").exists()  # the old report's figures went with it
     assert [p.name for p in tmp_path.iterdir()] == ["report"]  # no temporary folder left
 
 

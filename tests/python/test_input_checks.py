@@ -205,7 +205,7 @@ def test_estimate_writes_both_outputs_or_neither(tmp_path, capsys, monkeypatch):
     def broken(*args, **kwargs):
         raise ValueError("Axis limits cannot be NaN or Inf")
 
-    monkeypatch.setattr(estimate_cmd.plots, "parameter_figure", broken)
+    monkeypatch.setattr(estimate_cmd.plots, "estimate_figure", broken)
     path = velocity_csv(tmp_path / "v.csv", n=1000)
     out, fig = tmp_path / "x.csv", tmp_path / "x.png"
     assert main(["estimate", str(path), "--out", str(out), "--figure", str(fig)]) == 2

@@ -14,8 +14,7 @@ import pytest
 
 from test_evaluation import write_trc
 from test_events import stepping_walk
-from yoyogait import _guard
-from yoyogait._files import replace_folder
+from yoyogait import _files, _guard
 from yoyogait.cli import main
 from yoyogait.errors import InputError
 
@@ -150,13 +149,33 @@ def test_a_signal_during_a_commit_waits_until_it_is_done():
     assert _guard.interrupted_by() is None
 
 
-def test_force_replaces_a_report_in_one_step(tmp_path):
-    """replace_folder puts the new folder in place of the old one and leaves neither the old one nor a temporary."""
-    old, new = tmp_path / "report", tmp_path / ".report.new"
-    old.mkdir()
-    (old / "index.md").write_text("old")
-    new.mkdir()
-    (new / "index.md").write_text("new")
-    replace_folder(new, old)
-    assert (old / "index.md").read_text() == "new"
-    assert [p.name for p in tmp_path.iterdir()] == ["report"]
+def _folder(path: Path, files: dict) -> Path:
+    path.mkdir()
+    for name, text in files.items():
+        (path / name).write_text(text)
+    return path
+
+
+def test_a_signal_while_force_replaces_a_report_waits_until_it_is_whole(tmp_path, monkeypatch):
+    """A SIGINT that arrives while --force moves a new report over an old one is held until every file and
+    the list of them are in place; then the run stops."""
+    out = tmp_path / "report"
+    _files.install_folder(_folder(tmp_path / "old", {"a.txt": "old", "b.txt": "old"}), out)
+    new = _folder(tmp_path / "new", {"a.txt": "new", "c.txt": "new"})
+    real_replace = os.replace
+    moved = []
+
+    def replace(src, dst):
+        if not moved:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)  # the handler has run by now
+        moved.append(Path(dst).name)
+        real_replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", replace)
+    with _guard.handle_interrupts():
+        with pytest.raises(_guard.Interrupted):
+            _files.install_folder(new, out)
+    assert moved == ["a.txt", "c.txt"]
+    assert {p.name: p.read_text() for p in out.iterdir() if p.name != _files.MARKER} == {"a.txt": "new", "c.txt": "new"}
+    assert _files.written_files(out) == ["a.txt", "c.txt"]

@@ -52,7 +52,7 @@ def lines_by_label(fig):
 
 
 def test_parameter_figure_plots_fig3_panels(walk, fake_result, tmp_path):
-    """Fig. 3: |f| against DFT average and truth, R and r estimated and true, A0 and A1; PNG saved."""
+    """Fig. 3: signed f (0 marked) vs DFT average and truth, R and r estimated and true, A0 and A1; PNG saved."""
     t, tr, result = fake_result
     out = tmp_path / "figs" / "params.png"
     fig = plots.parameter_figure(
@@ -62,8 +62,8 @@ def test_parameter_figure_plots_fig3_panels(walk, fake_result, tmp_path):
     assert out.is_file() and out.stat().st_size > 10_000
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     lines = lines_by_label(fig)
-    np.testing.assert_allclose(lines["estimate |f|"].get_ydata(), np.abs(result.step_frequency_hz))
-    np.testing.assert_allclose(lines["reference"].get_xdata(), walk.truth.time_s)
+    np.testing.assert_allclose(lines["estimate f (signed)"].get_ydata(), result.step_frequency_hz)  # < 0 here
+    np.testing.assert_allclose(lines["truth"].get_xdata(), walk.truth.time_s)
     np.testing.assert_allclose(lines["R est."].get_ydata(), result.R_m)
     np.testing.assert_allclose(lines["r true"].get_ydata(), walk.truth.r_m)
     np.testing.assert_allclose(lines["A1 (amplitude)"].get_ydata(), result.A1_mps)
@@ -131,3 +131,55 @@ def test_arrays_of_the_wrong_length_are_refused():
     """An estimate not on the time grid is an input error, not a misleading figure."""
     with pytest.raises(InputError, match="vx_hat"):
         plots.velocity_figure(np.arange(5.0), np.zeros(5), np.zeros(5), vx_hat_mps=np.zeros(4))
+
+
+def _texts(fig):
+    return [t.get_text() for t in fig.texts]
+
+
+def test_synthetic_figures_carry_a_visible_mark(walk, fake_result):
+    """Every synthetic figure has the boxed SYNTHETIC DATA label and the watermark; real ones have neither."""
+    t, tr, result = fake_result
+    figs = [
+        plots.parameter_figure(t, result, truth=walk.truth),
+        plots.velocity_figure(t, tr.vx_path_mps, tr.vz_mps, result, synthetic=True),
+    ]
+    for fig in figs:
+        assert "SYNTHETIC DATA" in _texts(fig) and "SYNTHETIC" in _texts(fig)
+    real = plots.velocity_figure(t, tr.vx_path_mps, tr.vz_mps, result)
+    assert not any("SYNTHETIC" in text for text in _texts(real))
+
+
+@pytest.fixture(scope="module")
+def estimate_inputs():
+    """A stop-and-go walk through the pipeline and the default estimator."""
+    from yoyogait import GaitEstimator, gait_velocities
+
+    w = sy.make_walk(sy.SUBJECTS[0], "5-stop-and-go", duration_s=25.0)
+    vel = gait_velocities(w.recording)
+    return w, vel, GaitEstimator().run(vel.vx, vel.vz, time_s=vel.time_s)
+
+
+def test_estimate_figure_has_bands_standing_cadence_and_a_zoom(estimate_inputs, tmp_path):
+    """The estimate figure: velocities with reconstruction, +-2 sigma bands on f and speed, standing
+    shaded, the foot-contact cadence, 0 Hz marked, and a 5 s zoom inside the walking part."""
+    w, vel, res = estimate_inputs
+    cadence = np.full(vel.time_s.shape, 1.8)
+    out = tmp_path / "estimate.png"
+    fig = plots.estimate_figure(
+        vel, res, reference_step_frequency_hz=cadence, contacts_s=[10.0, 10.55, 11.1], synthetic=True, path=out
+    )
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    ax_x, ax_z, ax_f, ax_s, zoom_x, zoom_z = fig.axes
+    labels = {ax: [h for h in ax.get_legend_handles_labels()[1]] for ax in fig.axes}
+    assert "reconstructed $v_x$" in labels[ax_x] and "standing" in labels[ax_x]
+    assert "±2σ" in labels[ax_f] and "±2σ" in labels[ax_s] and "foot-contact cadence" in labels[ax_f]
+    lines = {line.get_label(): line for line in ax_f.get_lines()}
+    np.testing.assert_allclose(lines["estimate (signed)"].get_ydata(), res.step_frequency_hz)
+    assert any(np.all(np.asarray(line.get_ydata()) == 0) for line in ax_f.get_lines())  # 0 Hz marked
+    lo, hi = zoom_z.get_xlim()
+    assert hi - lo == pytest.approx(5.0)
+    walking = vel.walking[(vel.time_s >= lo) & (vel.time_s <= hi)]
+    assert walking.all()
+    assert "foot contact" in labels[zoom_z] or not (lo <= 10.0 <= hi)
+    assert "SYNTHETIC DATA" in _texts(fig)

@@ -19,6 +19,7 @@ import click
 from .._guard import Interrupted, handle_interrupts, interrupted_by
 from ..errors import YoyogaitError
 from . import demo_cmd, estimate_cmd, evaluate_cmd, inspect_cmd
+from .options import cli_message
 
 
 class _Stopped(BaseException):
@@ -77,11 +78,15 @@ def _run(argv) -> int:
         return 130
     except KeyboardInterrupt as exc:
         return 128 + (exc.signum if isinstance(exc, Interrupted) else int(signal.SIGINT))
+    except click.UsageError as exc:  # one line naming the option, not click's usage block
+        where = exc.ctx.command_path if exc.ctx is not None else "yoyogait"
+        click.echo(f"yoyogait: error: {exc.format_message()} (see '{where} --help')", err=True)
+        return exc.exit_code
     except click.ClickException as exc:
-        exc.show()
+        click.echo(f"yoyogait: error: {exc.format_message()}", err=True)
         return exc.exit_code
     except (YoyogaitError, ValueError, OSError) as exc:
-        click.echo(f"yoyogait: error: {_one_line(exc)}", err=True)
+        click.echo(f"yoyogait: error: {cli_message(_one_line(exc))}", err=True)
         return 2
     return rv if isinstance(rv, int) else 0
 

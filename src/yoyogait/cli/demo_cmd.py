@@ -6,19 +6,21 @@ from pathlib import Path
 
 import click
 
-from .evaluate_cmd import run_evaluation
+from .evaluate_cmd import REPORT_FORCE_HELP, run_evaluation
+from .options import estimators_option, force_option
 
 
 @click.command()
+@estimators_option()
 @click.option(
     "--out",
-    type=click.Path(),
+    type=click.Path(file_okay=False),
+    metavar="FOLDER",
     default="yoyogait-demo",
     show_default=True,
-    help="Folder for the report (replaced only with --force).",
+    help="Folder for the report: new, empty, or a report of yoyogait's (with --force).",
 )
-@click.option("--force", is_flag=True, help="Replace an existing report folder.")
-@click.option("--estimators", default="paper,default", show_default=True, help="Presets and baselines to compare.")
-def demo(out, force, estimators):
+@force_option(REPORT_FORCE_HELP)
+def demo(estimators, out, force):
     """Evaluate the estimators on the built-in SYNTHETIC gait lab (3 subjects x 5 walks) and print Table I."""
     run_evaluation("synthetic", Path(out), estimators, force, True, 0)

@@ -9,40 +9,30 @@ import numpy as np
 
 from .. import io
 from .._files import atomic_files
-from ..errors import InputError, about_file
-from ..estimators.registry import check_estimators, estimators
+from ..errors import InputError, OutputError, about_file
+from ..estimators.registry import estimators
 from ..evaluation import figures as plots
+from ..evaluation import metrics
+from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
+from .options import check_points, force_option, input_options, preset_option
 
-COLUMNS = (
-    "time_s",
-    "vx_mps",
-    "vz_mps",
-    "vx_hat_mps",
-    "vz_hat_mps",
-    "step_frequency_hz",
-    "step_frequency_std_hz",
-    "speed_mps",
-    "speed_std_mps",
-    "R_m",
-    "r_m",
-    "A0_mps",
-    "A1_mps",
-    "x1",
-    "x2",
-    "x3_rad_per_sample",
-    "x4_mps",
-    "status",
-)
+
+def foot_contacts(recording, feet, up_axis):
+    """Contact times [s] from the feet (given or found by name); None when there are none."""
+    if recording.velocities is not None or (feet is None and not events.feet_of(recording)):
+        return None
+    try:
+        ev = events.detect_gait_events(recording, feet=feet, up_axis=up_axis)
+    except InputError:
+        return None
+    return ev.contacts_s if len(ev.contacts_s) >= 2 else None
 
 
 @click.command("estimate")
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--preset", default="default", show_default=True, help="Estimator preset or baseline.")
-@click.option("--point", default=None, help="Point to track: 'pelvis' (default), 'hand', or a point name.")
-@click.option("--up", "up_axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis of the file.")
-@click.option("--unit", "length_unit_m", type=float, default=None, help="Metres per length unit (BVH, CSV).")
-@click.option("--rate", "rate_hz", type=float, default=None, help="Sample rate of a file without one [Hz].")
+@input_options
+@preset_option
 @click.option(
     "--out",
     type=click.Path(dir_okay=False),
@@ -55,59 +45,51 @@ COLUMNS = (
     default=None,
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
-@click.option("--force", is_flag=True, help="Overwrite existing outputs.")
-def command(file, preset, point, up_axis, length_unit_m, rate_hz, out, figure, force):
-    """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV)."""
-    check_estimators([preset])
+@force_option("Overwrite the --out and --figure files if they exist.")
+def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, figure, force):
+    """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
+
+    The CSV has one row per 25 Hz sample: time_s, the measured vx_mps, vz_mps, walking (1: the
+    person walks, from foot contacts or speed), the reconstruction vx_hat_mps, vz_hat_mps,
+    step_frequency_hz and speed_mps with their standard deviations, R_m, r_m, A0_mps, A1_mps, the
+    state x1_mps, x2_mps, x3_rad_per_sample, x4_mps, estimator_walking (0: the estimator holds its
+    last walking values) and status (0: the sample was used).
+    """
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
     fig = None if figure == "none" else Path(figure or f"{stem}.estimate.png")
-    for target in (out, fig):
+    for option, target in (("--out", out), ("--figure", fig)):
         if target is not None and target.exists() and not force:
-            raise InputError(f"{target} exists; use --force to overwrite it")
+            raise OutputError(f"{option} {target}: exists; use --force to overwrite it")
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
     with about_file(file):
         recording = io.read(file, **overrides)
-        vel = gait_velocities(recording, point=point, up_axis=up_axis)
+        check_points(recording, point, feet)
+        vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet)
         res = estimators()[preset](vel)
-    state = res.state
-    table = np.column_stack(
-        [
-            vel.time_s,
-            vel.vx,
-            vel.vz,
-            res.vx_hat,
-            res.vz_hat,
-            res.step_frequency_hz,
-            res.step_frequency_std_hz,
-            res.speed_mps,
-            res.speed_std_mps,
-            res.R_m,
-            res.r_m,
-            res.A0_mps,
-            res.A1_mps,
-            state,
-            res.status,
-        ]
-    )
-    f = np.abs(res.step_frequency_hz[vel.walking]) if vel.walking.any() else np.abs(res.step_frequency_hz)
+        contacts = foot_contacts(recording, feet, vel.up_axis) if fig is not None else None
+    f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
     summary = (
         f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
-        f"median step frequency {np.median(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
+        f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
     )
-    writers = {
-        out: lambda p: np.savetxt(
-            p,
-            table,
-            delimiter=",",
-            header=",".join(COLUMNS),
-            comments="",
-            fmt=["%.4f"] + ["%.6g"] * (len(COLUMNS) - 2) + ["%d"],
-        )
-    }
+    writers = {out: lambda p: res.to_csv(p, velocities=vel)}
     if fig is not None:
-        title = f"{stem} [{preset}]"
-        writers[fig] = lambda p: plots.parameter_figure(vel.time_s, res, title=title, measured_vz_mps=vel.vz, path=p)
+        cadence = (
+            metrics.step_frequency_from_contacts(contacts, vel.time_s, stride_average=True)
+            if contacts is not None
+            else None
+        )
+        synthetic = bool(recording.metadata.get("synthetic"))
+        writers[fig] = lambda p: plots.estimate_figure(
+            vel,
+            res,
+            reference_step_frequency_hz=cadence,
+            contacts_s=contacts,
+            title=f"{stem}: {vel.point} [{preset}]",
+            synthetic=synthetic,
+            path=p,
+        )
     # Both or neither: the figure is drawn before the CSV is renamed into place.
     atomic_files(writers)
     click.echo(summary)

@@ -11,21 +11,28 @@ from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
 from ..pipeline.velocities import gait_velocities
+from .options import input_options
 
 
 def inspect_file(
-    path: str, *, point=None, up_axis=None, length_unit_m=None, rate_hz=None, forward: str = "norm"
+    path: str, *, point=None, feet=None, up_axis=None, length_unit_m=None, rate_hz=None, forward: str = "norm"
 ) -> dict:
     """Everything ``inspect`` prints, as a dict (computed before anything is printed)."""
     with about_file(path):
         return _inspect(
-            path, point=point, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward
+            path,
+            point=point,
+            feet=feet,
+            up_axis=up_axis,
+            length_unit_m=length_unit_m,
+            rate_hz=rate_hz,
+            forward=forward,
         )
 
 
-def _inspect(path: str, *, point, up_axis, length_unit_m, rate_hz, forward: str) -> dict:
+def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward: str) -> dict:
     rec = read(path, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
-    velocities = gait_velocities(rec, point=point, up_axis=up_axis, forward=forward)
+    velocities = gait_velocities(rec, point=point, up_axis=up_axis, forward=forward, feet=feet)
     if rec.velocities is not None:  # ready velocities: vz is the vertical one by the CSV layout
         up_axis_from = "the velocity columns: vz is vertical"
     else:
@@ -62,10 +69,10 @@ def _inspect(path: str, *, point, up_axis, length_unit_m, rate_hz, forward: str)
             report["hand"] = list(points.find_hand(rec.point_names).names)
         except InputError:
             pass
-        report["feet"] = events.feet_of(rec)
+        report["feet"] = events.feet_of(rec, feet)
     report["walking_from"] = "pelvis speed" if rec.velocities is None else "the given speed"
     if report["feet"] and report["pelvis"]:
-        ev = events.detect_gait_events(rec, up_axis=velocities.up_axis)
+        ev = events.detect_gait_events(rec, feet=feet, up_axis=velocities.up_axis)
         report["steps"] = int(len(ev.step_start_s))
         if len(ev.step_start_s):
             report["events_step_frequency_hz"] = ev.mean_step_frequency_hz
@@ -103,14 +110,7 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
 
 @click.command(name="inspect")
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option(
-    "--point",
-    default=None,
-    help="Point to follow: a name, 'pelvis' (default) or 'hand'; several names separated by commas are averaged.",
-)
-@click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Override the up axis.")
-@click.option("--length-unit-m", type=float, default=None, help="Metres per file length unit (BVH, or to override).")
-@click.option("--rate-hz", type=float, default=None, help="Sample rate for a file without one.")
+@input_options
 @click.option(
     "--forward",
     type=click.Choice(["norm", "heading"]),
@@ -120,13 +120,11 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
 )
 @click.option("--all-points", is_flag=True, help="List every point name.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
-def command(file, point, up_axis, length_unit_m, rate_hz, forward, all_points, as_json) -> None:
+def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, all_points, as_json) -> None:
     """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
     mean speed, dominant step frequency and the DFT check of the Yoyo-model."""
-    if point is not None and "," in point:
-        point = [p.strip() for p in point.split(",") if p.strip()]
     report = inspect_file(
-        file, point=point, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward
+        file, point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward
     )
     if as_json:
         click.echo(json.dumps(report, indent=1, default=float))

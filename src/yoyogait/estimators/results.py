@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _table
 from ..errors import InputError
 
 __all__ = ["EstimateResult", "PREDICTION_HORIZONS_S", "result_from_fit"]
@@ -79,6 +80,84 @@ class EstimateResult:
 
     def __len__(self) -> int:
         return int(self.vx_hat.shape[0])
+
+    def __repr__(self) -> str:
+        n = len(self)
+        if n == 0:
+            return f"EstimateResult(0 samples, T={self.sample_time_s:g} s)"
+        duration_s = (
+            float(self.time_s[-1] - self.time_s[0]) if self.time_s is not None else (n - 1) * self.sample_time_s
+        )
+        walking = np.asarray(self.walking, dtype=bool) if self.walking is not None else np.ones(n, dtype=bool)
+        where = "while walking" if walking.any() and not walking.all() else "median"
+        rows = walking if walking.any() else np.ones(n, dtype=bool)
+
+        def median(values) -> float:
+            v = np.asarray(values, dtype=float)[rows]
+            v = v[np.isfinite(v)]
+            return float(np.median(v)) if v.size else float("nan")
+
+        not_used = int(np.count_nonzero(np.asarray(self.status) != 0))
+        return (
+            f"EstimateResult({n} samples, {duration_s:.2f} s, T={self.sample_time_s:g} s; {where}: "
+            f"step frequency {median(self.step_frequency_hz):.3g} Hz, speed {median(self.speed_mps):.3g} m/s, "
+            f"R {median(self.R_m):.3g} m, r {median(self.r_m):.3g} m; "
+            f"{not_used} samples not used"
+            + (f"; predictions at {self.predict_ahead_s} s" if self.predict_ahead_s else "")
+            + ")"
+        )
+
+    def to_columns(self, velocities=None) -> dict[str, np.ndarray]:
+        """The estimates as named columns, units in every name, one row per sample (what
+        :meth:`to_csv` writes).
+
+        With ``velocities`` (the :class:`~yoyogait.pipeline.velocities.GaitVelocities` the result was
+        computed from) the measured ``vx_mps``, ``vz_mps`` and the data's ``walking`` (from foot
+        contacts or speed) come first.  ``estimator_walking`` is the estimator's own detector: where
+        it is 0 the default estimator holds its last walking values.  ``status`` is the
+        :class:`~yoyogait.Status` code of the sample (0: used).
+        """
+        n = len(self)
+        if velocities is not None and len(velocities.time_s) != n:
+            raise InputError(f"velocities have {len(velocities.time_s)} samples, the result {n}")
+        if velocities is not None:
+            time_s = velocities.time_s
+        elif self.time_s is not None:
+            time_s = self.time_s
+        else:
+            time_s = np.arange(n) * self.sample_time_s
+        cols: dict[str, np.ndarray] = {"time_s": np.asarray(time_s, dtype=float)}
+        if velocities is not None:
+            cols.update(vx_mps=velocities.vx, vz_mps=velocities.vz, walking=np.asarray(velocities.walking, bool))
+        state = np.asarray(self.state)
+        cols.update(
+            vx_hat_mps=self.vx_hat,
+            vz_hat_mps=self.vz_hat,
+            step_frequency_hz=self.step_frequency_hz,
+            step_frequency_std_hz=self.step_frequency_std_hz,
+            speed_mps=self.speed_mps,
+            speed_std_mps=self.speed_std_mps,
+            R_m=self.R_m,
+            r_m=self.r_m,
+            A0_mps=self.A0_mps,
+            A1_mps=self.A1_mps,
+            x1_mps=state[:, 0],
+            x2_mps=state[:, 1],
+            x3_rad_per_sample=state[:, 2],
+            x4_mps=state[:, 3],
+        )
+        walking = self.walking if self.walking is not None else np.ones(n, dtype=bool)
+        cols["estimator_walking"] = np.asarray(walking, dtype=bool)
+        cols["status"] = np.asarray(self.status).astype(np.int64)
+        return {k: np.ascontiguousarray(v) for k, v in cols.items()}
+
+    def to_dataframe(self, velocities=None):
+        """:meth:`to_columns` as a pandas DataFrame (needs the extra ``yoyogait[pandas]``)."""
+        return _table.to_dataframe(self.to_columns(velocities))
+
+    def to_csv(self, path, velocities=None):
+        """Write :meth:`to_columns` as CSV to ``path`` (through a temporary file); returns the path."""
+        return _table.write_csv(path, self.to_columns(velocities))
 
     # Derived from the state when read, as yoyogait::Estimate does: from gait_state, or, for
     # results without it (the paper's run, the baselines), from the paper-form state (eq. 5:

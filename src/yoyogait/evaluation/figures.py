@@ -5,7 +5,9 @@ pyplot, so that making them needs no display and leaves no global state
 behind (safe in tests, scripts and servers).  Inputs are plain arrays, or an
 estimator result object with the fields ``vx_hat``, ``vz_hat``, ``R_m``,
 ``r_m``, ``step_frequency_hz``, ``A0_mps``, ``A1_mps`` (and ``state``).
-Figures of synthetic data always say so in their title.
+Figures of synthetic data always say so: in their title, in a boxed label and in a
+diagonal watermark across the figure.  Layout is fixed margins, not constrained layout
+(which costs most of a figure's drawing time).
 """
 
 from __future__ import annotations
@@ -17,9 +19,10 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..errors import InputError
+from ..pipeline.signals import moving_mean, runs
 from . import metrics as _metrics
 
-__all__ = ["parameter_figure", "velocity_figure", "recording_title"]
+__all__ = ["parameter_figure", "velocity_figure", "estimate_figure", "recording_title", "mark_synthetic"]
 
 _EST = "tab:blue"
 _EST2 = "tab:orange"
@@ -61,7 +64,71 @@ def _check(t, **arrays):
             raise InputError(f"{name} has shape {a.shape}, expected {t.shape} like time_s")
 
 
-def _finish(fig: Figure, path) -> Figure:
+def mark_synthetic(fig: Figure) -> None:
+    """A boxed SYNTHETIC DATA label in the bottom right corner and a faint diagonal watermark."""
+    width_in, height_in = fig.get_size_inches()
+    fig.text(
+        0.5,
+        0.5,
+        "SYNTHETIC",
+        rotation=float(np.degrees(np.arctan2(height_in, width_in))),
+        fontsize=6.5 * float(np.hypot(width_in, height_in)),  # about 3/4 of the diagonal
+        rotation_mode="anchor",
+        weight="bold",
+        color="tab:red",
+        alpha=0.09,
+        ha="center",
+        va="center",
+        zorder=0,
+    )
+    fig.text(  # bottom right: the one corner no title, legend or axis label reaches
+        0.995,
+        0.005,
+        "SYNTHETIC DATA",
+        fontsize=9,
+        weight="bold",
+        color="darkred",
+        ha="right",
+        va="bottom",
+        bbox=dict(boxstyle="round,pad=0.3", facecolor="#fde0dc", edgecolor="tab:red"),
+    )
+
+
+def _legend_above(ax, **kwargs) -> None:
+    """The legend in one row just above the axes: it never hides data."""
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        ax.legend(
+            handles,
+            labels,
+            loc="lower left",
+            bbox_to_anchor=(0.0, 1.0),
+            ncol=kwargs.pop("ncol", len(handles)),
+            fontsize="small",
+            frameon=False,
+            borderaxespad=0.1,
+            handlelength=1.6,
+            columnspacing=1.2,
+            **kwargs,
+        )
+
+
+def _shade_standing(ax, t, walking, label: bool = True) -> None:
+    """Grey bands where the person stands (not walking)."""
+    if walking is None:
+        return
+    standing = ~np.asarray(walking, dtype=bool)
+    first = True
+    for a, b in runs(standing):
+        ax.axvspan(
+            t[a], t[min(b, len(t) - 1)], color="0.88", lw=0, zorder=0, label="standing" if first and label else None
+        )
+        first = False
+
+
+def _finish(fig: Figure, path, synthetic: bool = False) -> Figure:
+    if synthetic:
+        mark_synthetic(fig)
     fig.align_ylabels()
     if path is not None:
         path = Path(path)
@@ -92,7 +159,8 @@ def parameter_figure(
 ) -> Figure:
     """Fig. 3: step frequency, Yoyo radii and EKF bias/amplitude over time.
 
-    Top: |step frequency| estimate (Hz) with the recording's DFT average as a
+    Top: the signed step frequency estimate (Hz; 0 marked, so that a filter locked
+    onto the negative frequency shows) with the recording's DFT average as a
     horizontal line (given, or computed from ``measured_vz_mps``) and a
     reference step frequency over time when known.  Middle: R and r (m),
     estimated and true.  Bottom: A0 and A1 (m/s).  ``truth`` (a
@@ -124,12 +192,14 @@ def parameter_figure(
     if dft_step_frequency_hz is None and measured_vz_mps is not None:
         dft_step_frequency_hz = _metrics.dft_step_frequency_hz(t, measured_vz_mps)
 
-    fig = Figure(figsize=(8.0, 7.5), layout="constrained")
+    fig = Figure(figsize=(8.0, 7.5))
     FigureCanvasAgg(fig)
+    fig.subplots_adjust(left=0.1, right=0.97, top=0.9, bottom=0.07, hspace=0.32)
     ax_f, ax_R, ax_A = fig.subplots(3, 1, sharex=True)
 
+    ax_f.axhline(0.0, color="0.3", lw=0.8)
     if f is not None:
-        ax_f.plot(t, np.abs(f), color=_EST, lw=1.2, label="estimate |f|")
+        ax_f.plot(t, f, color=_EST, lw=1.2, label="estimate f (signed)")
     if reference_step_frequency_hz is not None:
         ax_f.plot(
             t_ref,
@@ -137,7 +207,7 @@ def parameter_figure(
             color=_REF,
             lw=1.0,
             ls="--",
-            label="reference",
+            label="truth" if truth is not None else "reference (foot contacts)",
         )
     if dft_step_frequency_hz is not None and np.isfinite(dft_step_frequency_hz):
         ax_f.axhline(
@@ -182,10 +252,9 @@ def parameter_figure(
 
     for ax in (ax_f, ax_R, ax_A):
         ax.grid(True, alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(loc="best", fontsize="small")
-    fig.suptitle(_title(title, bool(synthetic)))
-    return _finish(fig, path)
+        _legend_above(ax)
+    fig.suptitle(_title(title, bool(synthetic)), y=0.985)
+    return _finish(fig, path, bool(synthetic))
 
 
 def velocity_figure(
@@ -211,17 +280,159 @@ def velocity_figure(
     vz_hat = _pick(vz_hat_mps, result, "vz_hat", "vz_hat_mps")
     _check(t, measured_vx_mps=vx, measured_vz_mps=vz, vx_hat_mps=vx_hat, vz_hat_mps=vz_hat)
 
-    fig = Figure(figsize=(8.0, 5.5), layout="constrained")
+    fig = Figure(figsize=(8.0, 5.5))
     FigureCanvasAgg(fig)
+    fig.subplots_adjust(left=0.1, right=0.97, top=0.86, bottom=0.1, hspace=0.3)
     ax_x, ax_z = fig.subplots(2, 1, sharex=True)
     for ax, measured, estimate, name in ((ax_x, vx, vx_hat, "v_x"), (ax_z, vz, vz_hat, "v_z")):
         ax.plot(t, measured, color="0.45", lw=1.0, label=f"measured ${name}$")
         if estimate is not None:
             ax.plot(t, estimate, color=_EST, lw=1.2, label=f"reconstructed ${name}$")
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="best", fontsize="small")
+        _legend_above(ax)
     ax_x.set_ylabel("forward $v_x$ (m/s)")
     ax_z.set_ylabel("vertical $v_z$ (m/s)")
     ax_z.set_xlabel("time (s)")
-    fig.suptitle(_title(title, synthetic))
-    return _finish(fig, path)
+    fig.suptitle(_title(title, synthetic), y=0.985)
+    return _finish(fig, path, synthetic)
+
+
+def _zoom_window(t: np.ndarray, walking, span_s: float) -> tuple[float, float]:
+    """A ``span_s`` window in the middle of the longest walking stretch (else of the recording)."""
+    spans = runs(np.asarray(walking, dtype=bool)) if walking is not None else []
+    a, b = max(spans, key=lambda s: s[1] - s[0]) if spans else (0, len(t))
+    lo, hi = t[a], t[b - 1]
+    mid = 0.5 * (lo + hi)
+    start = max(t[0], min(mid - 0.5 * span_s, t[-1] - span_s))
+    return start, start + span_s
+
+
+def estimate_figure(
+    velocities,
+    result,
+    *,
+    reference_step_frequency_hz=None,
+    contacts_s=None,
+    title: str = "",
+    synthetic: bool = False,
+    zoom_s: float = 5.0,
+    path=None,
+) -> Figure:
+    """What ``yoyogait estimate`` draws: the estimate over a whole recording and a zoom.
+
+    Rows, on one time axis: forward and vertical velocity, measured and reconstructed
+    (eq. 13-14); the signed step frequency with its +-2 sigma band (0 marked) and the cadence
+    from foot contacts (``reference_step_frequency_hz`` on the velocity grid) when known; the
+    speed with its +-2 sigma band against the measured forward velocity averaged over a stride.
+    Standing periods (``velocities.walking`` False) are shaded.  Bottom: ``zoom_s`` seconds in
+    the middle of the longest walking stretch, where each step and the phase of the
+    reconstruction against the measurement show, foot contacts (``contacts_s``) marked.
+    """
+    vel, res = velocities, result
+    t = np.asarray(vel.time_s, dtype=float)
+    vx, vz = np.asarray(vel.vx, dtype=float), np.asarray(vel.vz, dtype=float)
+    vx_hat, vz_hat = np.asarray(res.vx_hat, dtype=float), np.asarray(res.vz_hat, dtype=float)
+    f = np.asarray(res.step_frequency_hz, dtype=float)
+    f_std = np.asarray(res.step_frequency_std_hz, dtype=float)
+    speed = np.asarray(res.speed_mps, dtype=float)
+    speed_std = np.asarray(res.speed_std_mps, dtype=float)
+    f_ref = None if reference_step_frequency_hz is None else np.asarray(reference_step_frequency_hz, dtype=float)
+    _check(t, vx_hat=vx_hat, vz_hat=vz_hat, step_frequency_hz=f, speed_mps=speed, reference=f_ref)
+    walking = getattr(vel, "walking", None)
+
+    fig = Figure(figsize=(10.0, 11.0))
+    FigureCanvasAgg(fig)
+    outer = fig.add_gridspec(2, 1, height_ratios=(4.0, 1.2), left=0.08, right=0.98, top=0.93, bottom=0.05, hspace=0.2)
+    rows = outer[0].subgridspec(4, 1, hspace=0.32)
+    ax_x = fig.add_subplot(rows[0])
+    ax_z = fig.add_subplot(rows[1], sharex=ax_x)
+    ax_f = fig.add_subplot(rows[2], sharex=ax_x)
+    ax_s = fig.add_subplot(rows[3], sharex=ax_x)
+    for ax in (ax_x, ax_z, ax_f):
+        ax.tick_params(labelbottom=False)
+    zoom_row = outer[1].subgridspec(1, 2, wspace=0.22)
+    zoom_x, zoom_z = fig.add_subplot(zoom_row[0, 0]), fig.add_subplot(zoom_row[0, 1])
+    lo, hi = _zoom_window(t, walking, zoom_s)
+
+    whole = hi - lo >= 0.9 * (t[-1] - t[0])  # a short recording: the zoom shows all of it, no box
+    for ax in (ax_x, ax_z, ax_f, ax_s):
+        _shade_standing(ax, t, walking, label=ax is ax_x)
+        if not whole:
+            ax.axvspan(
+                lo,
+                hi,
+                facecolor="none",
+                edgecolor="tab:purple",
+                lw=1.0,
+                ls="--",
+                zorder=1,
+                label="zoom (bottom)" if ax is ax_x else None,
+            )
+        ax.grid(True, alpha=0.3)
+        ax.margins(x=0)
+
+    for ax, zoom, measured, estimate, name in ((ax_x, zoom_x, vx, vx_hat, "v_x"), (ax_z, zoom_z, vz, vz_hat, "v_z")):
+        for a in (ax, zoom):
+            a.plot(t, measured, color="0.4", lw=0.9, label=f"measured ${name}$")
+            a.plot(t, estimate, color=_EST, lw=1.1, label=f"reconstructed ${name}$")
+    ax_x.set_ylabel("forward $v_x$ (m/s)")
+    ax_z.set_ylabel("vertical $v_z$ (m/s)")
+
+    band = np.isfinite(f_std)
+    if band.any():
+        ax_f.fill_between(t, f - 2 * f_std, f + 2 * f_std, where=band, color=_EST, alpha=0.25, lw=0, label="±2σ")
+    ax_f.axhline(0.0, color="0.3", lw=0.8)
+    ax_f.plot(t, f, color=_EST, lw=1.2, label="estimate (signed)")
+    if f_ref is not None and np.isfinite(f_ref).any():
+        ax_f.plot(t, f_ref, color=_REF, lw=1.0, ls="--", label="foot-contact cadence")
+    ax_f.set_ylabel("step frequency (Hz)")
+    finite_f = f[np.isfinite(f)]
+    if finite_f.size:  # the band of the first samples (P0) must not flatten the estimate
+        top = max(
+            0.5,
+            float(np.max(finite_f)),
+            float(np.nanmax(f_ref)) if f_ref is not None and np.isfinite(f_ref).any() else 0.0,
+        )
+        bottom = min(0.0, float(np.min(finite_f)))
+        pad = 0.1 * (top - bottom)
+        ax_f.set_ylim(bottom - pad, top + pad)
+
+    band = np.isfinite(speed_std)
+    if band.any():
+        ax_s.fill_between(
+            t, speed - 2 * speed_std, speed + 2 * speed_std, where=band, color=_EST2, alpha=0.25, lw=0, label="±2σ"
+        )
+    # Averaged over a stride (two steps), where the oscillation cancels: the stride of the foot-contact
+    # cadence, else of the estimate; 1.8 Hz when neither is known.
+    cadence = f_ref if f_ref is not None and np.isfinite(f_ref).any() else f
+    known = np.abs(cadence[np.isfinite(cadence) & (np.asarray(walking, bool) if walking is not None else True)])
+    f_typ = float(np.clip(np.median(known), 0.6, 3.0)) if known.size else 1.8
+    mean_vx = moving_mean(vx, max(1, int(round(2.0 / f_typ * vel.rate_hz))))
+    ax_s.plot(t, mean_vx, color="0.4", lw=1.0, label="measured $v_x$, stride mean")
+    ax_s.plot(t, speed, color=_EST2, lw=1.2, label="speed estimate")
+    ax_s.set_ylabel("speed (m/s)")
+    ax_s.set_xlabel("time (s)")
+
+    contacts = np.asarray(contacts_s, dtype=float) if contacts_s is not None else np.empty(0)
+    shown = contacts[(contacts >= lo) & (contacts <= hi)]
+    for zoom, name in ((zoom_x, "forward $v_x$ (m/s)"), (zoom_z, "vertical $v_z$ (m/s)")):
+        zoom.set_xlim(lo, hi)
+        inside = (t >= lo) & (t <= hi)
+        values = np.concatenate([vx[inside], vx_hat[inside]] if zoom is zoom_x else [vz[inside], vz_hat[inside]])
+        values = values[np.isfinite(values)]
+        if values.size:
+            pad = 0.08 * (values.max() - values.min() + 1e-3)
+            zoom.set_ylim(values.min() - pad, values.max() + pad)
+        for k, c in enumerate(shown):
+            zoom.axvline(c, color="tab:green", lw=0.8, ls=":", label="foot contact" if k == 0 else None)
+        zoom.set_xlabel("time (s)")
+        zoom.set_ylabel(name)
+        zoom.grid(True, alpha=0.3)
+        zoom.set_title(f"zoom: {lo:.1f}-{hi:.1f} s", fontsize="small", loc="right", pad=2)
+
+    for ax in (ax_x, ax_z, ax_f, ax_s):
+        _legend_above(ax)
+    _legend_above(zoom_z, ncol=2)
+    _legend_above(zoom_x, ncol=2)
+    fig.suptitle(_title(title, synthetic), y=0.99)
+    return _finish(fig, path, synthetic)

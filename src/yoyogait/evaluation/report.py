@@ -10,9 +10,9 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from .._files import give_default_mode, replace_folder
+from .._files import check_output_folder, install_folder, why
 from .._guard import check_interrupted, signals_deferred
-from ..errors import InputError
+from ..errors import OutputError
 from . import figures as plots
 from . import metrics
 from .running import Evaluation
@@ -31,27 +31,30 @@ def write_report(
 ) -> Path:
     """Write tables, CSVs, figures and an index into ``out_dir``.
 
-    Written into a temporary folder beside it and renamed at the end, so an
-    interrupted run leaves no half-written report; an existing ``out_dir`` is
-    replaced only with ``force``.
+    Written into a temporary folder beside it and moved into place at the end, so an
+    interrupted run leaves no half-written report.  ``out_dir`` may be new or empty; a
+    report yoyogait wrote there before is replaced only with ``force``, and then only the
+    files it lists in its marker (``.yoyogait-report``): the user's other files stay.  A
+    non-empty folder without the marker is refused.
     """
     out = Path(out_dir)
-    if out.exists() and not force:
-        raise InputError(f"{out} exists; use --force to replace it")
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out} exists and is not a folder")
+    check_output_folder(out, force)
     parent = out.resolve().parent
-    parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
+    except OSError as exc:
+        raise OutputError(f"cannot write the report {out}: {why(exc)}") from None
     try:
         _write(evaluation, tmp, figures=figures, progress=progress)
-        for item in (tmp, *tmp.rglob("*")):
-            give_default_mode(item)
-        replace_folder(tmp, out)
-    except BaseException:
-        with signals_deferred():
-            shutil.rmtree(tmp, ignore_errors=True)
+        install_folder(tmp, out)
+    except OutputError:
         raise
+    except OSError as exc:
+        raise OutputError(f"cannot write the report {out}: {why(exc, tmp)}") from None
+    finally:
+        with signals_deferred():  # a second signal does not cut the clean-up short
+            shutil.rmtree(tmp, ignore_errors=True)
     return out
 
 

@@ -30,6 +30,16 @@ class Recording:
     source: str = ""
     metadata: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        names = list(self.point_names)
+        shown = ", ".join(names[:6]) + (f", ... ({len(names) - 6} more)" if len(names) > 6 else "")
+        rate = f"{self.rate_hz:g} Hz" if self.rate_hz else "irregular rate"
+        what = f"{len(names)} points: {shown}" if names else "ready velocities"
+        return (
+            f"Recording({self.source or 'in memory'}: {self.n_frames} frames at {rate}, {self.duration_s:.2f} s, "
+            f"up {self.up_axis or 'not given'}, {what})"
+        )
+
     @property
     def n_frames(self) -> int:
         return int(self.positions_m.shape[0])

@@ -166,18 +166,21 @@ def walking_mask(
     up_axis: str | None = None,
     walking_speed_mps: float = 0.15,
     min_walk_s: float = 1.0,
+    feet=None,
 ) -> np.ndarray:
     """Walking (True) or standing per time in ``time_s``.
 
-    From gait events when the recording has feet and a pelvis and some foot
-    contact is found; else from ``speed_mps`` (horizontal speed on the
-    ``time_s`` grid, see :func:`walking_from_speed`).
+    From gait events when the recording has feet (``feet``, else found by name)
+    and a pelvis and some foot contact is found; else from ``speed_mps``
+    (horizontal speed on the ``time_s`` grid, see :func:`walking_from_speed`).
     """
 
     t = np.asarray(time_s, dtype=float)
-    if recording.velocities is None and points.find_feet(recording.point_names):
+    if recording.velocities is None and feet is not None:
+        feet_of(recording, feet)  # InputError naming a foot point that is not there
+    if recording.velocities is None and (feet is not None or points.find_feet(recording.point_names)):
         try:
-            events = detect_gait_events(recording, up_axis=up_axis)
+            events = detect_gait_events(recording, feet=feet, up_axis=up_axis)
         except InputError:
             events = None
         if events is not None and len(events.contacts_s) > 0:

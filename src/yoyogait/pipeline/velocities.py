@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.signal import savgol_filter
 
+from .. import _table
 from ..errors import InputError
 from ..io.recording import AXES, MAX_SPEED_MPS, Recording, check_time
 from . import events, points
@@ -69,6 +70,33 @@ class GaitVelocities:
     source: str = ""
     settings: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        n = len(self.time_s)
+        duration_s = float(self.time_s[-1] - self.time_s[0]) if n > 1 else 0.0
+        return (
+            f"GaitVelocities({self.source or 'recording'}: {n} samples at {self.rate_hz:g} Hz, {duration_s:.2f} s, "
+            f"{self.point}, up {self.up_axis}, forward {self.forward}, walking {self.walking_s:.2f} s, "
+            f"usable {self.usable_s:.2f} s)"
+        )
+
+    def to_columns(self) -> dict[str, np.ndarray]:
+        """Named columns, units in every name: time_s, vx_mps, vz_mps, vx_signed_mps, walking."""
+        return {
+            "time_s": np.asarray(self.time_s, dtype=float),
+            "vx_mps": np.asarray(self.vx, dtype=float),
+            "vz_mps": np.asarray(self.vz, dtype=float),
+            "vx_signed_mps": np.asarray(self.vx_signed, dtype=float),
+            "walking": np.asarray(self.walking, dtype=bool),
+        }
+
+    def to_dataframe(self):
+        """:meth:`to_columns` as a pandas DataFrame (needs the extra ``yoyogait[pandas]``)."""
+        return _table.to_dataframe(self.to_columns())
+
+    def to_csv(self, path):
+        """Write :meth:`to_columns` as CSV to ``path`` (through a temporary file); returns the path."""
+        return _table.write_csv(path, self.to_columns())
+
     @property
     def finite(self) -> np.ndarray:
         """True where both velocities are known."""
@@ -106,6 +134,7 @@ def gait_velocities(
     heading_window_s: float = 1.0,
     min_usable_s: float = 1.5,
     hand_side: str = "right",
+    feet=None,
 ) -> GaitVelocities:
     """Forward and vertical velocity of ``point`` at ``rate_hz``, by the paper's pipeline.
 
@@ -117,6 +146,7 @@ def gait_velocities(
     velocity than this raise InputError ("shorter than the filter needs"),
     because neither the DFT check nor the estimator can lock onto a step
     frequency from less than about three steps (1.5 s at a normal cadence).
+    ``feet``: foot points for the walking part (else found by name).
     """
     if forward not in FORWARD_DEFINITIONS:
         raise InputError(f"forward must be one of {', '.join(FORWARD_DEFINITIONS)}, not {forward!r}")
@@ -172,7 +202,7 @@ def gait_velocities(
         )
 
     walking = events.walking_mask(
-        recording, t_out, speed_mps=np.hypot(v_h[:, 0], v_h[:, 1]), rate_hz=rate_hz, up_axis=up
+        recording, t_out, speed_mps=np.hypot(v_h[:, 0], v_h[:, 1]), rate_hz=rate_hz, up_axis=up, feet=feet
     )
     return GaitVelocities(
         time_s=t_out,
