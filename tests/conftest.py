@@ -29,6 +29,18 @@ def datasets_dir() -> Path:
 
 
 @pytest.fixture(scope="session")
+def formats_dir(datasets_dir) -> Path:
+    """Folder of real export samples (Nexus CSV, Motive CSV, MVNX, .mot, comma TRC); skips visibly, fails under CI."""
+    folder = datasets_dir / "formats"
+    if not (folder / "README.md").is_file():
+        reason = f"real export samples not found: {folder} is absent"
+        if os.environ.get("CI"):
+            pytest.fail(reason + "; CI must have them")
+        pytest.skip(reason)
+    return folder
+
+
+@pytest.fixture(scope="session")
 def manifest(datasets_dir) -> dict:
     """The parsed manifest.json of the real recordings."""
     return json.loads((datasets_dir / "manifest.json").read_text())

@@ -168,3 +168,54 @@ def test_velocities_mark_walking_from_steps_or_else_from_speed():
         assert v.walking[(v.time_s > 3) & (v.time_s < 6)].all()
     speed_mask = events.walking_from_speed(np.r_[np.zeros(50), np.ones(100), np.zeros(50)], 25.0)
     assert not speed_mask[:40].any() and speed_mask[60:140].all() and not speed_mask[160:].any()
+
+
+def _with_toes(rec):
+    """The walk with a toe marker 0.2 m ahead of each heel."""
+    heels = rec.points(["LHEE", "RHEE"])
+    toes = heels + np.array([0.2, 0.0, 0.0])
+    pos = np.concatenate([rec.positions_m, toes], axis=1)
+    return Recording(pos, rec.point_names + ["LTOE", "RTOE"], rec.time_s, rate_hz=rec.rate_hz, up_axis="z")
+
+
+@pytest.mark.parametrize(
+    "feet",
+    [
+        ["LHEE", "RHEE", "LTOE", "RTOE"],
+        {"left": ["LTOE", "LHEE"], "right": ["RHEE", "RTOE"]},
+        {"l": "LHEE", "r": "RHEE"},
+    ],
+)
+def test_heel_and_toe_of_a_side_are_one_foot(feet):
+    """Heel and toe of one side are one foot (list with sides from names, or a dict): one contact series per side,
+    the heel used, and the cadence is the true 1.8 Hz, not doubled."""
+    rec, truth = stepping_walk()
+    rec = _with_toes(rec)
+    assert events.foot_groups_of(rec, feet)["left"][0] == "LHEE"
+    ev = events.detect_gait_events(rec, feet=feet)
+    assert ev.feet == {"left": "LHEE", "right": "RHEE"}
+    assert matched(ev.contacts_s, truth)
+    assert ev.mean_step_frequency_hz == pytest.approx(1.8, abs=0.02)
+
+
+def test_a_listed_foot_without_a_side_is_an_error():
+    """A foot point whose name tells no side cannot make a per-side contact series: the error says how to fix it."""
+    rec, _ = stepping_walk()
+    with pytest.raises(InputError, match="feet=SACR: cannot tell which foot .SACR.*left"):
+        events.detect_gait_events(rec, feet=["LHEE", "SACR"])
+
+
+def test_manifest_feet_as_a_list_or_by_side(tmp_path):
+    """A manifest gives feet as a list or as {"left": [...], "right": [...]}; both reach the events as given."""
+    from yoyogait.evaluation.datasets import manifest_items
+
+    (tmp_path / "a.csv").write_text("time_s,vx,vz\n0,1,0\n0.1,1,0\n")
+    (tmp_path / "manifest.json").write_text(
+        '{"recordings": [{"path": "a.csv", "feet": ["LHEE", "RHEE", "LTOE", "RTOE"]},'
+        ' {"path": "a.csv", "feet": {"left": ["LHEE", "LTOE"], "right": ["RHEE"]}},'
+        ' {"path": "a.csv", "feet": "LHEE"}]}'
+    )
+    items, problems = manifest_items(tmp_path / "manifest.json")
+    assert items[0].feet == ["LHEE", "RHEE", "LTOE", "RTOE"]
+    assert items[1].feet == {"left": ["LHEE", "LTOE"], "right": ["RHEE"]}
+    assert problems == [("a.csv", '\'feet\' must be a list of names or {"left": [...], "right": [...]}')]

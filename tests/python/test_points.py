@@ -167,3 +167,100 @@ def test_choose_point_by_name_list_or_keyword():
     assert points.choose_point(rec, ["LASI", "RASI"]).label == "centre of LASI, RASI"
     with pytest.raises(InputError, match="no point 'NOPE'.*available: LASI, RASI"):
         points.choose_point(rec, "NOPE")
+
+
+# ----------------------------------------------------------------------------- marker-set table
+
+_KNOWLEDGE = points.marker_knowledge()
+
+
+def _set_names(spec) -> list[str]:
+    names = list(spec.get("pelvis", [])) + list(spec.get("root", []))
+    for role in ("hand", "wrist"):
+        for side in ("left", "right"):
+            names += spec.get(role, {}).get(side, [])
+    for side in ("left", "right"):
+        for kind_names in spec.get("feet", {}).get(side, {}).values():
+            names += kind_names
+    return list(dict.fromkeys(names))
+
+
+@pytest.mark.parametrize("set_name", sorted(_KNOWLEDGE.sets))
+def test_every_marker_set_of_the_table_is_recognised_from_a_file(tmp_path, set_name):
+    """A CSV holding one set's names (under a subject prefix) is read; its pelvis and each foot, by side, are found."""
+    import yoyogait
+
+    spec = _KNOWLEDGE.sets[set_name]
+    names = _set_names(spec) + ["LKNE", "RKNE"]
+    header = "time_s," + ",".join(f"Sub:{n}_{a}" for n in names for a in "xyz")
+    rows = [
+        f"{f / 100:.2f}," + ",".join(f"{0.01 * f + i * 0.001:.3f},{i * 0.01:.2f},0.5" for i in range(len(names)))
+        for f in range(3)
+    ]
+    path = tmp_path / "set.csv"
+    path.write_text(header + "\n" + "\n".join(rows) + "\n")
+    rec = yoyogait.read(path)
+    choice = points.find_pelvis(rec.point_names)
+    if spec.get("pelvis"):
+        assert choice.kind == "pelvis markers"
+        assert {f"Sub:{n}" for n in spec["pelvis"]} <= set(choice.names)
+    else:
+        assert choice.kind == "root joint" and choice.names[0] == f"Sub:{spec['root'][0]}"
+    groups = points.find_foot_groups(rec.point_names)
+    for side, kinds in spec.get("feet", {}).items():
+        listed = {f"Sub:{n}" for kind_names in kinds.values() for n in kind_names}
+        assert listed <= set(groups[side]), f"{side}: {groups.get(side)}"
+        first_kind = next(k for k in points.FOOT_KINDS if kinds.get(k))
+        assert groups[side][0] in {f"Sub:{n}" for n in kinds[first_kind]}
+    for side in ("left", "right"):
+        if spec.get("hand", {}).get(side) or spec.get("wrist", {}).get(side):
+            assert points.find_hand(rec.point_names, side).names
+
+
+@pytest.mark.parametrize(
+    "names, pelvis, left_foot",
+    [
+        (
+            ["pHipOrigin", "pLeftASI", "pRightASI", "pSacrum", "pLeftHeelFoot"],
+            {"pLeftASI", "pRightASI", "pSacrum"},
+            "pLeftHeelFoot",
+        ),
+        (["Hip_FL", "Hip_FR", "Hip_BL", "Hip_BR", "LToe"], {"Hip_FL", "Hip_FR", "Hip_BL", "Hip_BR"}, "LToe"),
+        (["r.ASIS_study", "L.PSIS_study", "midHip", "L_calc_study"], {"r.ASIS_study", "L.PSIS_study"}, "L_calc_study"),
+        (["LIAS", "RIAS", "LIPS", "RIPS", "LCA"], {"LIAS", "RIAS", "LIPS", "RIPS"}, "LCA"),
+        (["midHip", "LHeel", "RHeel"], {"midHip"}, "LHeel"),
+        (["Skeleton_Hip", "Skeleton_LFoot", "Skeleton_RFoot"], {"Skeleton_Hip"}, "Skeleton_LFoot"),
+        (["Skeleton 001_Hip", "Skeleton 001_LFoot"], {"Skeleton 001_Hip"}, "Skeleton 001_LFoot"),
+    ],
+)
+def test_pelvis_and_feet_of_xsens_mocap_toolbox_opencap_isb_and_skeletons(names, pelvis, left_foot):
+    """Xsens, MoCap Toolbox, OpenCap, ISB names and prefixed skeleton bones give the pelvis and the left foot."""
+    assert set(points.find_pelvis(names).names) == pelvis
+    assert points.find_feet(names)["left"] == left_foot
+
+
+def test_joint_root_prefix_is_not_stripped_to_a_root():
+    """'joint_Root' (Bandai's ground projection) is not taken for a root joint through its 'joint_' prefix."""
+    with pytest.raises(InputError, match="no pelvis-like point"):
+        points.find_pelvis(["joint_Root", "Spine"])
+
+
+def test_users_extend_the_table_with_a_file_named_by_the_environment(tmp_path, monkeypatch):
+    """A JSON file named by $YOYOGAIT_MARKER_SETS adds a lab's own names (pelvis and feet by side); a bad file is
+    one clear error."""
+    own = tmp_path / "lab.json"
+    own.write_text(
+        '{"sets": {"our lab": {"pelvis": ["WAISTF", "WAISTB"],'
+        ' "feet": {"left": {"heel": ["FERSE_LI"]}, "right": {"heel": ["FERSE_RE"]}}}}}'
+    )
+    names = ["WAISTF", "WAISTB", "FERSE_LI", "FERSE_RE"]
+    with pytest.raises(InputError):
+        points.find_pelvis(names)
+    monkeypatch.setenv(points.MARKER_SETS_ENV, str(own))
+    assert points.find_pelvis(names).names == ("WAISTF", "WAISTB")
+    assert points.find_feet(names) == {"left": "FERSE_LI", "right": "FERSE_RE"}
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    monkeypatch.setenv(points.MARKER_SETS_ENV, str(bad))
+    with pytest.raises(InputError, match="bad.json: not valid JSON"):
+        points.find_pelvis(names)

@@ -114,6 +114,44 @@ def test_detection_finds_the_manifest_pelvis_and_up_axis(path, loaded):
     assert np.nanmedian(distance) < 0.03
 
 
+@pytest.mark.parametrize("path", recordings())
+def test_detection_finds_the_manifest_feet_by_side(path, loaded):
+    """Without being told, each recording with manifest feet has a left and a right foot, and every manifest foot
+    point that is ever seen is in the foot of its own side; a recording without feet has none."""
+    item = loaded(path)
+    rec, entry = item.recording, item.entry
+    groups = events.foot_groups_of(rec)
+    if entry["feet"] is None:
+        assert groups == {}
+        return
+    assert set(groups) == {"left", "right"}
+    seen = dict(zip(rec.point_names, rec.visible().mean(axis=0)))
+    for name in entry["feet"]:
+        side = points.side_of(name)
+        assert side in ("left", "right"), name
+        if seen[name] > 0:
+            assert name in groups[side], f"{name} not in the {side} foot {groups[side]}"
+    assert events.foot_groups_of(rec, entry["feet"]).keys() <= {"left", "right"}
+
+
+# The one treadmill walk (the pelvis stays within 7 cm for 2.5 s). The other "treadmill" entry, HBM, holds no
+# walking: the subject stands on the side rails, so its stance feet do not move and it is not called a treadmill.
+TREADMILL_WALKS = {"opensim_models/Gait2392_subject01_walk1.trc"}
+
+
+@pytest.mark.parametrize("path", recordings())
+def test_treadmill_is_detected_only_where_a_belt_carries_the_feet(path, loaded):
+    """Treadmill walking is detected on the Gait2392 trial only; there the belt (1.0-1.2 m/s) makes the walking
+    speed 1.0-1.2 m/s instead of the pelvis's 0.15 m/s; no overground walk is called a treadmill."""
+    v = loaded(path).velocities
+    assert v.treadmill is not None
+    assert v.treadmill.detected == (path in TREADMILL_WALKS), v.treadmill.reason
+    if v.treadmill.detected:
+        assert 1.0 < v.treadmill.belt_speed_mps < 1.2
+        walking = v.walking & v.finite
+        assert 1.0 < np.mean(v.vx[walking]) < 1.2
+
+
 @pytest.mark.parametrize("path", recordings(fmt="bvh"))
 def test_bvh_length_unit_is_inferred_as_in_the_manifest(path, loaded):
     """A BVH's unit, inferred from the pelvis height, is the manifest's length_unit_m (cm, or CMU's 0.0564 m)."""

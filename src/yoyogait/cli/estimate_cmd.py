@@ -45,8 +45,15 @@ def foot_contacts(recording, feet, up_axis):
     default=None,
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
+@click.option(
+    "--belt-speed-mps",
+    type=float,
+    default=None,
+    metavar="M/S",
+    help="Treadmill belt speed (else found from the stance feet).",
+)
 @force_option("Overwrite the --out and --figure files if they exist.")
-def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, figure, force):
+def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, figure, belt_speed_mps, force):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
     The CSV has one row per 25 Hz sample: time_s, the measured vx_mps, vz_mps, walking (1: the
@@ -65,7 +72,7 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     with about_file(file):
         recording = io.read(file, **overrides)
         check_points(recording, point, feet)
-        vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet)
+        vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
         res = estimators()[preset](vel)
         contacts = foot_contacts(recording, feet, vel.up_axis) if fig is not None else None
     f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
@@ -93,4 +100,6 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, preset, out, fig
     # Both or neither: the figure is drawn before the CSV is renamed into place.
     atomic_files(writers)
     click.echo(summary)
+    if vel.treadmill is not None and vel.treadmill.detected:
+        click.echo(vel.treadmill.reason)
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))

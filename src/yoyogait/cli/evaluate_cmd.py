@@ -105,6 +105,10 @@ def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=Non
         for name in names:
             click.echo(f"\nTable I, estimator '{name}': mean (± std) squared error, 1e-2 (m/s)^2\n")
             click.echo(ev.table_one_markdown(result, name))
+        for r in result.items:  # a treadmill walk's speed includes the belt: say so
+            treadmill = getattr(r.velocities, "treadmill", None)
+            if treadmill is not None and treadmill.detected:
+                click.echo(f"{r.item.name}: {treadmill.reason}")
         ev.write_report(result, out, force=force, figures=figures, progress=True)
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:

@@ -15,7 +15,15 @@ from .options import input_options
 
 
 def inspect_file(
-    path: str, *, point=None, feet=None, up_axis=None, length_unit_m=None, rate_hz=None, forward: str = "norm"
+    path: str,
+    *,
+    point=None,
+    feet=None,
+    up_axis=None,
+    length_unit_m=None,
+    rate_hz=None,
+    forward: str = "norm",
+    belt_speed_mps: float | None = None,
 ) -> dict:
     """Everything ``inspect`` prints, as a dict (computed before anything is printed)."""
     with about_file(path):
@@ -27,12 +35,16 @@ def inspect_file(
             length_unit_m=length_unit_m,
             rate_hz=rate_hz,
             forward=forward,
+            belt_speed_mps=belt_speed_mps,
         )
 
 
-def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward: str) -> dict:
+def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward: str, belt_speed_mps) -> dict:
     rec = read(path, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
-    velocities = gait_velocities(rec, point=point, up_axis=up_axis, forward=forward, feet=feet)
+    velocities = gait_velocities(
+        rec, point=point, up_axis=up_axis, forward=forward, feet=feet, belt_speed_mps=belt_speed_mps
+    )
+    treadmill = velocities.treadmill
     if rec.velocities is not None:  # ready velocities: vz is the vertical one by the CSV layout
         up_axis_from = "the velocity columns: vz is vertical"
     else:
@@ -51,6 +63,7 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         "pelvis": None,
         "hand": None,
         "feet": {},
+        "foot_points": {},
         "walking_s": velocities.walking_s,
         "walking_from": "",
         "mean_speed_mps": None,
@@ -59,6 +72,16 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         "events_step_frequency_hz": None,
         "steps": 0,
         "dft": None,
+        "treadmill": None
+        if treadmill is None
+        else {
+            "detected": treadmill.detected,
+            "belt_speed_mps": treadmill.belt_speed_mps,
+            "belt_from": treadmill.belt_from,
+            "pelvis_range_m": treadmill.pelvis_range_m,
+            "stance_foot_speed_mps": treadmill.stance_foot_speed_mps,
+            "summary": treadmill.reason,
+        },
     }
     if rec.velocities is None:  # a followed point other than the pelvis, no hand: not errors for inspect
         try:
@@ -69,7 +92,8 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
             report["hand"] = list(points.find_hand(rec.point_names).names)
         except InputError:
             pass
-        report["feet"] = events.feet_of(rec, feet)
+        report["foot_points"] = events.foot_groups_of(rec, feet)
+        report["feet"] = {side: group[0] for side, group in report["foot_points"].items()}
     report["walking_from"] = "pelvis speed" if rec.velocities is None else "the given speed"
     if report["feet"] and report["pelvis"]:
         ev = events.detect_gait_events(rec, feet=feet, up_axis=velocities.up_axis)
@@ -118,13 +142,27 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
     show_default=True,
     help="Forward velocity: 2-norm of the horizontal velocity (paper) or signed along the heading.",
 )
+@click.option(
+    "--belt-speed-mps",
+    type=float,
+    default=None,
+    metavar="M/S",
+    help="Treadmill belt speed (else found from the stance feet).",
+)
 @click.option("--all-points", is_flag=True, help="List every point name.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
-def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, all_points, as_json) -> None:
+def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json) -> None:
     """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
     mean speed, dominant step frequency and the DFT check of the Yoyo-model."""
     report = inspect_file(
-        file, point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz, forward=forward
+        file,
+        point=point,
+        feet=feet,
+        up_axis=up_axis,
+        length_unit_m=length_unit_m,
+        rate_hz=rate_hz,
+        forward=forward,
+        belt_speed_mps=belt_speed_mps,
     )
     if as_json:
         click.echo(json.dumps(report, indent=1, default=float))
@@ -145,8 +183,15 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, all_poi
         lines.append(("followed", report["point"]))
     if names:
         lines.append(("hand", ", ".join(report["hand"]) if report["hand"] else "none found"))
-        feet = ", ".join(f"{side} {name}" for side, name in report["feet"].items())
+        feet = ", ".join(
+            f"{side} {group[0]}" + (f" (with {', '.join(group[1:])})" if len(group) > 1 else "")
+            for side, group in report["foot_points"].items()
+        )
         lines.append(("feet", feet or "none found"))
+    if report["treadmill"] is not None and (
+        report["treadmill"]["detected"] or "stays" in report["treadmill"]["summary"]
+    ):
+        lines.append(("treadmill", report["treadmill"]["summary"]))
     lines.append(("walking", f"{report['walking_s']:.2f} s (from {report['walking_from']})"))
     speed = _fmt(report["mean_speed_mps"], "m/s")
     if report["mean_signed_speed_mps"] is not None and forward == "norm":

@@ -20,7 +20,7 @@ from ..synthetic import SyntheticTruth
 
 __all__ = ["Item", "READABLE", "synthetic_items", "manifest_items", "folder_items", "resolve_dataset"]
 
-READABLE = (".c3d", ".trc", ".bvh", ".csv")
+READABLE = tuple(io.READERS)
 
 
 @dataclass
@@ -33,7 +33,7 @@ class Item:
     load: Callable[[], Recording]
     truth: SyntheticTruth | None = None  # for synthetic walks
     pelvis: list | None = None  # points to average for the pelvis centre (else found by name)
-    feet: list | None = None  # points for foot contacts (else found by name)
+    feet: list | dict | None = None  # foot points: {"left": [...], "right": [...]} or a list (sides from the names)
     up_axis: str | None = None
     synthetic: bool = False
 
@@ -92,6 +92,10 @@ def manifest_items(path) -> tuple[list[Item], list[tuple[str, str]]]:
             overrides["length_unit_m"] = float(entry["length_unit_m"])
         if entry.get("vertical_axis"):
             overrides["up_axis"] = entry["vertical_axis"]
+        feet = entry.get("feet")
+        if feet is not None and not isinstance(feet, (list, dict)):
+            missing.append((entry["path"], '\'feet\' must be a list of names or {"left": [...], "right": [...]}'))
+            continue
         items.append(
             Item(
                 name=Path(entry["path"]).name,
@@ -99,7 +103,7 @@ def manifest_items(path) -> tuple[list[Item], list[tuple[str, str]]]:
                 walk=entry.get("walk") or "unknown",
                 load=functools.partial(io.read, file, **overrides),
                 pelvis=entry.get("pelvis"),
-                feet=entry.get("feet"),
+                feet=feet,
                 up_axis=entry.get("vertical_axis"),
             )
         )
@@ -107,7 +111,8 @@ def manifest_items(path) -> tuple[list[Item], list[tuple[str, str]]]:
 
 
 def folder_items(path) -> list[Item]:
-    """Every readable recording (C3D, TRC, BVH, CSV) below a folder; pelvis and feet found by name."""
+    """Every readable recording (any extension of :data:`yoyogait.io.READERS`) below a folder; pelvis and feet
+    found by name."""
     path = Path(path)
     files = sorted(p for p in path.rglob("*") if p.is_file() and p.suffix.lower() in READABLE)
     if not files:

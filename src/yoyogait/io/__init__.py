@@ -1,13 +1,19 @@
 """Readers of motion-capture files into :class:`Recording`.
 
-:func:`read` picks the reader by the file's extension:
+:func:`read` picks the reader by the file's extension and, for ``.csv``, by
+its first line:
 
-========  ==========================================  ================================
-``.c3d``  Vicon, Qualisys, Motion Analysis, Codamotion  :func:`yoyogait.io.c3d.read_c3d`
-``.trc``  OpenSim, AddBiomechanics, Cortex exports      :func:`yoyogait.io.trc.read_trc`
-``.bvh``  animation pipelines, Xsens, CMU, Bandai Namco :func:`yoyogait.io.bvh.read_bvh`
-``.csv``  anything else, in the layout of docs/input.md :func:`yoyogait.io.csv.read_csv`
-========  ==========================================  ================================
+=============  ===============================================  =============================================
+``.c3d``       Vicon, Qualisys, Motion Analysis, Codamotion     :func:`yoyogait.io.c3d.read_c3d`
+``.trc``       OpenSim, AddBiomechanics, Cortex, pyomeca        :func:`yoyogait.io.trc.read_trc`
+``.bvh``       animation pipelines, Xsens, CMU, Bandai Namco    :func:`yoyogait.io.bvh.read_bvh`
+``.tsv``       Qualisys Track Manager 3D export                 :func:`yoyogait.io.qtm.read_qtm_tsv`
+``.mvnx``      Xsens MVN                                        :func:`yoyogait.io.mvnx.read_mvnx`
+``.mot/.sto``  OpenSim coordinates (pelvis_tx/ty/tz)            :func:`yoyogait.io.opensim.read_opensim`
+``.csv``       Vicon Nexus (first line ``Trajectories``)        :func:`yoyogait.io.nexus.read_nexus_csv`
+``.csv``       OptiTrack Motive (first line ``Format Version``) :func:`yoyogait.io.motive.read_motive_csv`
+``.csv``       anything else, in the layout of docs/input.md    :func:`yoyogait.io.csv.read_csv`
+=============  ===============================================  =============================================
 
 Every reader returns positions in metres with NaN for a missing sample, never
 zero.  Bad input raises :class:`yoyogait.errors.InputError` with one sentence
@@ -22,6 +28,7 @@ import inspect
 import numpy as np
 
 from ..errors import InputError
+from .plausibility import check_plausible
 from .recording import AXES, Recording, check_coordinates, check_rate, check_readable, check_time
 
 __all__ = ["Recording", "read", "READERS"]
@@ -32,11 +39,33 @@ READERS = {
     ".trc": ("trc", "read_trc"),
     ".bvh": ("bvh", "read_bvh"),
     ".csv": ("csv", "read_csv"),
+    ".tsv": ("qtm", "read_qtm_tsv"),
+    ".mvnx": ("mvnx", "read_mvnx"),
+    ".mot": ("opensim", "read_opensim"),
+    ".sto": ("opensim", "read_opensim"),
+}
+#: CSV dialects told apart by the first line: (module, test, reader); else yoyogait's own layout.
+CSV_DIALECTS = (
+    ("nexus", "is_nexus_csv", "read_nexus_csv"),
+    ("motive", "is_motive_csv", "read_motive_csv"),
+)
+#: Files people have that are not motion capture yoyogait reads: extension -> what to do instead.
+NOT_READ = {
+    ".npz": "AMASS/SMPL parameters: export the body's joint positions to a CSV (docs/input.md)",
+    ".fbx": "FBX animation: export it as BVH",
+    ".json": "JSON (a body-tracking export or a manifest?): export positions to a CSV (docs/input.md)",
+    ".xlsx": "a spreadsheet: save it as CSV",
 }
 
 
 def read(
-    path, *, length_unit_m: float | None = None, up_axis: str | None = None, rate_hz: float | None = None, **options
+    path,
+    *,
+    length_unit_m: float | None = None,
+    up_axis: str | None = None,
+    rate_hz: float | None = None,
+    plausibility: bool = True,
+    **options,
 ) -> Recording:
     """Read a motion-capture file into a :class:`Recording`.
 
@@ -48,13 +77,20 @@ def read(
     * ``up_axis``: "x", "y" or "z" (else the file's own, else detected later);
     * ``rate_hz``: the sample rate (a CSV without a time column needs it).
 
+    With ``plausibility`` (the default) the result is checked against what a
+    person is and does (:func:`yoyogait.io.plausibility.check_plausible`): a
+    body off by a length-unit factor, a stated up axis that puts the pelvis
+    on the floor, or a pelvis faster than anyone can walk is an InputError
+    naming the likely cause and the option that fixes it.
+
     Other keyword ``options`` go to the reader.
     """
     p = check_readable(path)
     ext = p.suffix.lower()
     if ext not in READERS:
+        hint = f" ({NOT_READ[ext]})" if ext in NOT_READ else ""
         raise InputError(
-            f"{p}: unknown file type {p.suffix or '(no extension)'!r}; readable: {', '.join(sorted(READERS))}"
+            f"{p}: unknown file type {p.suffix or '(no extension)'!r}{hint}; readable: {', '.join(sorted(READERS))}"
         )
     if up_axis is not None and str(up_axis).lower() not in AXES:
         raise InputError(f"up_axis must be one of x, y, z, not {up_axis!r}")
@@ -65,7 +101,7 @@ def read(
     if rate_hz is not None:
         check_rate(rate_hz, p, "rate_hz override")
 
-    module, function = READERS[ext]
+    module, function = READERS[ext] if ext != ".csv" else _csv_dialect(p)
     reader = getattr(importlib.import_module(f".{module}", __name__), function)
     kwargs = dict(length_unit_m=length_unit_m, rate_hz=rate_hz, **options)
     if up_axis is not None and "up_axis" in inspect.signature(reader).parameters:
@@ -81,7 +117,22 @@ def read(
     elif rec.up_axis is not None:
         rec.metadata.setdefault("up_axis_from", "file")
     validate(rec)
+    if plausibility:
+        check_plausible(rec)
     return rec
+
+
+def _csv_dialect(p) -> tuple[str, str]:
+    """(module, reader) for a CSV file: Nexus or Motive by their first line, else yoyogait's layout."""
+    try:
+        with open(p, encoding="utf-8-sig", errors="replace") as f:
+            first = f.readline()
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    for module, test, function in CSV_DIALECTS:
+        if getattr(importlib.import_module(f".{module}", __name__), test)(first):
+            return module, function
+    return READERS[".csv"]
 
 
 def validate(rec: Recording) -> Recording:
@@ -108,7 +159,7 @@ def validate(rec: Recording) -> Recording:
 
 def __getattr__(name: str):
     # read_c3d, read_trc, ... without importing every reader up front.
-    for module, function in READERS.values():
+    for module, function in [*READERS.values(), *((m, f) for m, _, f in CSV_DIALECTS)]:
         if name == function:
             return getattr(importlib.import_module(f".{module}", __name__), function)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

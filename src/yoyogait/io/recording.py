@@ -245,3 +245,14 @@ def check_coordinates(positions_m: np.ndarray, names, where, line_numbers=None) 
 def uniform_time(n_frames: int, rate_hz: float, start_s: float = 0.0) -> np.ndarray:
     """Timestamps of ``n_frames`` samples at ``rate_hz`` from ``start_s``."""
     return start_s + np.arange(n_frames, dtype=float) / float(rate_hz)
+
+
+def unique_names(names) -> list[str]:
+    """Names made unique: a repeated name gets ``#2``, ``#3`` (as the C3D reader does)."""
+    seen: dict[str, int] = {}
+    out = []
+    for n in names:
+        k = seen.get(n, 0) + 1
+        seen[n] = k
+        out.append(n if k == 1 else f"{n}#{k}")
+    return out

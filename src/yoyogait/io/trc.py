@@ -1,6 +1,6 @@
 """TRC marker files (OpenSim, AddBiomechanics, Motion Analysis Cortex exports).
 
-Layout (tab-separated)::
+Layout (tab-separated; some tools, e.g. pyomeca, write commas instead)::
 
     PathFileType  4  (X/Y/Z)  name.trc
     DataRate  CameraRate  NumFrames  NumMarkers  Units  OrigDataRate ...
@@ -35,13 +35,14 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     if len(lines) < 5 or not lines[0].startswith("PathFileType"):
         raise InputError(f"{p}: not a TRC file (it must start with a PathFileType line and a 5-line header)")
 
-    keys = lines[1].split()
-    values = lines[2].split()
+    separator = "\t" if "\t" in lines[0] else "," if "," in lines[0] else None
+    keys = [c.strip() for c in _cells(lines[1], separator) if c.strip()]
+    values = [c.strip() for c in _cells(lines[2], separator) if c.strip()]
     if len(values) < len(keys) or "DataRate" not in keys:
         raise InputError(f"{p}: corrupt TRC header: line 3 does not give a value for each field of line 2")
     header = dict(zip(keys, values))
 
-    name_cells = [c.strip() for c in _cells(lines[3])]
+    name_cells = [c.strip() for c in _cells(lines[3], separator)]
     if len(name_cells) < 3 or not name_cells[0].lower().startswith("frame"):
         raise InputError(f"{p}: corrupt TRC header: line 4 must be 'Frame#  Time  <marker names>'")
     names = [c for c in name_cells[2:] if c]
@@ -52,9 +53,9 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     rows = []
     line_numbers = []
     for number, line in enumerate(lines[5:], start=6):
-        if not line.strip():
+        cells = _cells(line, separator)
+        if not any(c.strip() for c in cells):  # a blank line (",,,," in a comma-separated file)
             continue
-        cells = _cells(line)
         if len(cells) > n_columns and any(c.strip() for c in cells[n_columns:]):
             raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header names {n_columns}")
         cells = cells[:n_columns] + [""] * (n_columns - len(cells))
@@ -67,12 +68,13 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     announced = _int(header.get("NumFrames"))
     if announced is not None and len(rows) < announced:
         raise InputError(
-            f"{p}: truncated TRC file: the header announces {announced} frames, the file holds {len(rows)}"
+            f"{p}: truncated TRC file: the header announces {announced} frames, the file holds {len(rows)} "
+            "(if those rows are all there is, set NumFrames to that number)"
         )
-    if not text.endswith("\n") and len(_cells(lines[-1])) < n_columns:
+    if not text.endswith("\n") and len(_cells(lines[-1], separator)) < n_columns:
         raise InputError(f"{p}: truncated TRC file: the last line stops in the middle of a frame")
 
-    metadata: dict = {"format": "trc", "header": header}
+    metadata: dict = {"format": "trc", "header": header, "separator": separator or "whitespace"}
     if length_unit_m is not None:
         scale_m = float(length_unit_m)
         metadata["length_unit_from"] = "override"
@@ -109,10 +111,12 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     )
 
 
-def _cells(line: str) -> list[str]:
-    # TRC is tab-separated, and an empty cell between two tabs is a missing value;
-    # only a file without any tab falls back to whitespace.
-    return line.split("\t") if "\t" in line else line.split()
+def _cells(line: str, separator: str | None) -> list[str]:
+    # TRC is tab-separated (or comma-separated), and an empty cell between two separators is a
+    # missing value; only a file whose first line has neither falls back to whitespace.
+    if separator is None or separator not in line:
+        return line.split("\t") if "\t" in line else line.split()
+    return line.split(separator)
 
 
 def _float(text) -> float | None:

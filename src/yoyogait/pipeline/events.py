@@ -33,7 +33,7 @@ from ..io.recording import AXES, Recording
 from . import points
 from .signals import fill_short_gaps, moving_mean, runs, walking_heading
 
-__all__ = ["GaitEvents", "detect_gait_events", "feet_of", "walking_mask", "walking_from_speed"]
+__all__ = ["GaitEvents", "detect_gait_events", "feet_of", "foot_groups_of", "walking_mask", "walking_from_speed"]
 
 
 @dataclass
@@ -102,9 +102,10 @@ def detect_gait_events(
 ) -> GaitEvents:
     """Foot contacts and steps from foot points (heel, ankle, toe, foot).
 
-    ``feet``: {"left": name, "right": name} or a list of names; found by name
-    when None.  ``min_excursion_m``: how far a foot must swing ahead and back
-    relative to the pelvis for a contact to count.  Steps outside
+    ``feet``: {"left": name or names, "right": ...} or a list of names (sides
+    told by the names; one contact series per side); found by name when None.
+    ``min_excursion_m``: how far a foot must swing ahead and back relative to
+    the pelvis for a contact to count.  Steps outside
     ``min_step_s``-``max_step_s`` break a walking stretch.
     """
 
@@ -205,22 +206,54 @@ def walking_from_speed(
 
 
 def feet_of(recording: Recording, feet=None) -> dict[str, str]:
-    """The foot points to use: ``feet`` checked, or found by name among the points seen in at least half the frames."""
+    """The point of each foot used for contacts: side -> name (the first of :func:`foot_groups_of`)."""
+    return {side: group[0] for side, group in foot_groups_of(recording, feet).items()}
 
+
+def foot_groups_of(recording: Recording, feet=None) -> dict[str, list[str]]:
+    """The points of each foot, by side, best first (heel, ankle, toe; well seen before rarely seen).
+
+    ``feet``: None (found by name), ``{"left": [...], "right": [...]}`` (a name
+    or a list per side), or a list of names whose sides are told by their names
+    (heel, toe and ankle of one side are one foot).  A listed name whose side
+    cannot be told is an error: a contact series needs a side.
+    """
+    names = recording.point_names
+    visibility = dict(zip(names, recording.visible().mean(axis=0))) if names else {}
     if feet is None:
-        seen = recording.visible().mean(axis=0)
-        return points.find_feet(recording.point_names, dict(zip(recording.point_names, seen)))
+        return points.find_foot_groups(names, visibility)
     if isinstance(feet, dict):
-        chosen = {str(side): name for side, name in feet.items() if name}
+        given = {}
+        for side, value in feet.items():
+            listed = [value] if isinstance(value, str) else [n for n in (value or []) if n]
+            if listed:
+                given[_side_key(side)] = listed
     else:
-        names = [feet] if isinstance(feet, str) else list(feet)
-        found = points.find_feet(names)
-        chosen = {side: name for side, name in found.items()}
-        for i, name in enumerate(n for n in names if n not in found.values()):
-            chosen[f"foot{i + 1}"] = name
-    for name in chosen.values():
-        recording.index_of(name)  # InputError listing the points there are
-    return chosen
+        listed = [feet] if isinstance(feet, str) else list(feet)
+        given = {}
+        for name in listed:
+            side = points.side_of(name)
+            if side is None:
+                raise InputError(
+                    f"feet={name}: cannot tell which foot {name!r} belongs to, its name says neither left nor right; "
+                    'give heel, ankle or toe points named by side (LHEE, R_Heel) or {"left": [...], "right": [...]}'
+                )
+            given.setdefault(side, []).append(name)
+    for group in given.values():
+        for name in group:
+            recording.index_of(name)  # InputError listing the points there are
+    out = {}
+    for side, group in given.items():
+        ranked = points.find_foot_groups(group, visibility).get(side, []) if side in points.SIDES else []
+        ranked = [n for n in ranked if n in group]
+        rest = sorted((n for n in group if n not in ranked), key=lambda n: -visibility.get(n, 0.0))
+        out[side] = ranked + rest
+    return out
+
+
+def _side_key(side) -> str:
+    s = str(side).lower()
+    return "left" if s in ("l", "left") else "right" if s in ("r", "right") else str(side)
 
 
 def _feet_axis(relative: dict[str, np.ndarray], rate_hz: float) -> np.ndarray:

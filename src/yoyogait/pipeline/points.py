@@ -3,10 +3,14 @@
 * The **pelvis centre** (the default, the closest marker-based stand-in for the
   centre of mass the Yoyo-model describes): the average of the pelvis
   markers found by name (ASIS, PSIS, sacrum and pelvis clusters in their
-  common spellings), else a root joint (Hips, pelvis, root).
+  common spellings), else a root joint (Hips, pelvis, root).  The names are
+  data, not code: ``io/marker_sets.json`` (Plug-in Gait, IOR, ISB, Xsens,
+  OpenCap, MoCap Toolbox, Qualisys, OptiTrack), extended by the files named
+  in ``$YOYOGAIT_MARKER_SETS`` or given to :func:`add_marker_sets`.
 * The **hand** (the paper follows the hand that holds the tether): a hand
   joint or finger marker, else the wrist markers of that side averaged.
-* The **feet** (for gait events): per side a heel, else an ankle, toe or foot point.
+* The **feet** (for gait events), grouped by side: heel, ankle and toe of one
+  side are one foot; its heel is used, else its ankle, else its toe.
 * The **up axis**: the override, else the file's, else detected from the
   data (:func:`detect_up_axis`).
 
@@ -26,6 +30,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..io.marker_sets import (
+    FOOT_KINDS,
+    HAND_KINDS,
+    MARKER_SETS_ENV,
+    SIDES,
+    _roles,
+    add_marker_sets,
+    marker_knowledge,
+    normalise_name,
+    pelvis_names,
+)
 from ..io.recording import AXES, Recording
 
 __all__ = [
@@ -35,6 +50,14 @@ __all__ = [
     "find_pelvis",
     "find_hand",
     "find_feet",
+    "find_foot_groups",
+    "side_of",
+    "add_marker_sets",
+    "marker_knowledge",
+    "MARKER_SETS_ENV",
+    "FOOT_KINDS",
+    "HAND_KINDS",
+    "SIDES",
     "choose_point",
     "point_trajectory",
     "robust_centre",
@@ -42,52 +65,6 @@ __all__ = [
     "resolve_up_axis",
     "axis_index",
 ]
-
-_SIDE = r"(?:l|r|left|right)"
-#: Pelvis markers, matched against the normalised name (lower case, letters and digits only).
-PELVIS_MARKER_PATTERNS = (
-    re.compile(rf"^{_SIDE}?asis?$|^asis?{_SIDE}$"),  # LASI, R_ASIS, R.ASIS, LASIS, asis_l
-    re.compile(rf"^{_SIDE}?psis?$|^psis?{_SIDE}$"),  # LPSI, L.PSIS, RPSIS
-    re.compile(r"^v?sac(?:r|rum|ral)?$|^s[12]$|^midsacrum$"),  # SACR, SACRUM, VSAC, V.Sacral, S2
-    re.compile(r"^(?:pv|pel|pelvis)\d+$"),  # PV1..PV4 technical pelvis clusters
-)
-#: Root joints of skeletons, in order of preference.
-ROOT_JOINT_NAMES = ("hips", "hip", "pelvis", "root")
-
-_HAND_WORDS = {
-    "hand": 0,
-    "hnd": 0,
-    "fin": 1,
-    "finger": 1,
-    "fingers": 1,
-    "palm": 1,
-    "wri": 2,
-    "wrist": 2,
-    "wra": 2,
-    "wrb": 2,
-    "wrt": 2,
-}
-_FOOT_WORDS = {
-    "hee": 0,
-    "heel": 0,
-    "cal": 0,
-    "calc": 0,
-    "ank": 1,
-    "ankle": 1,
-    "lma": 1,
-    "lm": 1,
-    "mal": 1,  # "foot" joints of skeletons sit at the ankle
-    "toe": 2,
-    "to": 2,
-    "mt1": 2,
-    "mt2": 2,
-    "mt5": 2,
-    "toetip": 2,
-    "toes": 2,
-    "foot": 1,
-}
-#: What may follow a body word: R.Wrist.Lat, L_Ankle_Lat, L_Toe_Tip, LeftToeBase, RWRA.
-_WORD_SUFFIXES = ("lat", "med", "tip", "base", "a", "b")
 
 
 @dataclass(frozen=True)
@@ -126,92 +103,95 @@ class PointTrajectory:
         return self.choice.label
 
 
-def normalise_name(name: str) -> str:
-    """Lower case, letters and digits only, without a ``Subject:`` prefix."""
-    return re.sub(r"[^a-z0-9]", "", name.rsplit(":", 1)[-1].lower())
-
-
 def find_pelvis(names: Sequence[str]) -> PointChoice:
-    """The pelvis markers found by name, else a root joint; InputError if neither."""
-    markers = [n for n in names if any(p.match(normalise_name(n)) for p in PELVIS_MARKER_PATTERNS)]
-    if markers:
-        return PointChoice(tuple(markers), "pelvis markers")
-    normalised = [normalise_name(n) for n in names]
-    for root in ROOT_JOINT_NAMES:
-        if root in normalised:
-            return PointChoice((names[normalised.index(root)],), "root joint")
+    """The pelvis markers found by name (marker-set table), else a root joint; InputError if neither."""
+    found, kind = pelvis_names(names)
+    if found:
+        return PointChoice(tuple(found), kind)
     raise InputError(
         "no pelvis-like point (ASIS/PSIS/sacrum markers or a Hips/pelvis/root joint) among: "
         + (", ".join(names) or "(no points)")
-        + "; name one with point="
+        + "; name one with --point, or add your marker set to a file named by $"
+        + MARKER_SETS_ENV
     )
 
 
-def _side_and_word(name: str, words: dict[str, int]):
-    """('left'|'right', rank) if ``name`` is a side letter/word plus one of ``words``."""
-    n = normalise_name(name)
-    parses = []
-    for side, tags in (("left", ("left", "l")), ("right", ("right", "r"))):
-        for tag in tags:
-            if n.startswith(tag):
-                parses.append((side, n[len(tag) :]))
-            if n.endswith(tag):
-                parses.append((side, n[: -len(tag)]))
-    for side, rest in parses:
-        for word, rank in words.items():
-            if rest == word or (rest.startswith(word) and rest[len(word) :] in _WORD_SUFFIXES):
-                return side, rank
-    return None
+def side_of(name: str) -> str | None:
+    """ "left" or "right" if the name is a hand or foot point of that side, or has a side as a separate word
+    (``L_Marker``, ``Marker.R``, ``LeftThing``); else None."""
+    k = marker_knowledge()
+    sides = {r[1] for r in _roles(name, k) if r[1]}
+    if len(sides) == 1:
+        return sides.pop()
+    bare = name.rsplit(":", 1)[-1]
+    words = [w.lower() for w in re.split(r"[^A-Za-z0-9]+|(?<=[a-z])(?=[A-Z])", bare) if w]
+    found = {side for side, tokens in k.sides.items() for t in tokens if words and t in (words[0], words[-1])}
+    return found.pop() if len(found) == 1 else None
 
 
 def find_hand(names: Sequence[str], side: str = "right") -> PointChoice:
     """The hand of ``side``: a hand joint or finger marker, else its wrist markers (averaged)."""
     side = _check_side(side)
+    k = marker_knowledge()
     found: dict[int, list[str]] = {}
     for n in names:
-        parsed = _side_and_word(n, _HAND_WORDS)
-        if parsed and parsed[0] == side:
-            found.setdefault(parsed[1], []).append(n)
+        ranks = [r[2] for r in _roles(n, k) if r[0] == "hand" and r[1] == side]
+        if ranks:
+            found.setdefault(min(ranks), []).append(n)
     if not found:
         raise InputError(f"no {side} hand or wrist point among: {', '.join(names) or '(no points)'}")
     return PointChoice(tuple(found[min(found)]), "hand")
 
 
+def find_foot_groups(
+    names: Sequence[str], visibility: dict | None = None, min_visible_fraction: float = 0.5
+) -> dict[str, list[str]]:
+    """The points of each foot, by side: heel first, then ankle (or a skeleton's foot joint), then toe.
+
+    With ``visibility`` (name -> fraction of frames where the point is seen),
+    points seen in fewer than ``min_visible_fraction`` of the frames go to the
+    end of their foot's list (some files name heel markers that were never
+    seen); a point never seen is left out.
+    """
+    k = marker_knowledge()
+    groups: dict[str, list[tuple[int, int, str]]] = {}
+    for order, n in enumerate(names):
+        ranks = {(r[1], r[2]) for r in _roles(n, k) if r[0] == "foot" and r[1] in SIDES}
+        sides = {side for side, _ in ranks}
+        if len(sides) == 1:
+            side = sides.pop()
+            groups.setdefault(side, []).append((min(rank for _, rank in ranks), order, n))
+    out = {}
+    for side in SIDES:
+        found = sorted(groups.get(side, []))
+        if visibility is not None:
+            seen = [c for c in found if visibility.get(c[2], 0.0) >= min_visible_fraction]
+            rare = sorted(
+                (c for c in found if 0 < visibility.get(c[2], 0.0) < min_visible_fraction),
+                key=lambda c: -visibility.get(c[2], 0.0),
+            )
+            found = seen + rare
+        if found:
+            out[side] = [c[2] for c in found]
+    return out
+
+
 def find_feet(
     names: Sequence[str], visibility: dict | None = None, min_visible_fraction: float = 0.5
 ) -> dict[str, str]:
-    """One foot point per side that has one: heel, else ankle (or a skeleton's foot joint), else toe.
-
-    With ``visibility`` (name -> fraction of frames where the point is seen),
-    a point seen in fewer than ``min_visible_fraction`` of the frames gives
-    way to the next kind (some files name heel markers that were never seen);
-    if every candidate is that rare, the most visible one is taken.
-    """
-    candidates: dict[str, list[tuple[int, int, str]]] = {}
-    for order, n in enumerate(names):
-        parsed = _side_and_word(n, _FOOT_WORDS)
-        if parsed:
-            candidates.setdefault(parsed[0], []).append((parsed[1], order, n))
-    chosen = {}
-    for side, found in sorted(candidates.items()):
-        found.sort()
-        if visibility is not None:
-            seen = [c for c in found if visibility.get(c[2], 0.0) >= min_visible_fraction]
-            if not seen:
-                best = max(found, key=lambda c: visibility.get(c[2], 0.0))
-                seen = [best] if visibility.get(best[2], 0.0) > 0 else []
-            found = seen
-        if found:
-            chosen[side] = found[0][2]
-    return chosen
+    """One foot point per side that has one: the first of :func:`find_foot_groups` (heel, else ankle, else toe)."""
+    return {side: group[0] for side, group in find_foot_groups(names, visibility, min_visible_fraction).items()}
 
 
 def choose_point(rec: Recording, point=None, *, hand_side: str = "right") -> PointChoice:
     """What to follow: None or "pelvis" (the pelvis centre), "hand", a point name or a list of names."""
-    if point is None or (isinstance(point, str) and point.lower() == "pelvis" and "pelvis" not in rec.point_names):
-        return find_pelvis(rec.point_names)
-    if isinstance(point, str) and point.lower() == "hand" and "hand" not in rec.point_names:
-        return find_hand(rec.point_names, hand_side)
+    try:
+        if point is None or (isinstance(point, str) and point.lower() == "pelvis" and "pelvis" not in rec.point_names):
+            return find_pelvis(rec.point_names)
+        if isinstance(point, str) and point.lower() == "hand" and "hand" not in rec.point_names:
+            return find_hand(rec.point_names, hand_side)
+    except InputError as exc:  # say which file
+        raise InputError(f"{rec.source}: {exc}" if rec.source else str(exc)) from None
     names = (point,) if isinstance(point, str) else tuple(point)
     if not names:
         raise InputError("point= must name at least one point")

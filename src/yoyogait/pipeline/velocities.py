@@ -31,6 +31,7 @@ from ..errors import InputError
 from ..io.recording import AXES, MAX_SPEED_MPS, Recording, check_time
 from . import events, points
 from .signals import fill_short_gaps, resample, runs, walking_heading
+from .treadmill import Treadmill, detect_treadmill
 
 __all__ = [
     "GaitVelocities",
@@ -69,6 +70,9 @@ class GaitVelocities:
     walking: np.ndarray
     source: str = ""
     settings: dict = field(default_factory=dict)
+    treadmill: Treadmill | None = (
+        None  # the treadmill check (its belt is in vx when detected); None for given velocities
+    )
 
     def __repr__(self) -> str:
         n = len(self.time_s)
@@ -134,6 +138,7 @@ def gait_velocities(
     heading_window_s: float = 1.0,
     min_usable_s: float = 1.5,
     hand_side: str = "right",
+    belt_speed_mps: float | None = None,
     feet=None,
 ) -> GaitVelocities:
     """Forward and vertical velocity of ``point`` at ``rate_hz``, by the paper's pipeline.
@@ -146,6 +151,10 @@ def gait_velocities(
     velocity than this raise InputError ("shorter than the filter needs"),
     because neither the DFT check nor the estimator can lock onto a step
     frequency from less than about three steps (1.5 s at a normal cadence).
+    On a treadmill (detected: :mod:`yoyogait.pipeline.treadmill`) the belt's
+    velocity is added to the horizontal velocity, so that ``vx`` is the walking
+    speed; ``belt_speed_mps`` gives the belt speed (and marks the recording a
+    treadmill walk) instead of the stance feet.
     ``feet``: foot points for the walking part (else found by name).
     """
     if forward not in FORWARD_DEFINITIONS:
@@ -161,7 +170,10 @@ def gait_velocities(
         min_usable_s=min_usable_s,
     )
 
+    treadmill = None
     if recording.velocities is not None:  # a CSV of ready velocities
+        if belt_speed_mps is not None:
+            raise InputError(f"{where}: holds ready velocities; a belt speed applies to positions only")
         up = "z"
         label = f"velocities from {where}"
         t = np.asarray(recording.time_s, dtype=float)
@@ -189,6 +201,9 @@ def gait_velocities(
         k = AXES.index(up)
         horizontal = [a for a in range(3) if a != k]
         v_h = v_out[:, horizontal]
+        treadmill = detect_treadmill(recording, up, feet=feet, belt_speed_mps=belt_speed_mps)
+        if treadmill.detected:  # the belt carries the person: add its velocity to the point's own
+            v_h = v_h + treadmill.belt_velocity()
         vz = v_out[:, k]
         vx_signed = v_h_along_heading(v_h, rate_hz, heading_window_s)
         vx = np.hypot(v_h[:, 0], v_h[:, 1]) if forward == "norm" else vx_signed
@@ -216,6 +231,7 @@ def gait_velocities(
         walking=walking,
         source=where,
         settings=settings,
+        treadmill=treadmill,
     )
 
 
