@@ -6,8 +6,9 @@ Python prints "Exception ignored in ..." and the run goes on as if nothing happe
 :func:`handle_interrupts` installs handlers for SIGINT and SIGTERM that raise
 :class:`Interrupted` (a KeyboardInterrupt) *and* remember the signal, and every commit point
 (:func:`check_interrupted`, called before an output is renamed into place) raises again if one was
-swallowed.  So an interrupted run never commits an output, and the CLI exits with 128 + the
-signal number (130, 143) whatever happened in between.  :func:`signals_deferred` holds the
+swallowed (and Python's "Exception ignored" report of it is not shown).  So an interrupted run
+never commits an output, and the CLI exits with 128 + the signal number (130, 143) whatever
+happened in between.  :func:`signals_deferred` holds the
 signals back while a commit or a clean-up must not be cut in half.
 
 Lock.  :func:`output_lock` takes an exclusive ``flock`` on ``.<name>.lock`` beside an output
@@ -21,6 +22,7 @@ import contextlib
 import fcntl
 import os
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -86,6 +88,15 @@ def handle_interrupts() -> Iterator[None]:
         return
     _received, _pending = None, False
     previous = {s: signal.getsignal(s) for s in SIGNALS}
+    previous_hook = sys.unraisablehook
+
+    def unraisable(args) -> None:
+        # An Interrupted raised in a finaliser is ignored by Python, which would print its traceback:
+        # it is remembered, and the next commit point stops the run, so there is nothing to show.
+        if not isinstance(args.exc_value, Interrupted):
+            previous_hook(args)
+
+    sys.unraisablehook = unraisable
     for s in SIGNALS:
         signal.signal(s, _handler)
     try:
@@ -93,6 +104,7 @@ def handle_interrupts() -> Iterator[None]:
     finally:
         for s, h in previous.items():
             signal.signal(s, h if h is not None else signal.SIG_DFL)
+        sys.unraisablehook = previous_hook
         _received, _pending = None, False  # library calls after the run owe nothing to its interrupt
 
 
