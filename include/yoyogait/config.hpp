@@ -1,17 +1,22 @@
 /// @file config.hpp
-/// @brief The one parameter struct of the estimator, with a unit on every field.
+/// @brief The estimator's configuration, declared once: one table per section (shared, the paper's
+/// estimator, the gait filter), each row a field with its type, name, default, unit, valid range and
+/// one-line doc. The structs, their validation, the Python bindings and the schema that the Python
+/// configuration, the TOML files and docs/configuration.md follow are all derived from these tables.
 #pragma once
 
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <initializer_list>
 
 namespace yoyogait {
 
 /// Largest smoothing window n of eq. 11-12; the window lives in a fixed buffer so a step never allocates.
 inline constexpr std::size_t kMaxSmoothingWindow = 256;
-/// Largest start-up bank of the gait filter (EstimatorConfig::bank_f_hz).
+/// Largest start-up bank of the gait filter (GaitFilterConfig::bank_f_hz).
 inline constexpr std::size_t kMaxBankSize = 8;
 /// Largest ring buffer of the gait filter's spectral initialisation [samples].
 inline constexpr std::size_t kMaxSpectralBuffer = 256;
@@ -20,155 +25,205 @@ inline constexpr std::size_t kMaxSpectralGrid = 10000;
 
 /// Which estimator EstimatorConfig describes.
 enum class Algorithm : std::uint8_t {
-  kPaper = 0,       ///< the paper's 4-state EKF and heuristics, exactly as published (ekf.hpp, heuristics.hpp)
-  kGaitFilter = 1,  ///< the default: the dual-phasor gait filter (gait_filter.hpp, docs/default_estimator.md)
+  kPaper = 0,       ///< the paper's 4-state EKF and heuristics, exactly as published (paper_estimator.hpp)
+  kGaitFilter = 1,  ///< the default: the dual-phasor gait filter (gait/gait_filter.hpp, docs/default_estimator.md)
 };
 
-/// Parameters of the estimator, both algorithms in one struct.
+/// A short list of frequencies [Hz] in a fixed array (a step never allocates): the gait filter's bank.
+struct FrequencyList {
+  std::array<double, kMaxBankSize> hz{};
+  /// Number of frequencies given; above kMaxBankSize only when too many were given (then invalid,
+  /// and only the first kMaxBankSize are stored).
+  std::size_t size = 0;
+
+  constexpr FrequencyList() noexcept = default;
+  constexpr FrequencyList(std::initializer_list<double> f) noexcept : size(f.size()) {
+    std::size_t i = 0;
+    for (const double v : f) {
+      if (i < kMaxBankSize) hz[i] = v;
+      ++i;
+    }
+  }
+  constexpr double operator[](std::size_t i) const noexcept { return hz[i]; }
+  constexpr double& operator[](std::size_t i) noexcept { return hz[i]; }
+};
+
+// ------------------------------------------------------------------------------------ the tables
+//
+// X(type, name, default, "unit", lo, min, max, hi, "doc"): the valid range is lo min, max hi, with
+// lo "[" (min allowed) or "(" (min excluded) and hi "]" or ")". Every field is checked against it
+// when an Estimator is built (EstimatorConfig::validate); NaN never passes, and infinity only where
+// a bound is infinite and inclusive. Cross-field rules follow
+// in EstimatorConfig::validate. Ranges are wide (every value in them gives finite estimates), not
+// advice: docs/default_estimator.md and docs/paper_estimator.md say which values are sensible.
+
+/// Fields shared by both algorithms (besides EstimatorConfig::algorithm).
+#define YOYOGAIT_SHARED_FIELDS(X)                                                                                   \
+  X(double, sample_time_s, 0.04, "s", "[", 1e-5, 1.0, "]",                                                         \
+    "T: time between samples; the paper resamples to 25 Hz, the gait filter takes it as the nominal time step")    \
+  X(double, max_abs_velocity_mps, 1000.0, "m/s", "(", 0.0, 1e100, "]",                                             \
+    "a sample (gait filter: a channel) with |v| above it is rejected like a non-finite one")
+
+/// The paper's estimator (Sec. III and IV-B), in the paper's units: its filter works per sample.
+#define YOYOGAIT_PAPER_FIELDS(X)                                                                                    \
+  X(double, initial_R_hat_mps, 2.0, "m/s", "[", 0.0, 1e6, "]", "R_hat(0) = R/T for the average person (R0 = 2)")  \
+  X(double, initial_r_hat_mps, 0.2, "m/s", "[", 0.0, 1e6, "]", "r_hat(0) = r/T (r0 = 0.2)")                       \
+  X(double, initial_omega_rad_per_sample, 0.1, "rad/sample", "[", -3.141592653589793, 3.141592653589793, "]",     \
+    "w(0), the initial step frequency per sample (0.1: 0.4 Hz at 25 Hz)")                                          \
+  X(double, q_oscillation_mps2, 1e-5, "(m/s)^2", "[", 0.0, 1e4, "]", "Q11 = Q22: process noise of x1, x2")         \
+  X(double, q_omega_rad2, 1e-3, "(rad/sample)^2", "[", 0.0, 10.0, "]", "Q33: process noise of the frequency x3")   \
+  X(double, q_bias_mps2, 1e-3, "(m/s)^2", "[", 0.0, 1e4, "]", "Q44: process noise of the bias x4 = A0")            \
+  X(double, v_vx_mps2, 1e-2, "(m/s)^2", "[", 1e-12, 1e4, "]", "V11: measurement noise of v_x")                     \
+  X(double, v_vz_mps2, 1e-2, "(m/s)^2", "[", 1e-12, 1e4, "]", "V22: measurement noise of v_z")                     \
+  X(double, p0_oscillation_mps2, 1.0, "(m/s)^2", "[", 0.0, 1e4, "]", "P0 of x1, x2 (P0 = I in the paper)")         \
+  X(double, p0_omega_rad2, 1.0, "(rad/sample)^2", "[", 0.0, 10.0, "]", "P0 of the frequency x3")                                 \
+  X(double, p0_bias_mps2, 1.0, "(m/s)^2", "[", 0.0, 1e4, "]", "P0 of the bias x4")                                          \
+  X(std::size_t, smoothing_window_samples, 10, "samples", "[", 0, 256, "]",                                        \
+    "n of eq. 11-12: the moving average's length; R_hat, r_hat first change at k > n")                             \
+  X(double, gate_omega_rad_per_sample, 0.1, "rad/sample", "[", 1e-3, 3.141592653589793, "]",                       \
+    "mu_w of eq. 11-12: R_hat, r_hat update only while x3 exceeds it")                                             \
+  X(double, gate_bias_mps, 0.1, "m/s", "[", 0.0, 1e3, "]", "mu_A0 of eq. 11-12: ... and while x4 exceeds it")
+
+/// The gait filter (docs/default_estimator.md), in SI units per second: noise densities are
+/// multiplied by the actual time step. State x = [X1, X2, Z1, Z2, w, A0, dA0, dw].
+#define YOYOGAIT_GAIT_FILTER_FIELDS(X)                                                                              \
+  X(double, f_min_hz, 0.6, "Hz", "[", 0.05, 10.0, "]", "lower bound of the step frequency (0 is excluded)")        \
+  X(double, f_max_hz, 3.5, "Hz", "[", 0.1, 20.0, "]", "upper bound of the step frequency (> f_min_hz)")            \
+  X(::yoyogait::FrequencyList, bank_f_hz, (::yoyogait::FrequencyList{0.9, 1.3, 1.8, 2.3, 2.8}), "Hz", "[", 0.05, 20.0, "]",               \
+    "start frequencies of the start-up bank of EKFs: 1 to 8, increasing, within [f_min_hz, f_max_hz]")             \
+  X(double, bank_window_s, 1.5, "s", "[", 0.0, 60.0, "]", "walking time after which the bank collapses to its best member") \
+  X(double, bank_forget_s, 1.5, "s", "[", 0.01, 600.0, "]", "memory of the members' innovation log-likelihood")    \
+  X(double, bank_prior_f_hz, 1.8, "Hz", "[", 0.05, 20.0, "]", "typical step frequency: its member starts with the log-prior bonus") \
+  X(double, bank_prior_bonus_nats, 2.0, "nats", "[", -100.0, 100.0, "]",                                           \
+    "log-prior bonus (on re-acquisition: for the member at the last frequency)")                                   \
+  X(double, p0_f_std_hz, 0.25, "Hz", "[", 0.0, 10.0, "]", "initial frequency std of each member")                  \
+  X(double, p0_phasor_std_mps, 0.3, "m/s", "[", 0.0, 100.0, "]", "initial std of the phasors")                     \
+  X(double, p0_speed_std_mps, 0.3, "m/s", "[", 0.0, 100.0, "]", "initial std of A0")                               \
+  X(double, p0_accel_std_mps2, 0.5, "m/s^2", "[", 0.0, 100.0, "]", "initial std of dA0")                           \
+  X(double, p0_omega_rate_std_rad_s2, 0.05, "rad/s^2", "[", 0.0, 100.0, "]", "initial std of dw")                  \
+  X(bool, spectral_init, true, "", "[", 0, 1, "]",                                                                 \
+    "seed the least likely bank member by a least-squares frequency grid search")                                  \
+  X(double, spectral_init_s, 1.0, "s", "[", 0.0, 60.0, "]", "... after this much walking")                         \
+  X(std::size_t, spectral_buffer_samples, 40, "samples", "[", 1, 256, "]", "... over this many buffered samples")  \
+  X(double, spectral_grid_step_hz, 0.025, "Hz", "[", 1e-4, 10.0, "]",                                              \
+    "grid step of the search (at most 10000 grid frequencies in [f_min_hz, f_max_hz])")                            \
+  X(double, spectral_f_std_hz, 0.08, "Hz", "[", 0.0, 10.0, "]", "frequency std given to the seeded member")        \
+  X(double, spectral_phasor_std_mps, 0.05, "m/s", "[", 0.0, 100.0, "]", "phasor and A0 std given to the seeded member") \
+  X(double, q_phasor_m2_per_s3, 2e-3, "(m/s)^2/s", "[", 0.0, 1e4, "]", "independent drift of each phasor entry")   \
+  X(double, q_phase_rad2_per_s, 0.05, "rad^2/s", "[", 0.0, 1e3, "]", "common gait-phase jitter, rotating X and Z together") \
+  X(double, q_omega_rad2_per_s3, 0.05, "(rad/s)^2/s", "[", 0.0, 1e4, "]", "random walk of w")                     \
+  X(bool, use_omega_rate, true, "", "[", 0, 1, "]", "frequency-rate state dw (tracks cadence ramps)")              \
+  X(double, q_omega_rate_lo_rad2_per_s5, 0.01, "(rad/s^2)^2/s", "[", 0.0, 1e4, "]", "noise of dw while no trend is seen") \
+  X(double, q_omega_rate_hi_rad2_per_s5, 2.0, "(rad/s^2)^2/s", "[", 0.0, 1e4, "]",                                 \
+    "noise of dw once the low-passed rate reaches omega_rate_ref_rad_s2 (>= the lo value)")                        \
+  X(double, omega_rate_ref_rad_s2, 0.2, "rad/s^2", "[", 1e-3, 100.0, "]", "trend level of the low-passed rate")    \
+  X(double, omega_rate_lp_tau_s, 1.5, "s", "[", 0.0, 600.0, "]", "low-pass of dw for the trend test (0: none)")    \
+  X(double, omega_rate_tau_s, 3.0, "s", "[", 0.01, 600.0, "]", "decay time of dw")                                 \
+  X(double, q_speed_m2_per_s3, 1e-3, "(m/s)^2/s", "[", 0.0, 1e4, "]", "random walk of A0")                         \
+  X(double, q_accel_m2_per_s5, 1e-2, "(m/s^2)^2/s", "[", 0.0, 1e4, "]", "random walk of dA0")                      \
+  X(double, accel_tau_s, 1.0, "s", "[", 0.01, 600.0, "]", "decay time of dA0")                                     \
+  X(bool, use_harmonic, true, "", "[", 0, 1, "]", "second harmonic of each channel by a cascaded 2-state Kalman filter") \
+  X(double, p0_harmonic_std_mps, 0.1, "m/s", "[", 0.0, 100.0, "]", "initial std of the harmonic coefficients")      \
+  X(double, q_harmonic_m2_per_s3, 1e-3, "(m/s)^2/s", "[", 0.0, 1e4, "]", "random walk of the harmonic coefficients") \
+  X(double, harmonic_min_amp_mps, 0.02, "m/s", "[", 0.0, 100.0, "]", "below this fundamental amplitude the harmonic is not used") \
+  X(double, meas_vx_std_mps, 0.05, "m/s", "[", 1e-6, 100.0, "]", "measurement noise (std) of v_x: noise and what the model leaves") \
+  X(double, meas_vz_std_mps, 0.05, "m/s", "[", 1e-6, 100.0, "]", "measurement noise (std) of v_z")                 \
+  X(double, gate_sigma, 5.0, "sigma", "[", 0.1, INFINITY, "]",                                                      \
+    "innovation gate: a channel with |nu| > gate_sigma sqrt(S) is not used (infinity: no gate)")                   \
+  X(std::size_t, gate_max_consecutive, 6, "samples", "[", 0, 100000, "]",                                          \
+    "after this many consecutive rejections a sample is accepted and P inflated")                                  \
+  X(double, max_gap_s, 1.5, "s", "[", 1e-3, 3600.0, "]", "a longer time between samples restarts the acquisition")  \
+  X(double, walk_tau_s, 0.3, "s", "[", 1e-3, 60.0, "]", "low-pass of the walking detector")                        \
+  X(double, walk_speed_on_mps, 0.2, "m/s", "[", 0.0, 10.0, "]", "walking when the low-passed v_x exceeds it ...")  \
+  X(double, walk_speed_off_mps, 0.15, "m/s", "[", 0.0, 10.0, "]",                                                  \
+    "standing when the low-passed v_x is below it (<= walk_speed_on_mps) ...")                                     \
+  X(double, walk_vz_rms_on_mps, 0.05, "m/s", "[", 0.0, 10.0, "]", "... or when the RMS of v_z exceeds it")         \
+  X(double, walk_vz_rms_off_mps, 0.025, "m/s", "[", 0.0, 10.0, "]",                                                \
+    "... and the RMS of v_z is below it (<= walk_vz_rms_on_mps)")                                                  \
+  X(double, bound_watchdog_s, 1.0, "s", "[", 0.0, 600.0, "]",                                                      \
+    "w pinned within 5 % of a bound this long while walking restarts the acquisition")                             \
+  X(bool, std_scale_adapt, true, "", "[", 0, 1, "]",                                                               \
+    "scale the reported standard deviations by the low-passed normalised innovation squared")                      \
+  X(double, std_scale_tau_s, 10.0, "s", "[", 0.01, 1e4, "]", "low-pass of that scale")                             \
+  X(double, std_scale_min, 0.05, "", "[", 1e-6, 1e3, "]", "lower clip of the scale")                               \
+  X(double, std_scale_max, 4.0, "", "[", 1e-6, 1e6, "]", "upper clip of the scale (>= std_scale_min)")             \
+  X(double, speed_std_floor_mps, 0.025, "m/s", "[", 0.0, 10.0, "]", "added in quadrature to the speed std")       \
+  X(double, radii_tau_s, 2.0, "s", "[", 0.01, 1e4, "]", "low-pass of R = A0 / w and r = |Z| / w while walking")    \
+  X(double, initial_R_m, 0.12, "m", "[", 0.0, 10.0, "]", "R reported before the first walk")                       \
+  X(double, initial_r_m, 0.02, "m", "[", 0.0, 10.0, "]", "r reported before the first walk")
+
+// ----------------------------------------------------------------------------------- the structs
+
+#define YOYOGAIT_CONFIG_MEMBER(type, name, def, unit, lo, min, max, hi, doc) type name = def;
+
+/// The paper's estimator (Algorithm::kPaper): YOYOGAIT_PAPER_FIELDS.
+struct PaperConfig {
+  YOYOGAIT_PAPER_FIELDS(YOYOGAIT_CONFIG_MEMBER)
+};
+
+/// The gait filter (Algorithm::kGaitFilter, the default): YOYOGAIT_GAIT_FILTER_FIELDS.
+struct GaitFilterConfig {
+  YOYOGAIT_GAIT_FILTER_FIELDS(YOYOGAIT_CONFIG_MEMBER)
+};
+
+namespace detail {
+
+inline bool in_range(double v, double min, double max, const char* lo, const char* hi) noexcept {
+  return (lo[0] == '[' ? v >= min : v > min) && (hi[0] == ']' ? v <= max : v < max);
+}
+inline bool in_range(std::size_t v, double min, double max, const char* lo, const char* hi) noexcept {
+  return in_range(static_cast<double>(v), min, max, lo, hi);
+}
+inline bool in_range(bool, double, double, const char*, const char*) noexcept { return true; }
+/// 1 to kMaxBankSize frequencies, each within the range.
+inline bool in_range(const FrequencyList& f, double min, double max, const char* lo, const char* hi) noexcept {
+  if (f.size < 1 || f.size > kMaxBankSize) return false;
+  for (std::size_t i = 0; i < f.size; ++i)
+    if (!in_range(f[i], min, max, lo, hi)) return false;
+  return true;
+}
+
+/// The message of a field outside its range, in a buffer of this thread (valid until the next).
+inline char* message_buffer() noexcept {
+  static thread_local char buffer[320];
+  return buffer;
+}
+inline const char* range_message(const char* prefix, const char* name, double v, double min, double max,
+                                 const char* lo, const char* hi, const char* unit) noexcept {
+  std::snprintf(message_buffer(), 320, "%s%s = %.15g is outside its valid range %s%.15g, %.15g%s%s%s", prefix, name, v,
+                lo, min, max, hi, unit[0] ? " " : "", unit);
+  return message_buffer();
+}
+inline const char* range_message(const char* prefix, const char* name, std::size_t v, double min, double max,
+                                 const char* lo, const char* hi, const char* unit) noexcept {
+  return range_message(prefix, name, static_cast<double>(v), min, max, lo, hi, unit);
+}
+inline const char* range_message(const char* prefix, const char* name, bool v, double min, double max,
+                                 const char* lo, const char* hi, const char* unit) noexcept {
+  return range_message(prefix, name, v ? 1.0 : 0.0, min, max, lo, hi, unit);
+}
+inline const char* range_message(const char* prefix, const char* name, const FrequencyList&, double min, double max,
+                                 const char* lo, const char* hi, const char* unit) noexcept {
+  std::snprintf(message_buffer(), 320, "%s%s must hold 1 to %zu frequencies, each in %s%.15g, %.15g%s %s", prefix, name,
+                kMaxBankSize, lo, min, max, hi, unit);
+  return message_buffer();
+}
+
+}  // namespace detail
+
+/// Parameters of the estimator: the algorithm, the shared fields, and one section per algorithm.
 ///
 /// `EstimatorConfig{}` is the default estimator (Algorithm::kGaitFilter with its tuned values);
-/// `EstimatorConfig::paper()` is the paper's estimator (Sec. IV-B). The paper's fields are in the
-/// paper's units: its filter works per sample, so its frequencies are in rad/sample and R_hat, r_hat
-/// are R/T and r/T (m/s). The gait filter's fields are in SI units per second (noise densities are
-/// multiplied by the actual time step); each says its unit in its name. Each algorithm ignores the
-/// other's fields; `sample_time_s` and `max_abs_velocity_mps` are shared.
+/// `EstimatorConfig::paper()` is the paper's estimator (Sec. IV-B). Each algorithm reads its own
+/// section and ignores the other's; both are validated, whichever is selected.
 struct EstimatorConfig {
-  /// The estimator to run. The paper's fields below apply to kPaper, the gait filter's to kGaitFilter.
+  /// The estimator to run.
   Algorithm algorithm = Algorithm::kGaitFilter;
-
-  /// T: time between samples [s]. The paper resamples to 25 Hz; the gait filter uses it as the
-  /// nominal time step, when step() is called without one.
-  double sample_time_s = 0.04;
-
-  // ------------------------------------------------------------------ the paper (Algorithm::kPaper)
-
-  /// R_hat(0) = R/T for the average person [m/s]; the paper's "R0 = 2".
-  double initial_R_hat_mps = 2.0;
-  /// r_hat(0) = r/T [m/s]; the paper's "r0 = 0.2".
-  double initial_r_hat_mps = 0.2;
-  /// w(0) [rad/sample]; the paper's 0.1 (0.4 Hz at 25 Hz).
-  double initial_omega_rad_per_sample = 0.1;
-
-  /// Q11 = Q22: process noise of the oscillation x1, x2 [(m/s)^2].
-  double q_oscillation_mps2 = 1e-5;
-  /// Q33: process noise of the frequency [(rad/sample)^2].
-  double q_omega_rad2 = 1e-3;
-  /// Q44: process noise of the bias A0 [(m/s)^2].
-  double q_bias_mps2 = 1e-3;
-  /// V11: measurement noise of v_x [(m/s)^2].
-  double v_vx_mps2 = 1e-2;
-  /// V22: measurement noise of v_z [(m/s)^2].
-  double v_vz_mps2 = 1e-2;
-  /// P0 diagonal for x1, x2 [(m/s)^2], x3 [(rad/sample)^2] and x4 [(m/s)^2]: P0 = I in the paper.
-  double p0_oscillation_mps2 = 1.0;
-  double p0_omega_rad2 = 1.0;
-  double p0_bias_mps2 = 1.0;
-
-  /// n: length of the moving average of eq. 11-12 [samples]; also the number of samples before
-  /// R_hat, r_hat may first change (k > n).
-  std::size_t smoothing_window_samples = 10;
-  /// mu_w: R_hat, r_hat update only while x3 exceeds it [rad/sample].
-  double gate_omega_rad_per_sample = 0.1;
-  /// mu_A0: ... and while x4 exceeds it [m/s].
-  double gate_bias_mps = 0.1;
-
-  /// A sample with |v_x| or |v_z| above this is rejected like a non-finite one [m/s]. Far above any
-  /// walking speed, it keeps a corrupt sample from overflowing the covariance at the next prediction.
-  /// Both algorithms (the gait filter drops only the channel that is out of range).
-  double max_abs_velocity_mps = 1000.0;
-
-  // ------------------------------------------------------- the gait filter (Algorithm::kGaitFilter)
-  // State x = [X1, X2, Z1, Z2, w, A0, dA0, dw] (docs/default_estimator.md, sec. 2).
-
-  /// Bounds of the step frequency: w is kept in [2 pi f_min, 2 pi f_max] [Hz]; 0 is excluded.
-  double f_min_hz = 0.6;
-  double f_max_hz = 3.5;
-
-  /// Start frequencies of the start-up bank of EKFs [Hz]; the first bank_size entries are used.
-  /// (Python: one tuple, bank_f_hz, whose length is bank_size.)
-  std::array<double, kMaxBankSize> bank_f_hz{0.9, 1.3, 1.8, 2.3, 2.8, 0.0, 0.0, 0.0};
-  /// Number of bank members (1..kMaxBankSize) [1].
-  std::size_t bank_size = 5;
-  /// Walking time after which the bank collapses to its most likely member [s].
-  double bank_window_s = 1.5;
-  /// Memory of each member's innovation log-likelihood (exponential forgetting) [s].
-  double bank_forget_s = 1.5;
-  /// Typical step frequency: the member nearest to it starts with the log-prior bonus [Hz].
-  double bank_prior_f_hz = 1.8;
-  /// Log-prior bonus of that member (on re-acquisition: of the member at the last frequency) [nats].
-  double bank_prior_bonus_nats = 2.0;
-  /// Initial standard deviations of each member: frequency [Hz], phasors [m/s], A0 [m/s],
-  /// dA0 [m/s^2], dw [rad/s^2].
-  double p0_f_std_hz = 0.25;
-  double p0_phasor_std_mps = 0.3;
-  double p0_speed_std_mps = 0.3;
-  double p0_accel_std_mps2 = 0.5;
-  double p0_omega_rate_std_rad_s2 = 0.05;
-
-  /// Spectral initialisation: after spectral_init_s of walking, a least-squares frequency grid
-  /// search over the last spectral_buffer_samples samples seeds the least likely bank member.
-  bool spectral_init = true;
-  double spectral_init_s = 1.0;                 ///< [s]
-  std::size_t spectral_buffer_samples = 40;     ///< ring buffer length (<= kMaxSpectralBuffer) [samples]
-  double spectral_grid_step_hz = 0.025;         ///< grid step over [f_min_hz, f_max_hz] [Hz]
-  double spectral_f_std_hz = 0.08;              ///< frequency std given to the seeded member [Hz]
-  double spectral_phasor_std_mps = 0.05;        ///< phasor and A0 std given to the seeded member [m/s]
-
-  /// Process noise densities, multiplied by the time step (sec. 2.2).
-  double q_phasor_m2_per_s3 = 2e-3;   ///< independent drift of each phasor entry [(m/s)^2/s]
-  double q_phase_rad2_per_s = 0.05;   ///< common gait-phase jitter, rotates X and Z together [rad^2/s]
-  double q_omega_rad2_per_s3 = 0.05;  ///< random walk of w [(rad/s)^2/s]
-  /// Frequency-rate state dw (tracks cadence ramps); false keeps dw at zero.
-  bool use_omega_rate = true;
-  double q_omega_rate_lo_rad2_per_s5 = 0.01;  ///< noise of dw while no trend is seen [(rad/s^2)^2/s]
-  double q_omega_rate_hi_rad2_per_s5 = 2.0;   ///< ... and once |dw_lp| reaches omega_rate_ref_rad_s2
-  double omega_rate_ref_rad_s2 = 0.2;         ///< trend level of the low-passed rate [rad/s^2]
-  double omega_rate_lp_tau_s = 1.5;           ///< low-pass of dw for the trend test (0: none) [s]
-  double omega_rate_tau_s = 3.0;              ///< dw decays with this time constant [s]
-  double q_speed_m2_per_s3 = 1e-3;            ///< random walk of A0 [(m/s)^2/s]
-  double q_accel_m2_per_s5 = 1e-2;            ///< random walk of dA0 [(m/s^2)^2/s]
-  double accel_tau_s = 1.0;                   ///< dA0 decays with this time constant [s]
-
-  /// Second harmonic of each channel by a cascaded 2-state Kalman filter (sec. 2.1).
-  bool use_harmonic = true;
-  double p0_harmonic_std_mps = 0.1;     ///< initial std of each coefficient [m/s]
-  double q_harmonic_m2_per_s3 = 1e-3;   ///< random walk of the coefficients [(m/s)^2/s]
-  double harmonic_min_amp_mps = 0.02;   ///< below this fundamental amplitude the harmonic is not used [m/s]
-
-  /// Measurement noise (standard deviation) of v_x and v_z: noise and what the model leaves [m/s].
-  double meas_vx_std_mps = 0.05;
-  double meas_vz_std_mps = 0.05;
-
-  /// Innovation gate: a channel with |nu| > gate_sigma sqrt(S) is not used (kRejectedOutlier) [sigma].
-  double gate_sigma = 5.0;
-  /// After this many consecutive rejections the sample is accepted and P inflated [samples].
-  std::size_t gate_max_consecutive = 6;
-  /// A longer time between samples restarts the acquisition around the last frequency [s].
-  double max_gap_s = 1.5;
-
-  /// Walking / standing detector: low-passes of v_x and v_z^2 with hysteresis (sec. 2.4).
-  double walk_tau_s = 0.3;             ///< [s]
-  double walk_speed_on_mps = 0.2;      ///< walking when LP(v_x) exceeds it ... [m/s]
-  double walk_speed_off_mps = 0.15;    ///< standing when LP(v_x) is below it ... [m/s]
-  double walk_vz_rms_on_mps = 0.05;    ///< ... or RMS(v_z) exceeds it [m/s]
-  double walk_vz_rms_off_mps = 0.025;  ///< ... and RMS(v_z) is below it [m/s]
-
-  /// w pinned within 5 % of a bound this long while walking restarts the acquisition [s].
-  double bound_watchdog_s = 1.0;
-
-  /// Reported standard deviations: sqrt(lambda P_ii), lambda the low-passed normalised innovation
-  /// squared, clipped to [std_scale_min, std_scale_max] (sec. 2.6). false: lambda = 1.
-  bool std_scale_adapt = true;
-  double std_scale_tau_s = 10.0;        ///< [s]
-  double std_scale_min = 0.05;          ///< [1]
-  double std_scale_max = 4.0;           ///< [1]
-  double speed_std_floor_mps = 0.025;   ///< added in quadrature to the speed std [m/s]
-
-  /// R = A0 / w and r = |Z| / w are low-passed with this time constant while walking [s].
-  double radii_tau_s = 2.0;
-  /// R and r reported before the first walk [m].
-  double initial_R_m = 0.12;
-  double initial_r_m = 0.02;
+  YOYOGAIT_SHARED_FIELDS(YOYOGAIT_CONFIG_MEMBER)
+  /// The paper's estimator (read when algorithm is kPaper).
+  PaperConfig paper_estimator{};
+  /// The gait filter (read when algorithm is kGaitFilter).
+  GaitFilterConfig gait_filter{};
 
   /// The paper's estimator exactly as published (Sec. III and IV-B).
   static constexpr EstimatorConfig paper() noexcept {
@@ -177,93 +232,86 @@ struct EstimatorConfig {
     return c;
   }
 
-  /// The default estimator (the same as EstimatorConfig{}).
-  static constexpr EstimatorConfig gait_filter() noexcept { return EstimatorConfig{}; }
-
-  /// nullptr when the configuration is usable, else what is wrong with it. Both algorithms' fields
-  /// are checked, whichever is selected.
+  /// nullptr when the configuration is usable, else what is wrong with it, naming the field
+  /// ("section.field") and its valid range. Both algorithms' sections are checked.
   const char* validate() const noexcept {
-    auto finite = [](double v) { return std::isfinite(v); };
-    auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
-    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-    if (algorithm != Algorithm::kPaper && algorithm != Algorithm::kGaitFilter) return "algorithm must be paper or gait_filter";
-    if (!positive(sample_time_s)) return "sample_time_s must be finite and > 0";
-    // The paper.
-    if (!finite(initial_R_hat_mps)) return "initial_R_hat_mps must be finite";
-    if (!finite(initial_r_hat_mps)) return "initial_r_hat_mps must be finite";
-    if (!finite(initial_omega_rad_per_sample)) return "initial_omega_rad_per_sample must be finite";
-    if (!nonneg(q_oscillation_mps2)) return "q_oscillation_mps2 must be finite and >= 0";
-    if (!nonneg(q_omega_rad2)) return "q_omega_rad2 must be finite and >= 0";
-    if (!nonneg(q_bias_mps2)) return "q_bias_mps2 must be finite and >= 0";
-    if (!positive(v_vx_mps2)) return "v_vx_mps2 must be finite and > 0";
-    if (!positive(v_vz_mps2)) return "v_vz_mps2 must be finite and > 0";
-    if (!nonneg(p0_oscillation_mps2)) return "p0_oscillation_mps2 must be finite and >= 0";
-    if (!nonneg(p0_omega_rad2)) return "p0_omega_rad2 must be finite and >= 0";
-    if (!nonneg(p0_bias_mps2)) return "p0_bias_mps2 must be finite and >= 0";
-    if (smoothing_window_samples > kMaxSmoothingWindow) return "smoothing_window_samples must be <= 256";
-    if (!finite(gate_omega_rad_per_sample)) return "gate_omega_rad_per_sample must be finite";
-    if (!finite(gate_bias_mps)) return "gate_bias_mps must be finite";
-    if (!(max_abs_velocity_mps > 0.0 && max_abs_velocity_mps <= 1e100)) return "max_abs_velocity_mps must be in (0, 1e100]";
-    // The gait filter.
-    if (!positive(f_min_hz)) return "f_min_hz must be finite and > 0";
-    if (!(finite(f_max_hz) && f_max_hz > f_min_hz)) return "f_max_hz must be finite and > f_min_hz";
-    if (bank_size < 1 || bank_size > kMaxBankSize) return "bank_f_hz must hold 1 to 8 frequencies";
-    for (std::size_t i = 0; i < bank_size; ++i) {
-      if (!(finite(bank_f_hz[i]) && bank_f_hz[i] >= f_min_hz && bank_f_hz[i] <= f_max_hz))
-        return "bank_f_hz must lie in [f_min_hz, f_max_hz]";
+    if (algorithm != Algorithm::kPaper && algorithm != Algorithm::kGaitFilter)
+      return "algorithm must be paper or gait_filter";
+#define YOYOGAIT_CHECK_FIELD(obj, prefix, type, name, def, unit, lo, min, max, hi, doc) \
+  if (!detail::in_range(obj.name, min, max, lo, hi)) return detail::range_message(prefix, #name, obj.name, min, max, lo, hi, unit);
+#define YOYOGAIT_CHECK_SHARED(...) YOYOGAIT_CHECK_FIELD((*this), "", __VA_ARGS__)
+#define YOYOGAIT_CHECK_PAPER(...) YOYOGAIT_CHECK_FIELD(paper_estimator, "paper_estimator.", __VA_ARGS__)
+#define YOYOGAIT_CHECK_GAIT(...) YOYOGAIT_CHECK_FIELD(gait_filter, "gait_filter.", __VA_ARGS__)
+    YOYOGAIT_SHARED_FIELDS(YOYOGAIT_CHECK_SHARED)
+    YOYOGAIT_PAPER_FIELDS(YOYOGAIT_CHECK_PAPER)
+    YOYOGAIT_GAIT_FILTER_FIELDS(YOYOGAIT_CHECK_GAIT)
+#undef YOYOGAIT_CHECK_SHARED
+#undef YOYOGAIT_CHECK_PAPER
+#undef YOYOGAIT_CHECK_GAIT
+#undef YOYOGAIT_CHECK_FIELD
+    // Rules between fields of the gait filter.
+    const GaitFilterConfig& g = gait_filter;
+    if (!(g.f_max_hz > g.f_min_hz)) return "gait_filter.f_max_hz must be > gait_filter.f_min_hz";
+    for (std::size_t i = 0; i < g.bank_f_hz.size; ++i) {
+      if (!(g.bank_f_hz[i] >= g.f_min_hz && g.bank_f_hz[i] <= g.f_max_hz))
+        return "gait_filter.bank_f_hz must lie in [f_min_hz, f_max_hz]";
+      if (i > 0 && !(g.bank_f_hz[i] > g.bank_f_hz[i - 1]))
+        return "gait_filter.bank_f_hz must be increasing (sorted and distinct)";
     }
-    if (!nonneg(bank_window_s)) return "bank_window_s must be finite and >= 0";
-    if (!positive(bank_forget_s)) return "bank_forget_s must be finite and > 0";
-    if (!finite(bank_prior_f_hz)) return "bank_prior_f_hz must be finite";
-    if (!finite(bank_prior_bonus_nats)) return "bank_prior_bonus_nats must be finite";
-    if (!nonneg(p0_f_std_hz)) return "p0_f_std_hz must be finite and >= 0";
-    if (!nonneg(p0_phasor_std_mps)) return "p0_phasor_std_mps must be finite and >= 0";
-    if (!nonneg(p0_speed_std_mps)) return "p0_speed_std_mps must be finite and >= 0";
-    if (!nonneg(p0_accel_std_mps2)) return "p0_accel_std_mps2 must be finite and >= 0";
-    if (!nonneg(p0_omega_rate_std_rad_s2)) return "p0_omega_rate_std_rad_s2 must be finite and >= 0";
-    if (!nonneg(spectral_init_s)) return "spectral_init_s must be finite and >= 0";
-    if (spectral_buffer_samples < 1 || spectral_buffer_samples > kMaxSpectralBuffer)
-      return "spectral_buffer_samples must be in [1, 256]";
-    if (!positive(spectral_grid_step_hz) ||
-        !((f_max_hz - f_min_hz) / spectral_grid_step_hz < static_cast<double>(kMaxSpectralGrid)))
-      return "spectral_grid_step_hz must be > 0 with at most 10000 grid frequencies in [f_min_hz, f_max_hz]";
-    if (!nonneg(spectral_f_std_hz)) return "spectral_f_std_hz must be finite and >= 0";
-    if (!nonneg(spectral_phasor_std_mps)) return "spectral_phasor_std_mps must be finite and >= 0";
-    if (!nonneg(q_phasor_m2_per_s3)) return "q_phasor_m2_per_s3 must be finite and >= 0";
-    if (!nonneg(q_phase_rad2_per_s)) return "q_phase_rad2_per_s must be finite and >= 0";
-    if (!nonneg(q_omega_rad2_per_s3)) return "q_omega_rad2_per_s3 must be finite and >= 0";
-    if (!nonneg(q_omega_rate_lo_rad2_per_s5)) return "q_omega_rate_lo_rad2_per_s5 must be finite and >= 0";
-    if (!nonneg(q_omega_rate_hi_rad2_per_s5)) return "q_omega_rate_hi_rad2_per_s5 must be finite and >= 0";
-    if (!positive(omega_rate_ref_rad_s2)) return "omega_rate_ref_rad_s2 must be finite and > 0";
-    if (!nonneg(omega_rate_lp_tau_s)) return "omega_rate_lp_tau_s must be finite and >= 0";
-    if (!positive(omega_rate_tau_s)) return "omega_rate_tau_s must be finite and > 0";
-    if (!nonneg(q_speed_m2_per_s3)) return "q_speed_m2_per_s3 must be finite and >= 0";
-    if (!nonneg(q_accel_m2_per_s5)) return "q_accel_m2_per_s5 must be finite and >= 0";
-    if (!positive(accel_tau_s)) return "accel_tau_s must be finite and > 0";
-    if (!nonneg(p0_harmonic_std_mps)) return "p0_harmonic_std_mps must be finite and >= 0";
-    if (!nonneg(q_harmonic_m2_per_s3)) return "q_harmonic_m2_per_s3 must be finite and >= 0";
-    if (!nonneg(harmonic_min_amp_mps)) return "harmonic_min_amp_mps must be finite and >= 0";
-    if (!positive(meas_vx_std_mps)) return "meas_vx_std_mps must be finite and > 0";
-    if (!positive(meas_vz_std_mps)) return "meas_vz_std_mps must be finite and > 0";
-    if (!(gate_sigma > 0.0)) return "gate_sigma must be > 0 (infinity turns the gate off)";
-    if (!positive(max_gap_s)) return "max_gap_s must be finite and > 0";
-    if (!positive(walk_tau_s)) return "walk_tau_s must be finite and > 0";
-    if (!nonneg(walk_speed_on_mps)) return "walk_speed_on_mps must be finite and >= 0";
-    if (!(nonneg(walk_speed_off_mps) && walk_speed_off_mps <= walk_speed_on_mps))
-      return "walk_speed_off_mps must be finite, >= 0 and <= walk_speed_on_mps";
-    if (!nonneg(walk_vz_rms_on_mps)) return "walk_vz_rms_on_mps must be finite and >= 0";
-    if (!(nonneg(walk_vz_rms_off_mps) && walk_vz_rms_off_mps <= walk_vz_rms_on_mps))
-      return "walk_vz_rms_off_mps must be finite, >= 0 and <= walk_vz_rms_on_mps";
-    if (!nonneg(bound_watchdog_s)) return "bound_watchdog_s must be finite and >= 0";
-    if (!positive(std_scale_tau_s)) return "std_scale_tau_s must be finite and > 0";
-    if (!positive(std_scale_min)) return "std_scale_min must be finite and > 0";
-    if (!(finite(std_scale_max) && std_scale_max >= std_scale_min)) return "std_scale_max must be finite and >= std_scale_min";
-    if (!nonneg(speed_std_floor_mps)) return "speed_std_floor_mps must be finite and >= 0";
-    if (!positive(radii_tau_s)) return "radii_tau_s must be finite and > 0";
-    if (!nonneg(initial_R_m)) return "initial_R_m must be finite and >= 0";
-    if (!nonneg(initial_r_m)) return "initial_r_m must be finite and >= 0";
+    if (!((g.f_max_hz - g.f_min_hz) / g.spectral_grid_step_hz < static_cast<double>(kMaxSpectralGrid)))
+      return "gait_filter.spectral_grid_step_hz must give at most 10000 grid frequencies in [f_min_hz, f_max_hz]";
+    if (!(g.q_omega_rate_hi_rad2_per_s5 >= g.q_omega_rate_lo_rad2_per_s5))
+      return "gait_filter.q_omega_rate_hi_rad2_per_s5 must be >= q_omega_rate_lo_rad2_per_s5";
+    if (!(g.walk_speed_off_mps <= g.walk_speed_on_mps))
+      return "gait_filter.walk_speed_off_mps must be <= walk_speed_on_mps";
+    if (!(g.walk_vz_rms_off_mps <= g.walk_vz_rms_on_mps))
+      return "gait_filter.walk_vz_rms_off_mps must be <= walk_vz_rms_on_mps";
+    if (!(g.std_scale_max >= g.std_scale_min)) return "gait_filter.std_scale_max must be >= std_scale_min";
     return nullptr;
   }
 };
+
+#undef YOYOGAIT_CONFIG_MEMBER
+
+// ------------------------------------------------------------------------------------ the schema
+
+/// One field of a table, for code that lists, documents or checks the configuration.
+struct FieldSpec {
+  const char* section;  ///< "" (shared), "paper_estimator" or "gait_filter"
+  const char* name;
+  const char* type;     ///< "float", "int", "bool" or "float_list"
+  const char* unit;     ///< "" where the field has none
+  double min, max;      ///< valid range (for float_list: of each entry; bool: 0, 1)
+  bool min_inclusive, max_inclusive;
+  const char* doc;
+};
+
+namespace detail {
+template <class T>
+constexpr const char* type_name() noexcept;
+template <>
+constexpr const char* type_name<double>() noexcept { return "float"; }
+template <>
+constexpr const char* type_name<std::size_t>() noexcept { return "int"; }
+template <>
+constexpr const char* type_name<bool>() noexcept { return "bool"; }
+template <>
+constexpr const char* type_name<FrequencyList>() noexcept { return "float_list"; }
+}  // namespace detail
+
+#define YOYOGAIT_FIELD_SPEC(section, type, name, def, unit, lo, min, max, hi, doc) \
+  FieldSpec{section, #name, detail::type_name<type>(), unit, static_cast<double>(min), static_cast<double>(max), \
+            lo[0] == '[', hi[0] == ']', doc},
+#define YOYOGAIT_SPEC_SHARED(...) YOYOGAIT_FIELD_SPEC("", __VA_ARGS__)
+#define YOYOGAIT_SPEC_PAPER(...) YOYOGAIT_FIELD_SPEC("paper_estimator", __VA_ARGS__)
+#define YOYOGAIT_SPEC_GAIT(...) YOYOGAIT_FIELD_SPEC("gait_filter", __VA_ARGS__)
+/// Every field of the three tables, in their order: shared, paper_estimator, gait_filter.
+inline constexpr FieldSpec kConfigFields[] = {
+    YOYOGAIT_SHARED_FIELDS(YOYOGAIT_SPEC_SHARED) YOYOGAIT_PAPER_FIELDS(YOYOGAIT_SPEC_PAPER)
+        YOYOGAIT_GAIT_FILTER_FIELDS(YOYOGAIT_SPEC_GAIT)};
+#undef YOYOGAIT_SPEC_SHARED
+#undef YOYOGAIT_SPEC_PAPER
+#undef YOYOGAIT_SPEC_GAIT
+#undef YOYOGAIT_FIELD_SPEC
 
 }  // namespace yoyogait

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "yoyogait/gait/state.hpp"
 #include "yoyogait/heuristics.hpp"
@@ -91,5 +92,19 @@ static_assert(sizeof(Estimate) <= 256, "keep Estimate within 256 bytes (see the 
 
 /// Predicted velocities [m/s].
 using Velocity = Reconstruction;
+
+/// Diagnostics of a step, as FilterPy exposes them: the innovation of each channel (measurement
+/// minus predicted measurement) and the normalised innovation squared, NIS = nu^T S^-1 nu, which
+/// averages to the number of channels used (2) when the filter's noise model fits the data.
+/// NaN for a channel the step did not use (and NIS NaN when it used none).
+/// paper: nu = z - H x- at the prediction x-, S = H P- H^T + V (eq. 9). gait: the two sequential
+/// scalar updates, v_x first (its prediction includes the second harmonic); nu_z is the v_z
+/// innovation after the v_x update, and NIS = nu_x^2 / S_x + nu_z^2 / S_z, which equals the joint
+/// nu^T S^-1 nu of the two channels. Innovations of a channel rejected by the gate are reported.
+struct Innovation {
+  double vx_mps = std::numeric_limits<double>::quiet_NaN();
+  double vz_mps = std::numeric_limits<double>::quiet_NaN();
+  double nis = std::numeric_limits<double>::quiet_NaN();
+};
 
 }  // namespace yoyogait

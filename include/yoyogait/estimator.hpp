@@ -74,6 +74,10 @@ class Estimator {
     return Velocity{p.vx_mps, p.vz_mps};
   }
 
+  /// Diagnostics of the last step: the innovation of each channel and the NIS (yoyogait::Innovation).
+  /// Read on demand; step() does not compute them.
+  Innovation innovation() const noexcept { return is_paper_ ? paper_.innovation() : gait_.innovation(); }
+
   const EstimatorConfig& config() const noexcept { return config_; }
   Algorithm algorithm() const noexcept { return config_.algorithm; }
   /// paper: x(k) of eq. 5. gait: [X1, X2, w T, A0] (as Estimate::state).

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/ekf.hpp"
@@ -23,22 +24,26 @@ class PaperEstimator {
  public:
   PaperEstimator() noexcept : PaperEstimator(EstimatorConfig::paper()) {}
 
-  /// config must pass EstimatorConfig::validate() (the Estimator checks it).
+  /// config must pass EstimatorConfig::validate() (the Estimator checks it); the paper's estimator
+  /// reads its section, config.paper_estimator, and the shared fields.
   explicit PaperEstimator(const EstimatorConfig& config) noexcept
-      : T_(config.sample_time_s),
-        max_abs_velocity_mps_(config.max_abs_velocity_mps),
-        v_vx_mps2_(config.v_vx_mps2),
-        v_vz_mps2_(config.v_vz_mps2),
-        initial_R_hat_mps_(config.initial_R_hat_mps),
-        initial_r_hat_mps_(config.initial_r_hat_mps),
-        initial_omega_(config.initial_omega_rad_per_sample),
-        p0_{config.p0_oscillation_mps2, config.p0_oscillation_mps2, config.p0_omega_rad2, config.p0_bias_mps2},
-        window_(config.smoothing_window_samples),
-        gate_omega_(config.gate_omega_rad_per_sample),
-        gate_bias_(config.gate_bias_mps) {
+      : PaperEstimator(config.paper_estimator, config.sample_time_s, config.max_abs_velocity_mps) {}
+
+  PaperEstimator(const PaperConfig& p, double sample_time_s, double max_abs_velocity_mps) noexcept
+      : T_(sample_time_s),
+        max_abs_velocity_mps_(max_abs_velocity_mps),
+        v_vx_mps2_(p.v_vx_mps2),
+        v_vz_mps2_(p.v_vz_mps2),
+        initial_R_hat_mps_(p.initial_R_hat_mps),
+        initial_r_hat_mps_(p.initial_r_hat_mps),
+        initial_omega_(p.initial_omega_rad_per_sample),
+        p0_{p.p0_oscillation_mps2, p.p0_oscillation_mps2, p.p0_omega_rad2, p.p0_bias_mps2},
+        window_(p.smoothing_window_samples),
+        gate_omega_(p.gate_omega_rad_per_sample),
+        gate_bias_(p.gate_bias_mps) {
     inv_T_ = 1.0 / T_;
     inv_two_pi_T_ = 1.0 / (kTwoPi * T_);
-    q_ = {config.q_oscillation_mps2, config.q_oscillation_mps2, config.q_omega_rad2, config.q_bias_mps2};
+    q_ = {p.q_oscillation_mps2, p.q_oscillation_mps2, p.q_omega_rad2, p.q_bias_mps2};
     reset();
   }
 
@@ -51,6 +56,7 @@ class PaperEstimator {
     state_.omega_rad_per_sample() = w0;
     state_.bias_mps() = initial_R_hat_mps_ * w0;
     P_ = SymMatrix4(diagonal(p0_));
+    z_ = Measurement{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
     params_ = ParameterFilter(window_, gate_omega_, gate_bias_, initial_R_hat_mps_, initial_r_hat_mps_);
   }
 
@@ -60,6 +66,7 @@ class PaperEstimator {
     // The prediction goes to scratch members and the update back into state_, P_ (out of place,
     // see predict); a sample that is not used leaves the prediction as the posterior.
     predict(state_, P_, q_, pred_state_, pred_P_);
+    z_ = Measurement{vx_mps, vz_mps};  // for innovation(), which recomputes from the prediction
     Status status = Status::kUpdated;
     if (!(std::isfinite(vx_mps) && std::isfinite(vz_mps))) {
       status = Status::kRejectedNonFinite;
@@ -87,6 +94,28 @@ class PaperEstimator {
     const double x1 = state_.a1_cos() * c - state_.a1_sin() * s;
     const double x2 = state_.a1_cos() * s + state_.a1_sin() * c;
     return reconstruct(params_.R_hat_mps(), params_.r_hat_mps(), x1, x2, w, std::sqrt(x1 * x1 + x2 * x2));
+  }
+
+  /// The innovation z - H x- of the last step at its prediction x-, and the NIS with
+  /// S = H P- H^T + V (eq. 9); NaN when the sample was not used (not finite, out of range).
+  /// Computed on demand from the prediction, which the step keeps: the step itself pays nothing.
+  Innovation innovation() const noexcept {
+    Innovation out;
+    const double vx = z_.vx_mps, vz = z_.vz_mps;
+    if (!(std::isfinite(vx) && std::isfinite(vz) && std::fabs(vx) <= max_abs_velocity_mps_ &&
+          std::fabs(vz) <= max_abs_velocity_mps_))
+      return out;
+    const Measurement h = measure(pred_state_);
+    const SymMatrix4& P = pred_P_;
+    out.vx_mps = vx - h.vx_mps;
+    out.vz_mps = vz - h.vz_mps;
+    // S = [[s00, -u1], [-u1, s11]] as in update(); nu^T S^-1 nu = nu^T adj(S) nu / det(S).
+    const double u1 = P(kSin, kCos) + P(kSin, kBias);
+    const double s00 = P(kCos, kCos) + 2.0 * P(kCos, kBias) + P(kBias, kBias) + v_vx_mps2_;
+    const double s11 = P(kSin, kSin) + v_vz_mps2_;
+    const double y0 = out.vx_mps, y1 = out.vz_mps;
+    out.nis = (y0 * y0 * s11 + 2.0 * y0 * y1 * u1 + y1 * y1 * s00) / (s00 * s11 - u1 * u1);
+    return out;
   }
 
   /// x(k) of eq. 5.
@@ -146,6 +175,7 @@ class PaperEstimator {
   State pred_state_;  // the prediction of the current step (scratch)
   SymMatrix4 pred_P_;
   ParameterFilter params_;
+  Measurement z_;  // the last sample, for innovation()
 };
 
 }  // namespace yoyogait

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "online.hpp"
 #include "yoyogait/yoyogait.hpp"
 
 namespace nb = nanobind;
@@ -134,7 +135,7 @@ class Block {
 // The doubles are one row-major table, each column a strided view: a step writes its values to
 // one place (whole cache lines) rather than to a separate stream per column, which costs a
 // long run several ns per sample more.
-template <bool kGait>
+template <bool kGait, bool kDiag>
 nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
                   const double* pdt) {
   constexpr std::size_t kS = yoyogait::kStateDim;
@@ -147,7 +148,9 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     kCommon,  // the gait filter's columns follow
     kGstate = kCommon, kVxH2 = kGstate + kG, kVzH2, kScale, kGaitEnd
   };
-  const std::size_t kPred = kGait ? kGaitEnd : kCommon;  // vx_pred (nh), then vz_pred (nh)
+  // With diagnostics: innovation_vx_mps, innovation_vz_mps, nis; then vx_pred (nh), vz_pred (nh).
+  const std::size_t kDiagCol = kGait ? kGaitEnd : kCommon;
+  const std::size_t kPred = kDiagCol + (kDiag ? 3 : 0);
   const std::size_t width = kPred + 2 * nh;
   Block block(n * (sizeof(double) * width + (kGait ? 4 : 2)) + 64);
   double* rows = block.raw<double>(n * width);
@@ -191,6 +194,12 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
           walking.data[i] = e.walking;
           acquiring.data[i] = e.acquiring;
         }
+        if constexpr (kDiag) {
+          const yoyogait::Innovation d = local.innovation();
+          r[kDiagCol] = d.vx_mps;
+          r[kDiagCol + 1] = d.vz_mps;
+          r[kDiagCol + 2] = d.nis;
+        }
         for (std::size_t j = 0; j < nh; ++j) {
           const yoyogait::Velocity v = local.predict_ahead(ph[j]);
           r[kPred + j] = v.vx_mps;
@@ -231,6 +240,11 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
     out["walking"] = walking.array;
     out["acquiring"] = acquiring.array;
   }
+  if constexpr (kDiag) {
+    out["innovation_vx_mps"] = column(kDiagCol);
+    out["innovation_vz_mps"] = column(kDiagCol + 1);
+    out["nis"] = column(kDiagCol + 2);
+  }
   if (nh) {
     out["vx_pred"] = block.view(rows + kPred, n, nh, width);
     out["vz_pred"] = block.view(rows + kPred + nh, n, nh, width);
@@ -240,13 +254,15 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
 
 
 nb::dict run(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
-             const std::optional<InArray>& dt) {
+             const std::optional<InArray>& dt, bool diagnostics) {
   const std::size_t n = vx.shape(0);
   if (vz.shape(0) != n) throw nb::value_error("vx and vz must have the same length");
   if (dt && dt->shape(0) != n) throw nb::value_error("dt_s must have the length of vx");
   const double* pdt = dt ? dt->data() : nullptr;
-  if (est.algorithm() == yoyogait::Algorithm::kPaper) return run_impl<false>(est, vx, vz, horizons, pdt);
-  return run_impl<true>(est, vx, vz, horizons, pdt);
+  const bool paper = est.algorithm() == yoyogait::Algorithm::kPaper;
+  if (diagnostics)
+    return paper ? run_impl<false, true>(est, vx, vz, horizons, pdt) : run_impl<true, true>(est, vx, vz, horizons, pdt);
+  return paper ? run_impl<false, false>(est, vx, vz, horizons, pdt) : run_impl<true, false>(est, vx, vz, horizons, pdt);
 }
 
 nb::dict yoyo_trajectory(double R_m, double r_m, double z0_m, const InArray& time_s, const InArray& f_hz,
@@ -293,14 +309,122 @@ yoyogait::Algorithm algorithm_from(const std::string& name) {
   throw nb::value_error(("algorithm must be 'paper' or 'gait_filter', got '" + name + "'").c_str());
 }
 
+// One field of a configuration table as a read-write attribute; the bank's frequencies as a tuple.
+template <class T, class Class, class Struct>
+void bind_field(Class& cls, const char* name, T Struct::*member) {
+  cls.def_rw(name, member);
+}
+template <class Class, class Struct>
+void bind_field(Class& cls, const char* name, yoyogait::FrequencyList Struct::*member) {
+  cls.def_prop_rw(
+      name,
+      [member](const Struct& c) {
+        const yoyogait::FrequencyList& f = c.*member;
+        nb::list out;
+        for (std::size_t i = 0; i < f.size && i < yoyogait::kMaxBankSize; ++i) out.append(f[i]);
+        return nb::tuple(out);
+      },
+      [member, name](Struct& c, const std::vector<double>& f) {
+        if (f.empty() || f.size() > yoyogait::kMaxBankSize)
+          throw nb::value_error((std::string(name) + " must hold 1 to 8 frequencies").c_str());
+        yoyogait::FrequencyList out;
+        for (std::size_t i = 0; i < f.size(); ++i) out[i] = f[i];
+        out.size = f.size();
+        c.*member = out;
+      });
+}
+
+nb::object py_value(double v) { return nb::float_(v); }
+nb::object py_value(std::size_t v) { return nb::int_(v); }
+nb::object py_value(bool v) { return nb::bool_(v); }
+nb::object py_value(const yoyogait::FrequencyList& f) {
+  nb::list out;
+  for (std::size_t i = 0; i < f.size; ++i) out.append(f[i]);
+  return nb::tuple(out);
+}
+
+// The schema of the configuration, from the tables of config.hpp: one dict per field.
+nb::list config_schema() {
+  nb::list out;
+  const EstimatorConfig d{};
+  const auto add = [&](const char* section, const char* name, const char* type, nb::object def, const char* unit,
+                       const char* lo, double min, double max, const char* hi, const char* doc) {
+    nb::dict f;
+    f["section"] = section;
+    f["name"] = name;
+    f["type"] = type;
+    f["default"] = def;
+    f["unit"] = unit;
+    f["doc"] = doc;
+    f["min"] = min;
+    f["max"] = max;
+    f["min_inclusive"] = lo[0] == '[';
+    f["max_inclusive"] = hi[0] == ']';
+    out.append(f);
+  };
+  {
+    nb::dict f;
+    f["section"] = "";
+    f["name"] = "algorithm";
+    f["type"] = "str";
+    f["default"] = algorithm_name(d.algorithm);
+    f["unit"] = "";
+    f["doc"] = "the estimator to run: 'gait_filter' (the default estimator) or 'paper' (the paper's, as published)";
+    f["choices"] = nb::make_tuple("paper", "gait_filter");
+    out.append(f);
+  }
+#define YOYO_SCHEMA(section, obj, type, name, def, unit, lo, min, max, hi, doc) \
+  add(section, #name, yoyogait::detail::type_name<type>(), py_value(obj.name), unit, lo, static_cast<double>(min), \
+      static_cast<double>(max), hi, doc);
+#define YOYO_SCHEMA_SHARED(...) YOYO_SCHEMA("", d, __VA_ARGS__)
+#define YOYO_SCHEMA_PAPER(...) YOYO_SCHEMA("paper_estimator", d.paper_estimator, __VA_ARGS__)
+#define YOYO_SCHEMA_GAIT(...) YOYO_SCHEMA("gait_filter", d.gait_filter, __VA_ARGS__)
+  YOYOGAIT_SHARED_FIELDS(YOYO_SCHEMA_SHARED)
+  YOYOGAIT_PAPER_FIELDS(YOYO_SCHEMA_PAPER)
+  YOYOGAIT_GAIT_FILTER_FIELDS(YOYO_SCHEMA_GAIT)
+#undef YOYO_SCHEMA_SHARED
+#undef YOYO_SCHEMA_PAPER
+#undef YOYO_SCHEMA_GAIT
+#undef YOYO_SCHEMA
+  return out;
+}
+
+// An estimate with the step's diagnostics (yoyogait::Innovation), for the streaming form.
+struct DiagnosedEstimate : Estimate {
+  double innovation_vx_mps = 0.0, innovation_vz_mps = 0.0, nis = 0.0;
+};
+
+DiagnosedEstimate diagnosed(const yoyogait::Estimator& est, const Estimate& e) {
+  const yoyogait::Innovation d = est.innovation();
+  DiagnosedEstimate out;
+  static_cast<Estimate&>(out) = e;
+  out.innovation_vx_mps = d.vx_mps;
+  out.innovation_vz_mps = d.vz_mps;
+  out.nis = d.nis;
+  return out;
+}
+
 }  // namespace
 
 NB_MODULE(_core, m) {
   m.doc() = "Private bindings of the yoyogait C++ core; use yoyogait.GaitEstimator.";
 
-#define YOYO_FIELD(name) .def_rw(#name, &EstimatorConfig::name)
-  nb::class_<EstimatorConfig>(m, "EstimatorConfig")
-      .def(nb::init<>())
+  // The configuration, bound from the tables of config.hpp: every field once.
+  auto paper_cls = nb::class_<yoyogait::PaperConfig>(m, "PaperConfig").def(nb::init<>());
+  auto gait_cls = nb::class_<yoyogait::GaitFilterConfig>(m, "GaitFilterConfig").def(nb::init<>());
+  auto config_cls = nb::class_<EstimatorConfig>(m, "EstimatorConfig");
+#define YOYO_BIND(cls, Struct, type, name, ...) bind_field(cls, #name, &Struct::name);
+#define YOYO_BIND_SHARED(...) YOYO_BIND(config_cls, EstimatorConfig, __VA_ARGS__)
+#define YOYO_BIND_PAPER(...) YOYO_BIND(paper_cls, yoyogait::PaperConfig, __VA_ARGS__)
+#define YOYO_BIND_GAIT(...) YOYO_BIND(gait_cls, yoyogait::GaitFilterConfig, __VA_ARGS__)
+  YOYOGAIT_SHARED_FIELDS(YOYO_BIND_SHARED)
+  YOYOGAIT_PAPER_FIELDS(YOYO_BIND_PAPER)
+  YOYOGAIT_GAIT_FILTER_FIELDS(YOYO_BIND_GAIT)
+#undef YOYO_BIND_SHARED
+#undef YOYO_BIND_PAPER
+#undef YOYO_BIND_GAIT
+#undef YOYO_BIND
+  config_cls.def(nb::init<>())
       .def_static("paper", &EstimatorConfig::paper)
       .def("validate", [](const EstimatorConfig& c) -> nb::object {
         const char* e = c.validate();
@@ -309,44 +433,11 @@ NB_MODULE(_core, m) {
       .def_prop_rw(
           "algorithm", [](const EstimatorConfig& c) { return std::string(algorithm_name(c.algorithm)); },
           [](EstimatorConfig& c, const std::string& name) { c.algorithm = algorithm_from(name); })
-      // The bank's frequencies as one tuple (C++: bank_f_hz[0 .. bank_size)).
-      .def_prop_rw(
-          "bank_f_hz",
-          [](const EstimatorConfig& c) {
-            nb::list out;
-            for (std::size_t i = 0; i < c.bank_size && i < yoyogait::kMaxBankSize; ++i) out.append(c.bank_f_hz[i]);
-            return nb::tuple(out);
-          },
-          [](EstimatorConfig& c, const std::vector<double>& f) {
-            if (f.empty() || f.size() > yoyogait::kMaxBankSize)
-              throw nb::value_error("bank_f_hz must hold 1 to 8 frequencies");
-            c.bank_f_hz = {};
-            for (std::size_t i = 0; i < f.size(); ++i) c.bank_f_hz[i] = f[i];
-            c.bank_size = f.size();
-          })
-      YOYO_FIELD(sample_time_s) YOYO_FIELD(initial_R_hat_mps) YOYO_FIELD(initial_r_hat_mps)
-      YOYO_FIELD(initial_omega_rad_per_sample) YOYO_FIELD(q_oscillation_mps2) YOYO_FIELD(q_omega_rad2)
-      YOYO_FIELD(q_bias_mps2) YOYO_FIELD(v_vx_mps2) YOYO_FIELD(v_vz_mps2) YOYO_FIELD(p0_oscillation_mps2)
-      YOYO_FIELD(p0_omega_rad2) YOYO_FIELD(p0_bias_mps2) YOYO_FIELD(smoothing_window_samples)
-      YOYO_FIELD(gate_omega_rad_per_sample) YOYO_FIELD(gate_bias_mps) YOYO_FIELD(max_abs_velocity_mps)
-      // The gait filter.
-      YOYO_FIELD(f_min_hz) YOYO_FIELD(f_max_hz) YOYO_FIELD(bank_window_s) YOYO_FIELD(bank_forget_s)
-      YOYO_FIELD(bank_prior_f_hz) YOYO_FIELD(bank_prior_bonus_nats) YOYO_FIELD(p0_f_std_hz)
-      YOYO_FIELD(p0_phasor_std_mps) YOYO_FIELD(p0_speed_std_mps) YOYO_FIELD(p0_accel_std_mps2)
-      YOYO_FIELD(p0_omega_rate_std_rad_s2) YOYO_FIELD(spectral_init) YOYO_FIELD(spectral_init_s)
-      YOYO_FIELD(spectral_buffer_samples) YOYO_FIELD(spectral_grid_step_hz) YOYO_FIELD(spectral_f_std_hz)
-      YOYO_FIELD(spectral_phasor_std_mps) YOYO_FIELD(q_phasor_m2_per_s3) YOYO_FIELD(q_phase_rad2_per_s)
-      YOYO_FIELD(q_omega_rad2_per_s3) YOYO_FIELD(use_omega_rate) YOYO_FIELD(q_omega_rate_lo_rad2_per_s5)
-      YOYO_FIELD(q_omega_rate_hi_rad2_per_s5) YOYO_FIELD(omega_rate_ref_rad_s2) YOYO_FIELD(omega_rate_lp_tau_s)
-      YOYO_FIELD(omega_rate_tau_s) YOYO_FIELD(q_speed_m2_per_s3) YOYO_FIELD(q_accel_m2_per_s5)
-      YOYO_FIELD(accel_tau_s) YOYO_FIELD(use_harmonic) YOYO_FIELD(p0_harmonic_std_mps)
-      YOYO_FIELD(q_harmonic_m2_per_s3) YOYO_FIELD(harmonic_min_amp_mps) YOYO_FIELD(meas_vx_std_mps)
-      YOYO_FIELD(meas_vz_std_mps) YOYO_FIELD(gate_sigma) YOYO_FIELD(gate_max_consecutive) YOYO_FIELD(max_gap_s)
-      YOYO_FIELD(walk_tau_s) YOYO_FIELD(walk_speed_on_mps) YOYO_FIELD(walk_speed_off_mps)
-      YOYO_FIELD(walk_vz_rms_on_mps) YOYO_FIELD(walk_vz_rms_off_mps) YOYO_FIELD(bound_watchdog_s)
-      YOYO_FIELD(std_scale_adapt) YOYO_FIELD(std_scale_tau_s) YOYO_FIELD(std_scale_min) YOYO_FIELD(std_scale_max)
-      YOYO_FIELD(speed_std_floor_mps) YOYO_FIELD(radii_tau_s) YOYO_FIELD(initial_R_m) YOYO_FIELD(initial_r_m);
-#undef YOYO_FIELD
+      .def_rw("paper_estimator", &EstimatorConfig::paper_estimator)
+      .def_rw("gait_filter", &EstimatorConfig::gait_filter);
+  m.def("config_schema", &config_schema,
+        "Every field of the configuration: section, name, type, default, unit, doc, valid range.");
+  m.attr("MAX_BANK_SIZE") = yoyogait::kMaxBankSize;
 
   nb::enum_<yoyogait::Status>(m, "Status", nb::is_arithmetic())
       .value("UPDATED", yoyogait::Status::kUpdated)
@@ -390,11 +481,21 @@ NB_MODULE(_core, m) {
                     static_cast<int>(e.status));
       });
 
+  nb::class_<DiagnosedEstimate, Estimate>(m, "DiagnosedEstimate")
+      .def_ro("innovation_vx_mps", &DiagnosedEstimate::innovation_vx_mps)
+      .def_ro("innovation_vz_mps", &DiagnosedEstimate::innovation_vz_mps)
+      .def_ro("nis", &DiagnosedEstimate::nis);
+
   nb::class_<yoyogait::Estimator>(m, "Estimator")
       .def(nb::init<const EstimatorConfig&>(), "config"_a)
       .def("step", nb::overload_cast<double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a)
       .def("step", nb::overload_cast<double, double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a, "dt_s"_a)
-      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none())
+      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none(), "diagnostics"_a = false)
+      .def("step_diagnosed",
+           [](yoyogait::Estimator& e, double vx, double vz) { return diagnosed(e, e.step(vx, vz)); }, "vx"_a, "vz"_a)
+      .def("step_diagnosed",
+           [](yoyogait::Estimator& e, double vx, double vz, double dt) { return diagnosed(e, e.step(vx, vz, dt)); },
+           "vx"_a, "vz"_a, "dt_s"_a)
       .def("reset", &yoyogait::Estimator::reset)
       .def("predict_ahead", [](const yoyogait::Estimator& e, double h) {
         const auto v = e.predict_ahead(h);
@@ -419,4 +520,5 @@ NB_MODULE(_core, m) {
   m.def("gait_transition_jacobian", [](const yoyogait::GaitState& x, double dt_s, double accel_decay, double rate_decay) {
     return matrix(yoyogait::gait_transition_jacobian(x, dt_s, accel_decay, rate_decay));
   }, "x"_a, "dt_s"_a, "accel_decay"_a, "omega_rate_decay"_a);
+  bind_online(m);
 }

@@ -41,6 +41,7 @@ __all__ = [
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 _received: int | None = None  # the first interrupting signal of this run
+_owner = 0  # the process that installed the handlers (forked workers inherit them)
 _deferring = 0  # depth of signals_deferred blocks
 _pending = False  # a signal arrived inside one: raise when the outermost ends
 
@@ -55,6 +56,12 @@ class Interrupted(KeyboardInterrupt):
 
 def _handler(signum, frame) -> None:
     global _received, _pending
+    if os.getpid() != _owner:
+        # A forked worker process: its parent handles the run; it ends as by default (a pool
+        # terminates its workers with SIGTERM, which must not become an exception in them).
+        signal.signal(signum, signal.SIG_DFL)
+        os.kill(os.getpid(), signum)
+        return
     if _received is None:
         _received = int(signum)
     if _deferring:
@@ -82,11 +89,11 @@ def handle_interrupts() -> Iterator[None]:
     Does nothing outside the main thread (where Python allows no signal handler); the previous
     handlers come back afterwards.
     """
-    global _received, _pending
+    global _received, _pending, _owner
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    _received, _pending = None, False
+    _received, _pending, _owner = None, False, os.getpid()
     previous = {s: signal.getsignal(s) for s in SIGNALS}
     previous_hook = sys.unraisablehook
 

@@ -15,7 +15,7 @@
 #include "yoyogait/yoyo_model.hpp"
 
 // Count heap allocations, to show that step() makes none.
-static std::atomic<long> g_allocations{0};
+std::atomic<long> g_allocations{0};  // also read by test_online.cpp
 void* operator new(std::size_t n) {
   ++g_allocations;
   if (void* p = std::malloc(n ? n : 1)) return p;
@@ -233,7 +233,7 @@ TEST(GaitEstimator, StepDoesNotAllocate) {
 }
 
 TEST(Estimator, RejectsAnInvalidConfiguration) {
-  // A non-positive sample time, negative noise or too long a window is an error at construction.
+  // A non-positive or denormal sample time, a huge P0, zero or negative noise or too long a window is an error at construction.
   EstimatorConfig c = EstimatorConfig::paper();
   c.sample_time_s = 0.0;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
@@ -241,13 +241,19 @@ TEST(Estimator, RejectsAnInvalidConfiguration) {
   c.sample_time_s = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   c = EstimatorConfig::paper();
-  c.v_vz_mps2 = 0.0;
+  c.sample_time_s = 5e-324;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   c = EstimatorConfig::paper();
-  c.q_bias_mps2 = -1.0;
+  c.paper_estimator.p0_bias_mps2 = 1e300;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   c = EstimatorConfig::paper();
-  c.smoothing_window_samples = kMaxSmoothingWindow + 1;
+  c.paper_estimator.v_vz_mps2 = 0.0;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig::paper();
+  c.paper_estimator.q_bias_mps2 = -1.0;
+  EXPECT_THROW(Estimator{c}, std::invalid_argument);
+  c = EstimatorConfig::paper();
+  c.paper_estimator.smoothing_window_samples = kMaxSmoothingWindow + 1;
   EXPECT_THROW(Estimator{c}, std::invalid_argument);
   EXPECT_EQ(EstimatorConfig::paper().validate(), nullptr);
 }
@@ -264,4 +270,44 @@ TEST(Estimator, PredictionAheadFollowsTheModel) {
     worst = std::max({worst, std::fabs(v.vx_mps - w.vx[i + 5]), std::fabs(v.vz_mps - w.vz[i + 5])});
   }
   EXPECT_LT(worst, 0.01);
+}
+
+TEST(Estimator, InnovationIsTheMeasurementMinusThePrediction) {
+  // Paper: innovation() = z - H f(x) and NIS = y^T S^-1 y with S = H (F P F^T + Q) H^T + V; NaN for an unused sample.
+  const Walk w = yoyo_walk(10.0, 1.8, 0.115, 0.02, 0.05);
+  Estimator est(EstimatorConfig::paper());
+  EXPECT_TRUE(std::isnan(est.innovation().nis));
+  const PaperConfig& pc = est.config().paper_estimator;
+  const std::array<double, 4> q{pc.q_oscillation_mps2, pc.q_oscillation_mps2, pc.q_omega_rad2, pc.q_bias_mps2};
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    State x = est.state();
+    Matrix4 P = est.covariance();
+    predict(x, P, q);
+    est.step(w.vx[i], w.vz[i]);
+    const Innovation d = est.innovation();
+    const double y0 = w.vx[i] - (x[kBias] + x[kCos]), y1 = w.vz[i] + x[kSin];
+    ASSERT_NEAR(d.vx_mps, y0, 1e-12);
+    ASSERT_NEAR(d.vz_mps, y1, 1e-12);
+    const double s00 = P[kCos][kCos] + 2 * P[kCos][kBias] + P[kBias][kBias] + pc.v_vx_mps2;
+    const double s01 = -(P[kCos][kSin] + P[kBias][kSin]), s11 = P[kSin][kSin] + pc.v_vz_mps2;
+    const double det = s00 * s11 - s01 * s01;
+    ASSERT_NEAR(d.nis, (y0 * y0 * s11 - 2 * y0 * y1 * s01 + y1 * y1 * s00) / det, 1e-9 * (1 + d.nis));
+  }
+  est.step(std::numeric_limits<double>::quiet_NaN(), 0.0);
+  EXPECT_TRUE(std::isnan(est.innovation().vx_mps) && std::isnan(est.innovation().vz_mps));
+  EXPECT_TRUE(std::isnan(est.innovation().nis));
+}
+
+TEST(GaitEstimator, InnovationIsUndefinedWhenNothingWasUpdated) {
+  // Default: no innovation before the first usable sample or for an unusable time step; both channels while walking.
+  const Walk w = yoyo_walk(10.0, 1.8, 0.115, 0.02, 0.05);
+  Estimator est;
+  EXPECT_TRUE(std::isnan(est.innovation().nis));
+  est.step(std::numeric_limits<double>::quiet_NaN(), 0.0);
+  EXPECT_TRUE(std::isnan(est.innovation().nis));
+  for (std::size_t i = 0; i < w.vx.size(); ++i) est.step(w.vx[i], w.vz[i]);
+  const Innovation d = est.innovation();
+  EXPECT_TRUE(std::isfinite(d.vx_mps) && std::isfinite(d.vz_mps) && d.nis >= 0.0);
+  est.step(1.0, 0.0, -1.0);
+  EXPECT_TRUE(std::isnan(est.innovation().vx_mps) && std::isnan(est.innovation().nis));
 }

@@ -177,6 +177,7 @@ class _Ekf:
         self.P = np.zeros((NX, NX))
         self.loglik = 0.0
         self.dw_lp = 0.0
+        self.innov = {}  # channel (0: vx, 1: vz) -> (nu, S) of the last update, for the diagnostics
 
     def reset(self, cfg, f_hz, A0):
         self.x[:] = 0.0
@@ -191,12 +192,14 @@ class _Ekf:
         self.P[IDW, IDW] = cfg.p0_omega_rate_std_rad_s2**2 if cfg.use_omega_rate else 0.0
         self.loglik = 0.0
         self.dw_lp = 0.0
+        self.innov = {}
 
     def copy_from(self, o):
         self.x[:] = o.x
         self.P[:, :] = o.P
         self.loglik = o.loglik
         self.dw_lp = o.dw_lp
+        self.innov = dict(o.innov)
 
     def predict(self, cfg, dt, oscillate=True):
         x, P = self.x, self.P
@@ -391,6 +394,7 @@ class DefaultEstimator:
         self.t_at_bound = 0.0
         self.lam = 1.0
         self.t_now = 0.0
+        self.updated = False  # the last step ran the updates (diagnostics)
         # fixed ring buffer for the spectral initialisation
         nb = c.spec_buffer_n
         self.buf_t = [0.0] * nb
@@ -564,11 +568,13 @@ class DefaultEstimator:
         if dt_s is None:
             dt = c.nominal_dt_s
         elif not math.isfinite(dt_s) or dt_s < 0.0:
+            self.updated = False
             return self._output(STATUS_NONFINITE)  # unusable timestamp: sample ignored
         else:
             dt = dt_s
         if not self.started:
             if not fin_x:
+                self.updated = False
                 return self._output(STATUS_NONFINITE)
             self.started = True
             self.ema_vx = vx
@@ -627,7 +633,9 @@ class DefaultEstimator:
         gate2 = c.gate_sigma * c.gate_sigma
         a_l = 0.5 * (1.0 - math.exp(-dt / c.std_scale_tau_s)) if dt > 0.0 else 0.0
         rejected = False
+        self.updated = True
         for f, fh in zip(filters, filters_h):
+            f.innov = {}
             for ch, y, r in chans:
                 # the channel's second harmonic (from the predicted phasor) is cancelled first
                 u = v = 0.0
@@ -635,6 +643,7 @@ class DefaultEstimator:
                     u, v = self._harm_basis(f, ch)
                 yh = fh[ch].value(u, v) if ch != CH_VX_STANDING else 0.0
                 nu, S = f.innovation(ch, y - yh, r)
+                f.innov[CH_VZ if ch == CH_VZ else CH_VX] = (nu, S)
                 if (not self.acquiring) and nu * nu > gate2 * S and self.n_rejects < c.max_consecutive_rejects:
                     rejected = True
                     continue
@@ -722,7 +731,13 @@ class DefaultEstimator:
         # positive = Yoyo relation, negative = the opposite (real walking)
         signed = (x[IX1] * x[IZ2] - x[IX2] * x[IZ1]) / az if az > 1e-9 else 0.0
         lam = self.lam
+        innov = f.innov if self.updated else {}
+        nan = float("nan")
+        nis = sum(nu * nu / S for nu, S in innov.values()) if innov else nan
         return dict(
+            innovation_vx_mps=innov.get(CH_VX, (nan, nan))[0],
+            innovation_vz_mps=innov.get(CH_VZ, (nan, nan))[0],
+            nis=nis,
             status=status,
             walking=self.walking,
             acquiring=self.acquiring,
@@ -832,7 +847,11 @@ _NATIVE_NAMES = {
 
 def config_from(native_cfg) -> DefaultConfig:
     """The DefaultConfig with the values of a yoyogait.EstimatorConfig (or its native struct)."""
-    values = {ours: getattr(native_cfg, theirs) for ours, theirs in _NATIVE_NAMES.items()}
+    section = native_cfg.gait_filter
+    values = {
+        ours: getattr(section, theirs) if hasattr(section, theirs) else getattr(native_cfg, theirs)
+        for ours, theirs in _NATIVE_NAMES.items()
+    }
     values["bank_f_hz"] = tuple(values["bank_f_hz"])
     return DefaultConfig(**values)
 
@@ -860,6 +879,9 @@ def run_reference(vx, vz, dt=None, cfg=None, predict_ahead_s=()):
         "R_m",
         "r_m",
         "std_scale",
+        "innovation_vx_mps",
+        "innovation_vz_mps",
+        "nis",
     )
     out = {k: np.empty(n) for k in keys}
     out["gait_state"] = np.empty((n, NX))

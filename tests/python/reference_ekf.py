@@ -27,7 +27,8 @@ def reference_paper_estimator(
     mu_w=0.1,
     mu_A0=0.1,
 ):
-    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat)."""
+    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat, and the
+    diagnostics: innovation (N, 2) = z - H x- at the prediction, nis = y^T S^-1 y; NaN where unused)."""
     N = len(vx)
     x = np.array([r0 * w0, 0.0, w0, R0 * w0])
     P = np.eye(4) * P0
@@ -39,6 +40,8 @@ def reference_paper_estimator(
     R_hist[0], r_hist[0] = R0, r0
     vx_hat = np.empty(N)
     vz_hat = np.empty(N)
+    innovation = np.full((N, 2), np.nan)
+    nis = np.full(N, np.nan)
     for k in range(1, N + 1):
         # Prediction through eq. 6 with F evaluated at the prior state.
         x1, x2, w, A0 = x
@@ -55,8 +58,12 @@ def reference_paper_estimator(
         z = np.array([vx[k - 1], vz[k - 1]])
         if np.all(np.isfinite(z)):
             S = H @ P @ H.T + Vm
-            K = P @ H.T @ np.linalg.inv(S)
-            x = x + K @ (z - H @ x)
+            S_inv = np.linalg.inv(S)
+            K = P @ H.T @ S_inv
+            y = z - H @ x
+            innovation[k - 1] = y
+            nis[k - 1] = y @ S_inv @ y
+            x = x + K @ y
             P = (np.eye(4) - K @ H) @ P
         states[k - 1] = x
         # Eq. 11-12.
@@ -70,4 +77,12 @@ def reference_paper_estimator(
         # Eq. 13-14.
         vx_hat[k - 1] = R_hist[k] * x[2] + r_hist[k] * x[2] * x[0] / A1
         vz_hat[k - 1] = -r_hist[k] * x[2] * x[1] / A1
-    return {"state": states, "R_hat": R_hist[1:], "r_hat": r_hist[1:], "vx_hat": vx_hat, "vz_hat": vz_hat}
+    return {
+        "state": states,
+        "R_hat": R_hist[1:],
+        "r_hat": r_hist[1:],
+        "vx_hat": vx_hat,
+        "vz_hat": vz_hat,
+        "innovation": innovation,
+        "nis": nis,
+    }

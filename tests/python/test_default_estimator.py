@@ -142,18 +142,19 @@ def test_default_config_is_the_gait_filter_and_paper_preset_is_unchanged():
     assert set(PRESETS) == {"paper", "default"}
     assert PRESETS["default"]() == EstimatorConfig() and PRESETS["paper"]() == EstimatorConfig.paper()
     p = EstimatorConfig.paper()
+    pe = p.paper_estimator
     assert (
         p.algorithm,
         p.sample_time_s,
-        p.q_oscillation_mps2,
-        p.q_omega_rad2,
-        p.q_bias_mps2,
-        p.v_vx_mps2,
-        p.smoothing_window_samples,
-        p.initial_R_hat_mps,
+        pe.q_oscillation_mps2,
+        pe.q_omega_rad2,
+        pe.q_bias_mps2,
+        pe.v_vx_mps2,
+        pe.smoothing_window_samples,
+        pe.initial_R_hat_mps,
     ) == ("paper", 0.04, 1e-5, 1e-3, 1e-3, 1e-2, 10, 2.0)
     native = _core.EstimatorConfig.paper()
-    assert native.algorithm == "paper" and native.bank_f_hz == (0.9, 1.3, 1.8, 2.3, 2.8)
+    assert native.algorithm == "paper" and native.gait_filter.bank_f_hz == (0.9, 1.3, 1.8, 2.3, 2.8)
 
 
 def _hard_scenario():
@@ -206,7 +207,8 @@ REF_STATUS = {
 def test_native_matches_the_numpy_reference(changes):
     """The native core equals the independent numpy implementation (reference_default.py) to 1e-9 on
     every output over a hard 62 s walk (stops, gaps, NaN, outliers, jitter), predictions included."""
-    cfg = dataclasses.replace(EstimatorConfig(), **changes)
+    cfg = EstimatorConfig()
+    cfg.gait_filter = dataclasses.replace(cfg.gait_filter, **changes)
     s = _hard_scenario()
     dt = np.diff(s["t"], prepend=np.nan)
     r = ref.run_reference(s["vx"], s["vz"], dt, ref.config_from(cfg.to_native()), predict_ahead_s=(0.04, 0.2))
@@ -535,6 +537,11 @@ def test_synthetic_lab_accuracy():
         ({"bank_f_hz": "1.8"}, "bank_f_hz"),
         ({"use_harmonic": 1}, "use_harmonic"),
         ({"gate_max_consecutive": -1}, "gate_max_consecutive"),
+        ({"gate_max_consecutive": 2**63}, "gait_filter.gate_max_consecutive"),
+        ({"gate_max_consecutive": 2**64}, "gait_filter.gate_max_consecutive"),
+        ({"speed_std_floor_mps": 1e300}, "gait_filter.speed_std_floor_mps"),
+        ({"p0_speed_std_mps": 1e300}, "gait_filter.p0_speed_std_mps"),
+        ({"bank_f_hz": (1.8, 1.3)}, "bank_f_hz"),
         ({"spectral_buffer_samples": 0}, "spectral_buffer_samples"),
         ({"q_phase_rad2_per_s": float("nan")}, "q_phase_rad2_per_s"),
         ({"meas_vx_std_mps": 0.0}, "meas_vx_std_mps"),
@@ -545,7 +552,11 @@ def test_synthetic_lab_accuracy():
 )
 def test_invalid_config_is_an_error_naming_the_field(change, message):
     """A malformed gait-filter configuration raises ValueError naming the field at construction."""
-    cfg = dataclasses.replace(EstimatorConfig(), **change)
+    cfg = EstimatorConfig()
+    if "algorithm" in change:
+        cfg.algorithm = change["algorithm"]
+    else:
+        cfg.gait_filter = dataclasses.replace(cfg.gait_filter, **change)
     with pytest.raises(ValueError, match=message):
         GaitEstimator(cfg)
 

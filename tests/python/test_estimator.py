@@ -151,6 +151,9 @@ def test_extreme_values_never_make_state_non_finite():
     [
         ({"sample_time_s": 0.0}, "sample_time_s"),
         ({"sample_time_s": -0.04}, "sample_time_s"),
+        ({"sample_time_s": 5e-324}, "sample_time_s"),
+        ({"p0_bias_mps2": 1e300}, "paper_estimator.p0_bias_mps2"),
+        ({"smoothing_window_samples": 2**64}, "smoothing_window_samples"),
         ({"v_vx_mps2": 0.0}, "v_vx_mps2"),
         ({"q_omega_rad2": float("nan")}, "q_omega_rad2"),
         ({"smoothing_window_samples": -1}, "smoothing_window_samples"),
@@ -161,7 +164,10 @@ def test_extreme_values_never_make_state_non_finite():
 )
 def test_invalid_config_is_an_error_at_construction(change, message):
     """A malformed configuration raises ValueError naming the field when the estimator is built."""
-    cfg = dataclasses.replace(EstimatorConfig.paper(), **change)
+    cfg = EstimatorConfig.paper()
+    shared = {k: v for k, v in change.items() if k == "sample_time_s"}
+    section = {k: v for k, v in change.items() if k != "sample_time_s"}
+    cfg = dataclasses.replace(cfg, **shared, paper_estimator=dataclasses.replace(cfg.paper_estimator, **section))
     with pytest.raises(ValueError, match=message):
         GaitEstimator(cfg)
 
@@ -179,19 +185,25 @@ def test_mismatched_or_multidimensional_arrays_raise():
 
 
 def test_python_config_mirrors_the_cpp_struct():
-    """Every field of the C++ EstimatorConfig has a Python twin with the same default (the default
-    estimator) and the same paper() value, and no more."""
-    native = _core.EstimatorConfig()
-    native_fields = {n for n in dir(native) if not n.startswith("_") and n not in ("paper", "validate")}
-    py_fields = {f.name for f in dataclasses.fields(EstimatorConfig)}
-    assert native_fields == py_fields
-    default, native_paper, paper = EstimatorConfig(), _core.EstimatorConfig.paper(), EstimatorConfig.paper()
+    """Every field of the C++ EstimatorConfig (and of its two sections) has a Python twin with the same
+    default (the default estimator) and the same paper() value, and no more."""
+    native, native_paper = _core.EstimatorConfig(), _core.EstimatorConfig.paper()
+    default, paper = EstimatorConfig(), EstimatorConfig.paper()
     assert default.algorithm == "gait_filter" and paper.algorithm == "paper"
-    for name in py_fields:
-        assert getattr(native, name) == getattr(default, name), name
-        assert getattr(native_paper, name) == getattr(paper, name), name
-    for name in py_fields - {"algorithm"}:  # paper() changes the algorithm only
-        assert getattr(paper, name) == getattr(default, name), name
+
+    def public(obj):
+        return {n for n in dir(obj) if not n.startswith("_") and n not in ("paper", "validate")}
+
+    assert public(native) == {f.name for f in dataclasses.fields(EstimatorConfig)}
+    for section in ("paper_estimator", "gait_filter"):
+        names = {f.name for f in dataclasses.fields(getattr(default, section))}
+        assert public(getattr(native, section)) == names, section
+        for name in names:
+            assert getattr(getattr(native, section), name) == getattr(getattr(default, section), name), name
+            assert getattr(getattr(native_paper, section), name) == getattr(getattr(paper, section), name), name
+        assert getattr(paper, section) == getattr(default, section)  # paper() changes the algorithm only
+    for name in ("algorithm", "sample_time_s", "max_abs_velocity_mps"):
+        assert getattr(native, name) == getattr(default, name) and getattr(native_paper, name) == getattr(paper, name)
 
 
 def test_prediction_ahead_is_aligned_to_the_sample_it_predicts():

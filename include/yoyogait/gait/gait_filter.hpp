@@ -25,6 +25,7 @@
 #include <cstdint>
 
 #include "yoyogait/config.hpp"
+#include "yoyogait/estimate.hpp"
 #include "yoyogait/gait/bound_watchdog.hpp"
 #include "yoyogait/gait/decay_factors.hpp"
 #include "yoyogait/gait/ekf.hpp"
@@ -80,25 +81,9 @@ class GaitFilter {
 
   GaitFilter() noexcept : GaitFilter(EstimatorConfig{}) {}
 
-  /// config must pass EstimatorConfig::validate() (the Estimator checks it).
-  explicit GaitFilter(const EstimatorConfig& config) noexcept
-      : cfg_(config),
-        model_(member_model(config)),
-        factors_({config.accel_tau_s, config.omega_rate_tau_s, config.omega_rate_lp_tau_s, config.walk_tau_s,
-                  config.std_scale_tau_s, config.bank_forget_s, config.radii_tau_s}),
-        detector_({config.walk_tau_s, config.walk_speed_on_mps, config.walk_speed_off_mps, config.walk_vz_rms_on_mps,
-                   config.walk_vz_rms_off_mps}),
-        gate_(config.gate_sigma, config.gate_max_consecutive),
-        scale_(config.std_scale_adapt, config.std_scale_min, config.std_scale_max),
-        radii_(config.initial_R_m, config.initial_r_m),
-        watchdog_(kTwoPi * config.f_min_hz, kTwoPi * config.f_max_hz, config.bound_watchdog_s),
-        nominal_dt_(config.sample_time_s),
-        speed_floor2_(config.speed_std_floor_mps * config.speed_std_floor_mps),
-        bank_(bank_settings(config)),
-        spectral_({config.spectral_init, config.spectral_init_s, config.spectral_buffer_samples,
-                   config.spectral_grid_step_hz, config.f_min_hz, config.f_max_hz, model_.r_vx, model_.r_vz}) {
-    reset();
-  }
+  /// config must pass EstimatorConfig::validate() (the Estimator checks it); the gait filter reads
+  /// its section, config.gait_filter, and the shared fields.
+  explicit GaitFilter(const EstimatorConfig& config) noexcept : GaitFilter(config, config.gait_filter) {}
 
   /// Back to the state before the first sample.
   void reset() noexcept {
@@ -106,13 +91,14 @@ class GaitFilter {
     acquiring_ = true;
     detector_.reset();
     radii_.reset();
-    last_w_ = kTwoPi * cfg_.bank_prior_f_hz;
+    last_w_ = kTwoPi * cfg_.gait_filter.bank_prior_f_hz;
     gate_.reset();
     watchdog_.reset();
     scale_.reset();
     t_now_s_ = 0.0;
     spectral_.reset();
     radii_updated_ = false;
+    updated_ = false;
     out_hx_ = out_hz_ = 0.0;
     factors_.reset();
     // Defined outputs (w > 0) even before the first finite sample.
@@ -127,8 +113,25 @@ class GaitFilter {
   /// One sample dt_s [s] after the previous one. A non-finite or negative dt_s: the sample is not
   /// used (kNonFinite). dt_s of the first sample is not used.
   Outcome step(double vx_mps, double vz_mps, double dt_s) noexcept {
-    if (!(std::isfinite(dt_s) && dt_s >= 0.0)) return Outcome::kNonFinite;
+    if (!(std::isfinite(dt_s) && dt_s >= 0.0)) {
+      updated_ = false;
+      return Outcome::kNonFinite;
+    }
     return advance(vx_mps, vz_mps, dt_s);
+  }
+
+  /// The innovations and NIS of the last step (see yoyogait::Innovation): those of the EKF that
+  /// is active after it; all NaN when the step updated nothing.
+  Innovation innovation() const noexcept {
+    Innovation out;
+    if (!updated_) return out;
+    const gait::Innovations& in = active().innovations;
+    out.vx_mps = in.vx_mps;
+    out.vz_mps = in.vz_mps;
+    const bool x = !std::isnan(in.vx_mps), z = !std::isnan(in.vz_mps);
+    if (x || z)
+      out.nis = (x ? in.vx_mps * in.vx_mps / in.var_vx_mps2 : 0.0) + (z ? in.vz_mps * in.vz_mps / in.var_vz_mps2 : 0.0);
+    return out;
   }
 
   /// The estimates after the last step (sec. 2.6).
@@ -203,7 +206,26 @@ class GaitFilter {
  private:
   using Ekf = gait::Ekf;
 
-  static gait::MemberModel member_model(const EstimatorConfig& c) noexcept {
+  GaitFilter(const EstimatorConfig& config, const GaitFilterConfig& g) noexcept
+      : cfg_(config),
+        model_(member_model(g)),
+        factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
+                  g.bank_forget_s, g.radii_tau_s}),
+        detector_({g.walk_tau_s, g.walk_speed_on_mps, g.walk_speed_off_mps, g.walk_vz_rms_on_mps, g.walk_vz_rms_off_mps}),
+        gate_(g.gate_sigma, g.gate_max_consecutive),
+        scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
+        radii_(g.initial_R_m, g.initial_r_m),
+        watchdog_(kTwoPi * g.f_min_hz, kTwoPi * g.f_max_hz, g.bound_watchdog_s),
+        nominal_dt_(config.sample_time_s),
+        speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
+        bank_(bank_settings(g)),
+        spectral_({g.spectral_init, g.spectral_init_s, g.spectral_buffer_samples, g.spectral_grid_step_hz, g.f_min_hz,
+                   g.f_max_hz, model_.r_vx, model_.r_vz}) {
+    reset();
+  }
+
+
+  static gait::MemberModel member_model(const GaitFilterConfig& c) noexcept {
     gait::MemberModel m;
     m.q_phasor = c.q_phasor_m2_per_s3;
     m.q_phase = c.q_phase_rad2_per_s;
@@ -232,10 +254,10 @@ class GaitFilter {
     return m;
   }
 
-  static gait::HypothesisBank::Settings bank_settings(const EstimatorConfig& c) noexcept {
+  static gait::HypothesisBank::Settings bank_settings(const GaitFilterConfig& c) noexcept {
     gait::HypothesisBank::Settings s;
-    s.f_hz = c.bank_f_hz;
-    s.size = c.bank_size;
+    s.f_hz = c.bank_f_hz.hz;
+    s.size = c.bank_f_hz.size;
     s.prior_f_hz = c.bank_prior_f_hz;
     s.prior_bonus_nats = c.bank_prior_bonus_nats;
     const double sw = kTwoPi * c.spectral_f_std_hz;
@@ -313,7 +335,10 @@ class GaitFilter {
     const bool use_z = fin_z && std::fabs(vz) <= cfg_.max_abs_velocity_mps;
     Outcome outcome = !(fin_x && fin_z) ? Outcome::kNonFinite : (use_x && use_z) ? Outcome::kOk : Outcome::kOutOfRange;
     if (!started_) {
-      if (!use_x) return outcome;
+      if (!use_x) {
+        updated_ = false;
+        return outcome;
+      }
       started_ = true;
       detector_.start(vx, vz, use_z);
       start_acquisition(vx, false, 0.0);
@@ -323,7 +348,7 @@ class GaitFilter {
     }
     t_now_s_ += dt;
     const double dt_walk = dt;
-    if (dt > cfg_.max_gap_s) {
+    if (dt > cfg_.gait_filter.max_gap_s) {
       // Long gap: keep the speed, restart the acquisition around the last frequency; the fresh
       // members are not propagated over the gap.
       start_acquisition(active().x[kA0], radii_.have_estimate(), last_w_ / kTwoPi);
@@ -348,6 +373,7 @@ class GaitFilter {
       rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_,
                                       fc.std_gain);
     }
+    updated_ = true;
     if (rejected) outcome = Outcome::kOutlier;
     if (gate_.after_step(rejected)) {
       // Persistent disagreement was accepted: inflate P so that the filter follows again.
@@ -367,7 +393,7 @@ class GaitFilter {
         if (spectral_.due(bank_.walk_time_s()) && spectral_.fit(fit)) bank_.seed(model_, fit);
       }
       bank_.select_best();
-      if (bank_.walk_time_s() >= cfg_.bank_window_s) collapse();
+      if (bank_.walk_time_s() >= cfg_.gait_filter.bank_window_s) collapse();
     }
 
     // Watchdog: a frequency pinned at a bound is a failed lock: re-acquire.
@@ -394,7 +420,7 @@ class GaitFilter {
   void recover() noexcept {
     const double A0 = detector_.recover();
     radii_.recover();
-    if (!std::isfinite(last_w_)) last_w_ = kTwoPi * cfg_.bank_prior_f_hz;
+    if (!std::isfinite(last_w_)) last_w_ = kTwoPi * cfg_.gait_filter.bank_prior_f_hz;
     scale_.reset();
     gate_.reset();
     out_hx_ = out_hz_ = 0.0;
@@ -419,6 +445,7 @@ class GaitFilter {
   double out_hx_ = 0.0, out_hz_ = 0.0;  ///< second harmonics at the posterior phasors, for output()
   double t_now_s_ = 0.0;
   bool started_ = false, acquiring_ = true, radii_updated_ = false;
+  bool updated_ = false;  ///< the last step ran the updates (its innovations are in the active EKF)
   // Start-up: the bank and the spectral ring buffer.
   gait::HypothesisBank bank_;
   gait::SpectralInit spectral_;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "yoyogait/gait/decay_factors.hpp"
 #include "yoyogait/gait/ekf.hpp"
@@ -17,12 +18,23 @@
 
 namespace yoyogait::gait {
 
+/// The innovations of an EKF's last measurement update, per channel: nu = measurement minus
+/// predicted measurement (v_z: after the v_x update, as the sequential updates use it) and its
+/// variance S. NaN for a channel that was not used (not finite, out of range, standing for v_z).
+struct Innovations {
+  double vx_mps = std::numeric_limits<double>::quiet_NaN();
+  double vz_mps = std::numeric_limits<double>::quiet_NaN();
+  double var_vx_mps2 = std::numeric_limits<double>::quiet_NaN();
+  double var_vz_mps2 = std::numeric_limits<double>::quiet_NaN();
+};
+
 /// One EKF of sec. 2.1. P: upper triangle only (i <= j).
 struct Ekf {
   GaitMatrix P{};
   GaitState x{};
   double loglik = 0.0;  ///< innovation log-likelihood with exponential memory (bank only)
   double dw_lp = 0.0;   ///< dw low-passed over omega_rate_lp_tau_s: the trend test of q_rate
+  Innovations innovations;  ///< of the last update (diagnostics; the filter does not read them)
 };
 
 /// What a member's step needs of the configuration, derived once: noise densities, the initial
@@ -55,6 +67,7 @@ struct MemberModel {
     e.P[kDW][kDW] = p0_rate;
     e.loglik = 0.0;
     e.dw_lp = 0.0;
+    e.innovations = Innovations{};
   }
   void reset(Harmonic* h) const noexcept {
     h[kVx].reset(p0_harmonic);
@@ -122,11 +135,14 @@ struct MemberModel {
     bool rejected = false;
     const bool gate = !kBank && gate_.active();
     GaitState& x = e.x;
+    e.innovations = Innovations{};
     if (!oscillate) {
       // Standing: v_x = A0 (H = e_A0).
       if (use_x) {
         const double nu = vx - x[kA0];
         const double S = e.P[kA0][kA0] + r_vx;
+        e.innovations.vx_mps = nu;
+        e.innovations.var_vx_mps2 = S;
         if (gate && gate_.rejects(nu, S)) {
           rejected = true;
         } else {
@@ -154,6 +170,8 @@ struct MemberModel {
       const double yc = vx - h[kVx].value(u, v);  // the predicted harmonic is cancelled first
       const double nu = yc - (x[kA0] + x[kX1]);
       const double S = e.P[kX1][kX1] + 2.0 * e.P[kX1][kA0] + e.P[kA0][kA0] + r_vx;
+      e.innovations.vx_mps = nu;
+      e.innovations.var_vx_mps2 = S;
       if (gate && gate_.rejects(nu, S)) {
         rejected = true;
       } else {
@@ -186,6 +204,8 @@ struct MemberModel {
       const double c1 = ph1[kZ1];
       for (std::size_t r = 0; r < kDim; ++r) ph2[r] -= k1[r] * c1;
       const double S = ph2[kZ1] + r_vz;
+      e.innovations.vz_mps = nu;
+      e.innovations.var_vz_mps2 = S;
       if (gate && gate_.rejects(nu, S)) {
         rejected = true;
       } else {

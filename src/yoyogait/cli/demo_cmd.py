@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from .evaluate_cmd import REPORT_FORCE_HELP, run_evaluation
-from .options import estimators_option, force_option
+from .options import estimator_config_option, estimators_option, force_option
 
 
 @click.command()
@@ -21,6 +21,7 @@ from .options import estimators_option, force_option
     help="Folder for the report: new, empty, or a report of yoyogait's (with --force).",
 )
 @force_option(REPORT_FORCE_HELP)
-def demo(estimators, out, force):
+@estimator_config_option(multiple=True)
+def demo(estimators, out, force, config_files):
     """Evaluate the estimators on the built-in SYNTHETIC gait lab (3 subjects x 5 walks) and print Table I."""
-    run_evaluation("synthetic", Path(out), estimators, force, True, 0)
+    run_evaluation("synthetic", Path(out), estimators, force, True, 0, config_files=config_files)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 from pathlib import Path
@@ -11,9 +12,18 @@ import click
 from .. import evaluation as ev
 from .. import io
 from .._files import check_output_folder
-from .._guard import check_interrupted, output_lock
+from .._guard import output_lock
 from ..errors import InputError
-from .options import ESTIMATOR_NAMES, check_points, estimators_option, force_option, input_options
+from ..estimators.registry import config_estimators
+from ..evaluation import parallel
+from .options import (
+    ESTIMATOR_NAMES,
+    check_points,
+    estimator_config_option,
+    estimators_option,
+    force_option,
+    input_options,
+)
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
@@ -26,21 +36,6 @@ def estimator_list(value: str) -> tuple[str, ...]:
             f"--estimators: unknown estimator(s) {', '.join(unknown)}; known: {', '.join(ESTIMATOR_NAMES)}"
         )
     return names
-
-
-class _Checked:
-    """The items of a data set, with a check for a (maybe swallowed) interrupt before each."""
-
-    def __init__(self, items):
-        self.items = list(items)
-
-    def __len__(self) -> int:
-        return len(self.items)
-
-    def __iter__(self):
-        for item in self.items:
-            check_interrupted()
-            yield item
 
 
 def _load_checked(load, point, feet):
@@ -75,44 +70,90 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
     return out
 
 
-def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=None):
-    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
-
-    The whole run holds the lock on ``out`` (a second run on it fails at once), and the report is
-    moved into place as the last step, after everything is printed.
-    """
-    names = ev.check_estimators(estimator_list(estimators))
-    check_output_folder(out, force)
-    with output_lock(out):
-        check_output_folder(out, force)  # again: a run that just finished may have written it
-        items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
-        if overrides:
-            items = with_overrides(items, **overrides)
-        label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
-        click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
+def _evaluate_and_write(dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files):
+    """The evaluation of :func:`run_evaluation`, its printout, and then its report."""
+    items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
+    if overrides:
+        items = with_overrides(items, **overrides)
+    mode = ev.report.figure_mode(figures, len(items))
+    label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
+    with contextlib.ExitStack() as stack:
+        executor = None
+        where = f"{jobs} process{'es' if jobs > 1 else ''}"
+        if scheduler:
+            executor = stack.enter_context(parallel.dask_executor(scheduler))
+            where = f"the Dask cluster at {scheduler}"
+            if ship_files:
+                items = [ev.datasets.shipped(item) for item in items]
+        click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings ({where}): {label}", err=True)
         result = ev.evaluate(
-            _Checked(items),
+            items,
             names,
             progress=True,
             dataset=str(dataset or "synthetic"),
             synthetic=synthetic,
             failures=problems,
+            jobs=jobs,
+            executor=executor,
+            configs=configs,
         )
-        if not result.items:
-            raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
-        click.echo(f"\n{label}\n")
-        click.echo(ev.summary_markdown(result))
-        for name in names:
-            click.echo(f"\nTable I, estimator '{name}': mean (± std) squared error, 1e-2 (m/s)^2\n")
-            click.echo(ev.table_one_markdown(result, name))
-        for r in result.items:  # a treadmill walk's speed includes the belt: say so
-            treadmill = getattr(r.velocities, "treadmill", None)
-            if treadmill is not None and treadmill.detected:
-                click.echo(f"{r.item.name}: {treadmill.reason}")
-        ev.write_report(result, out, force=force, figures=figures, progress=True)
+    if not result.items:
+        raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
+    click.echo(f"\n{label}\n")
+    click.echo(ev.summary_markdown(result))
+    for name in names:
+        click.echo(f"\nTable I, estimator '{name}': mean (± std) squared error, 1e-2 (m/s)^2\n")
+        click.echo(ev.table_one_markdown(result, name))
+    for r in result.items:  # a treadmill walk's speed includes the belt: say so
+        treadmill = getattr(r.velocities, "treadmill", None)
+        if treadmill is not None and treadmill.detected:
+            click.echo(f"{r.item.name}: {treadmill.reason}")
+    # Last: the report is moved into place once everything else is done (an interrupt before it
+    # leaves nothing; SIGINT/SIGTERM wait while it is moved).
+    ev.write_report(result, out, force=force, figures=mode, progress=True, jobs=jobs)
+    return result
+
+
+def run_evaluation(
+    dataset,
+    out,
+    estimators,
+    force,
+    figures,
+    seed,
+    overrides=None,
+    config_files=(),
+    *,
+    jobs=None,
+    scheduler=None,
+    ship_files=False,
+):
+    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
+
+    ``config_files``: estimator configurations (TOML) evaluated too, each named by its file's stem.
+    ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
+    (by the size of the data set). ``jobs``: worker processes (None: every core). ``scheduler``:
+    the address of a Dask scheduler that evaluates the recordings instead (figures are drawn here).
+    The whole run holds the lock on ``out``: a second run on it fails at once.
+    """
+    configs = config_estimators(config_files)
+    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
+    jobs = parallel.default_jobs() if jobs is None else jobs
+    if jobs < 1:
+        raise InputError(f"--jobs must be at least 1, not {jobs}")
+    if ship_files and not scheduler:
+        raise InputError("--ship-files goes with --scheduler")
+    check_output_folder(out, force)
+    with output_lock(out):
+        check_output_folder(out, force)  # again: a run that just finished may have written it
+        result = _evaluate_and_write(
+            dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files
+        )
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:
         click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)
+    for name, message in result.figure_failures:
+        click.echo(f"yoyogait: figure not drawn: {name}: {message}", err=True)
     return result
 
 
@@ -136,18 +177,74 @@ REPORT_FORCE_HELP = (
     help="Folder for the report: new, empty, or a report of yoyogait's (with --force).",
 )
 @force_option(REPORT_FORCE_HELP)
-@click.option("--no-figures", is_flag=True, help="Skip the per-recording figures.")
+@click.option(
+    "--figures",
+    type=click.Choice(ev.report.FIGURE_MODES),
+    default=None,
+    help="all: every recording's; summary: distributions over recordings and the best and worst recordings; "
+    f"none. Default: summary above {ev.report.SUMMARY_ABOVE} recordings, else all.",
+)
+@click.option("--no-figures", is_flag=True, help="Same as --figures none.")
+@click.option(
+    "--jobs",
+    "-j",
+    type=int,
+    default=None,
+    help="Worker processes for the recordings and the figures. Default: every core.",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="Evaluate on the Dask cluster of this scheduler (e.g. tcp://host:8786); needs yoyogait[distributed] "
+    "and the recordings at the same paths on the workers (or --ship-files).",
+)
+@click.option("--ship-files", is_flag=True, help="With --scheduler: send each file's bytes with its task.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
-def command(dataset, point, feet, up_axis, length_unit_m, rate_hz, estimators, out, force, no_figures, seed):
+@estimator_config_option(multiple=True)
+def command(
+    dataset,
+    point,
+    feet,
+    up_axis,
+    length_unit_m,
+    rate_hz,
+    estimators,
+    out,
+    force,
+    figures,
+    no_figures,
+    jobs,
+    scheduler,
+    ship_files,
+    seed,
+    config_files,
+):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
-    Fig. 3/4-style figures per recording and an index.md into --out. The input options apply to
+    Fig. 3/4-style figures and an index.md into --out (recordings and figures in parallel: --jobs,
+    or a Dask cluster with --scheduler; the results do not depend on how). The input options apply to
     every recording (and win over a manifest's entries). Exits 1 when some recording could not
     be evaluated (the others are still reported).
     """
+    if no_figures and figures not in (None, "none"):
+        raise InputError(f"--no-figures contradicts --figures {figures}")
+    mode = "none" if no_figures else figures
     overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     overrides = {k: v for k, v in overrides.items() if v is not None}
-    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed, overrides)
-    if result.failures:
+    result = run_evaluation(
+        dataset,
+        Path(out),
+        estimators,
+        force,
+        mode,
+        seed,
+        overrides,
+        config_files,
+        jobs=jobs,
+        scheduler=scheduler,
+        ship_files=ship_files,
+    )
+    if result.failures or result.figure_failures:
         raise click.exceptions.Exit(1)

@@ -70,6 +70,9 @@ def _split_names(ctx, param, value):
 
 
 _POSITIVE = click.FloatRange(min=0.0, min_open=True)
+#: Shared with the streaming commands (replay, live).
+POSITIVE = _POSITIVE
+split_names = _split_names
 
 _INPUT_OPTIONS = (
     # --config FILE belongs here, first: one place that gives every command the same settings file
@@ -139,6 +142,27 @@ def estimators_option(default: str = "paper,default"):
         default=default,
         show_default=True,
         help=f"Estimators to compare, comma-separated, from: {', '.join(ESTIMATOR_NAMES)}.",
+    )
+
+
+def estimator_config_option(multiple: bool):
+    """--config FILE: an estimator configuration (TOML, docs/configuration.md). estimate: instead of
+    --preset; evaluate, demo: one more estimator per file, named by the file's stem (repeatable)."""
+    if multiple:
+        help_text = (
+            "Also evaluate the estimator configured in this TOML file (docs/configuration.md), "
+            "named by the file's stem; repeatable."
+        )
+    else:
+        help_text = "Estimator configuration file (TOML, docs/configuration.md), instead of --preset."
+    return click.option(
+        "--config",
+        "config_files" if multiple else "config_file",
+        type=click.Path(dir_okay=False),
+        metavar="FILE",
+        multiple=multiple,
+        default=None,
+        help=help_text,
     )
 
 

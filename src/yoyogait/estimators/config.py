@@ -1,187 +1,270 @@
 """The estimator's configuration: :class:`EstimatorConfig` and the named presets.
 
-Mirrors the C++ ``yoyogait::EstimatorConfig`` field by field, with the unit in each name.
+Every field is declared once, in the tables of the C++ core (``include/yoyogait/config.hpp``):
+type, name, default, unit, valid range and a one-line doc. :data:`SCHEMA` is those tables as the
+native module gives them; the dataclasses here take their defaults and docs from it, and a test
+holds their field names and types to it. The configuration nests by algorithm, as the C++ struct:
+
+    EstimatorConfig(algorithm, sample_time_s, max_abs_velocity_mps,
+                    paper_estimator=PaperConfig(...), gait_filter=GaitFilterConfig(...))
+
+Files are TOML (``EstimatorConfig.from_file``, ``save``): the shared fields at the top, a table
+per section. docs/configuration.md lists every field with its range (generated from
+:data:`SCHEMA` by :func:`schema_markdown`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, fields
+import importlib
+import math
+import sys
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
 
 import numpy as np
+import tomli_w
 
 from .. import _core
+from .._files import atomic_file
 from ..errors import InputError
 
-__all__ = ["EstimatorConfig", "PRESETS", "ALGORITHMS", "MAX_BANK_SIZE"]
+# The standard library reads TOML from Python 3.11 on; tomli (the same module) before.
+tomllib = importlib.import_module("tomllib" if sys.version_info >= (3, 11) else "tomli")
+
+__all__ = [
+    "ALGORITHMS",
+    "MAX_BANK_SIZE",
+    "PRESETS",
+    "SCHEMA",
+    "SECTIONS",
+    "EstimatorConfig",
+    "FieldSchema",
+    "GaitFilterConfig",
+    "PaperConfig",
+    "schema_markdown",
+]
 
 ALGORITHMS = ("paper", "gait_filter")
 """Values of :attr:`EstimatorConfig.algorithm`."""
 
-MAX_BANK_SIZE = 8
+MAX_BANK_SIZE = int(_core.MAX_BANK_SIZE)
+
+SECTIONS = ("paper_estimator", "gait_filter")
+"""The per-algorithm sections of :class:`EstimatorConfig`, as in the C++ struct and the TOML files."""
+
+
+@dataclass(frozen=True)
+class FieldSchema:
+    """One field of the configuration, as the C++ tables declare it."""
+
+    section: str  # "" for the shared fields, else one of SECTIONS
+    name: str
+    type: str  # "float", "int", "bool", "float_list" or "str"
+    default: Any
+    unit: str
+    doc: str
+    min: float | None = None  # valid range (float_list: of each entry); None where there is none
+    max: float | None = None
+    min_inclusive: bool = True
+    max_inclusive: bool = True
+    choices: tuple = ()
+
+    @property
+    def path(self) -> str:
+        """``section.name``, or ``name`` for a shared field: how errors and files name it."""
+        return f"{self.section}.{self.name}" if self.section else self.name
+
+    def range_text(self) -> str:
+        """The valid range as an interval, e.g. ``[0.05, 20]`` or ``(0, 1e+100]``."""
+        if self.choices:
+            return ", ".join(repr(c) for c in self.choices)
+        if self.type == "bool" or self.min is None or self.max is None:
+            return "true, false" if self.type == "bool" else ""
+        lo = "[" if self.min_inclusive else "("
+        hi = "]" if self.max_inclusive else ")"
+        return f"{lo}{_num(self.min)}, {_num(self.max)}{hi}"
+
+    def in_range(self, value: float) -> bool:
+        assert self.min is not None and self.max is not None
+        above = value >= self.min if self.min_inclusive else value > self.min
+        below = value <= self.max if self.max_inclusive else value < self.max
+        return bool(above and below)
+
+    def check(self, value: Any) -> Any:
+        """``value`` as the native field takes it; InputError (a ValueError) naming the field otherwise."""
+        name = self.path
+        if self.type == "str":
+            if value not in self.choices:
+                raise InputError(f"{name} must be one of {', '.join(map(repr, self.choices))}, got {value!r}")
+            return value
+        if self.type == "bool":
+            if not isinstance(value, (bool, np.bool_)):
+                raise InputError(f"{name} must be true or false, got {value!r}")
+            return bool(value)
+        if self.type == "int":
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+                raise InputError(f"{name} must be an integer in {self.range_text()}, got {value!r}")
+            if not self.in_range(int(value)):
+                raise InputError(f"{name} = {value} is outside its valid range {self.range_text()}{self._unit()}")
+            return int(value)
+        if self.type == "float_list":
+            if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or not 1 <= len(value) <= MAX_BANK_SIZE:
+                raise InputError(f"{name} must hold 1 to {MAX_BANK_SIZE} frequencies, got {value!r}")
+            return [self._float(f"{name}[{i}]", v) for i, v in enumerate(value)]
+        return self._float(name, value)
+
+    def _float(self, name: str, value: Any) -> float:
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+            raise InputError(f"{name} must be a number in {self.range_text()}{self._unit()}, got {value!r}")
+        if isinstance(value, (int, np.integer)) and abs(int(value)) > 2**1023:
+            raise InputError(f"{name} = {value} is outside its valid range {self.range_text()}{self._unit()}")
+        v = float(value)
+        if not self.in_range(v):
+            raise InputError(f"{name} = {v!r} is outside its valid range {self.range_text()}{self._unit()}")
+        return v
+
+    def _unit(self) -> str:
+        return f" {self.unit}" if self.unit else ""
+
+
+def _num(x: float) -> str:
+    if math.isinf(x):
+        return "inf" if x > 0 else "-inf"
+    return f"{x:.15g}"
+
+
+def _schema() -> tuple[FieldSchema, ...]:
+    out = []
+    for d in _core.config_schema():
+        d = dict(d)
+        if "choices" in d:
+            d["choices"] = tuple(d["choices"])
+        out.append(FieldSchema(**d))
+    return tuple(out)
+
+
+SCHEMA: tuple[FieldSchema, ...] = _schema()
+"""Every field of the configuration, from the C++ tables: shared, then paper_estimator, then gait_filter."""
+
+_BY_PATH = {f.path: f for f in SCHEMA}
+
+
+def _field(section: str, name: str) -> Any:
+    """A dataclass field whose default and doc come from the C++ table."""
+    spec = _BY_PATH[f"{section}.{name}" if section else name]
+    return field(default=spec.default, metadata={"schema": spec})
 
 
 @dataclass
-class EstimatorConfig:
-    """Parameters of the estimator; mirrors ``yoyogait::EstimatorConfig`` field by field.
+class PaperConfig:
+    """The paper's estimator (Sec. III and IV-B), in the paper's units: its filter works per sample,
+    so frequencies are in rad/sample and R_hat, r_hat are R/T, r/T (m/s). Fields, units, ranges:
+    docs/configuration.md."""
 
-    ``EstimatorConfig()`` is the default estimator (``algorithm="gait_filter"``);
-    :meth:`paper` is the paper's estimator exactly as published.  The paper's
-    fields work per sample, as in the paper: frequencies in rad/sample and
-    ``R_hat``, ``r_hat`` in the paper's unit R/T, r/T (m/s).  The gait filter's
-    fields are in SI units per second (noise densities are multiplied by the
-    actual time step).  Each algorithm ignores the other's fields;
-    ``sample_time_s`` and ``max_abs_velocity_mps`` are shared.
-    """
+    initial_R_hat_mps: float = _field("paper_estimator", "initial_R_hat_mps")
+    initial_r_hat_mps: float = _field("paper_estimator", "initial_r_hat_mps")
+    initial_omega_rad_per_sample: float = _field("paper_estimator", "initial_omega_rad_per_sample")
+    q_oscillation_mps2: float = _field("paper_estimator", "q_oscillation_mps2")
+    q_omega_rad2: float = _field("paper_estimator", "q_omega_rad2")
+    q_bias_mps2: float = _field("paper_estimator", "q_bias_mps2")
+    v_vx_mps2: float = _field("paper_estimator", "v_vx_mps2")
+    v_vz_mps2: float = _field("paper_estimator", "v_vz_mps2")
+    p0_oscillation_mps2: float = _field("paper_estimator", "p0_oscillation_mps2")
+    p0_omega_rad2: float = _field("paper_estimator", "p0_omega_rad2")
+    p0_bias_mps2: float = _field("paper_estimator", "p0_bias_mps2")
+    smoothing_window_samples: int = _field("paper_estimator", "smoothing_window_samples")
+    gate_omega_rad_per_sample: float = _field("paper_estimator", "gate_omega_rad_per_sample")
+    gate_bias_mps: float = _field("paper_estimator", "gate_bias_mps")
 
-    algorithm: str = "gait_filter"
-    """'gait_filter' (the default estimator) or 'paper'."""
-    sample_time_s: float = 0.04
-    """T, time between samples [s]; the gait filter's nominal time step."""
 
-    # ----------------------------------------------------------- the paper
-    initial_R_hat_mps: float = 2.0
-    """R_hat(0) = R/T for the average person [m/s] (the paper's R0 = 2)."""
-    initial_r_hat_mps: float = 0.2
-    """r_hat(0) = r/T [m/s] (the paper's r0 = 0.2)."""
-    initial_omega_rad_per_sample: float = 0.1
-    """w(0) [rad/sample]."""
-    q_oscillation_mps2: float = 1e-5
-    """Q11 = Q22, process noise of x1, x2 [(m/s)^2]."""
-    q_omega_rad2: float = 1e-3
-    """Q33, process noise of the frequency [(rad/sample)^2]."""
-    q_bias_mps2: float = 1e-3
-    """Q44, process noise of the bias A0 [(m/s)^2]."""
-    v_vx_mps2: float = 1e-2
-    """V11, measurement noise of v_x [(m/s)^2]."""
-    v_vz_mps2: float = 1e-2
-    """V22, measurement noise of v_z [(m/s)^2]."""
-    p0_oscillation_mps2: float = 1.0
-    """P0 of x1, x2 [(m/s)^2]."""
-    p0_omega_rad2: float = 1.0
-    """P0 of x3 [(rad/sample)^2]."""
-    p0_bias_mps2: float = 1.0
-    """P0 of x4 [(m/s)^2]."""
-    smoothing_window_samples: int = 10
-    """n of eq. 11-12 [samples] (at most 256)."""
-    gate_omega_rad_per_sample: float = 0.1
-    """mu_w of eq. 11-12 [rad/sample]."""
-    gate_bias_mps: float = 0.1
-    """mu_A0 of eq. 11-12 [m/s]."""
-    max_abs_velocity_mps: float = 1000.0
-    """A sample (gait filter: a channel) with |v| above it is not used [m/s] (no walking reaches it)."""
+@dataclass
+class GaitFilterConfig:
+    """The gait filter, the default estimator (docs/default_estimator.md), in SI units per second:
+    noise densities are multiplied by the actual time step. Fields, units, ranges:
+    docs/configuration.md."""
 
-    # --------------------------------------------------- the gait filter
-    f_min_hz: float = 0.6
-    """Lower bound of the step frequency [Hz] (0 is excluded)."""
-    f_max_hz: float = 3.5
-    """Upper bound of the step frequency [Hz]."""
-    bank_f_hz: tuple = (0.9, 1.3, 1.8, 2.3, 2.8)
-    """Start frequencies of the start-up bank of EKFs [Hz] (1 to 8)."""
-    bank_window_s: float = 1.5
-    """Walking time after which the bank collapses to its best member [s]."""
-    bank_forget_s: float = 1.5
-    """Memory of the members' innovation log-likelihood [s]."""
-    bank_prior_f_hz: float = 1.8
-    """Typical step frequency: its member starts with the log-prior bonus [Hz]."""
-    bank_prior_bonus_nats: float = 2.0
-    """Log-prior bonus [nats] (on re-acquisition: for the member at the last frequency)."""
-    p0_f_std_hz: float = 0.25
-    """Initial frequency std of each member [Hz]."""
-    p0_phasor_std_mps: float = 0.3
-    """Initial std of the phasors [m/s]."""
-    p0_speed_std_mps: float = 0.3
-    """Initial std of A0 [m/s]."""
-    p0_accel_std_mps2: float = 0.5
-    """Initial std of dA0 [m/s^2]."""
-    p0_omega_rate_std_rad_s2: float = 0.05
-    """Initial std of dw [rad/s^2]."""
-    spectral_init: bool = True
-    """Seed the least likely bank member by a least-squares frequency grid search."""
-    spectral_init_s: float = 1.0
-    """... after this much walking [s]."""
-    spectral_buffer_samples: int = 40
-    """... over this many buffered samples (at most 256)."""
-    spectral_grid_step_hz: float = 0.025
-    """Grid step of the search [Hz]."""
-    spectral_f_std_hz: float = 0.08
-    """Frequency std given to the seeded member [Hz]."""
-    spectral_phasor_std_mps: float = 0.05
-    """Phasor and A0 std given to the seeded member [m/s]."""
-    q_phasor_m2_per_s3: float = 2e-3
-    """Independent drift of each phasor entry [(m/s)^2/s]."""
-    q_phase_rad2_per_s: float = 0.05
-    """Common gait-phase jitter, rotating X and Z together [rad^2/s]."""
-    q_omega_rad2_per_s3: float = 0.05
-    """Random walk of w [(rad/s)^2/s]."""
-    use_omega_rate: bool = True
-    """Frequency-rate state dw (tracks cadence ramps)."""
-    q_omega_rate_lo_rad2_per_s5: float = 0.01
-    """Noise of dw while no trend is seen [(rad/s^2)^2/s]."""
-    q_omega_rate_hi_rad2_per_s5: float = 2.0
-    """Noise of dw once the low-passed rate reaches omega_rate_ref_rad_s2 [(rad/s^2)^2/s]."""
-    omega_rate_ref_rad_s2: float = 0.2
-    """Trend level of the low-passed rate [rad/s^2]."""
-    omega_rate_lp_tau_s: float = 1.5
-    """Low-pass of dw for the trend test (0: none) [s]."""
-    omega_rate_tau_s: float = 3.0
-    """Decay time of dw [s]."""
-    q_speed_m2_per_s3: float = 1e-3
-    """Random walk of A0 [(m/s)^2/s]."""
-    q_accel_m2_per_s5: float = 1e-2
-    """Random walk of dA0 [(m/s^2)^2/s]."""
-    accel_tau_s: float = 1.0
-    """Decay time of dA0 [s]."""
-    use_harmonic: bool = True
-    """Second harmonic of each channel by a cascaded 2-state Kalman filter."""
-    p0_harmonic_std_mps: float = 0.1
-    """Initial std of the harmonic coefficients [m/s]."""
-    q_harmonic_m2_per_s3: float = 1e-3
-    """Random walk of the harmonic coefficients [(m/s)^2/s]."""
-    harmonic_min_amp_mps: float = 0.02
-    """Below this fundamental amplitude the harmonic is not used [m/s]."""
-    meas_vx_std_mps: float = 0.05
-    """Measurement noise (std) of v_x [m/s]."""
-    meas_vz_std_mps: float = 0.05
-    """Measurement noise (std) of v_z [m/s]."""
-    gate_sigma: float = 5.0
-    """Innovation gate [sigma] (inf: off)."""
-    gate_max_consecutive: int = 6
-    """After this many consecutive rejections a sample is accepted and P inflated."""
-    max_gap_s: float = 1.5
-    """A longer time between samples restarts the acquisition [s]."""
-    walk_tau_s: float = 0.3
-    """Low-pass of the walking detector [s]."""
-    walk_speed_on_mps: float = 0.2
-    """Walking when the low-passed v_x exceeds it [m/s] ..."""
-    walk_speed_off_mps: float = 0.15
-    """Standing when the low-passed v_x is below it [m/s] ..."""
-    walk_vz_rms_on_mps: float = 0.05
-    """... or when the RMS of v_z exceeds it [m/s]."""
-    walk_vz_rms_off_mps: float = 0.025
-    """... and the RMS of v_z is below it [m/s]."""
-    bound_watchdog_s: float = 1.0
-    """w pinned at a bound this long while walking restarts the acquisition [s]."""
-    std_scale_adapt: bool = True
-    """Scale the reported standard deviations by the low-passed normalised innovation squared."""
-    std_scale_tau_s: float = 10.0
-    """Low-pass of that scale [s]."""
-    std_scale_min: float = 0.05
-    """Lower clip of the scale."""
-    std_scale_max: float = 4.0
-    """Upper clip of the scale."""
-    speed_std_floor_mps: float = 0.025
-    """Added in quadrature to the speed std [m/s]."""
-    radii_tau_s: float = 2.0
-    """Low-pass of R = A0 / w and r = |Z| / w while walking [s]."""
-    initial_R_m: float = 0.12
-    """R reported before the first walk [m]."""
-    initial_r_m: float = 0.02
-    """r reported before the first walk [m]."""
+    f_min_hz: float = _field("gait_filter", "f_min_hz")
+    f_max_hz: float = _field("gait_filter", "f_max_hz")
+    bank_f_hz: tuple = _field("gait_filter", "bank_f_hz")
+    bank_window_s: float = _field("gait_filter", "bank_window_s")
+    bank_forget_s: float = _field("gait_filter", "bank_forget_s")
+    bank_prior_f_hz: float = _field("gait_filter", "bank_prior_f_hz")
+    bank_prior_bonus_nats: float = _field("gait_filter", "bank_prior_bonus_nats")
+    p0_f_std_hz: float = _field("gait_filter", "p0_f_std_hz")
+    p0_phasor_std_mps: float = _field("gait_filter", "p0_phasor_std_mps")
+    p0_speed_std_mps: float = _field("gait_filter", "p0_speed_std_mps")
+    p0_accel_std_mps2: float = _field("gait_filter", "p0_accel_std_mps2")
+    p0_omega_rate_std_rad_s2: float = _field("gait_filter", "p0_omega_rate_std_rad_s2")
+    spectral_init: bool = _field("gait_filter", "spectral_init")
+    spectral_init_s: float = _field("gait_filter", "spectral_init_s")
+    spectral_buffer_samples: int = _field("gait_filter", "spectral_buffer_samples")
+    spectral_grid_step_hz: float = _field("gait_filter", "spectral_grid_step_hz")
+    spectral_f_std_hz: float = _field("gait_filter", "spectral_f_std_hz")
+    spectral_phasor_std_mps: float = _field("gait_filter", "spectral_phasor_std_mps")
+    q_phasor_m2_per_s3: float = _field("gait_filter", "q_phasor_m2_per_s3")
+    q_phase_rad2_per_s: float = _field("gait_filter", "q_phase_rad2_per_s")
+    q_omega_rad2_per_s3: float = _field("gait_filter", "q_omega_rad2_per_s3")
+    use_omega_rate: bool = _field("gait_filter", "use_omega_rate")
+    q_omega_rate_lo_rad2_per_s5: float = _field("gait_filter", "q_omega_rate_lo_rad2_per_s5")
+    q_omega_rate_hi_rad2_per_s5: float = _field("gait_filter", "q_omega_rate_hi_rad2_per_s5")
+    omega_rate_ref_rad_s2: float = _field("gait_filter", "omega_rate_ref_rad_s2")
+    omega_rate_lp_tau_s: float = _field("gait_filter", "omega_rate_lp_tau_s")
+    omega_rate_tau_s: float = _field("gait_filter", "omega_rate_tau_s")
+    q_speed_m2_per_s3: float = _field("gait_filter", "q_speed_m2_per_s3")
+    q_accel_m2_per_s5: float = _field("gait_filter", "q_accel_m2_per_s5")
+    accel_tau_s: float = _field("gait_filter", "accel_tau_s")
+    use_harmonic: bool = _field("gait_filter", "use_harmonic")
+    p0_harmonic_std_mps: float = _field("gait_filter", "p0_harmonic_std_mps")
+    q_harmonic_m2_per_s3: float = _field("gait_filter", "q_harmonic_m2_per_s3")
+    harmonic_min_amp_mps: float = _field("gait_filter", "harmonic_min_amp_mps")
+    meas_vx_std_mps: float = _field("gait_filter", "meas_vx_std_mps")
+    meas_vz_std_mps: float = _field("gait_filter", "meas_vz_std_mps")
+    gate_sigma: float = _field("gait_filter", "gate_sigma")
+    gate_max_consecutive: int = _field("gait_filter", "gate_max_consecutive")
+    max_gap_s: float = _field("gait_filter", "max_gap_s")
+    walk_tau_s: float = _field("gait_filter", "walk_tau_s")
+    walk_speed_on_mps: float = _field("gait_filter", "walk_speed_on_mps")
+    walk_speed_off_mps: float = _field("gait_filter", "walk_speed_off_mps")
+    walk_vz_rms_on_mps: float = _field("gait_filter", "walk_vz_rms_on_mps")
+    walk_vz_rms_off_mps: float = _field("gait_filter", "walk_vz_rms_off_mps")
+    bound_watchdog_s: float = _field("gait_filter", "bound_watchdog_s")
+    std_scale_adapt: bool = _field("gait_filter", "std_scale_adapt")
+    std_scale_tau_s: float = _field("gait_filter", "std_scale_tau_s")
+    std_scale_min: float = _field("gait_filter", "std_scale_min")
+    std_scale_max: float = _field("gait_filter", "std_scale_max")
+    speed_std_floor_mps: float = _field("gait_filter", "speed_std_floor_mps")
+    radii_tau_s: float = _field("gait_filter", "radii_tau_s")
+    initial_R_m: float = _field("gait_filter", "initial_R_m")
+    initial_r_m: float = _field("gait_filter", "initial_r_m")
 
     def __post_init__(self):
         if isinstance(self.bank_f_hz, list):
             self.bank_f_hz = tuple(self.bank_f_hz)
+
+
+_SECTION_TYPES: dict[str, Any] = {"paper_estimator": PaperConfig, "gait_filter": GaitFilterConfig}
+
+
+@dataclass
+class EstimatorConfig:
+    """Parameters of the estimator; mirrors ``yoyogait::EstimatorConfig``, section by section.
+
+    ``EstimatorConfig()`` is the default estimator (``algorithm="gait_filter"``); :meth:`paper`
+    is the paper's estimator exactly as published. Each algorithm reads its own section
+    (``paper_estimator``, ``gait_filter``) and ignores the other's; ``sample_time_s`` and
+    ``max_abs_velocity_mps`` are shared. Every field has a valid range (docs/configuration.md);
+    a value outside it raises ``ValueError`` naming the field when an estimator is built from
+    the configuration (or at :meth:`validate`, :meth:`from_dict`, :meth:`from_file`).
+    """
+
+    algorithm: str = _field("", "algorithm")
+    sample_time_s: float = _field("", "sample_time_s")
+    max_abs_velocity_mps: float = _field("", "max_abs_velocity_mps")
+    paper_estimator: PaperConfig = field(default_factory=PaperConfig)
+    gait_filter: GaitFilterConfig = field(default_factory=GaitFilterConfig)
 
     @classmethod
     def paper(cls) -> EstimatorConfig:
@@ -201,51 +284,183 @@ class EstimatorConfig:
         except KeyError:
             raise InputError(f"unknown preset {name!r}; known: {', '.join(PRESETS)}") from None
 
+    # ---------------------------------------------------------------- dictionaries and files
+
     def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
-
-    @classmethod
-    def from_dict(cls, values: dict) -> EstimatorConfig:
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(values) - known)
-        if unknown:
-            raise InputError(f"unknown estimator parameter(s): {', '.join(unknown)}")
-        return cls(**values)
-
-    def to_native(self) -> _core.EstimatorConfig:
-        """The C++ struct; raises InputError naming the field that is not usable."""
-        native = _core.EstimatorConfig()
+        """Nested plain values: the shared fields, then one dict per section (bank_f_hz a list)."""
+        out: dict[str, Any] = {}
         for f in fields(self):
             value = getattr(self, f.name)
-            kind = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", "")
-            if f.name == "algorithm":
-                if value not in ALGORITHMS:
-                    raise InputError(f"algorithm must be one of {', '.join(ALGORITHMS)}, got {value!r}")
-            elif f.name == "bank_f_hz":
-                if (
-                    isinstance(value, (str, bytes))
-                    or not hasattr(value, "__len__")
-                    or not (1 <= len(value) <= MAX_BANK_SIZE)
-                ):
-                    raise InputError(f"bank_f_hz must hold 1 to {MAX_BANK_SIZE} frequencies, got {value!r}")
-                if any(isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) for v in value):
-                    raise InputError(f"bank_f_hz must hold numbers, got {value!r}")
-                value = [float(v) for v in value]
-            elif kind == "bool":
-                if not isinstance(value, (bool, np.bool_)):
-                    raise InputError(f"{f.name} must be True or False, got {value!r}")
-                value = bool(value)
-            elif kind == "int":
-                if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
-                    raise InputError(f"{f.name} must be a non-negative integer, got {value!r}")
-            elif isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-                raise InputError(f"{f.name} must be a number, got {value!r}")
-            setattr(native, f.name, value)
+            if f.name in SECTIONS:
+                out[f.name] = {g.name: _plain(getattr(value, g.name)) for g in fields(value)}
+            else:
+                out[f.name] = _plain(value)
+        return out
+
+    @classmethod
+    def from_dict(cls, values: Mapping) -> EstimatorConfig:
+        """The default configuration with ``values`` (nested as :meth:`to_dict`; sections may be
+        partial) applied, checked: InputError naming an unknown or invalid field."""
+        return cls().with_values(values)
+
+    def with_values(self, values: Mapping) -> EstimatorConfig:
+        """A copy with ``values`` (nested as :meth:`to_dict`, partial) applied, checked."""
+        if not isinstance(values, Mapping):
+            raise InputError(f"an estimator configuration must be a table of fields, got {type(values).__name__}")
+        top = {f.name for f in fields(self)}
+        _reject_unknown(values, top, "")
+        changes: dict[str, Any] = {}
+        for key, value in values.items():
+            if key in SECTIONS:
+                if not isinstance(value, Mapping):
+                    raise InputError(f"{key} must be a table of fields, got {value!r}")
+                section = getattr(self, key)
+                _reject_unknown(value, {g.name for g in fields(section)}, key)
+                changes[key] = dataclasses.replace(section, **dict(value))
+            else:
+                changes[key] = value
+        out = dataclasses.replace(self, **changes)
+        out.validate()
+        return out
+
+    @classmethod
+    def from_file(cls, path) -> EstimatorConfig:
+        """A configuration from a TOML file (as :meth:`save` writes; fields left out keep their
+        defaults). InputError naming the file and the field for anything unusable."""
+        path = Path(path)
+        try:
+            with open(path, "rb") as fh:
+                values = tomllib.load(fh)
+        except FileNotFoundError:
+            raise InputError(f"{path}: no such file") from None
+        except IsADirectoryError:
+            raise InputError(f"{path}: is a folder, not a configuration file") from None
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+            raise InputError(f"{path}: not a valid TOML file: {exc}") from None
+        except OSError as exc:
+            raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from None
+        try:
+            return cls.from_dict(values)
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+
+    def save(self, path, *, force: bool = False) -> None:
+        """Write the configuration as TOML (every field); an existing file only with ``force``."""
+        self.validate()
+        path = Path(path)
+        if path.exists() and not force:
+            raise InputError(f"{path} exists; use force=True to overwrite it")
+        text = tomli_w.dumps(self.to_dict())
+        atomic_file(path, lambda p: Path(p).write_text(text, encoding="utf-8"))
+
+    # ------------------------------------------------------------------------------- checking
+
+    def validate(self) -> None:
+        """InputError (a ValueError) naming the first field that is not usable; None if all are."""
+        self.to_native()
+
+    def to_native(self) -> _core.EstimatorConfig:
+        """The C++ struct; raises InputError naming the field that is not usable (type, range, or
+        a rule between fields)."""
+        native = _core.EstimatorConfig()
+        for f in fields(self):
+            value: Any = getattr(self, f.name)
+            if f.name in SECTIONS:
+                if not isinstance(value, _SECTION_TYPES[f.name]):
+                    raise InputError(f"{f.name} must be a {_SECTION_TYPES[f.name].__name__}, got {value!r}")
+                target = getattr(native, f.name)
+                for g in fields(value):
+                    setattr(target, g.name, g.metadata["schema"].check(getattr(value, g.name)))
+                setattr(native, f.name, target)
+            else:
+                setattr(native, f.name, f.metadata["schema"].check(value))
         problem = native.validate()
         if problem is not None:
             raise InputError(f"invalid estimator configuration: {problem}")
         return native
 
 
+def _plain(value: Any) -> Any:
+    if isinstance(value, tuple):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _reject_unknown(values: Mapping, known: set, section: str) -> None:
+    unknown = sorted(str(k) for k in set(values) - known)
+    if not unknown:
+        return
+    hints = []
+    for key in unknown:
+        homes = [f.path for f in SCHEMA if f.name == key and f.section != section]
+        hints.append(f"{key} (did you mean {' or '.join(homes)}?)" if homes else key)
+    where = f" in [{section}]" if section else ""
+    raise InputError(f"unknown estimator parameter(s){where}: {', '.join(hints)}")
+
+
 PRESETS = {"paper": EstimatorConfig.paper, "default": EstimatorConfig.default}
 """Named configurations: the paper's estimator and the default (the gait filter)."""
+
+
+def schema_markdown() -> str:
+    """docs/configuration.md: every field of :data:`SCHEMA` with its default, unit, range and doc."""
+    titles = {
+        "": "Shared by both algorithms",
+        "paper_estimator": '`[paper_estimator]`: the paper\'s estimator (`algorithm = "paper"`)',
+        "gait_filter": '`[gait_filter]`: the gait filter, the default estimator (`algorithm = "gait_filter"`)',
+    }
+    lines = [
+        "# Configuration",
+        "",
+        "<!-- Generated from the C++ tables (include/yoyogait/config.hpp) by",
+        "     python -c 'import sys, yoyogait.estimators.config as c; sys.stdout.write(c.schema_markdown())' \\",
+        "     > docs/configuration.md",
+        "     and checked by tests/python/test_config.py. -->",
+        "",
+        "Every field of `EstimatorConfig` (Python `yoyogait.EstimatorConfig`, C++ `yoyogait::EstimatorConfig`),",
+        "declared once in `include/yoyogait/config.hpp`. A value outside its valid range is an error naming",
+        "the field (Python `ValueError`, C++ `std::invalid_argument`) when an estimator is built. Rules",
+        "between fields: `f_max_hz > f_min_hz`; `bank_f_hz` increasing, within [`f_min_hz`, `f_max_hz`];",
+        "at most 10000 spectral grid frequencies in [`f_min_hz`, `f_max_hz`]; `q_omega_rate_hi_rad2_per_s5 >=",
+        "q_omega_rate_lo_rad2_per_s5`; `walk_speed_off_mps <= walk_speed_on_mps`;",
+        "`walk_vz_rms_off_mps <= walk_vz_rms_on_mps`; `std_scale_max >= std_scale_min`. The ranges are",
+        "wide (every value in them gives finite estimates), not advice: `default_estimator.md` and",
+        "`paper_estimator.md` say which values are sensible and why the defaults are what they are.",
+        "",
+        "A configuration file is TOML: the shared fields at the top, then one table per section; fields",
+        "left out keep their defaults (`EstimatorConfig.from_file`, `save`; `--config FILE` on the",
+        "command line):",
+        "",
+        "```toml",
+        'algorithm = "gait_filter"',
+        "sample_time_s = 0.04",
+        "",
+        "[gait_filter]",
+        "gate_sigma = 4.0",
+        "bank_f_hz = [1.0, 1.5, 2.0]",
+        "```",
+    ]
+    for section in ("", *SECTIONS):
+        lines += ["", f"## {titles[section]}", "", "| field | type | default | unit | valid range | what it is |"]
+        lines.append("|---|---|---|---|---|---|")
+        for f in SCHEMA:
+            if f.section != section:
+                continue
+            default = _default_text(f.default)
+            doc = f.doc.replace("|", "\\|")
+            lines.append(f"| `{f.name}` | {f.type} | {default} | {f.unit or '-'} | {f.range_text() or '-'} | {doc} |")
+    return "\n".join(lines) + "\n"
+
+
+def _default_text(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, (tuple, list)):
+        return "[" + ", ".join(_num(v) for v in value) + "]"
+    if isinstance(value, float):
+        return _num(value)
+    return str(value)

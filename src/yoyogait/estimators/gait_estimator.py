@@ -52,19 +52,22 @@ class GaitEstimator:
         self._impl = _core.Estimator(self.config.to_native())
         self._last_time_s: float | None = None
 
-    def step(self, vx: float, vz: float, dt_s: float | None = None):
+    def step(self, vx: float, vz: float, dt_s: float | None = None, *, diagnostics: bool = False):
         """Process one sample of forward and vertical velocity [m/s]; returns the estimate after it.
 
         ``dt_s``: time since the previous sample [s] (None: ``sample_time_s``).  The default
         estimator propagates over it; the paper's works per sample and does not use it.
         A NaN or infinite sample (default: channel) is not used and is flagged in ``status``.
+        ``diagnostics``: the estimate also carries ``innovation_vx_mps``, ``innovation_vz_mps``
+        and ``nis`` (see :class:`EstimateResult`).
         """
         self._last_time_s = None
+        step = self._impl.step_diagnosed if diagnostics else self._impl.step
         if dt_s is None:
-            return self._impl.step(vx, vz)
-        return self._impl.step(vx, vz, dt_s)
+            return step(vx, vz)
+        return step(vx, vz, dt_s)
 
-    def run(self, vx, vz, *, predict_ahead_s=(), time_s=None) -> EstimateResult:
+    def run(self, vx, vz, *, predict_ahead_s=(), time_s=None, diagnostics: bool = False) -> EstimateResult:
         """Process arrays of samples, continuing from the current state.
 
         ``predict_ahead_s``: horizons [s] for which to also predict the velocities at each sample.
@@ -72,6 +75,8 @@ class GaitEstimator:
         their differences (irregular sampling, gaps), continuing from the last timestamp of the
         previous ``run``.  Without it every sample is ``sample_time_s`` after the previous one.
         The paper's estimator works per sample and does not use them.
+        ``diagnostics``: also the innovations and the NIS of every sample (``innovation_vx_mps``,
+        ``innovation_vz_mps``, ``nis``); without, they are not computed.
 
         The arrays are views of one table written row by row (one row per sample), so most are
         strided; ``np.ascontiguousarray`` gives a compact copy.  The table's memory is handed to
@@ -96,7 +101,7 @@ class GaitEstimator:
                 dt[1:] = time_s[1:] - time_s[:-1]
                 dt[0] = (time_s[0] - self._last_time_s) if self._last_time_s is not None else self.config.sample_time_s
         horizons = np.asarray(horizons_s, dtype=np.float64) / self.config.sample_time_s
-        out = self._impl.run(vx, vz, horizons, dt)
+        out = self._impl.run(vx, vz, horizons, dt, bool(diagnostics))
         if "gait_state" not in out:
             # The paper: its gait-filter outputs carry nothing new, so they are not written per
             # sample (see yoyogait::Estimate): the reconstruction is the same array, the constant

@@ -48,6 +48,13 @@ class EstimateResult:
     Derived when read, for every result with a state: ``amp_z_mps``,
     ``phase_x_rel_z_rad``, ``signed_amp_x_mps``, ``omega_rate_rad_s2``,
     ``accel_mps2`` (see the C++ ``yoyogait::Estimate``).
+
+    Diagnostics, only from ``GaitEstimator.run(..., diagnostics=True)`` (None otherwise), as
+    FilterPy exposes them: ``innovation_vx_mps``, ``innovation_vz_mps`` (measurement minus
+    predicted measurement of each channel; the default's v_z innovation is taken after its v_x
+    update, as its sequential updates use it) and ``nis``, the normalised innovation squared
+    (about 2, the number of channels, on average when the noise model fits the data); NaN for a
+    channel a sample did not use (see the C++ ``yoyogait::Innovation``).
     """
 
     state: np.ndarray
@@ -77,6 +84,9 @@ class EstimateResult:
     std_scale: np.ndarray | None = None
     walking: np.ndarray | None = None
     acquiring: np.ndarray | None = None
+    innovation_vx_mps: np.ndarray | None = None
+    innovation_vz_mps: np.ndarray | None = None
+    nis: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.vx_hat.shape[0])
