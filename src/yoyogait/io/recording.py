@@ -247,6 +247,15 @@ def uniform_time(n_frames: int, rate_hz: float, start_s: float = 0.0) -> np.ndar
     return start_s + np.arange(n_frames, dtype=float) / float(rate_hz)
 
 
+def positive_float(text) -> float | None:
+    """``text`` as a number > 0 (a rate, a frame count in a header), else None."""
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        return None
+    return value if value > 0 else None
+
+
 def unique_names(names) -> list[str]:
     """Names made unique: a repeated name gets ``#2``, ``#3`` (as the C3D reader does)."""
     seen: dict[str, int] = {}
