@@ -44,3 +44,27 @@ def formats_dir(datasets_dir) -> Path:
 def manifest(datasets_dir) -> dict:
     """The parsed manifest.json of the real recordings."""
     return json.loads((datasets_dir / "manifest.json").read_text())
+
+
+@pytest.fixture(scope="session", autouse=True)
+def lsl_machine_only(tmp_path_factory):
+    """Lab Streaming Layer confined to this machine (127.0.0.1) and to this test run (its own SessionID).
+
+    Set before pylsl is first used, for this process and the subprocesses the tests start.
+    """
+    import uuid
+
+    cfg = tmp_path_factory.mktemp("lsl") / "lsl_api.cfg"
+    cfg.write_text(
+        "[ports]\nIPv6 = disable\n"
+        "[multicast]\nResolveScope = machine\nListenAddress = 127.0.0.1\nAddressesOverride = {127.0.0.1}\n"
+        f"[lab]\nKnownPeers = {{127.0.0.1}}\nSessionID = yoyogait-test-{uuid.uuid4().hex}\n"
+        "[log]\nlevel = -3\n"
+    )
+    previous = os.environ.get("LSLAPICFG")
+    os.environ["LSLAPICFG"] = str(cfg)
+    yield cfg
+    if previous is None:
+        os.environ.pop("LSLAPICFG", None)
+    else:
+        os.environ["LSLAPICFG"] = previous

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "online.hpp"
 #include "yoyogait/yoyogait.hpp"
 
 namespace nb = nanobind;
@@ -560,4 +561,5 @@ NB_MODULE(_core, m) {
   m.def("gait_transition_jacobian", [](const yoyogait::GaitState& x, double dt_s, double accel_decay, double rate_decay) {
     return matrix(yoyogait::gait_transition_jacobian(x, dt_s, accel_decay, rate_decay));
   }, "x"_a, "dt_s"_a, "accel_decay"_a, "omega_rate_decay"_a);
+  bind_online(m);
 }

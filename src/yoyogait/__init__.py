@@ -20,6 +20,8 @@ _LAZY = {
     "EstimatorConfig": "estimators",
     "EstimateResult": "estimators",
     "Status": "estimators",
+    "OnlineEstimator": "estimators",
+    "OnlineConfig": "estimators",
     "PRESETS": "estimators",
     "yoyo_model": "model",
     "YoyoTrajectory": "model",

@@ -57,6 +57,9 @@ __all__ = [
     "POINT_NAMES",
     "make_walk",
     "make_model_walk",
+    "make_step_walk",
+    "step_walks",
+    "STEP_WALK_TYPE",
     "default_lab",
     "get_subject",
     "with_parameters",
@@ -527,6 +530,7 @@ def make_walk(
     frequency_jitter: float = 0.01,
     start_standing_s: float = 1.0,
     ramp_s: float = 1.5,
+    step_frequency_profile=None,
 ) -> SyntheticWalk:
     """Generate one synthetic walk of ``subject`` (deterministic for a seed).
 
@@ -537,6 +541,8 @@ def make_walk(
     ``frequency_jitter`` is the relative standard deviation of the slow
     natural step-frequency variability.  The walk starts standing for
     ``start_standing_s`` and reaches its pace within ``ramp_s``.
+    ``step_frequency_profile``: a function of the frame times (s) giving the step frequency (Hz),
+    replacing the walk type's profile (the walk type then only chooses the path).
     """
     if walk_type not in WALK_TYPES:
         raise InputError(f"unknown synthetic walk type {walk_type!r}; choose one of {', '.join(WALK_TYPES)}")
@@ -556,9 +562,12 @@ def make_walk(
     )
     n = int(round(duration_s * rate_hz)) + 1
     t = np.arange(n) / rate_hz
-    f = _step_frequency_profile(
-        walk_type, subject, t, rng, start_standing_s=start_standing_s, ramp_s=ramp_s, jitter=frequency_jitter
-    )
+    if step_frequency_profile is None:
+        f = _step_frequency_profile(
+            walk_type, subject, t, rng, start_standing_s=start_standing_s, ramp_s=ramp_s, jitter=frequency_jitter
+        )
+    else:
+        f = np.asarray(step_frequency_profile(t), dtype=float)
     f = np.maximum(f, 0.0)
     omega = 2 * np.pi * f
 
@@ -678,6 +687,75 @@ def make_model_walk(subject: SyntheticSubject, walk_type: str, **kwargs) -> Synt
     )
     pure.update(kwargs)
     return make_walk(subject, walk_type, **pure)
+
+
+STEP_WALK_TYPE = "6-cadence-speed-step"
+"""Walk type of :func:`make_step_walk` (not one of :data:`WALK_TYPES`: the built-in lab stays as it is)."""
+
+
+def make_step_walk(
+    subject: SyntheticSubject | None = None,
+    *,
+    rate_hz: float = 100.0,
+    seed: int = 0,
+    f_before_hz: float = 1.6,
+    f_after_hz: float = 2.0,
+    speed_before_mps: float = 1.2,
+    step_at_s: float = 12.0,
+    step_duration_s: float = 0.25,
+    duration_s: float = 22.0,
+    start_standing_s: float = 1.0,
+    ramp_s: float = 1.5,
+    **kwargs,
+) -> SyntheticWalk:
+    """A straight walk with a step of cadence, and with it of speed (SYNTHETIC data).
+
+    The walker stands ``start_standing_s``, reaches ``f_before_hz`` within ``ramp_s`` (raised
+    cosine), walks at it without variability, and at ``step_at_s`` changes to ``f_after_hz``
+    within ``step_duration_s`` (raised cosine, about half a step). The step length ``2 pi R`` is
+    set so that the speed ``R omega`` is ``speed_before_mps`` before the step; the speed then
+    steps with the cadence (1.6 -> 2.0 Hz at 1.2 m/s: 1.2 -> 1.5 m/s). ``subject`` (default the
+    first built-in one) gives everything else; ``kwargs`` go to :func:`make_walk`.
+    The recording's metadata holds ``cadence_step_at_s`` and ``cadence_step_duration_s``.
+    """
+    if not (f_before_hz > 0 and f_after_hz > 0 and speed_before_mps > 0):
+        raise InputError("f_before_hz, f_after_hz and speed_before_mps must be > 0")
+    if not start_standing_s + ramp_s < step_at_s < step_at_s + step_duration_s < duration_s:
+        raise InputError("need start_standing_s + ramp_s < step_at_s < step_at_s + step_duration_s < duration_s")
+    base = SUBJECTS[0] if subject is None else subject
+    walker = replace(base, R_m=speed_before_mps / (2.0 * np.pi * f_before_hz), step_frequency_hz=f_before_hz)
+
+    def profile(t):
+        start = _smoothstep(t, start_standing_s, ramp_s) if start_standing_s > 0 else np.ones_like(t)
+        return start * (f_before_hz + (f_after_hz - f_before_hz) * _smoothstep(t, step_at_s, step_duration_s))
+
+    walk = make_walk(
+        walker,
+        "1-straight",
+        rate_hz=rate_hz,
+        seed=seed,
+        duration_s=duration_s,
+        start_standing_s=start_standing_s,
+        ramp_s=ramp_s,
+        step_frequency_profile=profile,
+        **kwargs,
+    )
+    rec = walk.recording
+    metadata = {
+        **rec.metadata,
+        "walk_type": STEP_WALK_TYPE,
+        "walk": STEP_WALK_TYPE,
+        "cadence_step_at_s": float(step_at_s),
+        "cadence_step_duration_s": float(step_duration_s),
+    }
+    rec = replace(rec, source=f"synthetic:{walker.name}/{STEP_WALK_TYPE}/seed{int(seed)}", metadata=metadata)
+    options = {**walk.options, "step_at_s": float(step_at_s), "step_duration_s": float(step_duration_s)}
+    return replace(walk, recording=rec, walk_type=STEP_WALK_TYPE, options=options)
+
+
+def step_walks(seed: int = 0, rate_hz: float = 100.0) -> list[SyntheticWalk]:
+    """:func:`make_step_walk` for each built-in subject (their radius ratio, harmonics, sway)."""
+    return [make_step_walk(subject, rate_hz=rate_hz, seed=seed) for subject in SUBJECTS]
 
 
 def default_lab(seed: int = 0, rate_hz: float = 100.0, *, pure: bool = False) -> list[SyntheticWalk]:

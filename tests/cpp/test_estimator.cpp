@@ -15,7 +15,7 @@
 #include "yoyogait/yoyo_model.hpp"
 
 // Count heap allocations, to show that step() makes none.
-static std::atomic<long> g_allocations{0};
+std::atomic<long> g_allocations{0};  // also read by test_online.cpp
 void* operator new(std::size_t n) {
   ++g_allocations;
   if (void* p = std::malloc(n ? n : 1)) return p;

@@ -102,3 +102,25 @@ def test_installed_package_is_found_by_find_package(tmp_path):
     f = float(re.search(r"step_frequency_hz=([-\d.]+)", out).group(1))
     R = float(re.search(r"R_m=([-\d.]+)", out).group(1))
     assert abs(f - 1.8) < 0.018 and abs(R - 0.115) < 0.006, out
+    _feed_online_stdin(next(example.rglob("online_stdin")))
+
+
+def _feed_online_stdin(exe):
+    """examples/cpp/online_stdin answers each CSV frame with one estimate line and finds the walk's cadence."""
+    import math
+
+    lines = ["t_s,LASI_x,LASI_y,LASI_z,RASI_x,RASI_y,RASI_z"]
+    n = 800  # 8 s at 100 Hz, a Yoyo walk at 1.8 steps/s and 1.2 m/s, millimetres, y up
+    for k in range(n):
+        t = k / 100.0
+        th = 2 * math.pi * 1.8 * t
+        x, y = 1200 * t - 12 * math.sin(th), 1000 + 12 * math.cos(th)
+        left = "nan,nan,nan" if k % 50 == 7 else f"{x:.3f},{y:.3f},-125"
+        lines.append(f"{t:.2f},{left},{x:.3f},{y:.3f},125")
+    proc = subprocess.run([str(exe), "y", "0.001"], input="\n".join(lines) + "\n", capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    rows = proc.stdout.strip().splitlines()
+    assert rows[0].startswith("t_s,vx_mps,vz_mps") and len(rows) == n + 1
+    last = dict(zip(rows[0].split(","), rows[-1].split(",")))
+    assert abs(float(last["step_frequency_hz"]) - 1.8) < 0.05 and abs(float(last["speed_mps"]) - 1.2) < 0.05, last
+    assert last["walking"] == "1" and last["status"] == "0"

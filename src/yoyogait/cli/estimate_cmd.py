@@ -8,9 +8,10 @@ import click
 import numpy as np
 
 from .. import io
-from .._files import atomic_file
-from ..errors import InputError, OutputError
+from .._files import atomic_file, atomic_files
+from ..errors import InputError, OutputError, about_file
 from ..estimators.config import EstimatorConfig
+from ..estimators.online import OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..evaluation import metrics
@@ -55,9 +56,23 @@ def foot_contacts(recording, feet, up_axis):
     help="Treadmill belt speed (else found from the stance feet).",
 )
 @force_option("Overwrite the --out and --figure files if they exist.")
+@click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
 @click.pass_context
 def command(
-    ctx, file, point, feet, up_axis, length_unit_m, rate_hz, preset, config_file, out, figure, belt_speed_mps, force
+    ctx,
+    file,
+    point,
+    feet,
+    up_axis,
+    length_unit_m,
+    rate_hz,
+    preset,
+    config_file,
+    out,
+    figure,
+    belt_speed_mps,
+    force,
+    online,
 ):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
@@ -66,7 +81,19 @@ def command(
     step_frequency_hz and speed_mps with their standard deviations, R_m, r_m, A0_mps, A1_mps, the
     state x1_mps, x2_mps, x3_rad_per_sample, x4_mps, estimator_walking (0: the estimator holds its
     last walking values) and status (0: the sample was used).
+
+    --online replays FILE frame by frame through the online estimator (nothing from the future;
+    default estimator, no figure): one row per capture frame with time_s, vx_mps, vz_mps,
+    vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz, speed_mps, speed_std_mps,
+    heading_rad, gait_phase, walking, status (0 used, 1 no point seen, 2 timestamp not increasing,
+    3 restart after a gap, 4 non-finite) and input_latency_s; --out defaults to FILE's name + .online.csv.
     """
+    if online:
+        if belt_speed_mps is not None:
+            raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")
+        if config_file is not None:
+            raise InputError("--config is not available with --online (the online estimator runs the default)")
+        return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force)
     run = estimators()[preset]
     if config_file is not None:
         if ctx.get_parameter_source("preset") == click.core.ParameterSource.COMMANDLINE:
@@ -80,36 +107,89 @@ def command(
         if target is not None and target.exists() and not force:
             raise OutputError(f"{option} {target}: exists; use --force to overwrite it")
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
-    recording = io.read(file, **overrides)
-    check_points(recording, point, feet)
-    vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
-    res = run(vel)
-    res.to_csv(out, velocities=vel)
+    with about_file(file):
+        recording = io.read(file, **overrides)
+        check_points(recording, point, feet)
+        vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
+        res = run(vel)
+        contacts = foot_contacts(recording, feet, vel.up_axis) if fig is not None else None
+    f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
+    summary = (
+        f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
+        f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
+    )
+    writers = {out: lambda p: res.to_csv(p, velocities=vel)}
     if fig is not None:
-        contacts = foot_contacts(recording, feet, vel.up_axis)
         cadence = (
             metrics.step_frequency_from_contacts(contacts, vel.time_s, stride_average=True)
             if contacts is not None
             else None
         )
         synthetic = bool(recording.metadata.get("synthetic"))
-        atomic_file(
-            fig,
-            lambda p: plots.estimate_figure(
-                vel,
-                res,
-                reference_step_frequency_hz=cadence,
-                contacts_s=contacts,
-                title=f"{stem}: {vel.point} [{preset}]",
-                synthetic=synthetic,
-                path=p,
-            ),
+        writers[fig] = lambda p: plots.estimate_figure(
+            vel,
+            res,
+            reference_step_frequency_hz=cadence,
+            contacts_s=contacts,
+            title=f"{stem}: {vel.point} [{preset}]",
+            synthetic=synthetic,
+            path=p,
         )
-    f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
-    click.echo(
-        f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
-        f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
-    )
+    # Both or neither: the figure is drawn before the CSV is renamed into place.
+    atomic_files(writers)
+    click.echo(summary)
     if vel.treadmill is not None and vel.treadmill.detected:
         click.echo(vel.treadmill.reason)
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))
+
+
+ONLINE_COLUMNS = (
+    "time_s",
+    "vx_mps",
+    "vz_mps",
+    "vx_hat_mps",
+    "vz_hat_mps",
+    "step_frequency_hz",
+    "step_frequency_std_hz",
+    "speed_mps",
+    "speed_std_mps",
+    "heading_rad",
+    "gait_phase",
+    "walking",
+    "status",
+    "input_latency_s",
+)
+#: printf formats of ONLINE_COLUMNS (``live --record`` writes the same).
+ONLINE_FORMATS = ("%.6f",) + ("%.6g",) * 10 + ("%d", "%d", "%.6g")
+
+
+def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force):
+    """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator (ONLINE_COLUMNS;
+    status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite)."""
+    if preset != "default":
+        raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
+    if figure not in (None, "none"):
+        raise InputError("--online writes no figure; leave out --figure")
+    stem = Path(file).name
+    out = Path(out or f"{stem}.online.csv")
+    if out.exists() and not force:
+        raise OutputError(f"--out {out}: exists; use --force to overwrite it")
+    overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
+    with about_file(file):
+        recording = io.read(file, **overrides)
+        check_points(recording, point)
+        est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis)
+        res = est.run(recording)
+    table = np.column_stack([getattr(res, c).astype(float) for c in ONLINE_COLUMNS])
+    fmt = list(ONLINE_FORMATS)
+    atomic_file(
+        out, lambda p: np.savetxt(p, table, delimiter=",", header=",".join(ONLINE_COLUMNS), comments="", fmt=fmt)
+    )
+    walking = res.walking
+    f = res.step_frequency_hz[walking] if walking.any() else res.step_frequency_hz
+    click.echo(
+        f"{stem}: {len(res)} frames of {', '.join(est.point_names)} replayed online; "
+        f"median step frequency while walking {np.median(f):.2f} Hz, "
+        f"front-end latency {1e3 * float(np.median(res.input_latency_s)):.1f} ms"
+    )
+    click.echo(f"wrote {out}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 from pathlib import Path
@@ -11,8 +12,10 @@ import click
 from .. import evaluation as ev
 from .. import io
 from .._files import check_output_folder
+from .._guard import output_lock
 from ..errors import InputError
 from ..estimators.registry import config_estimators
+from ..evaluation import parallel
 from .options import (
     ESTIMATOR_NAMES,
     check_points,
@@ -67,29 +70,38 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
     return out
 
 
-def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=None, config_files=()):
-    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
-    config_files: estimator configurations (TOML) evaluated too, each named by its file's stem."""
-    configs = config_estimators(config_files)
-    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
-    check_output_folder(out, force)
+def _evaluate_and_write(
+    dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online=False
+):
+    """The evaluation of :func:`run_evaluation`, its printout, and then its report."""
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
+    if online:  # the online estimator and the oscillator; the synthetic lab gains its cadence-step walks
+        names, items = ev.ONLINE_ESTIMATORS, items + (ev.step_walk_items(seed=seed) if synthetic else [])
     if overrides:
         items = with_overrides(items, **overrides)
+    mode = ev.report.figure_mode(figures, len(items))
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if synthetic else str(dataset)
-    click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings: {label}", err=True)
-    result = ev.evaluate(
-        items,
-        names,
-        progress=True,
-        dataset=str(dataset or "synthetic"),
-        synthetic=synthetic,
-        failures=problems,
-        configs=configs,
-    )
+    with contextlib.ExitStack() as stack:
+        executor = None
+        where = f"{jobs} process{'es' if jobs > 1 else ''}"
+        if scheduler:
+            executor = stack.enter_context(parallel.dask_executor(scheduler))
+            where = f"the Dask cluster at {scheduler}"
+            if ship_files:
+                items = [ev.datasets.shipped(item) for item in items]
+        click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings ({where}): {label}", err=True)
+        run = ev.evaluate_online if online else functools.partial(ev.evaluate, names=names, configs=configs)
+        result = run(
+            items,
+            progress=True,
+            dataset=str(dataset or "synthetic"),
+            synthetic=synthetic,
+            failures=problems,
+            jobs=jobs,
+            executor=executor,
+        )
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
-    ev.write_report(result, out, force=force, figures=figures, progress=True)
     click.echo(f"\n{label}\n")
     click.echo(ev.summary_markdown(result))
     for name in names:
@@ -99,9 +111,56 @@ def run_evaluation(dataset, out, estimators, force, figures, seed, overrides=Non
         treadmill = getattr(r.velocities, "treadmill", None)
         if treadmill is not None and treadmill.detected:
             click.echo(f"{r.item.name}: {treadmill.reason}")
+    # Last: the report is moved into place once everything else is done (an interrupt before it
+    # leaves nothing; SIGINT/SIGTERM wait while it is moved).
+    ev.write_report(result, out, force=force, figures=mode, progress=True, jobs=jobs)
+    return result
+
+
+def run_evaluation(
+    dataset,
+    out,
+    estimators,
+    force,
+    figures,
+    seed,
+    overrides=None,
+    config_files=(),
+    *,
+    jobs=None,
+    scheduler=None,
+    ship_files=False,
+    online=False,
+):
+    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
+
+    ``config_files``: estimator configurations (TOML) evaluated too, each named by its file's stem.
+    ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
+    (by the size of the data set). ``jobs``: worker processes (None: every core). ``scheduler``:
+    the address of a Dask scheduler that evaluates the recordings instead (figures are drawn here).
+    ``online``: the online evaluation (:func:`yoyogait.evaluation.evaluate_online`).
+    The whole run holds the lock on ``out``: a second run on it fails at once.
+    """
+    if online and config_files:
+        raise InputError("--config applies to the estimators of the offline evaluation, not to --online")
+    configs = config_estimators(config_files)
+    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
+    jobs = parallel.default_jobs() if jobs is None else jobs
+    if jobs < 1:
+        raise InputError(f"--jobs must be at least 1, not {jobs}")
+    if ship_files and not scheduler:
+        raise InputError("--ship-files goes with --scheduler")
+    check_output_folder(out, force)
+    with output_lock(out):
+        check_output_folder(out, force)  # again: a run that just finished may have written it
+        result = _evaluate_and_write(
+            dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online
+        )
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:
         click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)
+    for name, message in result.figure_failures:
+        click.echo(f"yoyogait: figure not drawn: {name}: {message}", err=True)
     return result
 
 
@@ -125,21 +184,82 @@ REPORT_FORCE_HELP = (
     help="Folder for the report: new, empty, or a report of yoyogait's (with --force).",
 )
 @force_option(REPORT_FORCE_HELP)
-@click.option("--no-figures", is_flag=True, help="Skip the per-recording figures.")
+@click.option(
+    "--figures",
+    type=click.Choice(ev.report.FIGURE_MODES),
+    default=None,
+    help="all: every recording's; summary: distributions over recordings and the best and worst recordings; "
+    f"none. Default: summary above {ev.report.SUMMARY_ABOVE} recordings, else all.",
+)
+@click.option("--no-figures", is_flag=True, help="Same as --figures none.")
+@click.option(
+    "--jobs",
+    "-j",
+    type=int,
+    default=None,
+    help="Worker processes for the recordings and the figures. Default: every core.",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="Evaluate on the Dask cluster of this scheduler (e.g. tcp://host:8786); needs yoyogait[distributed] "
+    "and the recordings at the same paths on the workers (or --ship-files).",
+)
+@click.option("--ship-files", is_flag=True, help="With --scheduler: send each file's bytes with its task.")
 @click.option("--seed", default=0, show_default=True, help="Seed of the synthetic lab.")
 @estimator_config_option(multiple=True)
+@click.option(
+    "--online",
+    is_flag=True,
+    help="Online evaluation: replay each recording frame by frame through "
+    "OnlineEstimator (the oscillator beside it; --estimators is not used). See docs/online.md.",
+)
 def command(
-    dataset, point, feet, up_axis, length_unit_m, rate_hz, estimators, out, force, no_figures, seed, config_files
+    dataset,
+    point,
+    feet,
+    up_axis,
+    length_unit_m,
+    rate_hz,
+    estimators,
+    out,
+    force,
+    figures,
+    no_figures,
+    jobs,
+    scheduler,
+    ship_files,
+    seed,
+    config_files,
+    online,
 ):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
-    Fig. 3/4-style figures per recording and an index.md into --out. The input options apply to
+    Fig. 3/4-style figures and an index.md into --out (recordings and figures in parallel: --jobs,
+    or a Dask cluster with --scheduler; the results do not depend on how). The input options apply to
     every recording (and win over a manifest's entries). Exits 1 when some recording could not
     be evaluated (the others are still reported).
     """
+    if no_figures and figures not in (None, "none"):
+        raise InputError(f"--no-figures contradicts --figures {figures}")
+    mode = "none" if no_figures else figures
     overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     overrides = {k: v for k, v in overrides.items() if v is not None}
-    result = run_evaluation(dataset, Path(out), estimators, force, not no_figures, seed, overrides, config_files)
-    if result.failures:
+    result = run_evaluation(
+        dataset,
+        Path(out),
+        estimators,
+        force,
+        mode,
+        seed,
+        overrides,
+        config_files,
+        jobs=jobs,
+        scheduler=scheduler,
+        ship_files=ship_files,
+        online=online,
+    )
+    if result.failures or result.figure_failures:
         raise click.exceptions.Exit(1)

@@ -70,6 +70,9 @@ def _split_names(ctx, param, value):
 
 
 _POSITIVE = click.FloatRange(min=0.0, min_open=True)
+#: Shared with the streaming commands (replay, live).
+POSITIVE = _POSITIVE
+split_names = _split_names
 
 _INPUT_OPTIONS = (
     # --config FILE belongs here, first: one place that gives every command the same settings file

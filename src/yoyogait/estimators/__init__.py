@@ -2,6 +2,7 @@
 
 * :mod:`.config`: :class:`EstimatorConfig` and the presets;
 * :mod:`.gait_estimator`: :class:`GaitEstimator` (the C++ core, streaming and batch);
+* :mod:`.online`: :class:`OnlineEstimator` (frames in, estimates out, causal front-end in C++);
 * :mod:`.results`: :class:`EstimateResult`, what every estimator returns;
 * :mod:`.oscillator`, :mod:`.sliding_dft`: the baselines, as algorithm objects;
 * :mod:`.registry`: every estimator by name, as the evaluation and the CLI run them.
@@ -11,6 +12,7 @@ from __future__ import annotations
 
 from .config import ALGORITHMS, PRESETS, EstimatorConfig
 from .gait_estimator import GaitEstimator, Status
+from .online import ConcurrentUseError, OnlineConfig, OnlineEstimator, OnlineResult, OnlineStatus
 from .oscillator import AdaptiveOscillator, OscillatorBaseline, OscillatorConfig, run_oscillator
 from .registry import BASELINES, check_estimators, estimators
 from .results import PREDICTION_HORIZONS_S, EstimateResult
@@ -22,9 +24,14 @@ __all__ = [
     "PREDICTION_HORIZONS_S",
     "PRESETS",
     "AdaptiveOscillator",
+    "ConcurrentUseError",
     "EstimateResult",
     "EstimatorConfig",
     "GaitEstimator",
+    "OnlineConfig",
+    "OnlineEstimator",
+    "OnlineResult",
+    "OnlineStatus",
     "OscillatorBaseline",
     "OscillatorConfig",
     "SlidingDft",

@@ -7,8 +7,10 @@ type, and the ground truth where there is one).  The manifest follows the schema
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,7 +20,7 @@ from ..errors import InputError
 from ..io.recording import Recording
 from ..synthetic import SyntheticTruth
 
-__all__ = ["Item", "READABLE", "synthetic_items", "manifest_items", "folder_items", "resolve_dataset"]
+__all__ = ["Item", "READABLE", "synthetic_items", "manifest_items", "folder_items", "resolve_dataset", "shipped"]
 
 READABLE = tuple(io.READERS)
 
@@ -43,23 +45,24 @@ def _recording_of(walk) -> Recording:
     return walk.recording
 
 
+def synthetic_item(walk) -> Item:
+    """An item of one synthetic walk (SYNTHETIC data), with its truth."""
+    return Item(
+        name=walk.name,
+        subject=walk.subject.name,
+        walk=walk.walk_type,
+        load=functools.partial(_recording_of, walk),
+        truth=walk.truth,
+        pelvis=list(synthetic.PELVIS_MARKERS),
+        feet=list(synthetic.HEEL_MARKERS),
+        up_axis="z",
+        synthetic=True,
+    )
+
+
 def synthetic_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:
     """The built-in synthetic lab: 3 virtual subjects x 5 walk types (SYNTHETIC data)."""
-    items = []
-    for walk in synthetic.default_lab(seed=seed, rate_hz=rate_hz):
-        items.append(
-            Item(
-                name=walk.name,
-                subject=walk.subject.name,
-                walk=walk.walk_type,
-                load=functools.partial(_recording_of, walk),
-                truth=walk.truth,
-                pelvis=list(synthetic.PELVIS_MARKERS),
-                feet=list(synthetic.HEEL_MARKERS),
-                up_axis="z",
-                synthetic=True,
-            )
-        )
+    items = [synthetic_item(walk) for walk in synthetic.default_lab(seed=seed, rate_hz=rate_hz)]
     return items
 
 
@@ -139,3 +142,37 @@ def resolve_dataset(spec: str | None, seed: int = 0) -> tuple[list[Item], list[t
     if not path.exists():
         raise InputError(f"data set not found: {spec} (give 'synthetic', a folder or a manifest .json)")
     raise InputError(f"not a data set: {spec} (give 'synthetic', a folder or a manifest .json)")
+
+
+def read_shipped(data: bytes, name: str, **overrides) -> Recording:
+    """Read a recording from the bytes of its file (``name`` gives the extension and the messages)."""
+    with tempfile.TemporaryDirectory(prefix="yoyogait-") as folder:
+        path = Path(folder) / Path(name).name
+        path.write_bytes(data)
+        return io.read(path, **overrides)
+
+
+def shipped(item: Item) -> Item:
+    """The item with its file's bytes inside it, for workers that do not see the file (Dask).
+
+    Items that are not read from a file (the synthetic lab) already carry their data.
+    """
+    return dataclasses.replace(item, load=_ship(item.load))
+
+
+def _ship(load):
+    """``load`` with io.read(path) replaced by a read of the file's bytes, also inside a wrapping
+    partial (such as one that checks the points after reading)."""
+    if not isinstance(load, functools.partial) or not load.args:
+        return load
+    if load.func is io.read:
+        path = Path(load.args[0])
+        try:
+            data = path.read_bytes()
+        except OSError as exc:
+            raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
+        return functools.partial(read_shipped, data, str(path), **load.keywords)
+    inner = _ship(load.args[0])
+    if inner is load.args[0]:
+        return load
+    return functools.partial(load.func, inner, *load.args[1:], **load.keywords)

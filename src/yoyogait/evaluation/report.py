@@ -4,20 +4,53 @@ atomically into one folder."""
 from __future__ import annotations
 
 import csv
+import math
 import shutil
 import tempfile
+import time
 from pathlib import Path
 
-from tqdm import tqdm
+import numpy as np
 
 from .._files import check_output_folder, install_folder, why
-from ..errors import OutputError
+from .._guard import signals_deferred
+from ..errors import InputError, OutputError
 from . import figures as plots
 from . import metrics
+from .parallel import TaskFailure, run_tasks
 from .running import Evaluation
 from .tables import summary_markdown, table_one_csv, table_one_markdown
 
-__all__ = ["write_report"]
+__all__ = ["write_report", "FIGURE_MODES", "SUMMARY_ABOVE", "figure_mode", "RANK_KEY"]
+
+FIGURE_MODES = ("all", "summary", "none")
+"""Which figures a report has: every recording's, the cross-recording ones with the worst and best
+recordings only, or none."""
+
+SUMMARY_ABOVE = 36
+"""Above this many recordings a report has the summary figures unless asked for all."""
+
+RANK_KEY = "vx_sq_err_mean_1e-2"
+"""The metric that ranks recordings from best to worst: Table I's v_x error."""
+
+DISTRIBUTION_KEYS = (
+    ("vx_sq_err_mean_1e-2", "v_x sq. error (1e-2 (m/s)^2)"),
+    ("vz_sq_err_mean_1e-2", "v_z sq. error (1e-2 (m/s)^2)"),
+    ("f_err_median_hz", "step freq. error median (Hz)"),
+    ("speed_err_median_mps", "speed error median (m/s)"),
+)
+"""The metrics whose distribution over recordings the summary figure shows."""
+
+
+def figure_mode(figures, n_recordings: int) -> str:
+    """The figure mode for a report: ``figures`` as given (a mode, or True/False), else by size."""
+    if figures is None or figures is True:
+        return "summary" if n_recordings > SUMMARY_ABOVE else "all"
+    if figures is False:
+        return "none"
+    if figures not in FIGURE_MODES:
+        raise InputError(f"figures must be one of {', '.join(FIGURE_MODES)}, not {figures!r}")
+    return figures
 
 
 def _slug(text: str) -> str:
@@ -26,9 +59,21 @@ def _slug(text: str) -> str:
 
 
 def write_report(
-    evaluation: Evaluation, out_dir, *, force: bool = False, figures: bool = True, progress: bool = False
+    evaluation: Evaluation,
+    out_dir,
+    *,
+    force: bool = False,
+    figures: bool | str | None = None,
+    progress: bool = False,
+    jobs: int = 1,
 ) -> Path:
     """Write tables, CSVs, figures and an index into ``out_dir``.
+
+    ``figures``: "all" (two per recording and estimator), "summary" (the distribution of the main
+    metrics over recordings, and the worst and best recording of each estimator), "none"; None or
+    True chooses "summary" above :data:`SUMMARY_ABOVE` recordings, else "all". Figures are drawn
+    in ``jobs`` worker processes. A figure that cannot be drawn is listed in the index and in
+    ``evaluation.figure_failures``.
 
     Written into a temporary folder beside it and moved into place at the end, so an
     interrupted run leaves no half-written report.  ``out_dir`` may be new or empty; a
@@ -36,6 +81,7 @@ def write_report(
     files it lists in its marker (``.yoyogait-report``): the user's other files stay.  A
     non-empty folder without the marker is refused.
     """
+    mode = figure_mode(figures, len(evaluation.items))
     out = Path(out_dir)
     check_output_folder(out, force)
     parent = out.resolve().parent
@@ -45,20 +91,22 @@ def write_report(
     except OSError as exc:
         raise OutputError(f"cannot write the report {out}: {why(exc)}") from None
     try:
-        _write(evaluation, tmp, figures=figures, progress=progress)
+        _write(evaluation, tmp, mode=mode, progress=progress, jobs=jobs)
         install_folder(tmp, out)
     except OutputError:
         raise
     except OSError as exc:
         raise OutputError(f"cannot write the report {out}: {why(exc, tmp)}") from None
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        with signals_deferred():  # a second signal does not cut the clean-up short
+            shutil.rmtree(tmp, ignore_errors=True)
     return out
 
 
-def _write(ev: Evaluation, folder: Path, *, figures: bool, progress: bool) -> None:
+def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int) -> None:
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if ev.synthetic else f"data set {ev.dataset}"
-    md = [f"# yoyogait evaluation: {label}", ""]
+    md = [f"# {getattr(ev, 'title', 'yoyogait evaluation')}: {label}", ""]
+    md += list(getattr(ev, "preamble", []))
     md += [f"Recordings evaluated: {len(ev.items)}; estimators: {', '.join(ev.estimators)}.", ""]
     if ev.failures:
         md += ["Not evaluated:", ""] + [f"- `{n}`: {m}" for n, m in ev.failures] + [""]
@@ -76,54 +124,143 @@ def _write(ev: Evaluation, folder: Path, *, figures: bool, progress: bool) -> No
         (folder / f"table1_{est}.md").write_text(table_one_markdown(ev, est) + "\n")
         (folder / f"table1_{est}.csv").write_text(table_one_csv(ev, est))
     rows = ev.rows()
-    keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(metrics.METRIC_KEYS)
+    keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(
+        getattr(ev, "metric_keys", metrics.METRIC_KEYS)
+    )
     with open(folder / "recordings.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         for row in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
-    if figures:
-        md += ["## Figures", ""] + _figures(ev, folder, progress=progress)
+    if mode != "none" and getattr(ev, "figures", True):
+        md += ["## Figures", ""] + _figures(ev, folder, mode=mode, progress=progress, jobs=jobs)
     (folder / "index.md").write_text("\n".join(md) + "\n")
 
 
-def _figures(ev: Evaluation, folder: Path, *, progress: bool) -> list[str]:
+def _recording_task(r, est: str, figdir: Path) -> tuple:
+    """What drawing one recording's figures for one estimator needs, and nothing more (it is sent
+    to a worker process)."""
+    vel = r.velocities
+    truth = r.item.truth
+    spec = {
+        "time_s": vel.time_s,
+        "vx": vel.vx,
+        "vz": vel.vz,
+        "result": r.results[est],
+        "dft_step_frequency_hz": r.dft_step_frequency_hz,
+        "truth": truth,
+        "reference_step_frequency_hz": None if truth is not None else r.reference_step_frequency_hz,
+        "title": f"{r.item.name} [{est}]",
+        "synthetic": r.item.synthetic,
+        "stem": str(figdir / _slug(f"{r.item.name}_{est}")),
+    }
+    return ("recording", spec)
+
+
+def draw_figures(kind: str, spec: dict) -> float:
+    """Draw one task's figures into their files; the seconds it took. Run in worker processes."""
+    start = time.perf_counter()
+    if kind == "recording":
+        t = spec["time_s"]
+        truth = spec["truth"]
+        plots.parameter_figure(
+            t,
+            spec["result"],
+            dft_step_frequency_hz=spec["dft_step_frequency_hz"],
+            truth=truth,
+            reference_time_s=None if truth is not None else t,
+            reference_step_frequency_hz=spec["reference_step_frequency_hz"],
+            title=spec["title"],
+            synthetic=spec["synthetic"],
+            path=spec["stem"] + "_parameters.png",
+        )
+        plots.velocity_figure(
+            t,
+            spec["vx"],
+            spec["vz"],
+            spec["result"],
+            title=spec["title"],
+            synthetic=spec["synthetic"],
+            path=spec["stem"] + "_velocities.png",
+        )
+    elif kind == "distribution":
+        plots.distribution_figure(spec["values"], labels=spec["labels"], title=spec["title"], path=spec["path"])
+    else:
+        raise ValueError(f"unknown figure task {kind!r}")
+    return time.perf_counter() - start
+
+
+def _best_and_worst(ev: Evaluation, est: str) -> tuple[int, int] | None:
+    """Indices of the recordings with the lowest and the highest :data:`RANK_KEY` of ``est``."""
+    values = [r.metrics[est].get(RANK_KEY, math.nan) for r in ev.items]
+    known = [i for i, v in enumerate(values) if isinstance(v, float) and math.isfinite(v)]
+    if not known:
+        return None
+    return min(known, key=lambda i: values[i]), max(known, key=lambda i: values[i])
+
+
+def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int) -> list[str]:
     figdir = folder / "figures"
     figdir.mkdir()
-    lines = []
-    iterator = ev.items
-    if progress:
-        iterator = tqdm(ev.items, desc="figures", unit="recording", leave=False, disable=None)
-    for r in iterator:
-        vel = r.velocities
-        links = []
+    tasks: list[tuple] = []
+    lines: list[str] = []
+    label = "SYNTHETIC data" if ev.synthetic else "recordings"
+
+    def links(r, est: str) -> str:
+        stem = _slug(f"{r.item.name}_{est}")
+        return f"[{est}: parameters](figures/{stem}_parameters.png), [velocities](figures/{stem}_velocities.png)"
+
+    if mode == "summary":
+        values = {
+            est: {
+                key: np.array([r.metrics[est].get(key, np.nan) for r in ev.items], float)
+                for key, _ in DISTRIBUTION_KEYS
+            }
+            for est in ev.estimators
+        }
+        spec = {
+            "values": values,
+            "labels": dict(DISTRIBUTION_KEYS),
+            "title": f"{len(ev.items)} {label}: the main metrics over recordings, per estimator",
+            "path": str(figdir / "distributions.png"),
+        }
+        tasks.append(("distribution", spec))
+        lines += [
+            "Distribution over recordings of the main metrics, per estimator "
+            "(box: quartiles and median; whiskers: 1.5 interquartile ranges; dots: recordings): "
+            "[distributions](figures/distributions.png)",
+            "",
+            f"Best and worst recording of each estimator by its v_x error ({RANK_KEY}):",
+            "",
+        ]
         for est in ev.estimators:
-            res = r.results[est]
-            stem = _slug(f"{r.item.name}_{est}")
-            title = f"{r.item.name} [{est}]"
-            truth = r.item.truth
-            plots.parameter_figure(
-                vel.time_s,
-                res,
-                dft_step_frequency_hz=r.dft_step_frequency_hz,
-                truth=truth,
-                reference_time_s=None if truth is not None else vel.time_s,
-                reference_step_frequency_hz=None if truth is not None else r.reference_step_frequency_hz,
-                title=title,
-                synthetic=r.item.synthetic,
-                path=figdir / f"{stem}_parameters.png",
+            pair = _best_and_worst(ev, est)
+            if pair is None:
+                lines.append(f"- `{est}`: no recording with a finite v_x error")
+                continue
+            for which, i in zip(("best", "worst"), pair):
+                r = ev.items[i]
+                value = r.metrics[est][RANK_KEY]
+                tasks.append(_recording_task(r, est, figdir))
+                lines.append(f"- `{est}`, {which}: `{r.item.name}` ({r.item.subject}, {value:.3g}): " + links(r, est))
+                if pair[0] == pair[1]:
+                    break
+    else:
+        for r in ev.items:
+            for est in ev.estimators:
+                tasks.append(_recording_task(r, est, figdir))
+            lines.append(
+                f"- `{r.item.name}` ({r.item.subject}, {r.item.walk}): "
+                + "; ".join(links(r, est) for est in ev.estimators)
             )
-            plots.velocity_figure(
-                vel.time_s,
-                vel.vx,
-                vel.vz,
-                res,
-                title=title,
-                synthetic=r.item.synthetic,
-                path=figdir / f"{stem}_velocities.png",
-            )
-            links.append(
-                f"[{est}: parameters](figures/{stem}_parameters.png), [velocities](figures/{stem}_velocities.png)"
-            )
-        lines.append(f"- `{r.item.name}` ({r.item.subject}, {r.item.walk}): " + "; ".join(links))
+    outcomes = run_tasks(draw_figures, tasks, jobs=jobs, progress="figures" if progress else None)
+    failed, seconds = [], 0.0
+    for (kind, spec), outcome in zip(tasks, outcomes):
+        if isinstance(outcome, TaskFailure):
+            failed.append((spec.get("title") or kind, outcome.message))
+        else:
+            seconds += outcome
+    ev.figure_failures, ev.figure_time_s = failed, seconds
+    if failed:
+        lines += ["", "Figures not drawn:", ""] + [f"- {n}: {m}" for n, m in failed]
     return lines

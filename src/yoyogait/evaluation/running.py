@@ -7,10 +7,11 @@ estimator runs on the same velocities, and :func:`yoyogait.evaluation.metrics.ev
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
 from ..errors import InputError
 from ..estimators.registry import check_estimators, estimators
@@ -20,11 +21,25 @@ from ..pipeline.signals import moving_mean
 from ..pipeline.velocities import gait_velocities
 from . import metrics
 from .datasets import Item
+from .parallel import TaskFailure, run_tasks, split_outcomes
 
-__all__ = ["ItemResult", "Evaluation", "evaluate_item", "evaluate", "real_reference", "RATE_HZ", "DEFAULT_ESTIMATORS"]
+__all__ = [
+    "ItemResult",
+    "Evaluation",
+    "evaluate_item",
+    "run_item",
+    "score",
+    "evaluate",
+    "real_reference",
+    "RATE_HZ",
+    "DEFAULT_ESTIMATORS",
+    "STAGES",
+]
 
 RATE_HZ = 25.0  # the paper's resampling rate (Sec. IV-A)
 DEFAULT_ESTIMATORS = ("paper", "default")
+STAGES = ("read", "velocities", "events", "estimators", "metrics")
+"""The stages of one item, as timed in :attr:`ItemResult.timings_s` (wall time, seconds)."""
 
 
 @dataclass
@@ -39,6 +54,7 @@ class ItemResult:
     dft_step_frequency_hz: float
     results: dict = field(default_factory=dict)  # estimator -> result
     metrics: dict = field(default_factory=dict)  # estimator -> metric dict
+    timings_s: dict = field(default_factory=dict)  # stage (STAGES) -> wall time spent on it [s]
 
 
 @dataclass
@@ -50,6 +66,8 @@ class Evaluation:
     failures: list  # (item name, message)
     dataset: str
     synthetic: bool
+    figure_failures: list = field(default_factory=list)  # (figure, message), filled by write_report
+    figure_time_s: float = 0.0  # time spent drawing figures, summed over the processes that drew them
 
     def rows(self) -> list[dict]:
         """One flat row per recording and estimator (the per-recording CSV)."""
@@ -105,10 +123,20 @@ def real_reference(recording, vel, item: Item):
 
 def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE_HZ, configs=None) -> ItemResult:
     """Load one item, take its velocities by the paper's pipeline, run and score every estimator
-    (``configs``: further configurations by name, see :func:`~yoyogait.estimators.registry.estimators`)."""
+    (``configs``: further configurations by name, see :func:`~yoyogait.estimators.registry.estimators`).
+
+    The wall time of each stage (:data:`STAGES`) is in the result's ``timings_s``.
+    """
+    clock = time.perf_counter
+    timings = dict.fromkeys(STAGES, 0.0)
+    t0 = clock()
     recording = item.load()
+    t1 = clock()
+    timings["read"] = t1 - t0
     point = item.pelvis if item.pelvis else None
     vel = gait_velocities(recording, point=point, rate_hz=rate_hz, up_axis=item.up_axis)
+    t0 = clock()
+    timings["velocities"] = t0 - t1
     t = vel.time_s
     if item.truth is not None:
         tr = item.truth.at(t)
@@ -118,26 +146,49 @@ def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE
         f_ref, speed_ref, walking = real_reference(recording, vel, item)
     if not walking.any():
         walking = np.isfinite(vel.vx) & np.isfinite(vel.vz)
+    t1 = clock()
+    timings["events"] = t1 - t0
     dft = metrics.dft_step_frequency_hz(t[walking], vel.vz[walking]) if walking.sum() > 10 else float("nan")
-    out = ItemResult(item, vel, f_ref, speed_ref, walking, dft)
+    out = ItemResult(item, vel, f_ref, speed_ref, walking, dft, timings_s=timings)
     runners = estimators(configs)
+    t0 = clock()
+    timings["metrics"] += t0 - t1
     for name in names:
-        res = runners[name](vel)
-        out.results[name] = res
-        out.metrics[name] = metrics.evaluate(
-            t,
-            vel.vx,
-            vel.vz,
-            res,
-            truth=item.truth,
-            walking=walking,
-            reference_step_frequency_hz=f_ref,
-            reference_speed_mps=speed_ref,
-            predicted_1step=res.aligned_prediction(PREDICTION_HORIZONS_S[0]),
-            predicted_200ms=res.aligned_prediction(PREDICTION_HORIZONS_S[1]),
-            skip_s=3.0,
-        )
+        res = runners[name](out.velocities)
+        t1 = clock()
+        timings["estimators"] += t1 - t0
+        score(out, name, res)
+        t0 = clock()
+        timings["metrics"] += t0 - t1
     return out
+
+
+def score(out: ItemResult, name: str, res) -> None:
+    """Score an estimator's result on the item (its velocities and reference) into ``out``."""
+    vel: Any = out.velocities
+    out.results[name] = res
+    out.metrics[name] = metrics.evaluate(
+        vel.time_s,
+        vel.vx,
+        vel.vz,
+        res,
+        truth=out.item.truth,
+        walking=out.walking,
+        reference_step_frequency_hz=out.reference_step_frequency_hz,
+        reference_speed_mps=out.reference_speed_mps,
+        predicted_1step=res.aligned_prediction(PREDICTION_HORIZONS_S[0]),
+        predicted_200ms=res.aligned_prediction(PREDICTION_HORIZONS_S[1]),
+        skip_s=3.0,
+    )
+
+
+def run_item(item: Item, names=DEFAULT_ESTIMATORS, rate_hz: float = RATE_HZ, configs=None) -> ItemResult | TaskFailure:
+    """:func:`evaluate_item`, with what stops it as a :class:`TaskFailure`: the function that worker
+    processes and Dask workers run."""
+    try:
+        return evaluate_item(item, names, rate_hz=rate_hz, configs=configs)
+    except InputError as exc:
+        return TaskFailure(str(exc))
 
 
 def evaluate(
@@ -148,19 +199,26 @@ def evaluate(
     dataset: str = "",
     synthetic: bool = False,
     failures=None,
+    jobs: int = 1,
+    executor=None,
     configs=None,
 ) -> Evaluation:
     """Evaluate every item; an item that cannot be read or processed is reported, not fatal.
-    ``configs``: further configurations by name, which ``names`` may use."""
+
+    ``configs``: further configurations by name, which ``names`` may use. ``jobs`` > 1 evaluates
+    the items in that many worker processes; ``executor`` (any ``concurrent.futures.Executor``,
+    e.g. :func:`~yoyogait.evaluation.parallel.dask_executor`) runs them there instead. The result
+    is the same either way, in the order of ``items``.
+    """
     names = check_estimators(names, configs)
     failures = list(failures or [])
-    done = []
-    iterator = items
-    if progress:
-        iterator = tqdm(items, desc="evaluating", unit="recording", leave=False, disable=None)
-    for item in iterator:
-        try:
-            done.append(evaluate_item(item, names, configs=configs))
-        except InputError as exc:
-            failures.append((item.name, str(exc)))
+    items = list(items)
+    outcomes = run_tasks(
+        run_item,
+        [(item, names, RATE_HZ, configs) for item in items],
+        jobs=jobs,
+        executor=executor,
+        progress="evaluating" if progress else None,
+    )
+    done = split_outcomes(items, outcomes, failures)
     return Evaluation(names, done, failures, dataset, synthetic)

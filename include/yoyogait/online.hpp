@@ -1,0 +1,9 @@
+/// @file online.hpp
+/// @brief The online front-end and OnlineEstimator (docs/online.md).
+#pragma once
+
+#include "yoyogait/online/centre.hpp"
+#include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/lowpass.hpp"
+#include "yoyogait/online/online_config.hpp"
+#include "yoyogait/online/online_estimator.hpp"

@@ -1,0 +1,194 @@
+/// @file online/centre.hpp
+/// @brief The centre of several markers, frame by frame, without the future.
+///
+/// Offline (pipeline/points.py, robust_centre) a missing marker's offset from the centre is
+/// interpolated towards the next frame where all markers are seen. Online the offset is carried
+/// from the last frame where the marker was seen with all the others:
+///
+///   centre = mean over the visible markers j of (p_j - o_j),   o_j = p_j - mean(p) on full frames
+///
+/// A marker first seen late gets o_j = p_j - centre at that frame. When the set of visible markers
+/// changes (a marker drops out or returns, or the offsets are refreshed after a partial stretch),
+/// the two definitions of the centre differ by the offsets' drift. On such a frame the centre moves
+/// by the mean displacement of the markers seen on both frames instead, and the difference becomes
+/// a correction that decays with blend_tau_s: the centre never jumps.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace yoyogait::online {
+
+/// The most points the online front-end follows.
+inline constexpr std::size_t kMaxPoints = 16;
+
+using Vec3 = std::array<double, 3>;
+
+/// Causal marker centre; see the file comment. Everything per frame is noexcept and allocation-free.
+class CausalCentre {
+ public:
+  /// What one frame gave.
+  struct Result {
+    Vec3 centre_m{};                  ///< the centre (valid only when ok)
+    bool ok = false;                  ///< at least one marker with a known offset was visible
+    std::uint8_t visible_points = 0;  ///< markers used on this frame
+  };
+
+  CausalCentre() noexcept = default;
+  /// forget_s: a marker unseen this long leaves the set (its offset would go stale as the body turns).
+  CausalCentre(std::size_t n_points, double blend_tau_s, double forget_s) noexcept
+      : n_(n_points > kMaxPoints ? kMaxPoints : n_points), blend_tau_s_(blend_tau_s), forget_s_(forget_s) {
+    reset();
+  }
+
+  /// Forget every offset and the correction (a restart after a long gap).
+  void reset() noexcept {
+    known_.fill(false);
+    unseen_s_.fill(0.0);
+    prev_visible_.fill(false);
+    offset_.fill(Vec3{});
+    correction_ = Vec3{};
+    have_prev_ = false;
+    prev_full_ = false;
+  }
+
+  /// One frame. positions: n x 3 metres; visible[j] false where marker j is missing. dt_s: time
+  /// since the previous frame with a visible marker (decays the correction; <= 0 on the first).
+  Result update(const Vec3* positions, const bool* visible, double dt_s) noexcept {
+    Result r;
+    if (dt_s > 0.0) {
+      for (std::size_t j = 0; j < n_; ++j) {
+        unseen_s_[j] = visible[j] ? 0.0 : unseen_s_[j] + dt_s;
+        if (known_[j] && unseen_s_[j] > forget_s_) known_[j] = false;
+      }
+    }
+    std::size_t n_vis = 0, n_known_vis = 0, n_known = 0;
+    bool all_known_visible = true;
+    for (std::size_t j = 0; j < n_; ++j) {
+      n_vis += visible[j];
+      n_known += known_[j];
+      if (known_[j]) {
+        if (visible[j])
+          ++n_known_vis;
+        else
+          all_known_visible = false;
+      }
+    }
+    if (n_vis == 0) return r;
+
+    // How far the markers seen on this frame and the previous one moved: what the centre moves
+    // on a frame where the set changes.
+    Vec3 moved{};
+    std::size_t n_both = 0;
+    for (std::size_t j = 0; j < n_; ++j) {
+      if (visible[j] && prev_visible_[j]) {
+        for (int a = 0; a < 3; ++a) moved[a] += positions[j][a] - prev_pos_[j][a];
+        ++n_both;
+      }
+    }
+
+    // Markers seen for the first time take their offset from the centre of the known visible ones,
+    // or, when none of those is visible, from the last centre (the first frame: their mean).
+    bool set_changed = false;
+    if (n_known_vis < n_vis) {
+      Vec3 c{};
+      if (n_known_vis > 0) {
+        for (std::size_t j = 0; j < n_; ++j)
+          if (visible[j] && known_[j])
+            for (int a = 0; a < 3; ++a) c[a] += positions[j][a] - offset_[j][a];
+        for (int a = 0; a < 3; ++a) c[a] /= static_cast<double>(n_known_vis);
+      } else if (have_prev_) {
+        c = last_m_;
+      } else {
+        for (std::size_t j = 0; j < n_; ++j)
+          if (visible[j])
+            for (int a = 0; a < 3; ++a) c[a] += positions[j][a];
+        for (int a = 0; a < 3; ++a) c[a] /= static_cast<double>(n_vis);
+      }
+      for (std::size_t j = 0; j < n_; ++j) {
+        if (visible[j] && !known_[j]) {
+          for (int a = 0; a < 3; ++a) offset_[j][a] = positions[j][a] - c[a];
+          known_[j] = true;
+        }
+      }
+      set_changed = true;
+      all_known_visible = true;
+      for (std::size_t j = 0; j < n_; ++j)
+        if (known_[j] && !visible[j]) all_known_visible = false;
+    }
+
+    // Full frame (every known marker visible): the centre is their mean, the offsets are refreshed.
+    Vec3 centre{};
+    if (all_known_visible) {
+      std::size_t m = 0;
+      for (std::size_t j = 0; j < n_; ++j)
+        if (known_[j]) {
+          for (int a = 0; a < 3; ++a) centre[a] += positions[j][a];
+          ++m;
+        }
+      for (int a = 0; a < 3; ++a) centre[a] /= static_cast<double>(m);
+      for (std::size_t j = 0; j < n_; ++j)
+        if (known_[j])
+          for (int a = 0; a < 3; ++a) offset_[j][a] = positions[j][a] - centre[a];
+    } else {
+      std::size_t m = 0;
+      for (std::size_t j = 0; j < n_; ++j)
+        if (visible[j] && known_[j]) {
+          for (int a = 0; a < 3; ++a) centre[a] += positions[j][a] - offset_[j][a];
+          ++m;
+        }
+      for (int a = 0; a < 3; ++a) centre[a] /= static_cast<double>(m);
+    }
+    for (std::size_t j = 0; j < n_; ++j)
+      if (visible[j] != prev_visible_[j]) set_changed = true;
+    if (all_known_visible != prev_full_) set_changed = true;
+
+    // Decay the correction, then absorb this frame's step into it.
+    if (dt_s > 0.0 && (correction_[0] != 0.0 || correction_[1] != 0.0 || correction_[2] != 0.0)) {
+      if (dt_s != decay_dt_s_) {
+        decay_dt_s_ = dt_s;
+        decay_ = std::exp(-dt_s / blend_tau_s_);
+      }
+      for (int a = 0; a < 3; ++a) correction_[a] *= decay_;
+    }
+    if (set_changed && have_prev_) {
+      // Continue from the last centre by the common markers' displacement (none: hold it).
+      for (int a = 0; a < 3; ++a) {
+        const double target = last_m_[a] + (n_both > 0 ? moved[a] / static_cast<double>(n_both) : 0.0);
+        correction_[a] = centre[a] - target;
+      }
+    }
+    for (int a = 0; a < 3; ++a) r.centre_m[a] = centre[a] - correction_[a];
+    r.ok = true;
+    last_m_ = r.centre_m;
+    r.visible_points = static_cast<std::uint8_t>(n_vis);
+    for (std::size_t j = 0; j < n_; ++j) {
+      prev_visible_[j] = visible[j];
+      if (visible[j]) prev_pos_[j] = positions[j];
+    }
+    prev_full_ = all_known_visible;
+    have_prev_ = true;
+    return r;
+  }
+
+  std::size_t size() const noexcept { return n_; }
+
+ private:
+  std::size_t n_ = 0;
+  double blend_tau_s_ = 0.3;
+  double forget_s_ = 2.0;
+  std::array<double, kMaxPoints> unseen_s_{};
+  std::array<bool, kMaxPoints> known_{};
+  std::array<bool, kMaxPoints> prev_visible_{};
+  std::array<Vec3, kMaxPoints> offset_{};
+  Vec3 correction_{};
+  std::array<Vec3, kMaxPoints> prev_pos_{};
+  Vec3 last_m_{};  // the last centre returned
+  double decay_dt_s_ = -1.0, decay_ = 0.0;
+  bool have_prev_ = false;
+  bool prev_full_ = false;
+};
+
+}  // namespace yoyogait::online

@@ -1,0 +1,150 @@
+/// @file online/differentiator.hpp
+/// @brief Causal velocity of a 3-D position: a constant-acceleration Kalman filter per axis.
+///
+/// State per axis [p, v, a]; white jerk of density q_jerk [m^2/s^5]; measurement p with noise std
+/// r [m]. The three axes share dt, q and r, so they share one covariance: one 3x3 Riccati step per
+/// frame and three gains applied to the three axes. Any frame times (dt from the timestamps); a
+/// frame without a position is a prediction only. docs/online.md compares it with a
+/// constant-velocity filter and a causal polynomial fit.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <complex>
+
+namespace yoyogait::online {
+
+class KalmanDifferentiator {
+ public:
+  enum Index { kP = 0, kV = 1, kA = 2 };
+  using Axis = std::array<double, 3>;  // [p, v, a] of one axis
+
+  KalmanDifferentiator() noexcept = default;
+  /// q_jerk_m2_per_s5: white-jerk noise density; meas_std_m: position noise; initial std of v and a.
+  KalmanDifferentiator(double q_jerk_m2_per_s5, double meas_std_m, double v0_std_mps, double a0_std_mps2) noexcept
+      : q_(q_jerk_m2_per_s5),
+        r2_(meas_std_m * meas_std_m),
+        v0_var_(v0_std_mps * v0_std_mps),
+        a0_var_(a0_std_mps2 * a0_std_mps2) {}
+
+  /// Starts at position p_m at rest (velocity and acceleration unknown).
+  void start(const std::array<double, 3>& p_m) noexcept {
+    for (int k = 0; k < 3; ++k) x_[k] = Axis{p_m[k], 0.0, 0.0};
+    P_ = {{{r2_, 0.0, 0.0}, {0.0, v0_var_, 0.0}, {0.0, 0.0, a0_var_}}};
+    started_ = true;
+  }
+  bool started() const noexcept { return started_; }
+  void stop() noexcept { started_ = false; }
+
+  /// Propagates over dt_s (> 0).
+  void predict(double dt_s) noexcept {
+    const double h = dt_s, h2 = h * h, h3 = h2 * h;
+    for (Axis& x : x_) {
+      x[kP] += h * x[kV] + 0.5 * h2 * x[kA];
+      x[kV] += h * x[kA];
+    }
+    // P <- F P F^T + Q, F = [[1, h, h^2/2], [0, 1, h], [0, 0, 1]].
+    const auto& P = P_;
+    const double hh = 0.5 * h2;
+    // A = F P
+    double A[3][3];
+    for (int j = 0; j < 3; ++j) {
+      A[0][j] = P[0][j] + h * P[1][j] + hh * P[2][j];
+      A[1][j] = P[1][j] + h * P[2][j];
+      A[2][j] = P[2][j];
+    }
+    std::array<std::array<double, 3>, 3> N;
+    for (int i = 0; i < 3; ++i) {
+      N[i][0] = A[i][0] + h * A[i][1] + hh * A[i][2];
+      N[i][1] = A[i][1] + h * A[i][2];
+      N[i][2] = A[i][2];
+    }
+    const double q = q_;
+    const double q00 = q * h3 * h2 / 20.0, q01 = q * h2 * h2 / 8.0, q02 = q * h3 / 6.0;
+    const double q11 = q * h3 / 3.0, q12 = q * h2 / 2.0, q22 = q * h;
+    N[0][0] += q00;
+    N[0][1] += q01;
+    N[0][2] += q02;
+    N[1][0] += q01;
+    N[1][1] += q11;
+    N[1][2] += q12;
+    N[2][0] += q02;
+    N[2][1] += q12;
+    N[2][2] += q22;
+    // Keep it symmetric.
+    N[1][0] = N[0][1] = 0.5 * (N[0][1] + N[1][0]);
+    N[2][0] = N[0][2] = 0.5 * (N[0][2] + N[2][0]);
+    N[2][1] = N[1][2] = 0.5 * (N[1][2] + N[2][1]);
+    P_ = N;
+  }
+
+  /// Measurement update with position p_m; returns the gain used (for the latency).
+  void update(const std::array<double, 3>& p_m) noexcept {
+    const double S = P_[0][0] + r2_;
+    const double K0 = P_[0][0] / S, K1 = P_[1][0] / S, K2 = P_[2][0] / S;
+    for (int k = 0; k < 3; ++k) {
+      const double nu = p_m[k] - x_[k][kP];
+      x_[k][kP] += K0 * nu;
+      x_[k][kV] += K1 * nu;
+      x_[k][kA] += K2 * nu;
+    }
+    const std::array<double, 3> row0 = P_[0];
+    const double K[3] = {K0, K1, K2};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) P_[i][j] -= K[i] * row0[j];
+    gain_ = {K0, K1, K2};
+  }
+
+  std::array<double, 3> position_m() const noexcept { return {x_[0][kP], x_[1][kP], x_[2][kP]}; }
+  std::array<double, 3> velocity_mps() const noexcept { return {x_[0][kV], x_[1][kV], x_[2][kV]}; }
+  const std::array<std::array<double, 3>, 3>& covariance() const noexcept { return P_; }
+  bool finite() const noexcept {
+    for (const Axis& x : x_)
+      for (double v : x)
+        if (!std::isfinite(v)) return false;
+    return std::isfinite(P_[0][0]) && std::isfinite(P_[1][1]) && std::isfinite(P_[2][2]);
+  }
+
+  /// Delay of the velocity output at frequency f_hz for frames dt_s apart, with the last gain:
+  /// the phase of the filter's transfer function from position to velocity against the ideal
+  /// derivative's +90 degrees, over 2 pi f [s]. (The steady-state filter is linear time-invariant.)
+  double delay_s(double f_hz, double dt_s) const noexcept {
+    if (!(dt_s > 0.0 && f_hz > 0.0)) return 0.0;
+    using C = std::complex<double>;
+    const double h = dt_s, hh = 0.5 * h * h;
+    const double w = 6.283185307179586 * f_hz;
+    const C zi = std::polar(1.0, -w * h);  // z^-1
+    // x_k = A x_{k-1} + K y_k with A = (I - K e0^T) F.
+    const double F[3][3] = {{1.0, h, hh}, {0.0, 1.0, h}, {0.0, 0.0, 1.0}};
+    C M[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double a = F[i][j] - gain_[i] * F[0][j];
+        M[i][j] = (i == j ? C(1.0) : C(0.0)) - a * zi;
+      }
+    // Solve M x = K (Cramer's rule); the velocity is x[1].
+    auto det3 = [](const C m[3][3]) {
+      return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+             m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    };
+    const C d = det3(M);
+    if (std::abs(d) == 0.0) return 0.0;
+    C M1[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) M1[i][j] = j == 1 ? C(gain_[i]) : M[i][j];
+    const C hv = det3(M1) / d;
+    double phase = std::arg(hv) - 1.5707963267948966;  // against d/dt
+    while (phase > 3.141592653589793) phase -= 6.283185307179586;
+    while (phase < -3.141592653589793) phase += 6.283185307179586;
+    return -phase / w;
+  }
+
+ private:
+  double q_ = 1e3, r2_ = 1e-6, v0_var_ = 1.0, a0_var_ = 100.0;
+  std::array<Axis, 3> x_{};
+  std::array<std::array<double, 3>, 3> P_{};
+  std::array<double, 3> gain_{};
+  bool started_ = false;
+};
+
+}  // namespace yoyogait::online

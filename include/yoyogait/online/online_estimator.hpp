@@ -1,0 +1,333 @@
+/// @file online/online_estimator.hpp
+/// @brief OnlineEstimator: motion-capture frames in, gait estimates out, one frame at a time,
+/// nothing taken from the future (docs/online.md).
+///
+/// Per frame: the centre of the chosen points (CausalCentre), its velocity (KalmanDifferentiator),
+/// the heading (low-passed horizontal velocity), forward (along the heading) and vertical velocity;
+/// every EstimatorConfig::sample_time_s the mean velocity over that interval feeds the gait
+/// Estimator, whose estimate is carried to each frame's time by its own prediction.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+
+#include "yoyogait/estimator.hpp"
+#include "yoyogait/online/centre.hpp"
+#include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/lowpass.hpp"
+#include "yoyogait/online/online_config.hpp"
+
+namespace yoyogait {
+
+/// What update() did with its frame.
+enum class OnlineStatus : std::uint8_t {
+  kUsed = 0,               ///< the frame was used
+  kAllMissing = 1,         ///< no point was seen: the estimate is carried forward by prediction
+  kTimeNotIncreasing = 2,  ///< the timestamp did not increase: the frame was ignored
+  kGapRestart = 3,         ///< used, after a gap longer than max_gap_s that restarted the front-end
+  kNonFinite = 4,          ///< non-finite timestamp, or every seen coordinate non-finite or absurd: ignored
+};
+
+/// One estimate, at the time of one frame. Velocities in m/s in the frame of the data (the up
+/// axis given at construction; "horizontal" = the two other axes in increasing order, a then b).
+struct OnlineEstimate {
+  double t_s = 0.0;          ///< the frame's timestamp [s] (an ignored frame: the last one accepted)
+  double vx_mps = 0.0;       ///< front-end: horizontal velocity along the heading
+  double vz_mps = 0.0;       ///< front-end: vertical velocity
+  double vh_a_mps = 0.0;     ///< front-end: horizontal velocity, first horizontal axis
+  double vh_b_mps = 0.0;     ///< ... second horizontal axis
+  double heading_rad = 0.0;  ///< atan2(b, a) of the low-passed horizontal velocity (held when slow)
+  double walk_a_mps = 0.0;   ///< walking velocity without the oscillation: speed_mps along the heading, axis a
+  double walk_b_mps = 0.0;   ///< ... axis b
+  double vx_hat_mps = 0.0;   ///< the estimator's reconstruction of v_x (with harmonics), at t_s
+  double vz_hat_mps = 0.0;   ///< ... of v_z, at t_s
+  double step_frequency_hz = 0.0;
+  double step_frequency_std_hz = 0.0;
+  double speed_mps = 0.0;  ///< forward speed without the oscillation (A0)
+  double speed_std_mps = 0.0;
+  /// Phase within the current step, in [0, 1): the angle of the vertical oscillation's phasor,
+  /// v_z ~ |Z| cos(2 pi gait_phase). 0: fastest rise of the pelvis; 0.25: highest; 0.5: fastest
+  /// fall; 0.75: lowest (about the double support after heel strike). Held while standing.
+  double gait_phase = 0.0;
+  double input_latency_s = 0.0;  ///< delay of vx_mps, vz_mps behind the true velocity at latency_f_hz [s]
+  double estimate_age_s = 0.0;   ///< time since the estimator's last sample [s]
+  OnlineStatus status = OnlineStatus::kUsed;
+  Status estimator_status = Status::kUpdated;  ///< of the estimator's last sample
+  bool walking = false;                        ///< the estimator's walking/standing detector
+  bool estimator_fed = false;                  ///< this frame completed an interval and fed the estimator
+  std::uint8_t points_seen = 0;                ///< points used on this frame
+};
+
+/// The online gait estimator. update() is noexcept and allocates nothing; the constructor throws
+/// std::invalid_argument for an unusable configuration or arguments.
+class OnlineEstimator {
+ public:
+  /// n_points: 1..16 points per frame; up_axis: 0, 1, 2 (x, y, z); length_unit_m: metres per
+  /// coordinate unit (1 for metres, 0.001 for millimetres).
+  OnlineEstimator(std::size_t n_points, int up_axis, double length_unit_m = 1.0,
+                  const OnlineConfig& config = OnlineConfig{})
+      : config_(checked(config, n_points, up_axis, length_unit_m)),
+        n_(n_points),
+        up_(up_axis),
+        unit_(length_unit_m),
+        estimator_(config_.estimator),
+        centre_(n_points, config_.centre_blend_tau_s, config_.centre_forget_s),
+        diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
+              config_.initial_accel_std_mps2),
+        aa_(config_.antialias_hz) {
+    ha_ = up_ == 0 ? 1 : 0;
+    hb_ = up_ == 2 ? 1 : 2;
+    reset();
+  }
+
+  /// Back to the state before the first frame.
+  void reset() noexcept {
+    estimator_.reset();
+    centre_.reset();
+    diff_.stop();
+    est_ = Estimate{};
+    out_ = OnlineEstimate{};
+    have_time_ = false;
+    have_seen_ = false;
+    heading_lp_ = {0.0, 0.0};
+    heading_unit_ = {1.0, 0.0};
+    heading_known_ = false;
+    lp_dir_ = {1.0, 0.0};
+    lp_dir_known_ = false;
+    turn_rate_rad_s_ = 0.0;
+    sum_vx_ = sum_vz_ = span_s_ = 0.0;
+    fed_ = false;
+    tick_span_s_ = 0.0;
+    phase_ = 0.0;
+    latency_s_ = 0.0;
+    latency_dt_s_ = -1.0;
+    latency_t_s_ = 0.0;
+    alpha_dt_s_ = -1.0;
+    aa_started_ = false;
+    aa_delay_s_ = 0.0;
+  }
+
+  /// One frame: t_s [s], positions_xyz: n_points x 3 coordinates (x, y, z of each point, in the
+  /// length unit), NaN where a point is missing. Never throws; the state stays finite.
+  OnlineEstimate update(double t_s, const double* positions_xyz) noexcept {
+    OnlineEstimate& o = out_;
+    o.estimator_fed = false;
+    if (!std::isfinite(t_s)) {
+      o.status = OnlineStatus::kNonFinite;
+      return o;
+    }
+    if (have_time_ && !(t_s > t_last_s_)) {
+      o.status = OnlineStatus::kTimeNotIncreasing;
+      return o;
+    }
+    have_time_ = true;
+    t_last_s_ = t_s;
+    o.t_s = t_s;
+
+    std::size_t n_seen = 0, n_bad = 0;
+    for (std::size_t j = 0; j < n_; ++j) {
+      bool ok = true, any_value = false;
+      for (int a = 0; a < 3; ++a) {
+        const double v = positions_xyz[3 * j + static_cast<std::size_t>(a)] * unit_;
+        if (!std::isnan(v)) any_value = true;
+        if (!(std::fabs(v) <= config_.max_abs_position_m)) ok = false;  // NaN, infinite or absurd
+        pos_[j][static_cast<std::size_t>(a)] = v;
+      }
+      vis_[j] = ok;
+      n_seen += ok;
+      n_bad += (!ok && any_value);
+    }
+    o.points_seen = static_cast<std::uint8_t>(n_seen);
+    if (n_seen == 0) {
+      o.status = n_bad ? OnlineStatus::kNonFinite : OnlineStatus::kAllMissing;
+      carry_estimate(t_s);
+      return o;
+    }
+
+    const double gap_s = have_seen_ ? t_s - t_seen_s_ : 0.0;
+    const bool restart = !diff_.started() || gap_s > config_.max_gap_s;
+    if (restart) centre_.reset();
+    const online::CausalCentre::Result c = centre_.update(pos_.data(), vis_.data(), restart ? 0.0 : gap_s);
+    if (!c.ok) {  // cannot happen with a point seen; kept so that no unset centre is ever used
+      o.status = OnlineStatus::kAllMissing;
+      carry_estimate(t_s);
+      return o;
+    }
+    o.status = (restart && have_seen_) ? OnlineStatus::kGapRestart : OnlineStatus::kUsed;
+    if (restart) {
+      start_front_end(t_s, c.centre_m);
+    } else {
+      diff_.predict(gap_s);
+      diff_.update(c.centre_m);
+      if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
+    }
+    have_seen_ = true;
+    t_seen_s_ = t_s;
+
+    const std::array<double, 3> v = diff_.velocity_mps();
+    const double va = v[static_cast<std::size_t>(ha_)], vb = v[static_cast<std::size_t>(hb_)];
+    o.vh_a_mps = va;
+    o.vh_b_mps = vb;
+    o.vz_mps = v[static_cast<std::size_t>(up_)];
+    const bool settled = t_s - start_t_s_ >= config_.settle_s;
+    if (settled && !restart) {
+      // Heading: the horizontal velocity low-passed over about a stride, so that the sway cancels.
+      // A first-order low-pass of a vector turning at w lags it by atan(w tau): the turn rate of the
+      // low-passed direction (itself low-passed) turns the heading forward by that much.
+      if (gap_s != alpha_dt_s_) {
+        alpha_dt_s_ = gap_s;
+        alpha_ = 1.0 - std::exp(-gap_s / config_.heading_tau_s);
+      }
+      heading_lp_[0] += alpha_ * (va - heading_lp_[0]);
+      heading_lp_[1] += alpha_ * (vb - heading_lp_[1]);
+      const double s = std::sqrt(heading_lp_[0] * heading_lp_[0] + heading_lp_[1] * heading_lp_[1]);
+      if (s >= config_.heading_min_speed_mps && s > 0.0) {
+        const double ua = heading_lp_[0] / s, ub = heading_lp_[1] / s;
+        if (lp_dir_known_) {
+          const double sin_turn = lp_dir_[0] * ub - lp_dir_[1] * ua;  // sin of the turn since the last frame
+          turn_rate_rad_s_ += alpha_ * (sin_turn / gap_s - turn_rate_rad_s_);
+          // No walker turns faster than this; it also keeps frames microseconds apart harmless.
+          if (!(std::fabs(turn_rate_rad_s_) <= 10.0)) turn_rate_rad_s_ = turn_rate_rad_s_ > 0.0 ? 10.0 : -10.0;
+        }
+        lp_dir_ = {ua, ub};
+        lp_dir_known_ = true;
+        const double k = turn_rate_rad_s_ * config_.heading_tau_s;  // tan of the lag
+        const double cs = 1.0 / std::sqrt(1.0 + k * k), sn = k * cs;
+        heading_unit_ = {ua * cs - ub * sn, ua * sn + ub * cs};
+        heading_known_ = true;
+      } else {
+        lp_dir_known_ = false;
+        turn_rate_rad_s_ = 0.0;
+      }
+    }
+    o.heading_rad = std::atan2(heading_unit_[1], heading_unit_[0]);
+    o.vx_mps = heading_known_ ? va * heading_unit_[0] + vb * heading_unit_[1] : std::sqrt(va * va + vb * vb);
+
+    if (settled && !restart) {
+      // Decimation: a Butterworth low-pass (antialias_hz; 0: none), then the mean over the interval.
+      std::array<double, 2> v_in{o.vx_mps, o.vz_mps};
+      if (config_.antialias_hz > 0.0) {
+        if (!aa_started_) {
+          aa_.start(v_in);
+          aa_started_ = true;
+        }
+        v_in = aa_.step(v_in, gap_s);
+      }
+      sum_vx_ += v_in[0] * gap_s;
+      sum_vz_ += v_in[1] * gap_s;
+      span_s_ += gap_s;
+      const double T = config_.estimator.sample_time_s;
+      if (span_s_ + 0.5 * gap_s >= T * (1.0 - 1e-9)) {
+        const double dt_s = fed_ ? t_s - t_tick_s_ : T;
+        est_ = estimator_.step(sum_vx_ / span_s_, sum_vz_ / span_s_, dt_s);
+        fed_ = true;
+        o.estimator_fed = true;
+        t_tick_s_ = t_s;
+        tick_span_s_ = span_s_;
+        sum_vx_ = sum_vz_ = span_s_ = 0.0;
+        // The delay changes only with the frame interval and the (converging) gain: evaluated when
+        // the interval changes, else once a second.
+        if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
+          latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
+          latency_dt_s_ = gap_s;
+          latency_t_s_ = t_s;
+        }
+        aa_delay_s_ = config_.antialias_hz > 0.0 ? aa_.delay_s(config_.latency_f_hz) : 0.0;
+      }
+    }
+    o.input_latency_s = latency_s_;
+    carry_estimate(t_s);
+    return o;
+  }
+
+  const OnlineConfig& config() const noexcept { return config_; }
+  /// The estimator's last estimate (at its last sample, estimate_age_s ago).
+  const Estimate& estimate() const noexcept { return est_; }
+  const Estimator& estimator() const noexcept { return estimator_; }
+  std::size_t points() const noexcept { return n_; }
+  int up_axis() const noexcept { return up_; }
+  double length_unit_m() const noexcept { return unit_; }
+  /// The last estimate returned by update().
+  const OnlineEstimate& last() const noexcept { return out_; }
+
+ private:
+  static const OnlineConfig& checked(const OnlineConfig& c, std::size_t n, int up, double unit) {
+    if (const char* e = c.validate()) throw std::invalid_argument(e);
+    if (n < 1 || n > online::kMaxPoints) throw std::invalid_argument("n_points must be in [1, 16]");
+    if (up < 0 || up > 2) throw std::invalid_argument("up_axis must be 0, 1 or 2 (x, y, z)");
+    if (!(std::isfinite(unit) && unit > 0.0)) throw std::invalid_argument("length_unit_m must be finite and > 0");
+    return c;
+  }
+
+  void start_front_end(double t_s, const std::array<double, 3>& centre_m) noexcept {
+    diff_.start(centre_m);
+    start_t_s_ = t_s;
+    sum_vx_ = sum_vz_ = span_s_ = 0.0;
+    aa_started_ = false;
+  }
+
+  // The estimator's last estimate carried to t_s: its prediction over the time since its sample,
+  // plus half the averaged interval and the differentiator's delay (the sample described the
+  // velocity that long before it was taken).
+  void carry_estimate(double t_s) noexcept {
+    OnlineEstimate& o = out_;
+    const Estimate& e = est_;
+    o.step_frequency_hz = e.step_frequency_hz;
+    o.step_frequency_std_hz = e.step_frequency_std_hz;
+    o.speed_mps = e.speed_mps;
+    o.speed_std_mps = e.speed_std_mps;
+    o.walking = fed_ && e.walking;
+    o.estimator_status = e.status;
+    o.walk_a_mps = e.speed_mps * heading_unit_[0];
+    o.walk_b_mps = e.speed_mps * heading_unit_[1];
+    if (!fed_) {
+      o.vx_hat_mps = o.vz_hat_mps = 0.0;
+      o.estimate_age_s = 0.0;
+      return;
+    }
+    o.estimate_age_s = t_s - t_tick_s_;
+    const double h_s = o.estimate_age_s + 0.5 * tick_span_s_ + aa_delay_s_ + latency_s_;
+    const Velocity p = estimator_.predict_ahead(h_s / config_.estimator.sample_time_s);
+    o.vx_hat_mps = p.vx_mps;
+    o.vz_hat_mps = p.vz_mps;
+    const GaitState& x = e.gait_state;
+    const double z1 = x[gait::kZ1], z2 = x[gait::kZ2];
+    if (e.walking && z1 * z1 + z2 * z2 > 1e-12) {
+      constexpr double two_pi = 6.283185307179586476925286766559;
+      const double th = std::atan2(z2, z1) + x[gait::kW] * h_s + 0.5 * x[gait::kDW] * h_s * h_s;
+      double ph = th / two_pi;
+      ph -= std::floor(ph);
+      if (ph >= 1.0) ph = 0.0;
+      phase_ = ph;
+    }
+    o.gait_phase = phase_;
+  }
+
+  OnlineConfig config_;
+  std::size_t n_ = 1;
+  int up_ = 2, ha_ = 0, hb_ = 1;
+  double unit_ = 1.0;
+  Estimator estimator_;
+  online::CausalCentre centre_;
+  online::KalmanDifferentiator diff_;
+  online::Lowpass2 aa_;
+  bool aa_started_ = false;
+  double aa_delay_s_ = 0.0;
+  Estimate est_{};
+  OnlineEstimate out_{};
+  std::array<online::Vec3, online::kMaxPoints> pos_{};
+  std::array<bool, online::kMaxPoints> vis_{};
+  bool have_time_ = false, have_seen_ = false, heading_known_ = false, fed_ = false;
+  double t_last_s_ = 0.0, t_seen_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0;
+  std::array<double, 2> heading_lp_{}, heading_unit_{1.0, 0.0}, lp_dir_{1.0, 0.0};
+  bool lp_dir_known_ = false;
+  double turn_rate_rad_s_ = 0.0;
+  double alpha_dt_s_ = -1.0, alpha_ = 0.0;
+  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, tick_span_s_ = 0.0;
+  double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;
+};
+
+}  // namespace yoyogait

@@ -1,0 +1,131 @@
+"""``yoyogait live --source NAME``: gait estimated live from an LSL marker stream."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+from pathlib import Path
+
+import click
+
+from ..live.live import describe_source, run_live
+from ..live.ros2 import Ros2Publisher
+from ..live.status import StatusLine
+from .estimate_cmd import ONLINE_COLUMNS, ONLINE_FORMATS
+from .options import POSITIVE, split_names
+
+
+@click.command("live")
+@click.option("--source", required=True, metavar="NAME", help="Name of the LSL marker stream to estimate from.")
+@click.option(
+    "--publish", default=None, metavar="NAME", help="Name of the LSL estimate stream to publish (docs/live.md)."
+)
+@click.option(
+    "--record",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="CSV of the estimates (the columns of estimate --online).",
+)
+@click.option("--force", is_flag=True, help="Overwrite an existing --record file.")
+@click.option(
+    "--point",
+    metavar="NAME[,NAME...]",
+    default=None,
+    callback=split_names,
+    help="Point to follow: 'pelvis' (default: the pelvis centre, found by name), 'hand', "
+    "or point names separated by commas (averaged).",
+)
+@click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis (default: the stream's).")
+@click.option(
+    "--length-unit-m",
+    type=POSITIVE,
+    metavar="METRES",
+    default=None,
+    help="Metres per length unit of the stream (default: the stream's).",
+)
+@click.option("--duration", type=POSITIVE, metavar="SECONDS", default=None, help="Stop after this many seconds.")
+@click.option("--exit-on-end", is_flag=True, help="Stop when the source stream ends (else wait for it to come back).")
+@click.option(
+    "--timeout",
+    type=POSITIVE,
+    metavar="SECONDS",
+    default=10.0,
+    show_default=True,
+    help="Seconds to wait for the source.",
+)
+@click.option(
+    "--max-buffer-s",
+    type=POSITIVE,
+    metavar="SECONDS",
+    default=1.0,
+    show_default=True,
+    help="Frames kept when falling behind [s].",
+)
+@click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
+@click.option(
+    "--ros2-topic",
+    default=None,
+    metavar="TOPIC",
+    help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).",
+)
+def command(
+    source, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout, max_buffer_s,
+    list_points, ros2_topic,
+):  # fmt: skip
+    """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates."""
+    if list_points:
+        for line in describe_source(source, timeout):
+            click.echo(line)
+        return
+    # SIGTERM (a launcher stopping live) ends the run like --duration: the CSV is completed, exit 0.
+    stop = threading.Event()
+    in_main = threading.current_thread() is threading.main_thread()  # signals can only be caught there
+    previous = signal.signal(signal.SIGTERM, lambda *_: stop.set()) if in_main else None
+    status = StatusLine(sys.stderr) if sys.stderr.isatty() else None
+    sink = None
+    if ros2_topic:
+        sink = Ros2Publisher(ros2_topic)
+
+    def setup(s):
+        click.echo(
+            f"live: {s.source!r} at {s.nominal_rate_hz:g} Hz, following {s.choice.label}, up {s.up_axis}"
+            + (f", publishing {publish!r}" if publish else ""),
+            err=True,
+        )
+
+    try:
+        counters = run_live(
+            source,
+            publish=publish,
+            point=point,
+            up_axis=up_axis,
+            length_unit_m=length_unit_m,
+            resolve_timeout_s=timeout,
+            duration_s=duration,
+            exit_on_end=exit_on_end,
+            record=Path(record) if record else None,
+            record_columns=ONLINE_COLUMNS,
+            record_formats=ONLINE_FORMATS,
+            force=force,
+            max_buffer_s=max_buffer_s,
+            on_setup=setup,
+            on_estimate=sink.publish if sink is not None else None,
+            on_status=status.show if status is not None else None,
+            stop=stop,
+        )
+    finally:
+        if in_main:
+            signal.signal(signal.SIGTERM, previous)
+        if status is not None:
+            status.close()
+        if sink is not None:
+            sink.close()
+    click.echo(
+        f"live: {counters.frames} frames, {counters.estimates} estimates; dropped (time not increasing) "
+        f"{counters.dropped_not_increasing}, missing by the nominal rate {counters.missing_frames}, "
+        f"restarts {counters.restarts}" + ("; the source ended" if counters.source_ended else ""),
+        err=True,
+    )
+    if record:
+        click.echo(f"wrote {record}", err=True)

@@ -1,0 +1,53 @@
+"""``yoyogait replay FILE --name NAME``: a recording played into an LSL marker stream."""
+
+from __future__ import annotations
+
+import click
+
+from .. import io
+from ..live.replay import replay
+from .options import POSITIVE
+
+
+@click.command("replay")
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--name", required=True, metavar="NAME", help="Name of the LSL marker stream (type Mocap).")
+@click.option(
+    "--speed", type=POSITIVE, metavar="X", default=1.0, show_default=True, help="Playback speed (2: twice as fast)."
+)
+@click.option("--loop", is_flag=True, help="Start over at the end (after a 1 s pause), until interrupted.")
+@click.option(
+    "--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis (default: the file's, else detected)."
+)
+@click.option(
+    "--length-unit-m",
+    type=POSITIVE,
+    metavar="METRES",
+    default=None,
+    help="Metres per length unit of the file (default: the file's; BVH: inferred from the pelvis height).",
+)
+@click.option("--rate-hz", type=POSITIVE, metavar="HZ", default=None, help="Sample rate of a file that has none [Hz].")
+@click.option(
+    "--wait-for-consumer",
+    "wait_s",
+    type=POSITIVE,
+    metavar="SECONDS",
+    default=None,
+    help="Wait up to this many seconds for a consumer before the first frame (error when none comes).",
+)
+def command(file, name, speed, loop, up_axis, length_unit_m, rate_hz, wait_s):
+    """Play a motion-capture FILE (C3D, TRC, BVH, CSV) into an LSL marker stream NAME.
+
+    Channels <point>_x/_y/_z in metres (NaN where missing) and time_s (the file's time), at the
+    file's rate times --speed; up axis, unit and point names in the stream's description
+    (docs/live.md).
+    """
+    rec = io.read(file, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
+
+    def ready():
+        click.echo(
+            f"replaying {rec.source}: {len(rec.point_names)} points, {rec.n_frames} frames as {name!r}", err=True
+        )
+
+    stats = replay(rec, name, speed=speed, loop=loop, up_axis=up_axis, wait_for_consumer_s=wait_s, on_ready=ready)
+    click.echo(f"pushed {stats.frames} frames in {stats.wall_s:.1f} s", err=True)

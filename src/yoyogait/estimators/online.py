@@ -1,0 +1,233 @@
+"""The online estimator: motion-capture frames in, gait estimates out, nothing from the future.
+
+``OnlineEstimator`` wraps the C++ ``yoyogait::OnlineEstimator`` (docs/online.md): per frame, the
+causal centre of the chosen points, its velocity by a constant-acceleration Kalman filter, the
+heading, forward and vertical velocity, and the default gait estimator fed every 40 ms with the
+mean velocity of the interval.  Unlike :func:`yoyogait.pipeline.gait_velocities` (the paper's
+offline pipeline: centred Savitzky-Golay, spline gap filling, resampling), no output at time t
+depends on a frame after t.
+
+Threads: one estimator serves one caller at a time.  ``update``, ``run`` and ``reset`` take a
+non-blocking lock; a call made while another thread is inside one of them raises
+:class:`ConcurrentUseError` instead of waiting or corrupting the state.  Use one estimator per
+thread, or serialise the calls yourself.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+from .. import _core
+from ..errors import InputError, YoyogaitError
+from ..io.recording import AXES, Recording
+from ..pipeline import points
+from .config import EstimatorConfig
+
+__all__ = ["OnlineConfig", "OnlineEstimator", "OnlineResult", "OnlineStatus", "ConcurrentUseError", "MAX_POINTS"]
+
+OnlineStatus = _core.OnlineStatus
+"""What ``update`` did with a frame: USED, ALL_MISSING, TIME_NOT_INCREASING, GAP_RESTART, NON_FINITE."""
+
+MAX_POINTS = 16
+
+
+class ConcurrentUseError(YoyogaitError, RuntimeError):
+    """An OnlineEstimator was called from a second thread while a call was running."""
+
+
+@dataclass
+class OnlineConfig:
+    """Settings of the online front-end; mirrors ``yoyogait::OnlineConfig`` field by field.
+
+    Every setting is in seconds, metres or a noise density, none in frames: the front-end
+    behaves the same at any capture rate.
+    """
+
+    estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
+    """The gait estimator behind the front-end, fed every ``estimator.sample_time_s``."""
+    antialias_hz: float = 0.0
+    """Butterworth low-pass (2nd order) before the decimation, delay compensated (0: none) [Hz]."""
+    q_jerk_m2_per_s5: float = 1000.0
+    """White-jerk noise density of the constant-acceleration Kalman differentiator [m^2/s^5]."""
+    meas_position_std_m: float = 0.001
+    """Noise of the centre's position [m]."""
+    initial_velocity_std_mps: float = 1.0
+    """Velocity uncertainty after a (re)start [m/s]."""
+    initial_accel_std_mps2: float = 10.0
+    """Acceleration uncertainty after a (re)start [m/s^2]."""
+    settle_s: float = 0.1
+    """The estimator is fed once the differentiator has run this long after a (re)start [s]."""
+    centre_blend_tau_s: float = 0.3
+    """A step of the centre when the visible markers change is blended out over this [s]."""
+    centre_forget_s: float = 2.0
+    """A marker unseen this long leaves the centre's set [s]."""
+    max_abs_position_m: float = 1e5
+    """A coordinate beyond this counts as missing [m]."""
+    max_gap_s: float = 0.25
+    """No point seen for longer than this restarts the front-end [s]."""
+    heading_tau_s: float = 0.5
+    """Low-pass of the horizontal velocity for the heading (its lag in turns is compensated) [s]."""
+    heading_min_speed_mps: float = 0.1
+    """Below this low-passed speed the heading is held [m/s]."""
+    latency_f_hz: float = 2.0
+    """Frequency at which the reported input latency is evaluated [Hz]."""
+
+    def to_native(self) -> _core.OnlineConfig:
+        """The C++ struct; raises InputError saying what is not usable."""
+        if not isinstance(self.estimator, EstimatorConfig):
+            raise InputError(f"estimator must be an EstimatorConfig, got {type(self.estimator).__name__}")
+        native = _core.OnlineConfig()
+        native.estimator = self.estimator.to_native()
+        for f in fields(self):
+            if f.name != "estimator":
+                try:
+                    setattr(native, f.name, float(getattr(self, f.name)))
+                except (TypeError, ValueError):
+                    raise InputError(f"{f.name} must be a number, got {getattr(self, f.name)!r}") from None
+        problem = native.validate()
+        if problem:
+            raise InputError(f"invalid online configuration: {problem}")
+        return native
+
+
+@dataclass
+class OnlineResult:
+    """One row per frame of ``OnlineEstimator.run``: the fields of the native OnlineEstimate as arrays."""
+
+    time_s: np.ndarray
+    vx_mps: np.ndarray
+    vz_mps: np.ndarray
+    vh_a_mps: np.ndarray
+    vh_b_mps: np.ndarray
+    heading_rad: np.ndarray
+    walk_a_mps: np.ndarray
+    walk_b_mps: np.ndarray
+    vx_hat_mps: np.ndarray
+    vz_hat_mps: np.ndarray
+    step_frequency_hz: np.ndarray
+    step_frequency_std_hz: np.ndarray
+    speed_mps: np.ndarray
+    speed_std_mps: np.ndarray
+    gait_phase: np.ndarray
+    input_latency_s: np.ndarray
+    estimate_age_s: np.ndarray
+    status: np.ndarray
+    estimator_status: np.ndarray
+    walking: np.ndarray
+    estimator_fed: np.ndarray
+    points_seen: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.time_s)
+
+
+class OnlineEstimator:
+    """Online gait estimation from motion-capture frames (docs/online.md).
+
+    >>> est = OnlineEstimator(["LASI", "RASI", "LPSI", "RPSI"], up_axis="z", length_unit_m=0.001)
+    >>> e = est.update(0.01, frame)          # frame: 4 x 3 coordinates (mm), NaN where missing
+    >>> est = OnlineEstimator.for_recording(rec)   # the pelvis points of a Recording, found by name
+    >>> result = est.run(rec)                # every frame, replayed in C++: an OnlineResult
+    """
+
+    def __init__(
+        self,
+        point_names: Sequence[str],
+        up_axis: str = "z",
+        length_unit_m: float = 1.0,
+        config: OnlineConfig | None = None,
+    ):
+        names = [point_names] if isinstance(point_names, str) else [str(n) for n in point_names]
+        if not 1 <= len(names) <= MAX_POINTS:
+            raise InputError(f"point_names must name 1 to {MAX_POINTS} points, got {len(names)}")
+        self.point_names: tuple[str, ...] = tuple(names)
+        self.up_axis = AXES[points.axis_index(up_axis)]
+        if not (isinstance(length_unit_m, (int, float)) and np.isfinite(length_unit_m) and length_unit_m > 0):
+            raise InputError(f"length_unit_m must be a finite number > 0, got {length_unit_m!r}")
+        self.length_unit_m = float(length_unit_m)
+        self.config = config if config is not None else OnlineConfig()
+        if not isinstance(self.config, OnlineConfig):
+            raise InputError(f"config must be an OnlineConfig, got {type(self.config).__name__}")
+        self._impl = _core.OnlineEstimator(
+            len(names), AXES.index(self.up_axis), self.length_unit_m, self.config.to_native()
+        )
+        self._lock = threading.Lock()
+
+    @classmethod
+    def for_recording(cls, rec: Recording, point=None, *, up_axis: str | None = None, config=None):
+        """An estimator for ``rec``'s points: the pelvis markers found by name (``point=None``), or
+        ``point`` as :func:`yoyogait.pipeline.points.choose_point` takes it; the up axis from the
+        file, else detected (:func:`yoyogait.pipeline.points.resolve_up_axis`). Recordings are in metres."""
+        choice = points.choose_point(rec, point)
+        if len(choice.names) > MAX_POINTS:
+            raise InputError(f"{rec.source or 'recording'}: {len(choice.names)} points, at most {MAX_POINTS}")
+        up, _ = points.resolve_up_axis(rec, up_axis)
+        return cls(choice.names, up, 1.0, config)
+
+    def _enter(self, what: str) -> None:
+        if not self._lock.acquire(blocking=False):
+            raise ConcurrentUseError(
+                f"OnlineEstimator.{what} called while another thread is using this estimator; "
+                "use one estimator per thread or serialise the calls"
+            )
+
+    def update(self, t_s: float, positions):
+        """One frame at ``t_s`` [s]: positions of the points (k x 3, in the length unit, NaN where
+        missing). Returns the native OnlineEstimate; bad frames get a ``status``, never an exception."""
+        p = np.ascontiguousarray(positions, dtype=np.float64)
+        if p.size != 3 * len(self.point_names):
+            raise InputError(f"positions must hold {len(self.point_names)} x 3 coordinates, got shape {p.shape}")
+        self._enter("update")
+        try:
+            return self._impl.update(float(t_s), p)
+        finally:
+            self._lock.release()
+
+    def run(self, recording: Recording | np.ndarray, positions=None) -> OnlineResult:
+        """Every frame through ``update``, in C++, continuing from the current state.
+
+        ``run(recording)``: the recording's frames (its points by name, metres converted to the
+        length unit). ``run(time_s, positions)``: arrays (n) and (n x k x 3) in the length unit.
+        """
+        if isinstance(recording, Recording):
+            if positions is not None:
+                raise InputError("run(recording) takes no positions")
+            t = np.asarray(recording.time_s, dtype=np.float64)
+            p = recording.points(list(self.point_names)) / self.length_unit_m
+        else:
+            if positions is None:
+                raise InputError("run(time_s, positions) needs positions")
+            t = np.asarray(recording, dtype=np.float64)
+            p = np.asarray(positions, dtype=np.float64)
+        if t.ndim != 1:
+            raise InputError(f"time_s must be one-dimensional, got shape {t.shape}")
+        if p.shape != (len(t), len(self.point_names), 3):
+            raise InputError(
+                f"positions must be frames x {len(self.point_names)} x 3 = ({len(t)}, {len(self.point_names)}, 3), "
+                f"got {p.shape}"
+            )
+        t = np.ascontiguousarray(t)
+        p = np.ascontiguousarray(p)
+        self._enter("run")
+        try:
+            out = self._impl.run(t, p)
+        finally:
+            self._lock.release()
+        return OnlineResult(**out)
+
+    def reset(self) -> None:
+        """Back to the state before the first frame."""
+        self._enter("reset")
+        try:
+            self._impl.reset()
+        finally:
+            self._lock.release()
+
+    @property
+    def estimate(self):
+        """The gait estimator's last native Estimate (at its last sample)."""
+        return self._impl.estimate

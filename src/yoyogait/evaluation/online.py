@@ -1,0 +1,482 @@
+"""Online evaluation: what a user of :class:`yoyogait.OnlineEstimator` sees, frame by frame.
+
+Each recording is replayed at its capture rate through the causal pipeline
+(:class:`~yoyogait.estimators.online.OnlineEstimator`: causal centre, Kalman differentiator,
+heading, the default gait filter). The estimates are scored at the capture frame times against
+what the person did:
+
+* velocities: the paper's offline pipeline (:func:`yoyogait.gait_velocities`, centred
+  Savitzky-Golay, 25 Hz) on the same recording, interpolated linearly to the frame times
+  (``vx_signed``: along the walking heading, as the online ``vx`` is);
+* step frequency, speed and walking: the foot-contact reference
+  (:func:`~yoyogait.evaluation.running.real_reference`) on real data, the truth on synthetic walks;
+* gait phase: the foot contacts (gait events on real data, the truth's heel strikes on synthetic walks).
+
+Beside it the adaptive oscillator (:mod:`yoyogait.estimators.oscillator`) runs on the offline
+velocities at 25 Hz (its validated rate; the offline velocities are not causal, so this favours it)
+and is scored the same way on that grid. Definitions of every column: docs/online.md, "Online
+evaluation".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+import numpy as np
+
+from .. import synthetic as synth
+from ..errors import InputError
+from ..estimators.online import OnlineEstimator
+from ..estimators.oscillator import AdaptiveOscillator
+from ..pipeline import events
+from ..pipeline.velocities import gait_velocities
+from . import metrics
+from .datasets import Item, synthetic_item
+from .parallel import TaskFailure, run_tasks, split_outcomes
+from .running import RATE_HZ, Evaluation, ItemResult, real_reference
+
+__all__ = [
+    "ONLINE_ESTIMATORS",
+    "ONLINE_METRIC_KEYS",
+    "FIRST_S",
+    "OnlineEvaluation",
+    "evaluate_online",
+    "evaluate_item_online",
+    "run_item_online",
+    "step_walk_items",
+    "lag_s",
+    "circular_std_pct",
+    "phase_at",
+    "settle_time_s",
+]
+
+ONLINE_ESTIMATORS = ("online", "oscillator")
+"""Rows per recording: the online estimator, and the adaptive oscillator beside it."""
+
+FIRST_S = 3.0
+"""The start of walking scored on its own: the first 3 s after the first walking sample."""
+
+STARTUP_TOLERANCE_HZ = 0.1
+CADENCE_TOLERANCE_HZ = 0.05
+SPEED_TOLERANCE_MPS = 0.05
+HOLD_S = 2.0
+"""A settling time counts once the error stays within its tolerance for this long (or to the end)."""
+MAX_LAG_S = 0.2
+"""Cross-correlation search range; below half a step period (~0.27 s at 1.8 Hz), so no cycle slip."""
+
+ONLINE_EXTRA_KEYS: tuple[str, ...] = (
+    "rate_hz",
+    "f_err_whole_median_hz",
+    "f_err_first3s_median_hz",
+    "vx_sq_err_first3s_mean_1e-2",
+    "vz_sq_err_first3s_mean_1e-2",
+    "vx_sq_err_after3s_mean_1e-2",
+    "vz_sq_err_after3s_mean_1e-2",
+    "speed_err_first3s_median_mps",
+    "speed_err_after3s_median_mps",
+    "latency_vz_ms",
+    "latency_vz_input_ms",
+    "phase_at_contact_circstd_pct",
+    "phase_contacts_n",
+    "startup_time_s",
+    "cadence_step_time_s",
+    "speed_step_time_s",
+)
+ONLINE_METRIC_KEYS: tuple[str, ...] = metrics.METRIC_KEYS + ONLINE_EXTRA_KEYS
+"""Columns of an online evaluation's ``recordings.csv``: every offline metric, then the online ones.
+
+``f_err_median_hz`` is after the first 3 s of walking (as offline), ``f_err_first3s_median_hz``
+within them, ``f_err_whole_median_hz`` over the whole walking part; ``latency_vz_ms``: lag of
+``vz_hat`` behind the offline v_z; ``latency_vz_input_ms``: the same for the front-end's v_z
+(online only); ``phase_at_contact_circstd_pct``: circular standard deviation of the gait phase at
+the foot contacts, % of a step; ``startup_time_s``, ``cadence_step_time_s``,
+``speed_step_time_s``: settling times on synthetic walks (inf: never, NaN: not defined).
+"""
+
+
+# ---------------------------------------------------------------------------
+# Metrics.
+
+
+def lag_s(estimate, reference, rate_hz: float, *, max_lag_s: float = MAX_LAG_S) -> float:
+    """Delay of ``estimate`` behind ``reference`` [s]: the shift maximising their cross-correlation.
+
+    Both on one uniform grid at ``rate_hz``, NaN where unknown (left out). Positive: the
+    estimate comes later. The correlation at each shift is the mean product of the
+    mean-removed signals over the samples both know; the peak is refined by a parabola
+    through its neighbours. NaN with fewer than 20 common samples.
+    """
+    est = np.asarray(estimate, dtype=float)
+    ref = np.asarray(reference, dtype=float)
+    if est.shape != ref.shape or est.ndim != 1:
+        raise InputError("estimate and reference must be one-dimensional and of the same length")
+    ok = np.isfinite(est) & np.isfinite(ref)
+    if ok.sum() < 20 or not rate_hz > 0:
+        return float("nan")
+    a = np.where(np.isfinite(est), est - np.mean(est[ok]), 0.0)
+    b = np.where(np.isfinite(ref), ref - np.mean(ref[ok]), 0.0)
+    fa, fb = np.isfinite(est).astype(float), np.isfinite(ref).astype(float)
+    m = max(1, int(round(max_lag_s * rate_hz)))
+    n = est.size
+    shifts = np.arange(-m, m + 1)
+    corr = np.full(shifts.size, -np.inf)
+    for j, k in enumerate(shifts):  # est[i] against ref[i - k]
+        if abs(k) >= n:
+            continue
+        ea, rb = (a[k:], b[: n - k]) if k >= 0 else (a[: n + k], b[-k:])
+        ca, cb = (fa[k:], fb[: n - k]) if k >= 0 else (fa[: n + k], fb[-k:])
+        count = float(np.dot(ca, cb))
+        if count >= 20:
+            corr[j] = float(np.dot(ea, rb)) / count
+    i = int(np.argmax(corr))
+    if not np.isfinite(corr[i]):
+        return float("nan")
+    off = 0.0
+    if 0 < i < shifts.size - 1 and np.isfinite(corr[i - 1]) and np.isfinite(corr[i + 1]):
+        den = corr[i - 1] - 2.0 * corr[i] + corr[i + 1]
+        off = 0.5 * (corr[i - 1] - corr[i + 1]) / den if den < 0 else 0.0
+    return float((shifts[i] + off) / rate_hz)
+
+
+def circular_std_pct(phase) -> float:
+    """Circular standard deviation of phases given in cycles (1 = one step), in % of a cycle.
+
+    ``sqrt(-2 ln R) / (2 pi) * 100`` with R the length of the mean phasor: ~ the standard
+    deviation for a narrow spread, insensitive to the wrap at 0/1. NaN with fewer than 3 phases.
+    """
+    p = np.asarray(phase, dtype=float)
+    p = p[np.isfinite(p)]
+    if p.size < 3:
+        return float("nan")
+    r = float(np.abs(np.mean(np.exp(2j * np.pi * p))))
+    return float(np.sqrt(-2.0 * np.log(min(max(r, 1e-300), 1.0))) / (2.0 * np.pi) * 100.0)
+
+
+def phase_at(time_s, phase, at_s) -> np.ndarray:
+    """Phase (cycles, [0, 1)) at the times ``at_s``, interpolated along the shorter way round
+    between the two samples around each time; NaN outside ``time_s`` or next to an unknown phase."""
+    t = np.asarray(time_s, dtype=float)
+    p = np.asarray(phase, dtype=float)
+    at = np.asarray(at_s, dtype=float)
+    out = np.full(at.shape, np.nan)
+    i = np.searchsorted(t, at, side="right") - 1
+    inside = (i >= 0) & (i < t.size - 1)
+    i0 = i[inside]
+    p0, p1 = p[i0], p[i0 + 1]
+    w = (at[inside] - t[i0]) / (t[i0 + 1] - t[i0])
+    d = np.mod(p1 - p0 + 0.5, 1.0) - 0.5
+    out[inside] = np.mod(p0 + w * d, 1.0)
+    return out
+
+
+def settle_time_s(time_s, error, tolerance: float, t0_s: float, *, t_end_s: float = np.inf, hold_s: float = HOLD_S):
+    """Time from ``t0_s`` until |error| is within ``tolerance`` and stays so for ``hold_s``.
+
+    Only samples in [t0_s, t_end_s] with a finite error count; the hold is cut at ``t_end_s``.
+    0 if within from ``t0_s``; inf if never; NaN if no sample to evaluate.
+    """
+    t = np.asarray(time_s, dtype=float)
+    err = np.asarray(error, dtype=float)
+    keep = (t >= t0_s) & (t <= t_end_s) & np.isfinite(err)
+    if not keep.any():
+        return float("nan")
+    tk, bad = t[keep], np.abs(err[keep]) > tolerance
+    last = tk[-1]
+    # Candidate starts: the first sample and every sample after a bad one.
+    starts = np.flatnonzero(~bad & np.concatenate(([True], bad[:-1])))
+    bad_times = tk[bad]
+    for s in starts:
+        ts = tk[s]
+        nxt = np.searchsorted(bad_times, ts, side="left")
+        next_bad = bad_times[nxt] if nxt < bad_times.size else np.inf
+        if next_bad > min(ts + hold_s, last):
+            return float(ts - t0_s)
+    return float("inf")
+
+
+# ---------------------------------------------------------------------------
+# One recording.
+
+
+@dataclass
+class _Refs:
+    """References on one time grid."""
+
+    t: np.ndarray
+    rate_hz: float
+    vx: np.ndarray
+    vz: np.ndarray
+    walking: np.ndarray
+    f_ref: np.ndarray
+    speed_ref: np.ndarray
+
+
+def _interp(t, tp, y):
+    return np.interp(t, tp, np.asarray(y, dtype=float), left=np.nan, right=np.nan)
+
+
+def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float) -> _Refs:
+    vx = _interp(t, vel.time_s, vel.vx_signed)
+    vz = _interp(t, vel.time_s, vel.vz)
+    if item.truth is not None:
+        tr = item.truth.at(t)
+        f_ref, speed_ref = tr.step_frequency_hz, tr.speed_mps
+        walking = np.asarray(tr.walking, dtype=bool) & np.isfinite(vx) & np.isfinite(vz)
+    else:
+        walk_in = _interp(t, vel.time_s, np.asarray(vel.walking, dtype=float)) > 0.5
+        shim = SimpleNamespace(time_s=t, walking=walk_in, vx=vx, vz=vz, rate_hz=rate_hz, up_axis=vel.up_axis)
+        f_ref, speed_ref, walking = real_reference(recording, shim, item)
+    if not walking.any():
+        walking = np.isfinite(vx) & np.isfinite(vz)
+    return _Refs(t, rate_hz, vx, vz, np.asarray(walking, dtype=bool), f_ref, speed_ref)
+
+
+def _contacts(recording, item: Item, up_axis: str) -> np.ndarray:
+    if item.truth is not None:
+        return item.truth.contact_times_s
+    try:
+        return events.detect_gait_events(recording, feet=item.feet, up_axis=up_axis).contacts_s
+    except InputError:
+        return np.empty(0)
+
+
+def _score(
+    ref: _Refs,
+    *,
+    vx_hat,
+    vz_hat,
+    f_hat,
+    speed_hat,
+    phase,
+    contacts_s,
+    synthetic: bool,
+    step_at_s: float | None,
+    vz_input=None,
+) -> dict[str, float]:
+    """Every column of :data:`ONLINE_METRIC_KEYS` for one estimator on one grid."""
+    t, walk = ref.t, ref.walking
+    row = {k: float("nan") for k in ONLINE_METRIC_KEYS}
+    row.update(
+        metrics.evaluate(
+            t,
+            ref.vx,
+            ref.vz,
+            vx_hat_mps=vx_hat,
+            vz_hat_mps=vz_hat,
+            step_frequency_hz=f_hat,
+            speed_mps=speed_hat,
+            walking=walk,
+            reference_step_frequency_hz=ref.f_ref,
+            reference_speed_mps=ref.speed_ref,
+            skip_s=FIRST_S,
+        )
+    )
+    row["rate_hz"] = ref.rate_hz
+    if not walk.any():
+        return row
+    t0 = float(t[np.flatnonzero(walk)[0]])
+    first = walk & (t < t0 + FIRST_S)
+    after = walk & (t >= t0 + FIRST_S)
+    row["f_err_whole_median_hz"] = metrics.step_frequency_error(t, f_hat, ref.f_ref, mask=walk).median_abs_hz
+    row["f_err_first3s_median_hz"] = metrics.step_frequency_error(t, f_hat, ref.f_ref, mask=first).median_abs_hz
+    for part, mask in (("first3s", first), ("after3s", after)):
+        err = metrics.velocity_error(ref.vx, ref.vz, vx_hat, vz_hat, mask)
+        row[f"vx_sq_err_{part}_mean_1e-2"] = err.vx.mean_1e_2
+        row[f"vz_sq_err_{part}_mean_1e-2"] = err.vz.mean_1e_2
+        row[f"speed_err_{part}_median_mps"] = metrics.speed_error(speed_hat, ref.speed_ref, mask).median_abs_mps
+    row["latency_vz_ms"] = 1e3 * lag_s(np.where(walk, vz_hat, np.nan), np.where(walk, ref.vz, np.nan), ref.rate_hz)
+    if vz_input is not None:
+        row["latency_vz_input_ms"] = 1e3 * lag_s(
+            np.where(walk, vz_input, np.nan), np.where(walk, ref.vz, np.nan), ref.rate_hz
+        )
+    # Phase at the contacts of both feet while walking, after the first 3 s (acquisition apart).
+    c = np.asarray(contacts_s, dtype=float)
+    in_walk = _interp(c, t, walk.astype(float)) > 0.5
+    c = c[in_walk & (c >= t0 + FIRST_S)]
+    ph = phase_at(t, phase, c)
+    row["phase_contacts_n"] = float(np.isfinite(ph).sum())
+    row["phase_at_contact_circstd_pct"] = circular_std_pct(ph)
+    if synthetic:
+        f_err = np.abs(np.asarray(f_hat, dtype=float)) - ref.f_ref
+        # Start-up: the first walking stretch (or up to a cadence step).
+        stops = np.flatnonzero(~walk & (t > t0))
+        t_stop = float(t[stops[0]]) if stops.size else float(t[-1])
+        if step_at_s is not None:
+            t_stop = min(t_stop, step_at_s)
+        row["startup_time_s"] = settle_time_s(
+            t, np.where(walk, f_err, np.nan), STARTUP_TOLERANCE_HZ, t0, t_end_s=t_stop
+        )
+        if step_at_s is not None:
+            end = float(t[-1])
+            row["cadence_step_time_s"] = settle_time_s(
+                t, np.where(walk, f_err, np.nan), CADENCE_TOLERANCE_HZ, step_at_s, t_end_s=end
+            )
+            s_err = np.asarray(speed_hat, dtype=float) - ref.speed_ref
+            row["speed_step_time_s"] = settle_time_s(
+                t, np.where(walk, s_err, np.nan), SPEED_TOLERANCE_MPS, step_at_s, t_end_s=end
+            )
+    return row
+
+
+def _run_oscillator(vel) -> dict[str, np.ndarray]:
+    """The adaptive oscillator over the offline velocities; its phase phi_1 mod 2 pi in cycles."""
+    t = np.asarray(vel.time_s, dtype=float)
+    vx, vz = np.asarray(vel.vx_signed, dtype=float), np.asarray(vel.vz, dtype=float)
+    osc = AdaptiveOscillator()
+    n = t.size
+    out = {k: np.full(n, np.nan) for k in ("vx_hat_mps", "vz_hat_mps", "step_frequency_hz", "speed_mps", "gait_phase")}
+    prev = None
+    for i in range(n):
+        dt = None if prev is None else float(t[i] - prev)
+        prev = t[i]
+        out["vx_hat_mps"][i], out["vz_hat_mps"][i] = osc.step(float(vx[i]), float(vz[i]), dt)
+        if osc.started:
+            out["step_frequency_hz"][i] = osc.omega_rad_s / (2.0 * math.pi)
+            out["speed_mps"][i] = osc.b[0]
+            out["gait_phase"][i] = (osc.phi[1] % (2.0 * math.pi)) / (2.0 * math.pi)
+    return out
+
+
+def evaluate_item_online(item: Item) -> ItemResult:
+    """Replay one item frame by frame through the online estimator and score it, with the adaptive
+    oscillator beside it (a top-level function: it runs in worker processes too)."""
+    recording = item.load()
+    point = item.pelvis if item.pelvis else None
+    vel = gait_velocities(recording, point=point, rate_hz=RATE_HZ, up_axis=item.up_axis)
+    estimator = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis)
+    res = estimator.run(recording)
+    t = np.asarray(res.time_s, dtype=float)
+    dt = np.diff(t)
+    if not np.any(dt > 0):
+        raise InputError(f"{item.name}: fewer than two frames with increasing times")
+    rate = 1.0 / float(np.median(dt[dt > 0]))
+    ref_frames = _references(recording, vel, item, t, rate)
+    ref_grid = _references(recording, vel, item, np.asarray(vel.time_s, dtype=float), float(vel.rate_hz))
+    contacts = _contacts(recording, item, vel.up_axis)
+    step_at = recording.metadata.get("cadence_step_at_s") if item.synthetic else None
+    synthetic = item.truth is not None
+    osc = _run_oscillator(vel)
+    online_row = _score(
+        ref_frames,
+        vx_hat=res.vx_hat_mps,
+        vz_hat=res.vz_hat_mps,
+        f_hat=res.step_frequency_hz,
+        speed_hat=res.speed_mps,
+        phase=np.where(res.walking, res.gait_phase, np.nan),
+        contacts_s=contacts,
+        synthetic=synthetic,
+        step_at_s=step_at,
+        vz_input=res.vz_mps,
+    )
+    osc_row = _score(
+        ref_grid,
+        vx_hat=osc["vx_hat_mps"],
+        vz_hat=osc["vz_hat_mps"],
+        f_hat=osc["step_frequency_hz"],
+        speed_hat=osc["speed_mps"],
+        phase=osc["gait_phase"],
+        contacts_s=contacts,
+        synthetic=synthetic,
+        step_at_s=step_at,
+    )
+    walking = ref_grid.walking
+    dft = metrics.dft_step_frequency_hz(vel.time_s[walking], vel.vz[walking]) if walking.sum() > 10 else float("nan")
+    out = ItemResult(item, vel, ref_grid.f_ref, ref_grid.speed_ref, walking, dft)
+    out.results = {"online": res, "oscillator": osc}
+    out.metrics = {"online": online_row, "oscillator": osc_row}
+    return out
+
+
+# ---------------------------------------------------------------------------
+# A data set.
+
+
+SUMMARY_ONLINE_KEYS = (
+    ("f_err_first3s_median_hz", "step freq. error, first 3 s of walking (Hz)"),
+    ("f_err_median_hz", "step freq. error, after 3 s (Hz)"),
+    ("f_err_whole_median_hz", "step freq. error, whole walking part (Hz)"),
+    ("vz_sq_err_mean_1e-2", "v_z error vs offline (1e-2 (m/s)^2)"),
+    ("vx_sq_err_mean_1e-2", "v_x error vs offline (1e-2 (m/s)^2)"),
+    ("latency_vz_ms", "lag of v_z_hat (ms)"),
+    ("latency_vz_input_ms", "lag of the front-end v_z (ms)"),
+    ("phase_at_contact_circstd_pct", "gait phase at contacts, circ. std (% of a step)"),
+    ("startup_time_s", "start-up within 0.1 Hz (s)"),
+    ("cadence_step_time_s", "cadence step within 0.05 Hz (s)"),
+    ("speed_step_time_s", "speed step within 0.05 m/s (s)"),
+)
+
+
+@dataclass
+class OnlineEvaluation(Evaluation):
+    """An :class:`~yoyogait.evaluation.running.Evaluation` of the online estimator: its own columns,
+    a preamble for the report, no per-recording figures."""
+
+    metric_keys: tuple = ONLINE_METRIC_KEYS
+    title: str = "yoyogait online evaluation"
+    figures: bool = False
+
+    @property
+    def preamble(self) -> list[str]:
+        lines = [
+            "Online evaluation: every recording replayed frame by frame at its capture rate through "
+            "`yoyogait.OnlineEstimator` (causal front-end and the default gait filter), scored at the frame "
+            "times against the offline centred velocities of the paper's pipeline and the foot-contact "
+            "reference (synthetic walks: the truth). The adaptive oscillator runs beside it on the offline "
+            "velocities at 25 Hz. The online estimator has no 0.2 s prediction (pred200ms columns n/a). "
+            'Definitions: docs/online.md, section "Online evaluation".',
+            "",
+            "| median over recordings | " + " | ".join(self.estimators) + " |",
+            "|---|" + "---:|" * len(self.estimators),
+        ]
+        for key, label in SUMMARY_ONLINE_KEYS:
+            cells = []
+            for est in self.estimators:
+                v = np.array([r.metrics[est].get(key, np.nan) for r in self.items], dtype=float)
+                v = v[~np.isnan(v)]
+                cells.append(f"{np.median(v):.3g} (n={v.size})" if v.size else "n/a")
+            lines.append(f"| {label} | " + " | ".join(cells) + " |")
+        return lines + [""]
+
+
+def step_walk_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:
+    """Synthetic walks with a cadence (and speed) step, one per built-in subject (SYNTHETIC data)."""
+    return [synthetic_item(walk) for walk in synth.step_walks(seed=seed, rate_hz=rate_hz)]
+
+
+def run_item_online(item: Item) -> ItemResult | TaskFailure:
+    """:func:`evaluate_item_online`, with what stops it as a :class:`TaskFailure` (what worker
+    processes and Dask workers run)."""
+    try:
+        return evaluate_item_online(item)
+    except InputError as exc:
+        return TaskFailure(str(exc))
+
+
+def evaluate_online(
+    items,
+    *,
+    progress: bool = False,
+    dataset: str = "",
+    synthetic: bool = False,
+    failures=None,
+    jobs: int = 1,
+    executor=None,
+) -> OnlineEvaluation:
+    """The online evaluation of every item; an item that cannot be read or processed is reported.
+
+    ``jobs`` > 1: in that many worker processes; ``executor``: any ``concurrent.futures.Executor``
+    (e.g. :func:`~yoyogait.evaluation.parallel.dask_executor`). Same result, in the order of ``items``.
+    """
+    failures = list(failures or [])
+    items = list(items)
+    outcomes = run_tasks(
+        run_item_online,
+        [(item,) for item in items],
+        jobs=jobs,
+        executor=executor,
+        progress="evaluating online" if progress else None,
+    )
+    done = split_outcomes(items, outcomes, failures)
+    return OnlineEvaluation(ONLINE_ESTIMATORS, done, failures, dataset, synthetic)

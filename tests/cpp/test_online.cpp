@@ -1,0 +1,319 @@
+// The online front-end and OnlineEstimator: accuracy on synthetic walks at several capture rates,
+// the causal centre, the differentiator's delay, bad input.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "yoyogait/online.hpp"
+
+// Heap allocations counted by the replaced operator new of test_estimator.cpp.
+extern std::atomic<long> g_allocations;
+
+using namespace yoyogait;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A Yoyo-model walk (eq. 1-4 with the pelvis' forward oscillation in anti-phase) along x, up z,
+// carried by four markers of a pelvis 0.25 m wide and 0.15 m deep, with marker noise.
+struct SyntheticPelvis {
+  double f_hz = 1.8, speed_mps = 1.2, r_m = 0.012, z0_m = 1.0, noise_m = 0.001;
+  std::mt19937 rng{7};
+  double theta(double t) const { return 2.0 * kPi * f_hz * t; }
+  double vz(double t) const { return -r_m * 2.0 * kPi * f_hz * std::sin(theta(t)); }
+  // Centre position.
+  void centre(double t, double c[3]) const {
+    const double w = 2.0 * kPi * f_hz;
+    c[0] = speed_mps * t + r_m * std::sin(theta(t));
+    c[1] = 0.0;
+    c[2] = z0_m + r_m * std::cos(theta(t));
+    (void)w;
+  }
+  void markers(double t, double* p) {
+    std::normal_distribution<double> n(0.0, noise_m);
+    double c[3];
+    centre(t, c);
+    const double dx[4] = {0.075, 0.075, -0.075, -0.075}, dy[4] = {0.125, -0.125, 0.125, -0.125};
+    for (int j = 0; j < 4; ++j) {
+      p[3 * j + 0] = c[0] + dx[j] + n(rng);
+      p[3 * j + 1] = c[1] + dy[j] + n(rng);
+      p[3 * j + 2] = c[2] + n(rng);
+    }
+  }
+};
+
+bool all_finite(const OnlineEstimate& e) {
+  const double v[] = {
+      e.vx_mps,        e.vz_mps,     e.vh_a_mps,        e.vh_b_mps,          e.heading_rad,           e.walk_a_mps,
+      e.walk_b_mps,    e.vx_hat_mps, e.vz_hat_mps,      e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps,
+      e.speed_std_mps, e.gait_phase, e.input_latency_s, e.estimate_age_s};
+  for (double x : v)
+    if (!std::isfinite(x)) return false;
+  return true;
+}
+
+}  // namespace
+
+// The step frequency and speed converge to the walk's at every capture rate from 30 to 500 Hz.
+TEST(OnlineEstimator, ConvergesAtAnyCaptureRate) {
+  for (double rate : {30.0, 60.0, 100.0, 120.0, 250.0, 500.0}) {
+    SyntheticPelvis walk;
+    OnlineEstimator est(4, 2, 1.0);
+    double p[12];
+    OnlineEstimate e;
+    double f_err_max = 0.0;
+    for (int k = 0; k < static_cast<int>(30.0 * rate); ++k) {
+      const double t = k / rate;
+      walk.markers(t, p);
+      e = est.update(t, p);
+      ASSERT_TRUE(all_finite(e));
+      if (t > 10.0) f_err_max = std::max(f_err_max, std::fabs(e.step_frequency_hz - walk.f_hz));
+    }
+    EXPECT_LT(f_err_max, 0.03) << rate << " Hz";
+    EXPECT_NEAR(e.speed_mps, walk.speed_mps, 0.05) << rate << " Hz";
+    EXPECT_TRUE(e.walking);
+    EXPECT_NEAR(e.heading_rad, 0.0, 0.05);
+  }
+}
+
+// v_z of the front-end follows the true vertical velocity with the delay input_latency_s reports.
+TEST(OnlineEstimator, VerticalVelocityDelayMatchesReportedLatency) {
+  SyntheticPelvis walk;
+  walk.noise_m = 0.0;
+  const double rate = 100.0;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  // Fit vz_mps(t) = a cos(th) + b sin(th) over the last 10 s: the phase gives the delay.
+  double cc = 0, ss = 0, cs = 0, yc = 0, ys = 0;
+  OnlineEstimate e;
+  for (int k = 0; k < static_cast<int>(20.0 * rate); ++k) {
+    const double t = k / rate;
+    walk.markers(t, p);
+    e = est.update(t, p);
+    if (t > 10.0) {
+      // True vz = -A sin(th): write the estimate as -A' sin(th - w d).
+      const double c = std::cos(walk.theta(t)), s = std::sin(walk.theta(t));
+      cc += c * c;
+      ss += s * s;
+      cs += c * s;
+      yc += e.vz_mps * c;
+      ys += e.vz_mps * s;
+    }
+  }
+  const double det = cc * ss - cs * cs;
+  const double a = (yc * ss - ys * cs) / det, b = (ys * cc - yc * cs) / det;
+  // -A' sin(th - phi) = -A' sin th cos phi + A' cos th sin phi: a = A' sin phi, b = -A' cos phi.
+  const double phi = std::atan2(a, -b);
+  const double delay_s = phi / (2.0 * kPi * walk.f_hz);
+  EXPECT_NEAR(delay_s, e.input_latency_s, 0.001);
+  EXPECT_LT(std::fabs(delay_s), 0.010);
+  const double gain = std::hypot(a, b) / (walk.r_m * 2.0 * kPi * walk.f_hz);
+  EXPECT_NEAR(gain, 1.0, 0.10);  // overshoot at ~2 Hz below 10 %
+}
+
+// The gait phase follows the walk: 0 at the fastest rise of the pelvis (v_z ~ cos 2 pi phase).
+TEST(OnlineEstimator, GaitPhaseFollowsTheVerticalOscillation) {
+  SyntheticPelvis walk;
+  const double rate = 100.0;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  double worst = 0.0;
+  for (int k = 0; k < static_cast<int>(20.0 * rate); ++k) {
+    const double t = k / rate;
+    walk.markers(t, p);
+    const OnlineEstimate e = est.update(t, p);
+    if (t > 10.0) {
+      // v_z = -A sin th = A cos(th + pi/2): the phase is (th + pi/2) / 2 pi.
+      double truth = (walk.theta(t) + kPi / 2.0) / (2.0 * kPi);
+      truth -= std::floor(truth);
+      double d = std::fabs(e.gait_phase - truth);
+      d = std::min(d, 1.0 - d);
+      worst = std::max(worst, d);
+    }
+  }
+  EXPECT_LT(worst, 0.05);
+}
+
+// The centre does not jump when a marker drops out or returns, even when the body has turned meanwhile.
+TEST(CausalCentre, NoJumpWhenMarkersDropOutOrReturn) {
+  online::CausalCentre centre(3, 0.3, 2.0);
+  const double dt = 0.01, speed = 1.0, yaw_rate = 0.5;  // turning at 0.5 rad/s
+  online::Vec3 pos[3];
+  bool vis[3];
+  online::Vec3 last{};
+  double worst = 0.0;
+  for (int k = 0; k < 600; ++k) {
+    const double t = k * dt, yaw = yaw_rate * t;
+    const double cx = speed * t;
+    const double off[3][2] = {{0.1, 0.12}, {0.1, -0.12}, {-0.1, 0.0}};
+    for (int j = 0; j < 3; ++j) {
+      const double ox = std::cos(yaw) * off[j][0] - std::sin(yaw) * off[j][1];
+      const double oy = std::sin(yaw) * off[j][0] + std::cos(yaw) * off[j][1];
+      pos[j] = {cx + ox, oy, 1.0};
+      // marker 0 missing over 1-2 s, marker 2 over 1.5-2.5 s and 4-4.3 s
+      vis[j] = !((j == 0 && t >= 1.0 && t < 2.0) || (j == 2 && ((t >= 1.5 && t < 2.5) || (t >= 4.0 && t < 4.3))));
+    }
+    const auto r = centre.update(pos, vis, k ? dt : 0.0);
+    ASSERT_TRUE(r.ok);
+    if (k) {
+      const double step = std::hypot(r.centre_m[0] - last[0], r.centre_m[1] - last[1]);
+      worst = std::max(worst, std::fabs(step - speed * dt));
+    }
+    last = r.centre_m;
+  }
+  // The stale offsets drift by up to ~5 cm over these gaps (0.5 rad of turn x 0.12 m); switching
+  // definitions would step by that much in one frame. Blended over 0.3 s, the frame-to-frame
+  // step stays within 2.5 mm of the true 1 cm.
+  EXPECT_LT(worst, 2.5e-3);
+}
+
+// A point that never appears and a point seen only now and then do not stop the estimate.
+TEST(OnlineEstimator, PointThatNeverAppears) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(5, 2, 1.0);
+  double p[15];
+  OnlineEstimate e;
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k / 100.0;
+    walk.markers(t, p);
+    p[12] = p[13] = p[14] = kNaN;
+    if ((k / 50) % 3 == 0) p[0] = p[1] = p[2] = kNaN;
+    e = est.update(t, p);
+    ASSERT_TRUE(all_finite(e));
+    ASSERT_EQ(e.status, OnlineStatus::kUsed);
+  }
+  EXPECT_NEAR(e.step_frequency_hz, walk.f_hz, 0.03);
+}
+
+// Bad frames get their status, nothing is thrown, nothing becomes non-finite, and the walk goes on.
+TEST(OnlineEstimator, BadInputGetsAStatusAndStateStaysFinite) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  const double inf = std::numeric_limits<double>::infinity();
+  double t = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    t = k / 100.0;
+    walk.markers(t, p);
+    EXPECT_EQ(est.update(t, p).status, OnlineStatus::kUsed);
+  }
+  walk.markers(t, p);
+  EXPECT_EQ(est.update(t, p).status, OnlineStatus::kTimeNotIncreasing);
+  EXPECT_EQ(est.update(t - 1.0, p).status, OnlineStatus::kTimeNotIncreasing);
+  EXPECT_EQ(est.update(kNaN, p).status, OnlineStatus::kNonFinite);
+  EXPECT_EQ(est.update(inf, p).status, OnlineStatus::kNonFinite);
+  double missing[12];
+  for (double& x : missing) x = kNaN;
+  t += 0.01;
+  OnlineEstimate e = est.update(t, missing);
+  EXPECT_EQ(e.status, OnlineStatus::kAllMissing);
+  EXPECT_TRUE(all_finite(e));
+  double absurd[12];
+  for (double& x : absurd) x = 1e30;
+  t += 0.01;
+  EXPECT_EQ(est.update(t, absurd).status, OnlineStatus::kNonFinite);
+  for (double& x : absurd) x = inf;
+  t += 0.01;
+  EXPECT_EQ(est.update(t, absurd).status, OnlineStatus::kNonFinite);
+  // One absurd point among good ones: the frame is used without it.
+  walk.markers(t + 0.01, p);
+  p[3] = -1e300;
+  t += 0.01;
+  e = est.update(t, p);
+  EXPECT_EQ(e.status, OnlineStatus::kUsed);
+  EXPECT_EQ(e.points_seen, 3);
+  EXPECT_LT(std::fabs(e.vx_mps), 3.0);
+  // A gap of ten minutes restarts the front-end; the walk is found again.
+  t += 600.0;
+  walk.markers(t, p);
+  e = est.update(t, p);
+  EXPECT_EQ(e.status, OnlineStatus::kGapRestart);
+  for (int k = 1; k < 2000; ++k) {
+    walk.markers(t + k / 100.0, p);
+    e = est.update(t + k / 100.0, p);
+    ASSERT_TRUE(all_finite(e));
+    ASSERT_EQ(e.status, OnlineStatus::kUsed);
+  }
+  EXPECT_NEAR(e.step_frequency_hz, walk.f_hz, 0.03);
+  EXPECT_NEAR(e.speed_mps, walk.speed_mps, 0.05);
+}
+
+// Millimetres with the length unit give the same estimates as metres; the up axis may be y.
+TEST(OnlineEstimator, LengthUnitAndUpAxis) {
+  SyntheticPelvis a, b;
+  OnlineEstimator metres(4, 2, 1.0), mm_y_up(4, 1, 0.001);
+  double p[12], q[12];
+  OnlineEstimate ea, eb;
+  for (int k = 0; k < 1500; ++k) {
+    const double t = k / 100.0;
+    a.markers(t, p);
+    b.markers(t, q);
+    for (int j = 0; j < 4; ++j) {  // (x, y, z) -> (x, z, -y) in mm: y is up
+      const double x = q[3 * j], y = q[3 * j + 1], z = q[3 * j + 2];
+      q[3 * j] = 1000.0 * x;
+      q[3 * j + 1] = 1000.0 * z;
+      q[3 * j + 2] = -1000.0 * y;
+    }
+    ea = metres.update(t, p);
+    eb = mm_y_up.update(t, q);
+  }
+  EXPECT_NEAR(ea.step_frequency_hz, eb.step_frequency_hz, 1e-6);
+  EXPECT_NEAR(ea.vz_mps, eb.vz_mps, 1e-6);
+  EXPECT_NEAR(ea.speed_mps, eb.speed_mps, 1e-6);
+}
+
+// The constructor rejects what it cannot run.
+TEST(OnlineEstimator, ConstructorRejectsBadArguments) {
+  EXPECT_THROW(OnlineEstimator(0, 2), std::invalid_argument);
+  EXPECT_THROW(OnlineEstimator(17, 2), std::invalid_argument);
+  EXPECT_THROW(OnlineEstimator(4, 3), std::invalid_argument);
+  EXPECT_THROW(OnlineEstimator(4, -1), std::invalid_argument);
+  EXPECT_THROW(OnlineEstimator(4, 2, 0.0), std::invalid_argument);
+  OnlineConfig c;
+  c.heading_tau_s = -1.0;
+  EXPECT_THROW(OnlineEstimator(4, 2, 1.0, c), std::invalid_argument);
+  c = OnlineConfig{};
+  c.estimator = EstimatorConfig::paper();
+  EXPECT_THROW(OnlineEstimator(4, 2, 1.0, c), std::invalid_argument);
+}
+
+// update() makes no heap allocation: through start-up, walking, dropouts, bad frames and a gap restart.
+TEST(OnlineEstimator, UpdateDoesNotAllocate) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  const long before = g_allocations.load();
+  for (int k = 0; k < 3000; ++k) {
+    double t = k / 100.0;
+    if (k >= 2000) t += 100.0;  // a gap restart
+    walk.markers(t, p);
+    if (k % 37 == 0) p[0] = p[1] = p[2] = kNaN;
+    if (k % 101 == 0)
+      for (double& x : p) x = kNaN;
+    est.update(t, p);
+    if (k % 53 == 0) est.update(t, p);  // timestamp not increasing
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+// Frames a microsecond apart, timestamps far in the future and huge jumps keep every output finite.
+TEST(OnlineEstimator, ExtremeTimestampsStayFinite) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  double t = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    t += (k % 10 == 0) ? 1e-6 : 0.01;
+    if (k == 1500) t += 1e12;
+    walk.markers(t < 1e6 ? t : t - 1e12, p);
+    const OnlineEstimate e = est.update(t, p);
+    ASSERT_TRUE(all_finite(e)) << k;
+  }
+}

@@ -1,0 +1,119 @@
+"""The online evaluation: its metrics (lag, circular spread, settling), one replay per recording, and the CLI."""
+
+from __future__ import annotations
+
+import csv
+import functools
+import math
+
+import numpy as np
+import pytest
+
+from test_evaluation import write_trc
+from yoyogait import synthetic as sy
+from yoyogait.cli import main
+from yoyogait.evaluation import Item, evaluate_online
+from yoyogait.evaluation import online as on
+from yoyogait.evaluation.datasets import _recording_of
+
+REQUIRED_COLUMNS = ("latency_vz_ms", "f_err_first3s_median_hz", "f_err_median_hz", "phase_at_contact_circstd_pct")
+
+
+def _item(walk) -> Item:
+    return Item(
+        name=walk.name,
+        subject=walk.subject.name,
+        walk=walk.walk_type,
+        load=functools.partial(_recording_of, walk),
+        truth=walk.truth,
+        pelvis=list(sy.PELVIS_MARKERS),
+        feet=list(sy.HEEL_MARKERS),
+        up_axis="z",
+        synthetic=True,
+    )
+
+
+@pytest.fixture(scope="module")
+def short_walks():
+    straight = sy.make_walk(sy.SUBJECTS[1], "1-straight", duration_s=9.0, rate_hz=100.0, seed=3)
+    step = sy.make_step_walk(sy.SUBJECTS[0], duration_s=11.0, step_at_s=6.0, rate_hz=120.0, seed=3)
+    return evaluate_online([_item(straight), _item(step)], dataset="short", synthetic=True)
+
+
+def test_lag_recovers_a_known_shift():
+    """lag_s finds a 37 ms delay (between samples at 100 Hz) of a noisy gait-like signal, and its sign."""
+    rate = 100.0
+    t = np.arange(0, 20, 1 / rate)
+    rng = np.random.default_rng(1)
+
+    def vz(tt):
+        return 0.15 * np.sin(2 * np.pi * 1.8 * tt) + 0.04 * np.sin(2 * np.pi * 3.6 * tt + 0.7)
+
+    ref = vz(t) + rng.normal(0, 0.005, t.size)
+    late = vz(t - 0.037) + rng.normal(0, 0.005, t.size)
+    late[300:340] = np.nan  # a gap is left out, not read as zero
+    assert on.lag_s(late, ref, rate) == pytest.approx(0.037, abs=0.0015)
+    assert on.lag_s(ref, late, rate) == pytest.approx(-0.037, abs=0.0015)
+
+
+def test_circular_std_of_constant_and_of_a_known_spread():
+    """circular_std_pct: ~0 for phases at one value (also across the 0/1 wrap), ~4 % for a 4 % wrapped normal."""
+    assert on.circular_std_pct(np.full(50, 0.73)) == pytest.approx(0.0, abs=1e-5)
+    assert on.circular_std_pct(np.mod(np.array([0.999, 0.0, 0.001] * 10), 1.0)) < 0.1
+    rng = np.random.default_rng(2)
+    spread = np.mod(0.98 + rng.normal(0.0, 0.04, 4000), 1.0)  # centred on the wrap
+    assert on.circular_std_pct(spread) == pytest.approx(4.0, abs=0.2)
+    assert math.isnan(on.circular_std_pct([0.1, 0.2]))
+
+
+def test_phase_at_interpolates_across_the_wrap():
+    """phase_at goes the short way round between two samples (0.95 -> 0.05 passes 0, not 0.5)."""
+    out = on.phase_at([0.0, 1.0], [0.95, 0.05], [0.5, 0.25, 2.0])
+    assert out[0] == pytest.approx(0.0, abs=1e-12) and out[1] == pytest.approx(0.975)
+    assert math.isnan(out[2])
+
+
+def test_settle_time_needs_the_error_to_stay_within():
+    """settle_time_s: the first time after which |error| stays within for the hold time; inf if never."""
+    t = np.arange(0, 10, 0.01)
+    err = np.where(t < 3.0, 1.0, 0.01)
+    late = err.copy()
+    late[(t > 6.0) & (t < 6.1)] = 1.0  # a relapse after the hold time does not count
+    assert on.settle_time_s(t, late, 0.05, 1.0) == pytest.approx(3.0 - 1.0, abs=0.011)
+    err[(t > 4.0) & (t < 4.1)] = 1.0  # a relapse within the hold time restarts the count
+    assert on.settle_time_s(t, err, 0.05, 1.0) == pytest.approx(4.1 - 1.0, abs=0.011)
+    assert on.settle_time_s(t, np.ones_like(t), 0.05, 1.0) == math.inf
+
+
+def test_online_evaluation_of_two_short_walks_gives_every_column_where_defined(short_walks):
+    """On a straight walk and a cadence-step walk every new column is finite where defined (NaN elsewhere)."""
+    assert [r.item.walk for r in short_walks.items] == ["1-straight", sy.STEP_WALK_TYPE]
+    straight, step = (r.metrics for r in short_walks.items)
+    step_only = {"cadence_step_time_s", "speed_step_time_s"}
+    online_only = {"latency_vz_input_ms"}
+    for key in on.ONLINE_EXTRA_KEYS + REQUIRED_COLUMNS:
+        assert math.isfinite(step["online"][key]), key
+        assert math.isfinite(straight["online"][key]) != (key in step_only), key
+        assert math.isfinite(step["oscillator"][key]) != (key in online_only), key
+    assert step["online"]["rate_hz"] == pytest.approx(120.0)
+    assert step["oscillator"]["rate_hz"] == pytest.approx(25.0)
+    # The synthetic estimate is close to the truth after the start: these are not placeholders.
+    assert step["online"]["f_err_median_hz"] < 0.05 and abs(step["online"]["latency_vz_ms"]) < 30
+
+
+def test_evaluate_online_through_the_cli_writes_the_named_columns(tmp_path, capsys):
+    """`yoyogait evaluate FOLDER --online` on two TRC files writes recordings.csv with the online columns."""
+    data = tmp_path / "data"
+    data.mkdir()
+    for subject, seed in ((sy.SUBJECTS[0], 4), (sy.SUBJECTS[2], 5)):
+        walk = sy.make_walk(subject, "1-straight", duration_s=9.0, rate_hz=100.0, seed=seed)
+        write_trc(data / f"{subject.name}.trc", walk.recording)
+    out = tmp_path / "report"
+    assert main(["evaluate", str(data), "--online", "--out", str(out)]) == 0
+    assert "online" in capsys.readouterr().out
+    with open(out / "recordings.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["estimator"] for r in rows] == ["online", "oscillator"] * 2
+    for key in REQUIRED_COLUMNS:
+        assert key in rows[0] and all(math.isfinite(float(r[key])) for r in rows), key
+    assert "online evaluation" in (out / "index.md").read_text()
