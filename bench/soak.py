@@ -165,13 +165,22 @@ def main() -> int:
     est = GaitEstimator(EstimatorConfig.preset(args.preset))
     hour = int(3600 * FS_HZ)
     n_hours = int(np.ceil(n_total / hour))
-    f_err = [[] for _ in range(n_hours)]
-    v_err = [[] for _ in range(n_hours)]
+    # Per hour: the errors of the hour being run, then only their statistics (memory stays flat).
+    f_err: dict[int, list] = {}
+    v_err: dict[int, list] = {}
+    rows = {}
+
+    def close_hours(before_h):
+        for h in [h for h in f_err if h < before_h]:
+            fe, ve = np.concatenate(f_err.pop(h)), np.concatenate(v_err.pop(h))
+            rows[h] = (fe.size, np.median(fe), np.percentile(fe, 95), np.median(ve), np.percentile(ve, 95))
+
     nonfinite = not_psd = 0
     reacq = []
     theta = rng.uniform(0, 2 * np.pi)
     keep = int(20 * FS_HZ)  # the re-acquisition window, carried over between chunks
     carry = None
+    onset_t: list = []
     rss_start = rss_mib()
     rss_hour1 = None
     t0 = time.perf_counter()
@@ -193,19 +202,24 @@ def main() -> int:
         settled &= np.isfinite(vx)
         for h in np.unique(t[settled] // 3600).astype(int):
             m = settled & (t // 3600 == h)
-            f_err[h].append(np.abs(f_est[m] / f[m] - 1))
-            v_err[h].append(np.abs(res.speed_mps[m] - speed_true[m]))
+            f_err.setdefault(h, []).append(np.abs(f_est[m] / f[m] - 1))
+            v_err.setdefault(h, []).append(np.abs(res.speed_mps[m] - speed_true[m]))
+        close_hours(int(t[-1] // 3600))
         # Re-acquisition: each onset with its 20 s window complete here; the last 20 s (and the
         # sample before them) go with the next chunk.
-        block = (gain, f_est, f)
+        block = (gain, f_est, f, t)
         if carry is not None:
             block = tuple(np.concatenate([c, x]) for c, x in zip(carry, block))
         limit = block[0].size - keep
-        reacq += reacquisition_s(*block, onsets_of(block[0], 1, limit))
+        onsets = onsets_of(block[0], 1, limit)
+        reacq += reacquisition_s(*block[:3], onsets)
+        onset_t += list(block[3][onsets])
         carry = tuple(x[limit - 1 :] for x in block)
         if rss_hour1 is None and b >= hour:
             rss_hour1 = rss_mib()
-    reacq += reacquisition_s(*carry, onsets_of(carry[0], 1, carry[0].size))
+    onsets = onsets_of(carry[0], 1, carry[0].size)
+    reacq += reacquisition_s(*carry[:3], onsets)
+    onset_t += list(carry[3][onsets])
     wall = time.perf_counter() - t0
     rss_end = rss_mib()
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
@@ -224,12 +238,8 @@ def main() -> int:
         "| hour | settled samples | f error median | f error p95 | speed error median [m/s] | speed error p95 [m/s] |"
     )
     print("|---:|---:|---:|---:|---:|---:|")
-    rows = {}
-    for h in range(n_hours):
-        if not f_err[h]:
-            continue
-        fe, ve = np.concatenate(f_err[h]), np.concatenate(v_err[h])
-        rows[h] = (fe.size, np.median(fe), np.percentile(fe, 95), np.median(ve), np.percentile(ve, 95))
+    close_hours(n_hours + 1)
+    for h in sorted(rows):
         r = rows[h]
         print(f"| {h + 1} | {r[0]} | {100 * r[1]:.2f} % | {100 * r[2]:.2f} % | {r[3]:.4f} | {r[4]:.4f} |")
     if rows:
@@ -244,6 +254,16 @@ def main() -> int:
     print(f"re-acquisition after {ra.size} stops: median {np.median(found):.2f} s, p95 "
           f"{np.percentile(found, 95):.2f} s, max {found.max():.2f} s; not within 20 s: {int((~np.isfinite(ra)).sum())}"
           if found.size else f"re-acquisition after {ra.size} stops: never")  # fmt: skip
+    for t_on, dt in zip(onset_t, reacq):
+        if not np.isfinite(dt) or dt > 3.0:
+            k = np.searchsorted(schedule.drop_start, t_on + 20.0) - 1
+            near = [(round(float(a - t_on), 1), round(float(b - a), 1)) for a, b in zip(schedule.drop_start[max(k - 3, 0) : k + 1],
+                                                                       schedule.drop_end[max(k - 3, 0) : k + 1])
+                    if b > t_on - 5.0]  # fmt: skip
+            why = f"dropouts (start after onset, length) [s]: {near}" if near else "no dropout near"
+            print(
+                f"  stop ending at {t_on:.1f} s: {'not within 20 s' if not np.isfinite(dt) else f'{dt:.2f} s'}; {why}"
+            )
     return 0
 
 
