@@ -257,9 +257,9 @@ def main() -> int:
     for t_on, dt in zip(onset_t, reacq):
         if not np.isfinite(dt) or dt > 3.0:
             k = np.searchsorted(schedule.drop_start, t_on + 20.0) - 1
-            near = [(round(float(a - t_on), 1), round(float(b - a), 1)) for a, b in zip(schedule.drop_start[max(k - 3, 0) : k + 1],
-                                                                       schedule.drop_end[max(k - 3, 0) : k + 1])
-                    if b > t_on - 5.0]  # fmt: skip
+            lo = max(k - 3, 0)
+            spans = zip(schedule.drop_start[lo : k + 1], schedule.drop_end[lo : k + 1])
+            near = [(round(float(a - t_on), 1), round(float(b - a), 1)) for a, b in spans if b > t_on - 5.0]
             why = f"dropouts (start after onset, length) [s]: {near}" if near else "no dropout near"
             print(
                 f"  stop ending at {t_on:.1f} s: {'not within 20 s' if not np.isfinite(dt) else f'{dt:.2f} s'}; {why}"
