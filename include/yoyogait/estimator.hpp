@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 
 #include "yoyogait/config.hpp"
@@ -72,6 +73,23 @@ class Estimator {
     if (is_paper_) return paper_.predict_ahead(horizon_samples);
     const GaitFilter::Prediction p = gait_.predict(horizon_samples * config_.sample_time_s);
     return Velocity{p.vx_mps, p.vz_mps};
+  }
+
+  /// The model's forecast horizon_s [s] after the last sample, rates included, with standard
+  /// deviations when with_std (GaitFilter::forecast). paper: predict_ahead's velocities, the phase
+  /// advance w h, the stds NaN (the paper's filter has no rates to propagate).
+  GaitFilter::Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
+    if (!is_paper_) return gait_.forecast(horizon_s, with_std);
+    GaitFilter::Forecast f;
+    const Velocity v = paper_.predict_ahead(horizon_s * inv_T_);
+    const State x = paper_.state();
+    f.vx_mps = v.vx_mps;
+    f.vz_mps = v.vz_mps;
+    f.omega_rad_s = x.omega_rad_per_sample() * inv_T_;
+    f.phase_advance_rad = f.omega_rad_s * horizon_s;
+    f.speed_mps = x.bias_mps();
+    f.vx_std_mps = f.vz_std_mps = with_std ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+    return f;
   }
 
   /// Diagnostics of the last step: the innovation of each channel and the NIS (yoyogait::Innovation).
