@@ -80,7 +80,7 @@ def test_next_step_is_nan_while_standing(clean_walk):
 
 
 def test_predict_matches_run_and_rejects_bad_horizons():
-    """predict(h) after update() equals run()'s prediction for the same frame; a horizon outside [0, max] is an InputError."""
+    """predict(h) after update() equals run()'s prediction for that frame; a horizon outside [0, max] raises."""
     walk = synthetic.default_lab(rate_hz=100.0)[0]
     rec = walk.recording
     whole = OnlineEstimator.for_recording(rec).run(rec, predict_ahead_s=(0.3,))
