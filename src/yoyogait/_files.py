@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
+from ._guard import check_interrupted, signals_deferred
 from .errors import OutputError
 
 MARKER = ".yoyogait-report"
@@ -52,12 +54,50 @@ def atomic_file(path: Path, write) -> None:
     try:
         write(tmp)
         give_default_mode(tmp)
-        os.replace(tmp, path)
+        with signals_deferred():
+            check_interrupted()  # an interrupt swallowed on the way still stops the commit
+            os.replace(tmp, path)
     except Exception as exc:
-        tmp.unlink(missing_ok=True)
+        with signals_deferred():
+            tmp.unlink(missing_ok=True)
         raise OutputError(f"cannot write {path}: {why(exc, tmp)}") from None
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        with signals_deferred():
+            tmp.unlink(missing_ok=True)
+        raise
+
+
+def atomic_files(writers: dict[Path, Callable[[Path], object]]) -> None:
+    """Several outputs that appear together or not at all: each ``write(tmp_path)`` runs first
+    (temporary names beside the targets, as :func:`atomic_file`), and only when all have
+    succeeded are they renamed into place.  On any failure, the temporary files and every
+    target already renamed by this call are removed; an ordinary failure is an
+    :class:`OutputError` naming the output."""
+    temps: list[Path] = []
+    done: list[Path] = []
+    current = None
+    try:
+        for path, write in writers.items():
+            current = Path(path)
+            fd, name = tempfile.mkstemp(
+                prefix=f".{current.stem}.tmp.", suffix=current.suffix, dir=current.resolve().parent
+            )
+            os.close(fd)
+            temps.append(Path(name))
+            write(temps[-1])
+            give_default_mode(temps[-1])
+        with signals_deferred():
+            check_interrupted()
+            for path, tmp in zip(writers, temps):
+                current = Path(path)
+                os.replace(tmp, path)
+                done.append(current)
+    except BaseException as exc:
+        with signals_deferred():
+            for p in temps + done:
+                p.unlink(missing_ok=True)
+        if isinstance(exc, Exception) and not isinstance(exc, OutputError):
+            raise OutputError(f"cannot write {current}: {why(exc, *temps)}") from None
         raise
 
 
@@ -104,9 +144,15 @@ def install_folder(tmp: Path, out: Path) -> None:
     ``out`` absent: one rename.  ``out`` existing (checked by :func:`check_output_folder`): each
     new file is renamed into place, then files of the old report that the new one lacks are
     removed, and the marker is written last.  Throughout, the marker lists every file of yoyogait
-    in ``out``, so an interruption never leaves one unlisted.
+    in ``out``, so an interruption never leaves one unlisted; SIGINT and SIGTERM wait until the
+    install is done (and a run interrupted before it never starts it).
     """
-    tmp, out = Path(tmp), Path(out)
+    with signals_deferred():  # SIGINT/SIGTERM cannot cut the install in half
+        check_interrupted()
+        _install_folder(Path(tmp), Path(out))
+
+
+def _install_folder(tmp: Path, out: Path) -> None:
     new = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file() and p.name != MARKER)
     for item in (tmp, *tmp.rglob("*")):
         give_default_mode(item)

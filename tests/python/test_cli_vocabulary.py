@@ -133,11 +133,12 @@ def test_a_failed_write_names_the_output_and_leaks_no_temporary_name(tmp_path, c
     line = one_error_line(err)
     assert code == 2 and str(target) in line and "No such file or directory" in line
     assert ".tmp" not in line and not re.search(r"\.x\.", line)
-    # A figure that cannot be drawn in the asked format: its path and matplotlib's reason, no temporary file.
+    # A figure that cannot be drawn in the asked format: its path and matplotlib's reason, no temporary
+    # file, and no CSV without its figure (both or neither).
     code, _, err = run(capsys, "estimate", walk, "--out", tmp_path / "x.csv", "--figure", tmp_path / "x.nope")
     line = one_error_line(err)
     assert code == 2 and str(tmp_path / "x.nope") in line and ".tmp." not in line
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.csv"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
 
 
 def test_existing_outputs_need_force(tmp_path, capsys, stop_and_go_trc):

@@ -8,8 +8,8 @@ import click
 import numpy as np
 
 from .. import io
-from .._files import atomic_file
-from ..errors import InputError, OutputError
+from .._files import atomic_file, atomic_files
+from ..errors import InputError, OutputError, about_file
 from ..estimators.config import EstimatorConfig
 from ..estimators.online import OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
@@ -107,36 +107,37 @@ def command(
         if target is not None and target.exists() and not force:
             raise OutputError(f"{option} {target}: exists; use --force to overwrite it")
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
-    recording = io.read(file, **overrides)
-    check_points(recording, point, feet)
-    vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
-    res = run(vel)
-    res.to_csv(out, velocities=vel)
+    with about_file(file):
+        recording = io.read(file, **overrides)
+        check_points(recording, point, feet)
+        vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
+        res = run(vel)
+        contacts = foot_contacts(recording, feet, vel.up_axis) if fig is not None else None
+    f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
+    summary = (
+        f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
+        f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
+    )
+    writers = {out: lambda p: res.to_csv(p, velocities=vel)}
     if fig is not None:
-        contacts = foot_contacts(recording, feet, vel.up_axis)
         cadence = (
             metrics.step_frequency_from_contacts(contacts, vel.time_s, stride_average=True)
             if contacts is not None
             else None
         )
         synthetic = bool(recording.metadata.get("synthetic"))
-        atomic_file(
-            fig,
-            lambda p: plots.estimate_figure(
-                vel,
-                res,
-                reference_step_frequency_hz=cadence,
-                contacts_s=contacts,
-                title=f"{stem}: {vel.point} [{preset}]",
-                synthetic=synthetic,
-                path=p,
-            ),
+        writers[fig] = lambda p: plots.estimate_figure(
+            vel,
+            res,
+            reference_step_frequency_hz=cadence,
+            contacts_s=contacts,
+            title=f"{stem}: {vel.point} [{preset}]",
+            synthetic=synthetic,
+            path=p,
         )
-    f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
-    click.echo(
-        f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
-        f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
-    )
+    # Both or neither: the figure is drawn before the CSV is renamed into place.
+    atomic_files(writers)
+    click.echo(summary)
     if vel.treadmill is not None and vel.treadmill.detected:
         click.echo(vel.treadmill.reason)
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))
@@ -174,10 +175,11 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     if out.exists() and not force:
         raise OutputError(f"--out {out}: exists; use --force to overwrite it")
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
-    recording = io.read(file, **overrides)
-    check_points(recording, point)
-    est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis)
-    res = est.run(recording)
+    with about_file(file):
+        recording = io.read(file, **overrides)
+        check_points(recording, point)
+        est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis)
+        res = est.run(recording)
     table = np.column_stack([getattr(res, c).astype(float) for c in ONLINE_COLUMNS])
     fmt = list(ONLINE_FORMATS)
     atomic_file(

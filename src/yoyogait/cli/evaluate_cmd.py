@@ -12,6 +12,7 @@ import click
 from .. import evaluation as ev
 from .. import io
 from .._files import check_output_folder
+from .._guard import output_lock
 from ..errors import InputError
 from ..estimators.registry import config_estimators
 from ..evaluation import parallel
@@ -69,39 +70,10 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
     return out
 
 
-def run_evaluation(
-    dataset,
-    out,
-    estimators,
-    force,
-    figures,
-    seed,
-    overrides=None,
-    config_files=(),
-    *,
-    jobs=None,
-    scheduler=None,
-    ship_files=False,
-    online=False,
+def _evaluate_and_write(
+    dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online=False
 ):
-    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
-
-    ``config_files``: estimator configurations (TOML) evaluated too, each named by its file's stem.
-    ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
-    (by the size of the data set). ``jobs``: worker processes (None: every core). ``scheduler``:
-    the address of a Dask scheduler that evaluates the recordings instead (figures are drawn here).
-    ``online``: the online evaluation (:func:`yoyogait.evaluation.evaluate_online`).
-    """
-    if online and config_files:
-        raise InputError("--config applies to the estimators of the offline evaluation, not to --online")
-    configs = config_estimators(config_files)
-    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
-    jobs = parallel.default_jobs() if jobs is None else jobs
-    if jobs < 1:
-        raise InputError(f"--jobs must be at least 1, not {jobs}")
-    if ship_files and not scheduler:
-        raise InputError("--ship-files goes with --scheduler")
-    check_output_folder(out, force)
+    """The evaluation of :func:`run_evaluation`, its printout, and then its report."""
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
     if online:  # the online estimator and the oscillator; the synthetic lab gains its cadence-step walks
         names, items = ev.ONLINE_ESTIMATORS, items + (ev.step_walk_items(seed=seed) if synthetic else [])
@@ -130,7 +102,6 @@ def run_evaluation(
         )
     if not result.items:
         raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
-    ev.write_report(result, out, force=force, figures=mode, progress=True, jobs=jobs)
     click.echo(f"\n{label}\n")
     click.echo(ev.summary_markdown(result))
     for name in names:
@@ -140,6 +111,51 @@ def run_evaluation(
         treadmill = getattr(r.velocities, "treadmill", None)
         if treadmill is not None and treadmill.detected:
             click.echo(f"{r.item.name}: {treadmill.reason}")
+    # Last: the report is moved into place once everything else is done (an interrupt before it
+    # leaves nothing; SIGINT/SIGTERM wait while it is moved).
+    ev.write_report(result, out, force=force, figures=mode, progress=True, jobs=jobs)
+    return result
+
+
+def run_evaluation(
+    dataset,
+    out,
+    estimators,
+    force,
+    figures,
+    seed,
+    overrides=None,
+    config_files=(),
+    *,
+    jobs=None,
+    scheduler=None,
+    ship_files=False,
+    online=False,
+):
+    """Evaluate, print the summary and Table I, write the report; returns the evaluation.
+
+    ``config_files``: estimator configurations (TOML) evaluated too, each named by its file's stem.
+    ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
+    (by the size of the data set). ``jobs``: worker processes (None: every core). ``scheduler``:
+    the address of a Dask scheduler that evaluates the recordings instead (figures are drawn here).
+    ``online``: the online evaluation (:func:`yoyogait.evaluation.evaluate_online`).
+    The whole run holds the lock on ``out``: a second run on it fails at once.
+    """
+    if online and config_files:
+        raise InputError("--config applies to the estimators of the offline evaluation, not to --online")
+    configs = config_estimators(config_files)
+    names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
+    jobs = parallel.default_jobs() if jobs is None else jobs
+    if jobs < 1:
+        raise InputError(f"--jobs must be at least 1, not {jobs}")
+    if ship_files and not scheduler:
+        raise InputError("--ship-files goes with --scheduler")
+    check_output_folder(out, force)
+    with output_lock(out):
+        check_output_folder(out, force)  # again: a run that just finished may have written it
+        result = _evaluate_and_write(
+            dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online
+        )
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:
         click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)

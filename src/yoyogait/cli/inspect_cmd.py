@@ -7,7 +7,7 @@ import json
 import click
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
 from ..pipeline.velocities import gait_velocities
@@ -26,11 +26,29 @@ def inspect_file(
     belt_speed_mps: float | None = None,
 ) -> dict:
     """Everything ``inspect`` prints, as a dict (computed before anything is printed)."""
+    with about_file(path):
+        return _inspect(
+            path,
+            point=point,
+            feet=feet,
+            up_axis=up_axis,
+            length_unit_m=length_unit_m,
+            rate_hz=rate_hz,
+            forward=forward,
+            belt_speed_mps=belt_speed_mps,
+        )
+
+
+def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward: str, belt_speed_mps) -> dict:
     rec = read(path, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
     velocities = gait_velocities(
         rec, point=point, up_axis=up_axis, forward=forward, feet=feet, belt_speed_mps=belt_speed_mps
     )
     treadmill = velocities.treadmill
+    if rec.velocities is not None:  # ready velocities: vz is the vertical one by the CSV layout
+        up_axis_from = "the velocity columns: vz is vertical"
+    else:
+        up_axis_from = points.resolve_up_axis(rec, up_axis)[1]
     report: dict = {
         "file": rec.source,
         "format": rec.format,
@@ -40,7 +58,7 @@ def inspect_file(
         "length_unit": rec.metadata.get("length_unit_from", ""),
         "points": list(rec.point_names),
         "up_axis": velocities.up_axis,
-        "up_axis_from": points.resolve_up_axis(rec, up_axis)[1],
+        "up_axis_from": up_axis_from,
         "point": velocities.point,
         "pelvis": None,
         "hand": None,
@@ -76,7 +94,7 @@ def inspect_file(
             pass
         report["foot_points"] = events.foot_groups_of(rec, feet)
         report["feet"] = {side: group[0] for side, group in report["foot_points"].items()}
-    report["walking_from"] = "pelvis speed"
+    report["walking_from"] = "pelvis speed" if rec.velocities is None else "the given speed"
     if report["feet"] and report["pelvis"]:
         ev = events.detect_gait_events(rec, feet=feet, up_axis=velocities.up_axis)
         report["steps"] = int(len(ev.step_start_s))

@@ -45,23 +45,24 @@ def _recording_of(walk) -> Recording:
     return walk.recording
 
 
+def synthetic_item(walk) -> Item:
+    """An item of one synthetic walk (SYNTHETIC data), with its truth."""
+    return Item(
+        name=walk.name,
+        subject=walk.subject.name,
+        walk=walk.walk_type,
+        load=functools.partial(_recording_of, walk),
+        truth=walk.truth,
+        pelvis=list(synthetic.PELVIS_MARKERS),
+        feet=list(synthetic.HEEL_MARKERS),
+        up_axis="z",
+        synthetic=True,
+    )
+
+
 def synthetic_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:
     """The built-in synthetic lab: 3 virtual subjects x 5 walk types (SYNTHETIC data)."""
-    items = []
-    for walk in synthetic.default_lab(seed=seed, rate_hz=rate_hz):
-        items.append(
-            Item(
-                name=walk.name,
-                subject=walk.subject.name,
-                walk=walk.walk_type,
-                load=functools.partial(_recording_of, walk),
-                truth=walk.truth,
-                pelvis=list(synthetic.PELVIS_MARKERS),
-                feet=list(synthetic.HEEL_MARKERS),
-                up_axis="z",
-                synthetic=True,
-            )
-        )
+    items = [synthetic_item(walk) for walk in synthetic.default_lab(seed=seed, rate_hz=rate_hz)]
     return items
 
 

@@ -20,7 +20,6 @@ evaluation".
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 from types import SimpleNamespace
@@ -34,8 +33,8 @@ from ..estimators.oscillator import AdaptiveOscillator
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
 from . import metrics
-from .datasets import Item, _recording_of
-from .parallel import TaskFailure, run_tasks
+from .datasets import Item, synthetic_item
+from .parallel import TaskFailure, run_tasks, split_outcomes
 from .running import RATE_HZ, Evaluation, ItemResult, real_reference
 
 __all__ = [
@@ -464,20 +463,7 @@ class OnlineEvaluation(Evaluation):
 
 def step_walk_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:
     """Synthetic walks with a cadence (and speed) step, one per built-in subject (SYNTHETIC data)."""
-    return [
-        Item(
-            name=walk.name,
-            subject=walk.subject.name,
-            walk=walk.walk_type,
-            load=functools.partial(_recording_of, walk),
-            truth=walk.truth,
-            pelvis=list(synth.PELVIS_MARKERS),
-            feet=list(synth.HEEL_MARKERS),
-            up_axis="z",
-            synthetic=True,
-        )
-        for walk in synth.step_walks(seed=seed, rate_hz=rate_hz)
-    ]
+    return [synthetic_item(walk) for walk in synth.step_walks(seed=seed, rate_hz=rate_hz)]
 
 
 def run_item_online(item: Item) -> ItemResult | TaskFailure:
@@ -513,10 +499,5 @@ def evaluate_online(
         executor=executor,
         progress="evaluating online" if progress else None,
     )
-    done = []
-    for item, outcome in zip(items, outcomes):
-        if isinstance(outcome, TaskFailure):
-            failures.append((item.name, outcome.message))
-        else:
-            done.append(outcome)
+    done = split_outcomes(items, outcomes, failures)
     return OnlineEvaluation(ONLINE_ESTIMATORS, done, failures, dataset, synthetic)

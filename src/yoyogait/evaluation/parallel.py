@@ -164,6 +164,18 @@ def run_tasks(
     return results
 
 
+def split_outcomes(items: Sequence, outcomes: Sequence, failures: list) -> list:
+    """The outcomes that succeeded, in order; a :class:`TaskFailure` appends (item name, message) to
+    ``failures`` instead."""
+    done = []
+    for item, outcome in zip(items, outcomes):
+        if isinstance(outcome, TaskFailure):
+            failures.append((item.name, outcome.message))
+        else:
+            done.append(outcome)
+    return done
+
+
 def _collect(pool: cf.Executor, fn, tasks, indices, results, bar) -> list[int]:
     """Submit tasks[i] for i in indices, fill results; the indices lost to a broken pool, in order."""
     futures: dict = {}

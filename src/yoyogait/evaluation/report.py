@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from .._files import check_output_folder, install_folder, why
+from .._guard import signals_deferred
 from ..errors import InputError, OutputError
 from . import figures as plots
 from . import metrics
@@ -97,7 +98,8 @@ def write_report(
     except OSError as exc:
         raise OutputError(f"cannot write the report {out}: {why(exc, tmp)}") from None
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        with signals_deferred():  # a second signal does not cut the clean-up short
+            shutil.rmtree(tmp, ignore_errors=True)
     return out
 
 

@@ -21,7 +21,7 @@ from ..pipeline.signals import moving_mean
 from ..pipeline.velocities import gait_velocities
 from . import metrics
 from .datasets import Item
-from .parallel import TaskFailure, run_tasks
+from .parallel import TaskFailure, run_tasks, split_outcomes
 
 __all__ = [
     "ItemResult",
@@ -220,10 +220,5 @@ def evaluate(
         executor=executor,
         progress="evaluating" if progress else None,
     )
-    done = []
-    for item, outcome in zip(items, outcomes):
-        if isinstance(outcome, TaskFailure):
-            failures.append((item.name, outcome.message))
-        else:
-            done.append(outcome)
+    done = split_outcomes(items, outcomes, failures)
     return Evaluation(names, done, failures, dataset, synthetic)

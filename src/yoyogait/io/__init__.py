@@ -29,7 +29,7 @@ import numpy as np
 
 from ..errors import InputError
 from .plausibility import check_plausible
-from .recording import AXES, Recording, check_readable
+from .recording import AXES, Recording, check_coordinates, check_rate, check_readable, check_time
 
 __all__ = ["Recording", "read", "READERS"]
 
@@ -98,6 +98,8 @@ def read(
         raise InputError(f"length_unit_m must be a positive number, not {length_unit_m!r}")
     if rate_hz is not None and not (np.isfinite(rate_hz) and rate_hz > 0):
         raise InputError(f"rate_hz must be a positive number, not {rate_hz!r}")
+    if rate_hz is not None:
+        check_rate(rate_hz, p, "rate_hz override")
 
     module, function = READERS[ext] if ext != ".csv" else _csv_dialect(p)
     reader = getattr(importlib.import_module(f".{module}", __name__), function)
@@ -144,11 +146,12 @@ def validate(rec: Recording) -> Recording:
     t = np.asarray(rec.time_s, dtype=float)
     if t.shape != (rec.n_frames,) or not np.all(np.isfinite(t)):
         raise InputError(f"{where}: timestamps are missing or not finite")
-    if rec.n_frames > 1 and np.any(np.diff(t) <= 0):
-        k = int(np.argmax(np.diff(t) <= 0))
-        raise InputError(f"{where}: time does not increase at frame {k + 1} ({t[k]} -> {t[k + 1]} s)")
+    check_time(t, where)
+    if rec.rate_hz is not None:
+        check_rate(rec.rate_hz, where)
     if np.any(np.isinf(pos)):
         raise InputError(f"{where}: positions hold infinite values")
+    check_coordinates(pos, rec.point_names, where)
     if rec.velocities is None and (pos.shape[1] == 0 or not np.any(np.isfinite(pos))):
         raise InputError(f"{where}: the file holds no valid point position")
     return rec

@@ -30,7 +30,7 @@ from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
 from ..pipeline.points import detect_up_axis, find_pelvis
-from .recording import Recording, read_text, uniform_time
+from .recording import MAX_COORDINATE_M, Recording, check_coordinates, check_rate, read_text, uniform_time
 
 __all__ = ["read_bvh", "infer_length_unit", "CANDIDATE_UNITS_M", "PELVIS_HEIGHT_M"]
 
@@ -90,10 +90,21 @@ def read_bvh(
     motion = np.asarray(rows, dtype=float)
     if not np.all(np.isfinite(motion)):
         raise InputError(f"{p}: the BVH motion holds values that are not finite")
+    # No unit (the smallest BVH is written in is the mm) makes a larger value a place in a capture volume,
+    # and no rotation is given as millions of degrees: a corrupt number.
+    limit = MAX_COORDINATE_M / min(CANDIDATE_UNITS_M.values())
+    huge = np.flatnonzero(np.any(np.abs(motion) > limit, axis=1))
+    if huge.size:
+        k = int(huge[0])
+        value = motion[k][np.argmax(np.abs(motion[k]))]
+        raise InputError(
+            f"{p}: line {motion_lines[k][0]}: a channel value of {value:.4g} is beyond any capture volume "
+            "or rotation (a corrupt number)"
+        )
 
     positions, names = _forward_kinematics(joints, motion)
     metadata: dict = {"format": "bvh", "root_joint": joints[0].name, "frame_time_s": frame_time}
-    rate = float(rate_hz) if rate_hz is not None else 1.0 / frame_time
+    rate = check_rate(rate_hz, p, "rate_hz override") if rate_hz is not None else 1.0 / frame_time
 
     rec = Recording(
         positions_m=positions,
@@ -109,6 +120,7 @@ def read_bvh(
     else:
         unit, reason = infer_length_unit(rec, up_axis=up_axis)
     rec.positions_m *= unit
+    check_coordinates(rec.positions_m, names, p)
     metadata.update(length_unit_m=unit, length_unit_from=reason)
     return rec
 
@@ -222,6 +234,7 @@ def _parse(text: str, where: str):
         ) from None
     if not frame_time > 0:
         raise InputError(f"{where}: BVH frame time must be positive, not {frame_time}")
+    check_rate(1.0 / frame_time, where, f"rate of 'Frame Time: {header['frame time']}'")
     motion_lines = [(n + 1, line) for n, line in enumerate(lines[motion_at + 3 :], start=motion_at + 3) if line.strip()]
     return joints, motion_lines, frames, frame_time
 

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, check_readable, uniform_time
+from .recording import Recording, check_coordinates, check_rate, check_readable, uniform_time
 from .recording import length_unit_m as unit_of
 
 __all__ = ["read_c3d"]
@@ -44,6 +44,7 @@ def read_c3d(
     import ezc3d
 
     p = check_readable(path)
+    header_scale = _check_header(p)
     try:
         c = ezc3d.c3d(str(p), extract_forceplat_data=False)
     except (RuntimeError, OSError, ValueError, IndexError) as exc:
@@ -51,7 +52,15 @@ def read_c3d(
 
     point_group = c["parameters"].get("POINT", {})
     scale = _param(point_group, "SCALE")
-    _check_not_truncated(p, float(scale[0]) if scale else None)
+    if scale and not (np.isfinite(float(scale[0])) and float(scale[0]) != 0):
+        raise InputError(
+            f"{p}: not a readable C3D file (POINT:SCALE is {float(scale[0])}; it must be a non-zero number)"
+        )
+    if scale and header_scale is not None and (header_scale < 0) != (float(scale[0]) < 0):
+        raise InputError(
+            f"{p}: not a readable C3D file (corrupt header: the point scale factor {header_scale:g} and "
+            f"POINT:SCALE {float(scale[0]):g} disagree on whether the data are floats or integers)"
+        )
     data = c["data"]["points"]  # 4 x points x frames
     n_points, n_frames = data.shape[1], data.shape[2]
     if n_frames == 0:
@@ -78,6 +87,7 @@ def read_c3d(
         metadata["length_unit_from"] = "POINT:UNITS absent; mm assumed (the C3D default)"
     metadata["length_unit_m"] = scale_m
     xyz *= scale_m
+    check_coordinates(xyz, names, p)
 
     keep = np.ones(n_points, dtype=bool)
     if not keep_non_positions:
@@ -93,6 +103,7 @@ def read_c3d(
     rate = float(rate_hz) if rate_hz is not None else file_rate
     if not rate > 0:
         raise InputError(f"{p}: the C3D file has no point rate; pass rate_hz=")
+    rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "point rate in the C3D header")
     first_frame = int(c["header"]["points"]["first_frame"])
     metadata.update(first_frame=first_frame, file_rate_hz=file_rate)
 
@@ -115,33 +126,64 @@ def read_c3d(
     )
 
 
-def _check_not_truncated(p: Path, point_scale: float | None) -> None:
-    """InputError if the file is shorter than the frames its header announces.
+def _check_header(p: Path) -> float | None:
+    """InputError if the header's numbers cannot describe this file.
 
     Header words (16-bit, in the byte order of the processor type stored in
-    the parameter section): 2 = points, 3 = analog samples per frame,
-    4/5 = first/last frame, 9 = first data block.  A negative POINT:SCALE
-    means 4-byte floats, else 2-byte integers.
+    the parameter section: 84 Intel, 85 DEC, 86 MIPS): 1 = first parameter
+    block, 2 = points, 3 = analog samples per frame, 4/5 = first/last frame,
+    7-8 = the point scale factor (a float; negative means 4-byte float data,
+    else 2-byte integers scaled by it), 9 = first data block.  ezc3d reads the
+    data by the header's scale and data block, so a zero or NaN scale or a data
+    block inside the header gives numbers without meaning; and it quietly reads
+    what there is of a truncated file, so the frame count is checked against
+    the file size.  Returns the header's point scale factor (None when ezc3d is left to reject
+    the file).
     """
     size = p.stat().st_size
     with p.open("rb") as f:
         head = f.read(512)
         if len(head) < 512 or head[1] != 0x50 or head[0] < 1:
-            return  # ezc3d has already rejected such a file
-        f.seek(512 * (head[0] - 1) + 3)
-        proc = f.read(1)
-    order = ">" if proc and proc[0] == 86 else "<"  # 86: MIPS, big-endian
+            return None  # ezc3d rejects such a file
+        f.seek(512 * (head[0] - 1) + 2)
+        param_info = f.read(2)
+    if len(param_info) < 2:
+        raise InputError(f"{p}: not a readable C3D file (corrupt header: the parameters lie past the end of the file)")
+    n_param_blocks, proc = param_info[0], param_info[1]
+    order = ">" if proc == 86 else "<"  # 86: MIPS, big-endian
     words = struct.unpack(order + "12H", head[:24])
     n_points, n_analog, first, last, data_block = words[1], words[2], words[3], words[4], words[8]
-    if last == 0xFFFF or last < first or data_block == 0:
-        return  # frame count held elsewhere (long files)
+    header_scale = _header_float(head[12:16], proc)
+    if n_points and not (np.isfinite(header_scale) and header_scale != 0):
+        raise InputError(
+            f"{p}: not a readable C3D file (corrupt header: the point scale factor is {header_scale:g}; "
+            "it must be a non-zero number)"
+        )
+    parameters_end = head[0] + max(1, n_param_blocks)
+    if data_block < parameters_end or (data_block - 1) * 512 >= size:
+        raise InputError(
+            f"{p}: not a readable C3D file (corrupt header: the data start at block {data_block}, but the "
+            f"parameters end at block {parameters_end - 1} and the file holds {(size + 511) // 512} blocks)"
+        )
+    if last == 0xFFFF or last < first:
+        return header_scale  # frame count held elsewhere (long files)
     n_frames = last - first + 1
-    bytes_per_value = 4 if (point_scale is None or point_scale < 0) else 2
+    bytes_per_value = 4 if header_scale < 0 else 2
     frame_bytes = (4 * n_points + n_analog) * bytes_per_value
     expected = (data_block - 1) * 512 + n_frames * frame_bytes
     if size < expected:
         have = max(0, size - (data_block - 1) * 512) // max(1, frame_bytes)
         raise InputError(f"{p}: truncated C3D file: the header announces {n_frames} frames, the file holds {have}")
+    return header_scale
+
+
+def _header_float(raw: bytes, proc: int) -> float:
+    """A 4-byte float of the header in the processor's format (DEC: 16-bit halves swapped, 4x scaled)."""
+    if proc == 85:
+        if raw[1] & 0x7F == 0 and raw[0] & 0x80 == 0:  # exponent 0: zero (or DEC's reserved operand)
+            return 0.0
+        return struct.unpack("<f", raw[2:4] + raw[0:2])[0] / 4.0
+    return struct.unpack(">f" if proc == 86 else "<f", raw)[0]
 
 
 def _labels(point_group: dict, n_points: int) -> list[str]:

@@ -34,7 +34,17 @@ import re
 import numpy as np
 
 from ..errors import InputError
-from .recording import AXES, Recording, number_row, read_text, uniform_time
+from .recording import (
+    AXES,
+    MAX_SPEED_MPS,
+    Recording,
+    check_coordinates,
+    check_rate,
+    check_time,
+    number_row,
+    read_text,
+    uniform_time,
+)
 
 __all__ = ["read_csv"]
 
@@ -62,6 +72,7 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     header = [h.strip() for h in next(_csv.reader([header_line], delimiter=delimiter))]
 
     rows = []
+    line_numbers = []
     body = [(n, line) for n, line in enumerate(lines[first + 1 :], start=first + 2) if line.strip()]
     for (number, _line), cells in zip(body, _csv.reader([line for _, line in body], delimiter=delimiter)):
         if len(cells) != len(header):
@@ -71,6 +82,7 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
                 )
             raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header {len(header)}")
         rows.append(number_row(cells, p, number))
+        line_numbers.append(number)
     if not rows:
         raise InputError(f"{p}: the CSV file holds no data rows")
     table = np.asarray(rows, dtype=float)
@@ -91,10 +103,13 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     time_col = next((lower.index(c) for c in TIME_COLUMNS if c in lower), None)
     file_rate = _setting_float(settings, "rate_hz", p)
     rate = float(rate_hz) if rate_hz is not None else file_rate
+    if rate is not None:
+        rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "'# rate_hz'")
     if time_col is not None and rate_hz is None:
         time_s = table[:, time_col]
         if not np.all(np.isfinite(time_s)):
             raise InputError(f"{p}: the time column {header[time_col]!r} has empty or invalid cells")
+        check_time(time_s, p, line_numbers)
     elif rate:
         time_s = uniform_time(len(rows), rate)
     else:
@@ -109,14 +124,24 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     }
     if all(c is not None for c in velocity_cols.values()):
         metadata["velocities_mps"] = {key: table[:, c] * unit for key, c in velocity_cols.items()}
+        for key, v in metadata["velocities_mps"].items():
+            with np.errstate(invalid="ignore"):
+                fast = np.flatnonzero(np.abs(v) > MAX_SPEED_MPS)
+            if fast.size:
+                k = int(fast[0])
+                raise InputError(
+                    f"{p}: line {line_numbers[k]}: {key} = {v[k]:.4g} m/s, faster than any person "
+                    f"({MAX_SPEED_MPS:g} m/s): a corrupt value or a wrong length unit"
+                )
         positions = np.empty((len(rows), 0, 3))
         names: list[str] = []
     else:
         names, positions = _points(header, table, p)
         positions *= unit
+        check_coordinates(positions, names, p, line_numbers)
 
     if rate is None and len(time_s) > 1:
-        rate = 1.0 / float(np.median(np.diff(time_s)))
+        rate = check_rate(1.0 / float(np.median(np.diff(time_s))), p, "rate of the timestamps")
     return Recording(
         positions_m=positions,
         point_names=names,

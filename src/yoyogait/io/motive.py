@@ -26,7 +26,7 @@ import csv as _csv
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, number_row, read_text, unique_names
+from .recording import Recording, number_row, positive_float, read_text, unique_names
 
 __all__ = ["read_motive_csv", "is_motive_csv"]
 
@@ -112,7 +112,7 @@ def read_motive_csv(path, *, length_unit_m: float | None = None, rate_hz: float 
         raise InputError(f"{p}: the Motive CSV holds no frames")
     table = np.asarray(data, dtype=float)
 
-    file_rate = _float(header.get("Export Frame Rate")) or _float(header.get("Capture Frame Rate"))
+    file_rate = positive_float(header.get("Export Frame Rate")) or positive_float(header.get("Capture Frame Rate"))
     rate = float(rate_hz) if rate_hz is not None else file_rate
     time_s = table[:, 1]
     if rate_hz is not None or not np.all(np.isfinite(time_s)):
@@ -132,11 +132,3 @@ def read_motive_csv(path, *, length_unit_m: float | None = None, rate_hz: float 
         source=str(p),
         metadata=metadata,
     )
-
-
-def _float(text) -> float | None:
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        return None
-    return value if value > 0 else None

@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, number_row, read_text, uniform_time, unique_names
+from .recording import Recording, number_row, positive_float, read_text, uniform_time, unique_names
 
 __all__ = ["read_qtm_tsv"]
 
@@ -84,7 +84,7 @@ def read_qtm_tsv(path, *, length_unit_m: float | None = None, rate_hz: float | N
     if not rows:
         raise InputError(f"{p}: the QTM TSV export holds no frames")
     table = np.asarray(rows, dtype=float)
-    announced = _float(header.get("NO_OF_FRAMES", [""])[0])
+    announced = positive_float(header.get("NO_OF_FRAMES", [""])[0])
     if announced is not None and len(rows) < announced:
         raise InputError(f"{p}: truncated QTM TSV: NO_OF_FRAMES announces {int(announced)}, the file holds {len(rows)}")
 
@@ -97,7 +97,7 @@ def read_qtm_tsv(path, *, length_unit_m: float | None = None, rate_hz: float | N
 
     positions = table[:, offset:].reshape(len(rows), len(names), 3)
     positions[np.all(positions == 0.0, axis=2)] = np.nan  # QTM's "not seen"
-    file_rate = _float(header.get("FREQUENCY", [""])[0])
+    file_rate = positive_float(header.get("FREQUENCY", [""])[0])
     rate = float(rate_hz) if rate_hz is not None else file_rate
     if has_frame_time and rate_hz is None and np.all(np.isfinite(table[:, 1])):
         time_s = table[:, 1]
@@ -116,11 +116,3 @@ def read_qtm_tsv(path, *, length_unit_m: float | None = None, rate_hz: float | N
         source=str(p),
         metadata=metadata,
     )
-
-
-def _float(text) -> float | None:
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        return None
-    return value if value > 0 else None

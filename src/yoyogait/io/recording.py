@@ -161,9 +161,99 @@ def _is_float(text: str) -> bool:
     return True
 
 
+#: Sample rates a recording may have [Hz]: motion capture runs at 10-2000 Hz; outside this range the
+#: rate (or a BVH frame time) is a corrupt number, and resampling from it would be meaningless.
+RATE_RANGE_HZ = (1.0, 10000.0)
+
+#: Farthest a coordinate may lie from the origin once in metres: no capture volume is 10 km wide,
+#: so a larger value is a corrupt number or a wrong length unit.
+MAX_COORDINATE_M = 1.0e4
+
+#: Fastest a followed point or a given velocity may move [m/s]: no person moves at 50 m/s, so a
+#: faster sample is a corrupt value (a jump of a marker), not gait.
+MAX_SPEED_MPS = 50.0
+
+#: The timestamps may span at most this many times the duration their samples cover (n x the
+#: median period), plus :data:`TIME_SPAN_SLACK_S`; beyond that a timestamp is bogus, and the
+#: resampled grid would be mostly an empty gap (a 1e10 s timestamp would ask for terabytes).
+TIME_SPAN_FACTOR = 10.0
+TIME_SPAN_SLACK_S = 60.0
+
+
+def check_rate(rate_hz: float, where, what: str = "sample rate") -> float:
+    """``rate_hz`` as a float if it lies in :data:`RATE_RANGE_HZ`, else InputError naming ``what``."""
+    lo, hi = RATE_RANGE_HZ
+    rate = float(rate_hz)
+    if not (np.isfinite(rate) and lo <= rate <= hi):
+        raise InputError(f"{where}: the {what} is {rate:g} Hz; a recording's rate must lie in {lo:g}-{hi:g} Hz")
+    return rate
+
+
+def check_time(time_s: np.ndarray, where, line_numbers=None) -> None:
+    """InputError unless the timestamps are finite, increase strictly and span a sane time.
+
+    ``line_numbers`` (one per sample) makes the message name the file's line; else it names the
+    frame (counted from 1).  A repeated or decreasing timestamp names both rows; a time span far
+    larger than the samples cover (:data:`TIME_SPAN_FACTOR`) names the largest jump.
+    """
+    t = np.asarray(time_s, dtype=float)
+
+    def at(k: int) -> str:
+        return f"line {line_numbers[k]}" if line_numbers is not None else f"frame {k + 1}"
+
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise InputError(f"{where}: {at(int(bad[0]))}: the timestamp is {t[bad[0]]}, not a finite number")
+    if len(t) < 2:
+        return
+    dt = np.diff(t)
+    back = np.flatnonzero(dt <= 0)
+    if back.size:
+        k = int(back[0])
+        how = "repeats" if dt[k] == 0 else "goes back from"
+        raise InputError(
+            f"{where}: {at(k + 1)}: time {how} {t[k]:g} s ({at(k)})"
+            + ("" if dt[k] == 0 else f" to {t[k + 1]:g} s")
+            + "; timestamps must increase"
+        )
+    period = float(np.median(dt))
+    covered = len(t) * period
+    span = float(t[-1] - t[0])
+    if span > TIME_SPAN_FACTOR * covered + TIME_SPAN_SLACK_S:
+        k = int(np.argmax(dt))
+        raise InputError(
+            f"{where}: {at(k + 1)}: time jumps from {t[k]:g} s to {t[k + 1]:g} s; the {len(t)} samples cover "
+            f"{covered:.3g} s but their timestamps span {span:.3g} s (a bogus timestamp?)"
+        )
+
+
+def check_coordinates(positions_m: np.ndarray, names, where, line_numbers=None) -> None:
+    """InputError if a coordinate (in metres) lies beyond :data:`MAX_COORDINATE_M` from the origin."""
+    pos = np.asarray(positions_m, dtype=float)
+    with np.errstate(invalid="ignore"):
+        far = np.abs(pos) > MAX_COORDINATE_M
+    if far.any():
+        f, p, a = (int(i[0]) for i in np.nonzero(far))
+        row = f"line {line_numbers[f]}" if line_numbers is not None else f"frame {f + 1}"
+        name = names[p] if p < len(names) else f"point {p + 1}"
+        raise InputError(
+            f"{where}: {row}: point {name!r} has {'xyz'[a]} = {pos[f, p, a]:.4g} m, more than "
+            f"{MAX_COORDINATE_M:g} m from the origin (a corrupt value or a wrong length unit)"
+        )
+
+
 def uniform_time(n_frames: int, rate_hz: float, start_s: float = 0.0) -> np.ndarray:
     """Timestamps of ``n_frames`` samples at ``rate_hz`` from ``start_s``."""
     return start_s + np.arange(n_frames, dtype=float) / float(rate_hz)
+
+
+def positive_float(text) -> float | None:
+    """``text`` as a number > 0 (a rate, a frame count in a header), else None."""
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        return None
+    return value if value > 0 else None
 
 
 def unique_names(names) -> list[str]:

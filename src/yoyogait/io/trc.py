@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, number_row, read_text, uniform_time
+from .recording import Recording, check_coordinates, check_rate, check_time, number_row, read_text, uniform_time
 from .recording import length_unit_m as unit_of
 
 __all__ = ["read_trc"]
@@ -51,6 +51,7 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     n_columns = 2 + 3 * len(names)
 
     rows = []
+    line_numbers = []
     for number, line in enumerate(lines[5:], start=6):
         cells = _cells(line, separator)
         if not any(c.strip() for c in cells):  # a blank line (",,,," in a comma-separated file)
@@ -59,6 +60,7 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
             raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header names {n_columns}")
         cells = cells[:n_columns] + [""] * (n_columns - len(cells))
         rows.append(number_row(cells, p, number))
+        line_numbers.append(number)
     if not rows:
         raise InputError(f"{p}: the TRC file holds no frames")
     table = np.asarray(rows, dtype=float)
@@ -89,9 +91,15 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     if rate_hz is not None or not np.all(np.isfinite(time_s)):
         if not rate or rate <= 0:
             raise InputError(f"{p}: the TRC file has neither times nor a DataRate; pass rate_hz=")
+        rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "DataRate")
         time_s = uniform_time(len(rows), rate, 0.0 if not np.isfinite(time_s[0]) else time_s[0])
+    else:
+        check_time(time_s, p, line_numbers)
+    if rate is not None and rate > 0:
+        rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "DataRate")
 
     positions = table[:, 2:].reshape(len(rows), len(names), 3) * scale_m
+    check_coordinates(positions, names, p, line_numbers)
     return Recording(
         positions_m=positions,
         point_names=names,

@@ -61,8 +61,12 @@ def fill_short_gaps(values: np.ndarray, rate_hz: float, max_gap_s: float, kind: 
     return flat.reshape(x.shape)
 
 
-def resample(time_s: np.ndarray, values: np.ndarray, rate_hz: float):
-    """Linear resampling to a ``rate_hz`` grid from the first sample; NaN next to NaN."""
+def resample(time_s: np.ndarray, values: np.ndarray, rate_hz: float, max_gap_s: float | None = None):
+    """Linear resampling to a ``rate_hz`` grid from the first sample; NaN next to NaN.
+
+    With ``max_gap_s``, the grid points inside a step between two timestamps longer than that
+    are NaN too: a gap in time is a gap, which interpolation must not bridge.
+    """
     t = np.asarray(time_s, dtype=float)
     v = np.asarray(values, dtype=float)
     n_out = int(np.floor((t[-1] - t[0]) * rate_hz + 1e-9)) + 1
@@ -74,6 +78,10 @@ def resample(time_s: np.ndarray, values: np.ndarray, rate_hz: float):
     for c in range(v2.shape[1]):
         out[:, c] = np.interp(t_out, t, np.where(ok, v2[:, c], 0.0))
     out[~known] = np.nan
+    if max_gap_s is not None and len(t) > 1:
+        i = np.clip(np.searchsorted(t, t_out, side="right") - 1, 0, len(t) - 2)
+        in_gap = (t[i + 1] - t[i] > max_gap_s + 1e-9) & (t_out > t[i]) & (t_out < t[i + 1])
+        out[in_gap] = np.nan
     return t_out, out.reshape((n_out,) + v.shape[1:])
 
 

@@ -28,7 +28,7 @@ from scipy.signal import savgol_filter
 
 from .. import _table
 from ..errors import InputError
-from ..io.recording import AXES, Recording
+from ..io.recording import AXES, MAX_SPEED_MPS, Recording, check_time
 from . import events, points
 from .signals import fill_short_gaps, resample, runs, walking_heading
 from .treadmill import Treadmill, detect_treadmill
@@ -177,10 +177,12 @@ def gait_velocities(
         up = "z"
         label = f"velocities from {where}"
         t = np.asarray(recording.time_s, dtype=float)
+        check_time(t, where)
         given = np.column_stack([recording.velocities["vx"], recording.velocities["vz"]])
-        rate_in = _rate(t)
+        rate_in = _rate(t, where)
         given = fill_short_gaps(given, rate_in, max_gap_s, kind="linear")
-        t_out, v_out = resample(t, given, rate_hz)
+        _check_speed(t, np.hypot(given[:, 0], given[:, 1]), label, where)
+        t_out, v_out = resample(t, given, rate_hz, max_gap_s=max_gap_s)
         vx, vz = v_out[:, 0], v_out[:, 1]
         v_h = np.column_stack([vx, np.zeros_like(vx)])
         forward_used = "file"
@@ -189,9 +191,10 @@ def gait_velocities(
         up, _ = points.resolve_up_axis(recording, up_axis)
         trajectory = points.point_trajectory(recording, point, hand_side=hand_side)
         label = trajectory.label
-        t, p = _uniform(np.asarray(recording.time_s, dtype=float), trajectory.positions_m)
-        rate_in = _rate(t)
+        t, p = _uniform(np.asarray(recording.time_s, dtype=float), trajectory.positions_m, where, max_gap_s)
+        rate_in = _rate(t, where)
         p = fill_short_gaps(p, rate_in, max_gap_s)
+        _check_jumps(t, p, label, where)
         window = savgol_window_samples(window_s, rate_in, polyorder)
         v = savgol_velocity(p, rate_in, window, polyorder)
         t_out, v_out = resample(t, v, rate_hz)
@@ -274,18 +277,59 @@ def v_h_along_heading(v_h: np.ndarray, rate_hz: float, heading_window_s: float) 
     return np.sum(v_h * heading, axis=1)
 
 
-def _rate(time_s: np.ndarray) -> float:
+def _check_speed(time_s: np.ndarray, speed_mps: np.ndarray, label: str, where: str) -> None:
+    """InputError if the point moves faster than any person can: a corrupt sample, not gait."""
+    with np.errstate(invalid="ignore"):
+        fast = np.flatnonzero(speed_mps > MAX_SPEED_MPS)
+    if fast.size:
+        k = int(fast[np.argmax(speed_mps[fast])])
+        raise InputError(
+            f"{where}: {label} moves at {speed_mps[k]:.4g} m/s at {time_s[k]:.3f} s, faster than any person "
+            f"({MAX_SPEED_MPS:g} m/s): a corrupt sample or a wrong length unit"
+        )
+
+
+def _check_jumps(time_s: np.ndarray, positions_m: np.ndarray, label: str, where: str) -> None:
+    """InputError if the point moves faster than any person between two consecutive known samples.
+
+    The check is on the raw differences, before any smoothing: one corrupt sample a few metres off
+    is then a clear error, where after the Savitzky-Golay filter it would be a plausible-looking
+    bump that throws the estimator off.  (The fastest pelvis of the 53 real recordings moves
+    10 m/s between two frames, a marker dropping out of the centre; the limit is 50 m/s.)
+    """
+    known = np.flatnonzero(np.all(np.isfinite(positions_m), axis=1))
+    if known.size < 2:
+        return
+    step_m = np.linalg.norm(np.diff(positions_m[known], axis=0), axis=1)
+    speed = step_m / np.diff(time_s[known])
+    k = int(np.argmax(speed))
+    if speed[k] > MAX_SPEED_MPS:
+        a, b = known[k], known[k + 1]
+        raise InputError(
+            f"{where}: {label} jumps {step_m[k]:.3g} m between {time_s[a]:.3f} s and {time_s[b]:.3f} s "
+            f"({speed[k]:.3g} m/s; no person moves faster than {MAX_SPEED_MPS:g} m/s): a corrupt sample "
+            "or a wrong length unit"
+        )
+
+
+def _rate(time_s: np.ndarray, where: str = "recording") -> float:
     if len(time_s) < 2:
-        raise InputError("a recording of one frame has no velocity")
+        raise InputError(f"{where}: a recording of one frame has no velocity")
     return 1.0 / float(np.median(np.diff(time_s)))
 
 
-def _uniform(time_s: np.ndarray, positions: np.ndarray):
-    """Positions on a uniform time grid (the SG filter assumes one); untouched when already uniform."""
+def _uniform(time_s: np.ndarray, positions: np.ndarray, where: str = "recording", max_gap_s: float = 0.2):
+    """Positions on a uniform time grid (the SG filter assumes one); untouched when already uniform.
+
+    A step between timestamps longer than ``max_gap_s`` stays a gap (NaN), and the timestamps must
+    span a time their samples can fill (:func:`yoyogait.io.recording.check_time`), so that the grid
+    stays about as long as the input.
+    """
     if len(time_s) < 2:
-        raise InputError("a recording of one frame has no velocity")
+        raise InputError(f"{where}: a recording of one frame has no velocity")
+    check_time(time_s, where)
     dt = np.diff(time_s)
     step = float(np.median(dt))
     if np.all(np.abs(dt - step) <= 1e-3 * step):
         return time_s, positions
-    return resample(time_s, positions, 1.0 / step)
+    return resample(time_s, positions, 1.0 / step, max_gap_s=max_gap_s)
