@@ -66,12 +66,13 @@ class Estimator {
     }
   }
 
-  /// Velocities predicted horizon_samples (of sample_time_s) ahead of the last sample.
-  /// paper: eq. 13-14 with the phase advanced by eq. 6 and the parameters held. gait: the phasors
-  /// turned by w h + dw h^2 / 2, A0 held, second harmonics added (GaitFilter::predict).
-  Velocity predict_ahead(double horizon_samples) const noexcept {
-    if (is_paper_) return paper_.predict_ahead(horizon_samples);
-    const GaitFilter::Prediction p = gait_.predict(horizon_samples * config_.sample_time_s);
+  /// Velocities predicted horizon_s [s] ahead of the last sample.
+  /// paper: eq. 13-14 with the phase advanced by eq. 6 over horizon_s / sample_time_s samples and
+  /// the parameters held. gait: the phasors turned by w h + dw h^2 / 2, A0 held, second harmonics
+  /// added (GaitFilter::predict; forecast() adds the rate of A0 and the standard deviations).
+  Velocity predict_ahead(double horizon_s) const noexcept {
+    if (is_paper_) return paper_.predict_ahead(horizon_s / config_.sample_time_s);
+    const GaitFilter::Prediction p = gait_.predict(horizon_s);
     return Velocity{p.vx_mps, p.vz_mps};
   }
 
@@ -81,7 +82,7 @@ class Estimator {
   GaitFilter::Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
     if (!is_paper_) return gait_.forecast(horizon_s, with_std);
     GaitFilter::Forecast f;
-    const Velocity v = paper_.predict_ahead(horizon_s * inv_T_);
+    const Velocity v = predict_ahead(horizon_s);
     const State x = paper_.state();
     f.vx_mps = v.vx_mps;
     f.vz_mps = v.vz_mps;

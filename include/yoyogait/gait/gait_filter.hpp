@@ -284,14 +284,14 @@ class GaitFilter {
         factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
                   g.bank_forget_s, g.radii_tau_s}),
         detector_({g.walk_tau_s, g.walk_speed_on_mps, g.walk_speed_off_mps, g.walk_vz_rms_on_mps, g.walk_vz_rms_off_mps}),
-        gate_(g.gate_sigma, g.gate_max_consecutive),
+        gate_(g.gate_sigma, config.samples_in(g.gate_max_consecutive_s)),
         scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
         radii_(g.initial_R_m, g.initial_r_m),
         watchdog_(kTwoPi * g.f_min_hz, kTwoPi * g.f_max_hz, g.bound_watchdog_s),
         nominal_dt_(config.sample_time_s),
         speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
         bank_(bank_settings(g)),
-        spectral_({g.spectral_init, g.spectral_init_s, g.spectral_buffer_samples, g.spectral_grid_step_hz, g.f_min_hz,
+        spectral_({g.spectral_init, g.spectral_init_s, config.samples_in(g.spectral_buffer_s), g.spectral_grid_step_hz, g.f_min_hz,
                    g.f_max_hz, model_.r_vx, model_.r_vz}) {
     reset();
   }
