@@ -117,7 +117,7 @@ def table(groups):
             s_osc = median(rows, "oscillator", key, False)[0] if absolute else None
             cells += [fmt(on, n_on, s_on), fmt(osc, n_osc, s_osc)]
             if n_on == 0:
-                verdicts.append(f"{gname}: no value (the online estimator has no prediction)")
+                verdicts.append(f"{gname}: no value")
                 continue
             ok = on <= target and (not below_osc or n_osc == 0 or on < osc)
             why = "" if ok else (f" ({on:.3g} > {target:g})" if on > target else f" (not below oscillator {osc:.3g})")
@@ -152,7 +152,7 @@ def main():
     for gname, rows in groups:
         print(f"{gname}: {len(rows)} recordings")
     if args.per_recording:
-        keys = [t[0] for t in TARGETS if not t[0].startswith("pred")]
+        keys = [t[0] for t in TARGETS]
         print("| recording | estimator | " + " | ".join(keys) + " |")
         for _, rows in groups:
             for name, m in rows:

@@ -104,7 +104,8 @@ struct FrequencyList {
   X(bool, spectral_init, true, "", "[", 0, 1, "]",                                                                 \
     "seed the least likely bank member by a least-squares frequency grid search")                                  \
   X(double, spectral_init_s, 1.0, "s", "[", 0.0, 60.0, "]", "... after this much walking")                         \
-  X(std::size_t, spectral_buffer_samples, 40, "samples", "[", 1, 256, "]", "... over this many buffered samples")  \
+  X(double, spectral_buffer_s, 1.6, "s", "(", 0.0, 60.0, "]",                                                      \
+    "... over the samples of the last this long (in samples of sample_time_s, rounded: 1 to 256)")                \
   X(double, spectral_grid_step_hz, 0.025, "Hz", "[", 1e-4, 10.0, "]",                                              \
     "grid step of the search (at most 10000 grid frequencies in [f_min_hz, f_max_hz])")                            \
   X(double, spectral_f_std_hz, 0.08, "Hz", "[", 0.0, 10.0, "]", "frequency std given to the seeded member")        \
@@ -130,8 +131,8 @@ struct FrequencyList {
   X(double, meas_vz_std_mps, 0.05, "m/s", "[", 1e-6, 100.0, "]", "measurement noise (std) of v_z")                 \
   X(double, gate_sigma, 5.0, "sigma", "[", 0.1, INFINITY, "]",                                                      \
     "innovation gate: a channel with |nu| > gate_sigma sqrt(S) is not used (infinity: no gate)")                   \
-  X(std::size_t, gate_max_consecutive, 6, "samples", "[", 0, 100000, "]",                                          \
-    "after this many consecutive rejections a sample is accepted and P inflated")                                  \
+  X(double, gate_max_consecutive_s, 0.24, "s", "[", 0.0, 3600.0, "]",                                              \
+    "after consecutive rejections for this long (in samples of sample_time_s, rounded) a sample is accepted and P inflated") \
   X(double, max_gap_s, 1.5, "s", "[", 1e-3, 3600.0, "]", "a longer time between samples restarts the acquisition")  \
   X(double, walk_tau_s, 0.3, "s", "[", 1e-3, 60.0, "]", "low-pass of the walking detector")                        \
   X(double, walk_speed_on_mps, 0.2, "m/s", "[", 0.0, 10.0, "]", "walking when the low-passed v_x exceeds it ...")  \
@@ -267,7 +268,18 @@ struct EstimatorConfig {
     if (!(g.walk_vz_rms_off_mps <= g.walk_vz_rms_on_mps))
       return "gait_filter.walk_vz_rms_off_mps must be <= walk_vz_rms_on_mps";
     if (!(g.std_scale_max >= g.std_scale_min)) return "gait_filter.std_scale_max must be >= std_scale_min";
+    const double buffer = g.spectral_buffer_s / sample_time_s;
+    if (!(buffer >= 0.5 && buffer < static_cast<double>(kMaxSpectralBuffer) + 0.5))
+      return "gait_filter.spectral_buffer_s must hold 1 to 256 samples of sample_time_s";
     return nullptr;
+  }
+
+  /// A duration [s] in samples of sample_time_s, rounded to the nearest (half away from zero): the
+  /// settings of the gait filter that count samples are durations, so that they mean the same time
+  /// at any rate. At the defaults: spectral_buffer_s 1.6 s = 40, gate_max_consecutive_s 0.24 s = 6.
+  std::size_t samples_in(double duration_s) const noexcept {
+    const double n = duration_s / sample_time_s;
+    return n >= 0.5 ? static_cast<std::size_t>(std::floor(n + 0.5)) : 0;
   }
 };
 

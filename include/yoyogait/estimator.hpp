@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 
 #include "yoyogait/config.hpp"
@@ -65,13 +66,31 @@ class Estimator {
     }
   }
 
-  /// Velocities predicted horizon_samples (of sample_time_s) ahead of the last sample.
-  /// paper: eq. 13-14 with the phase advanced by eq. 6 and the parameters held. gait: the phasors
-  /// turned by w h + dw h^2 / 2, A0 held, second harmonics added (GaitFilter::predict).
-  Velocity predict_ahead(double horizon_samples) const noexcept {
-    if (is_paper_) return paper_.predict_ahead(horizon_samples);
-    const GaitFilter::Prediction p = gait_.predict(horizon_samples * config_.sample_time_s);
+  /// Velocities predicted horizon_s [s] ahead of the last sample.
+  /// paper: eq. 13-14 with the phase advanced by eq. 6 over horizon_s / sample_time_s samples and
+  /// the parameters held. gait: the phasors turned by w h + dw h^2 / 2, A0 held, second harmonics
+  /// added (GaitFilter::predict; forecast() adds the rate of A0 and the standard deviations).
+  Velocity predict_ahead(double horizon_s) const noexcept {
+    if (is_paper_) return paper_.predict_ahead(horizon_s / config_.sample_time_s);
+    const GaitFilter::Prediction p = gait_.predict(horizon_s);
     return Velocity{p.vx_mps, p.vz_mps};
+  }
+
+  /// The model's forecast horizon_s [s] after the last sample, rates included, with standard
+  /// deviations when with_std (GaitFilter::forecast). paper: predict_ahead's velocities, the phase
+  /// advance w h, the stds NaN (the paper's filter has no rates to propagate).
+  GaitFilter::Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
+    if (!is_paper_) return gait_.forecast(horizon_s, with_std);
+    GaitFilter::Forecast f;
+    const Velocity v = predict_ahead(horizon_s);
+    const State x = paper_.state();
+    f.vx_mps = v.vx_mps;
+    f.vz_mps = v.vz_mps;
+    f.omega_rad_s = x.omega_rad_per_sample() * inv_T_;
+    f.phase_advance_rad = f.omega_rad_s * horizon_s;
+    f.speed_mps = x.bias_mps();
+    f.vx_std_mps = f.vz_std_mps = with_std ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+    return f;
   }
 
   /// Diagnostics of the last step: the innovation of each channel and the NIS (yoyogait::Innovation).

@@ -530,7 +530,7 @@ NB_MODULE(_core, m) {
       .def(nb::init<const EstimatorConfig&>(), "config"_a)
       .def("step", nb::overload_cast<double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a)
       .def("step", nb::overload_cast<double, double, double>(&yoyogait::Estimator::step), "vx"_a, "vz"_a, "dt_s"_a)
-      .def("run", &run, "vx"_a, "vz"_a, "horizons_samples"_a, "dt_s"_a = nb::none(), "diagnostics"_a = false,
+      .def("run", &run, "vx"_a, "vz"_a, "horizons_s"_a, "dt_s"_a = nb::none(), "diagnostics"_a = false,
            "covariance"_a = false)
       .def("step_diagnosed",
            [](yoyogait::Estimator& e, double vx, double vz) { return diagnosed(e, e.step(vx, vz)); }, "vx"_a, "vz"_a)

@@ -40,8 +40,17 @@ const double* frame_of(const OnlineEstimator& est, const Positions& p) {
 }
 
 // Every frame of a recording through update(), in C++: one array per field of OnlineEstimate.
-nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positions) {
-  const std::size_t n = time_s.shape(0), k = est.points();
+// With predictions: for each frame and each horizon h of predict_ahead_s, predict(h) after the frame
+// (arrays n x m, row-major).
+nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positions, const Times& predict_ahead_s) {
+  const std::size_t n = time_s.shape(0), k = est.points(), m = predict_ahead_s.shape(0);
+  for (std::size_t j = 0; j < m; ++j) {
+    const double h = predict_ahead_s.data()[j];
+    if (!(h >= 0.0 && h <= OnlineEstimator::kMaxHorizonS))
+      throw nb::value_error(("predict_ahead_s must be in [0, " + std::to_string(OnlineEstimator::kMaxHorizonS) +
+                             "] s, got " + std::to_string(h))
+                                .c_str());
+  }
   if (positions.size() != n * k * 3)
     throw nb::value_error(("positions must be frames x " + std::to_string(k) + " x 3 with " + std::to_string(n) +
                            " frames, got " + std::to_string(positions.size()) + " values")
@@ -51,7 +60,7 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
 #define YOYO_FIELDS(X)                                                                                             \
   X(vx_mps) X(vz_mps) X(vh_a_mps) X(vh_b_mps) X(heading_rad) X(walk_a_mps) X(walk_b_mps) X(vx_hat_mps)            \
   X(vz_hat_mps) X(step_frequency_hz) X(step_frequency_std_hz) X(speed_mps) X(speed_std_mps) X(gait_phase)         \
-  X(input_latency_s) X(estimate_age_s)
+  X(input_latency_s) X(estimate_age_s) X(next_step_in_s)
   YOYO_FIELDS(YOYO_DOUBLE)
 #undef YOYO_DOUBLE
   // clang-format on
@@ -61,6 +70,8 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
   auto walking = fresh<bool>(n);
   auto fed = fresh<bool>(n);
   auto seen = fresh<std::uint8_t>(n);
+  auto pred_vx = fresh<double>(n * m), pred_vz = fresh<double>(n * m);
+  auto pred_vx_std = fresh<double>(n * m), pred_vz_std = fresh<double>(n * m);
   {
     nb::gil_scoped_release release;
     const double* t = time_s.data();
@@ -76,6 +87,13 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
       walking.first[i] = e.walking;
       fed.first[i] = e.estimator_fed;
       seen.first[i] = e.points_seen;
+      for (std::size_t j = 0; j < m; ++j) {
+        const yoyogait::OnlinePrediction pr = est.predict(predict_ahead_s.data()[j]);
+        pred_vx.first[i * m + j] = pr.vx_mps;
+        pred_vz.first[i * m + j] = pr.vz_mps;
+        pred_vx_std.first[i * m + j] = pr.vx_std_mps;
+        pred_vz_std.first[i * m + j] = pr.vz_std_mps;
+      }
     }
   }
   nb::dict out;
@@ -89,6 +107,10 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
   out["walking"] = walking.second;
   out["estimator_fed"] = fed.second;
   out["points_seen"] = seen.second;
+  out["pred_vx_mps"] = pred_vx.second;
+  out["pred_vz_mps"] = pred_vz.second;
+  out["pred_vx_std_mps"] = pred_vx_std.second;
+  out["pred_vz_std_mps"] = pred_vz_std.second;
   return out;
 }
 
@@ -121,7 +143,7 @@ void bind_online(nb::module_& m) {
       YOYO_RO(t_s) YOYO_RO(vx_mps) YOYO_RO(vz_mps) YOYO_RO(vh_a_mps) YOYO_RO(vh_b_mps) YOYO_RO(heading_rad)
       YOYO_RO(walk_a_mps) YOYO_RO(walk_b_mps) YOYO_RO(vx_hat_mps) YOYO_RO(vz_hat_mps) YOYO_RO(step_frequency_hz)
       YOYO_RO(step_frequency_std_hz) YOYO_RO(speed_mps) YOYO_RO(speed_std_mps) YOYO_RO(gait_phase)
-      YOYO_RO(input_latency_s) YOYO_RO(estimate_age_s) YOYO_RO(status) YOYO_RO(estimator_status)
+      YOYO_RO(input_latency_s) YOYO_RO(estimate_age_s) YOYO_RO(next_step_in_s) YOYO_RO(status) YOYO_RO(estimator_status)
       YOYO_RO(walking) YOYO_RO(estimator_fed) YOYO_RO(points_seen)
       .def("__repr__", [](const OnlineEstimate& e) {
         return nb::str("OnlineEstimate(t_s={:.4f}, vx_mps={:.4f}, vz_mps={:.4f}, step_frequency_hz={:.4f}, "
@@ -131,6 +153,20 @@ void bind_online(nb::module_& m) {
       });
 #undef YOYO_RO
 
+  nb::class_<yoyogait::OnlinePrediction>(m, "OnlinePrediction")
+      .def_ro("t_s", &yoyogait::OnlinePrediction::t_s)
+      .def_ro("horizon_s", &yoyogait::OnlinePrediction::horizon_s)
+      .def_ro("vx_mps", &yoyogait::OnlinePrediction::vx_mps)
+      .def_ro("vz_mps", &yoyogait::OnlinePrediction::vz_mps)
+      .def_ro("vx_std_mps", &yoyogait::OnlinePrediction::vx_std_mps)
+      .def_ro("vz_std_mps", &yoyogait::OnlinePrediction::vz_std_mps)
+      .def_ro("valid", &yoyogait::OnlinePrediction::valid)
+      .def("__repr__", [](const yoyogait::OnlinePrediction& p) {
+        return nb::str("OnlinePrediction(t_s={:.4f}, horizon_s={:.3f}, vx_mps={:.4f}+-{:.4f}, vz_mps={:.4f}+-{:.4f}, "
+                       "valid={})")
+            .format(p.t_s, p.horizon_s, p.vx_mps, p.vx_std_mps, p.vz_mps, p.vz_std_mps, p.valid);
+      });
+
   nb::class_<OnlineEstimator>(m, "OnlineEstimator")
       .def(nb::init<std::size_t, int, double, const OnlineConfig&>(), "n_points"_a, "up_axis"_a,
            "length_unit_m"_a = 1.0, "config"_a = OnlineConfig{})
@@ -138,7 +174,9 @@ void bind_online(nb::module_& m) {
           "update",
           [](OnlineEstimator& est, double t_s, const Positions& p) { return est.update(t_s, frame_of(est, p)); },
           "t_s"_a, "positions"_a)
-      .def("run", &run, "time_s"_a, "positions"_a)
+      .def("run", &run, "time_s"_a, "positions"_a, "predict_ahead_s"_a)
+      .def("predict", &OnlineEstimator::predict, "horizon_s"_a)
+      .def_prop_ro_static("max_horizon_s", [](nb::handle) { return OnlineEstimator::kMaxHorizonS; })
       .def("reset", &OnlineEstimator::reset)
       .def_prop_ro("points", &OnlineEstimator::points)
       .def_prop_ro("up_axis", &OnlineEstimator::up_axis)

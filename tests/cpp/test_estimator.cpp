@@ -227,7 +227,7 @@ TEST(GaitEstimator, StepDoesNotAllocate) {
   est.run(w.vx.data(), w.vz.data(), w.vx.size(), out.data(), dt.data());    // walking again, irregular dt
   out[0] = est.step(w.vx[0], w.vz[0], 3.0);                                 // long gap
   est.run(w.vx.data(), w.vz.data(), w.vx.size(), out.data());
-  (void)est.predict_ahead(5.0);
+  (void)est.predict_ahead(0.2);
   EXPECT_EQ(g_allocations.load(), before);
   EXPECT_FALSE(out.back().acquiring);
 }
@@ -266,7 +266,7 @@ TEST(Estimator, PredictionAheadFollowsTheModel) {
   for (std::size_t i = 0; i + 5 < w.vx.size(); ++i) {
     est.step(w.vx[i], w.vz[i]);
     if (i < 500) continue;
-    const Velocity v = est.predict_ahead(5.0);
+    const Velocity v = est.predict_ahead(0.2);  // 5 samples of 0.04 s
     worst = std::max({worst, std::fabs(v.vx_mps - w.vx[i + 5]), std::fabs(v.vz_mps - w.vz[i + 5])});
   }
   EXPECT_LT(worst, 0.01);

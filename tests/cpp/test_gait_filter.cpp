@@ -322,7 +322,9 @@ TEST(GaitEstimator, BadConfigurationIsRejectedWithAMessage) {
       {[](EstimatorConfig& c) { c.gait_filter.meas_vz_std_mps = 0.0; }, "meas_vz_std_mps"},
       {[](EstimatorConfig& c) { c.gait_filter.gate_sigma = std::numeric_limits<double>::quiet_NaN(); }, "gate_sigma"},
       {[](EstimatorConfig& c) { c.gait_filter.walk_speed_off_mps = 0.5; }, "walk_speed_off_mps"},
-      {[](EstimatorConfig& c) { c.gait_filter.spectral_buffer_samples = 1000; }, "spectral_buffer_samples"},
+      {[](EstimatorConfig& c) { c.gait_filter.spectral_buffer_s = 1000.0; }, "spectral_buffer_s"},
+      {[](EstimatorConfig& c) { c.gait_filter.spectral_buffer_s = 20.0; }, "spectral_buffer_s"},  // 500 samples
+      {[](EstimatorConfig& c) { c.gait_filter.spectral_buffer_s = 0.01; }, "spectral_buffer_s"},  // < 1 sample
       {[](EstimatorConfig& c) { c.gait_filter.spectral_grid_step_hz = 0.0; }, "spectral_grid_step_hz"},
       {[](EstimatorConfig& c) { c.gait_filter.accel_tau_s = 0.0; }, "accel_tau_s"},
       {[](EstimatorConfig& c) { c.gait_filter.std_scale_max = 0.01; }, "std_scale_max"},
@@ -331,7 +333,7 @@ TEST(GaitEstimator, BadConfigurationIsRejectedWithAMessage) {
       {[](EstimatorConfig& c) { c.gait_filter.q_omega_rate_hi_rad2_per_s5 = 0.001; }, "q_omega_rate_hi_rad2_per_s5"},
       {[](EstimatorConfig& c) { c.gait_filter.p0_phasor_std_mps = 1e300; }, "p0_phasor_std_mps"},
       {[](EstimatorConfig& c) { c.gait_filter.speed_std_floor_mps = 1e300; }, "speed_std_floor_mps"},
-      {[](EstimatorConfig& c) { c.gait_filter.gate_max_consecutive = std::size_t{1} << 63; }, "gate_max_consecutive"},
+      {[](EstimatorConfig& c) { c.gait_filter.gate_max_consecutive_s = 1e19; }, "gate_max_consecutive_s"},
       {[](EstimatorConfig& c) { c.algorithm = static_cast<Algorithm>(7); }, "algorithm"},
   };
   for (const Case& k : cases) {
@@ -372,7 +374,7 @@ TEST(GaitEstimator, PredictionAheadFollowsTheWalk) {
   for (std::size_t i = 0; i + 5 < w.vx.size(); ++i) {
     est.step(w.vx[i], w.vz[i]);
     if (w.t[i] < 15.0) continue;
-    const Velocity v = est.predict_ahead(5.0);
+    const Velocity v = est.predict_ahead(0.2);  // 5 samples of 0.04 s
     worst = std::max({worst, std::fabs(v.vx_mps - w.vx[i + 5]), std::fabs(v.vz_mps - w.vz[i + 5])});
   }
   EXPECT_LT(worst, 0.02);
@@ -392,4 +394,15 @@ TEST(GaitEstimator, PaperEstimateInTheGaitForm) {
   EXPECT_NEAR(std::fabs(e.phase_x_rel_z_rad()), kPi / 2, 1e-12);
   EXPECT_EQ(e.phase_x_rel_z_rad() < 0, x[kOmega] >= 0);
   EXPECT_EQ(e.omega_rate_rad_s2(), 0.0);
+}
+
+// The gait filter's sample-counting settings are durations: 40 and 6 samples at the 25 Hz defaults, twice that at 50 Hz.
+TEST(GaitFilterConfig, DurationsInSamplesOfTheSampleTime) {
+  EstimatorConfig c;
+  EXPECT_EQ(c.samples_in(c.gait_filter.spectral_buffer_s), 40u);
+  EXPECT_EQ(c.samples_in(c.gait_filter.gate_max_consecutive_s), 6u);
+  c.sample_time_s = 0.02;
+  EXPECT_EQ(c.samples_in(c.gait_filter.spectral_buffer_s), 80u);
+  EXPECT_EQ(c.samples_in(c.gait_filter.gate_max_consecutive_s), 12u);
+  EXPECT_EQ(c.validate(), nullptr);
 }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "yoyogait/online.hpp"
@@ -316,4 +317,38 @@ TEST(OnlineEstimator, ExtremeTimestampsStayFinite) {
     const OnlineEstimate e = est.update(t, p);
     ASSERT_TRUE(all_finite(e)) << k;
   }
+}
+
+// predict(0) is the frame's vx_hat/vz_hat; predict is noexcept, allocates nothing; stds grow with the horizon.
+TEST(OnlineEstimator, PredictAtZeroIsTheReconstructionAndAllocatesNothing) {
+  static_assert(noexcept(std::declval<const OnlineEstimator&>().predict(0.2)), "predict must be noexcept");
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  EXPECT_FALSE(est.predict(0.2).valid);
+  int checked = 0;
+  for (int k = 0; k < 1500; ++k) {
+    const double t = k / 100.0;
+    walk.markers(t, p);
+    const OnlineEstimate e = est.update(t, p);
+    const long before = g_allocations.load();
+    const OnlinePrediction p0 = est.predict(0.0), p5 = est.predict(0.5), p10 = est.predict(1.0);
+    EXPECT_EQ(g_allocations.load(), before);
+    if (!p0.valid) continue;
+    EXPECT_EQ(p0.vx_mps, e.vx_hat_mps);
+    EXPECT_EQ(p0.vz_mps, e.vz_hat_mps);
+    EXPECT_DOUBLE_EQ(p5.t_s, t + 0.5);
+    if (e.walking && t > 5.0) {
+      EXPECT_LT(p0.vz_std_mps, p5.vz_std_mps);
+      EXPECT_LT(p5.vz_std_mps, p10.vz_std_mps);
+      EXPECT_LT(p5.vx_std_mps, p10.vx_std_mps);
+      EXPECT_GE(e.next_step_in_s, 0.0);
+      EXPECT_LT(e.next_step_in_s, 1.0 / e.step_frequency_hz + 0.02);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 500);
+  EXPECT_FALSE(est.predict(-0.1).valid);
+  EXPECT_FALSE(est.predict(std::numeric_limits<double>::quiet_NaN()).valid);
+  EXPECT_TRUE(std::isinf(est.predict(OnlineEstimator::kMaxHorizonS * 2.0).vx_std_mps));
 }

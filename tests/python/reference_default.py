@@ -89,7 +89,7 @@ class DefaultConfig:
         # --- spectral initialisation (start-up work only)
         self.spec_init = True
         self.spec_init_s = 1.0  # walking time of buffered data used
-        self.spec_buffer_n = 40  # ring-buffer capacity (samples)
+        self.spec_buffer_s = 1.6  # ring-buffer span (s): spec_buffer_n samples of nominal_dt_s
         self.spec_grid_step_hz = 0.025
         self.spec_p_f_std_hz = 0.08  # frequency std given to the seeded member
         self.spec_p_phasor_std_mps = 0.05
@@ -116,7 +116,7 @@ class DefaultConfig:
         self.r_vz_std_mps = 0.05
         # --- innovation gate
         self.gate_sigma = 5.0
-        self.max_consecutive_rejects = 6  # then the sample is accepted and P inflated
+        self.max_consecutive_rejects_s = 0.24  # then the sample is accepted and P inflated (in samples: below)
         self.max_gap_s = 1.5  # a longer gap between samples restarts the acquisition
         # --- walking / standing detector
         self.walk_tau_s = 0.3
@@ -142,6 +142,20 @@ class DefaultConfig:
             if not hasattr(self, k):
                 raise KeyError(k)
             setattr(self, k, v)
+
+    # Durations in samples of nominal_dt_s, rounded half away from zero (EstimatorConfig::samples_in).
+    @staticmethod
+    def _samples(duration_s, dt_s):
+        n = duration_s / dt_s
+        return int(math.floor(n + 0.5)) if n >= 0.5 else 0
+
+    @property
+    def spec_buffer_n(self):
+        return self._samples(self.spec_buffer_s, self.nominal_dt_s)
+
+    @property
+    def max_consecutive_rejects(self):
+        return self._samples(self.max_consecutive_rejects_s, self.nominal_dt_s)
 
 
 def _solve_spd(A, b):
@@ -863,7 +877,7 @@ _NATIVE_NAMES = {
     "p0_omega_rate_std_rad_s2": "p0_omega_rate_std_rad_s2",
     "spec_init": "spectral_init",
     "spec_init_s": "spectral_init_s",
-    "spec_buffer_n": "spectral_buffer_samples",
+    "spec_buffer_s": "spectral_buffer_s",
     "spec_grid_step_hz": "spectral_grid_step_hz",
     "spec_p_f_std_hz": "spectral_f_std_hz",
     "spec_p_phasor_std_mps": "spectral_phasor_std_mps",
@@ -886,7 +900,7 @@ _NATIVE_NAMES = {
     "r_vx_std_mps": "meas_vx_std_mps",
     "r_vz_std_mps": "meas_vz_std_mps",
     "gate_sigma": "gate_sigma",
-    "max_consecutive_rejects": "gate_max_consecutive",
+    "max_consecutive_rejects_s": "gate_max_consecutive_s",
     "max_gap_s": "max_gap_s",
     "walk_tau_s": "walk_tau_s",
     "walk_speed_on_mps": "walk_speed_on_mps",

@@ -35,10 +35,10 @@ def test_estimate_with_config_file(walk_dir, tmp_path, capsys, monkeypatch):
     assert main([*both, "--force"]) == 2
     assert "not both" in capsys.readouterr().err
     bad = tmp_path / "bad.toml"
-    bad.write_text("[gait_filter]\ngate_max_consecutive = 18446744073709551616\n")
+    bad.write_text("[gait_filter]\ngate_max_consecutive_s = 18446744073709551616\n")
     assert main(["estimate", str(walk_dir / "w.trc"), "--config", str(bad), "--out", "x.csv"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "bad.toml" in err[0] and "gait_filter.gate_max_consecutive" in err[0]
+    assert len(err) == 1 and "bad.toml" in err[0] and "gait_filter.gate_max_consecutive_s" in err[0]
     assert not (tmp_path / "x.csv").exists()
 
 

@@ -144,7 +144,7 @@ def test_dict_and_toml_round_trips(tmp_path):
     """to_dict/from_dict and save/from_file give back an equal configuration; a partial file keeps the defaults."""
     cfg = EstimatorConfig.paper()
     cfg.paper_estimator.q_bias_mps2 = 2e-3
-    cfg.gait_filter = dataclasses.replace(cfg.gait_filter, bank_f_hz=(1.0, 2.0), gate_max_consecutive=9)
+    cfg.gait_filter = dataclasses.replace(cfg.gait_filter, bank_f_hz=(1.0, 2.0), gate_max_consecutive_s=0.36)
     assert EstimatorConfig.from_dict(cfg.to_dict()) == cfg
     path = tmp_path / "cfg.toml"
     cfg.save(path)
@@ -166,7 +166,12 @@ def test_dict_and_toml_round_trips(tmp_path):
         ("gate_sigma = 3\n", r"gate_sigma \(did you mean gait_filter.gate_sigma\?\)"),
         ("[gait_filter]\ngate_sigmaa = 3\n", r"unknown estimator parameter\(s\) in \[gait_filter\]: gate_sigmaa"),
         ('[gait_filter]\ngate_sigma = "3"\n', "gait_filter.gate_sigma must be a number"),
-        ("[gait_filter]\ngate_max_consecutive = 18446744073709551615\n", "gait_filter.gate_max_consecutive"),
+        ("[gait_filter]\ngate_max_consecutive_s = 18446744073709551615\n", "gait_filter.gate_max_consecutive_s"),
+        (
+            "[paper_estimator]\nsmoothing_window_samples = 18446744073709551615\n",
+            "paper_estimator.smoothing_window_samples",
+        ),
+        ("[gait_filter]\nspectral_buffer_s = 20.0\n", "gait_filter.spectral_buffer_s must hold 1 to 256 samples"),
         ("[paper_estimator]\nv_vx_mps2 = 0.0\n", r"paper_estimator.v_vx_mps2 = 0.0 is outside its valid range"),
         ('algorithm = "kalman"\n', "algorithm must be one of"),
         ("sample_time_s = = 1\n", "not a valid TOML file"),

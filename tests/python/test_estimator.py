@@ -285,3 +285,35 @@ def test_prediction_ahead_is_aligned_to_the_sample_it_predicts():
     assert np.max(np.abs(pvz[late] - vz[late])) < 0.01
     with pytest.raises(ValueError):
         res.aligned_prediction(0.5)
+
+
+def test_prediction_is_aligned_by_real_time_on_irregular_samples():
+    """With irregular time_s the 0.2 s-ahead prediction is placed at the time it predicts, not 5 samples later."""
+    t_reg, vx, vz = yoyo_walk(30.0)
+    rng = np.random.default_rng(1)
+    t = np.cumsum(rng.uniform(0.02, 0.06, t_reg.size))  # 25 Hz on average, jittered
+    phase = 2 * np.pi * np.cumsum(np.r_[0.0, np.diff(t)]) * 1.8
+    vx, vz = 1.3 + 0.1 * np.cos(phase), 0.08 * np.sin(phase)
+    res = GaitEstimator().run(vx, vz, time_s=t, predict_ahead_s=(0.2,))
+    pvx, pvz = res.aligned_prediction(0.2)
+    late = t > 20
+    assert np.nanmax(np.abs(pvz[late] - vz[late])) < 0.02
+    # Sample-count alignment (5 samples of the nominal 0.04 s) puts it at the wrong time here.
+    shifted = np.full_like(vz, np.nan)
+    shifted[5:] = res.vz_pred[:-5, 0]
+    assert np.nanmax(np.abs(shifted[late] - vz[late])) > 0.05
+
+
+def test_sample_counting_settings_are_durations():
+    """spectral_buffer_s and gate_max_consecutive_s give 40 and 6 samples at 25 Hz and the same durations at 50 Hz."""
+    from reference_default import DefaultConfig
+
+    at25, at50 = DefaultConfig(), DefaultConfig(nominal_dt_s=0.02)
+    assert (at25.spec_buffer_n, at25.max_consecutive_rejects) == (40, 6)
+    assert (at50.spec_buffer_n, at50.max_consecutive_rejects) == (80, 12)
+    cfg = EstimatorConfig()
+    cfg.sample_time_s = 0.02
+    GaitEstimator(cfg)  # 80 samples fit the buffer
+    cfg.sample_time_s = 0.004  # 1.6 s would need 400 samples
+    with pytest.raises(ValueError, match="spectral_buffer_s"):
+        GaitEstimator(cfg)

@@ -117,3 +117,25 @@ def test_evaluate_online_through_the_cli_writes_the_named_columns(tmp_path, caps
     for key in REQUIRED_COLUMNS:
         assert key in rows[0] and all(math.isfinite(float(r[key])) for r in rows), key
     assert "online evaluation" in (out / "index.md").read_text()
+
+
+def test_online_200ms_prediction_is_scored_and_the_oscillators_is_not(short_walks):
+    """The pred200ms columns are finite for the online estimator and NaN for the oscillator (it has no prediction)."""
+    for r in short_walks.items:
+        online, osc = r.metrics["online"], r.metrics["oscillator"]
+        assert math.isfinite(online["pred200ms_vx_sq_err_mean_1e-2"]) and online["pred200ms_vz_sq_err_mean_1e-2"] > 0
+        assert math.isnan(osc["pred200ms_vx_sq_err_mean_1e-2"]) and math.isnan(osc["pred200ms_vz_sq_err_mean_1e-2"])
+
+
+def test_200ms_prediction_is_compared_with_the_velocity_0_2_s_later():
+    """A prediction equal to the reference 0.2 s later scores 0; the current reference instead does not."""
+    t = np.arange(0.0, 10.0, 0.01)
+    vx, vz = 1.0 + 0.2 * np.sin(2 * np.pi * 1.8 * t), 0.1 * np.cos(2 * np.pi * 1.8 * t)
+    ref = on._Refs(t, 100.0, vx, vz, np.ones_like(t, dtype=bool), np.full_like(t, 1.8), np.ones_like(t))
+    ahead = [np.interp(t + 0.2, t, v, right=np.nan) for v in (vx, vz)]
+    kw = dict(vx_hat=vx, vz_hat=vz, f_hat=np.full_like(t, 1.8), speed_hat=np.ones_like(t), phase=t % 1.0)
+    kw.update(contacts_s=np.empty(0), synthetic=False, step_at_s=None)
+    exact = on._score(ref, pred200=(*ahead, *ahead), **kw)
+    stale = on._score(ref, pred200=(*ahead, vx, vz), **kw)
+    assert exact["pred200ms_vx_sq_err_mean_1e-2"] == 0.0 and exact["pred200ms_vz_sq_err_mean_1e-2"] == 0.0
+    assert stale["pred200ms_vz_sq_err_mean_1e-2"] > 0.1

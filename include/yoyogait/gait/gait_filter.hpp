@@ -191,6 +191,78 @@ class GaitFilter {
     return p;
   }
 
+  /// The model's forecast h_s [s] after the last sample, rates included (docs/online.md sec. 5).
+  struct Forecast {
+    double vx_mps = 0.0;          ///< A0(h) + X1(h) (+ second harmonic); standing: A0(h)
+    double vz_mps = 0.0;          ///< Z1(h) (+ second harmonic); standing: 0
+    double vx_std_mps = 0.0;  ///< sqrt(lambda (tr(P_XX) / 2 + P_A0A0)) propagated to h (0 unless asked)
+    double vz_std_mps = 0.0;  ///< sqrt(lambda tr(P_ZZ) / 2) propagated to h (0 unless asked)
+    double phase_advance_rad = 0.0;  ///< the phasors' turn over h: the integral of w
+    double omega_rad_s = 0.0;     ///< w(h)
+    double omega_rate_rad_s2 = 0.0;  ///< dw(h)
+    double speed_mps = 0.0;       ///< A0(h)
+  };
+
+  /// The mean of the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
+  /// exp(-t / tau) (accel_tau_s, omega_rate_tau_s), so A0(h) = A0 + dA0 tau_a (1 - e^{-h/tau_a}),
+  /// w(h) = w + dw tau_b (1 - e^{-h/tau_b}) and the phasors turn by the integral of w(t). Second
+  /// harmonics at the turned phasors unless the bank is running. with_std: the covariance is
+  /// propagated by the filter's prediction (transition Jacobian and process noise, sec. 2.1-2.2)
+  /// in steps of at most sample_time_s, scaled by the std scale lambda. Copies only; no allocation.
+  Forecast forecast(double h_s, bool with_std) const noexcept {
+    using namespace gait;
+    const Ekf& f = active();
+    const GaitState& x = f.x;
+    const GaitFilterConfig& g = cfg_.gait_filter;
+    const double ea = -std::expm1(-h_s / g.accel_tau_s), eb = -std::expm1(-h_s / g.omega_rate_tau_s);
+    Forecast out;
+    out.speed_mps = x[kA0] + x[kDA0] * g.accel_tau_s * ea;
+    out.omega_rate_rad_s2 = x[kDW] * (1.0 - eb);
+    out.omega_rad_s = x[kW] + x[kDW] * g.omega_rate_tau_s * eb;
+    out.phase_advance_rad = x[kW] * h_s + x[kDW] * g.omega_rate_tau_s * (h_s - g.omega_rate_tau_s * eb);
+    const bool walking = detector_.walking();
+    if (walking) {
+      double s, c;
+      sincos(out.phase_advance_rad, s, c);
+      const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
+      const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
+      out.vx_mps = out.speed_mps + X1;
+      out.vz_mps = Z1;
+      if (model_.use_harmonic && !acquiring_) {
+        const gait::Harmonic* fh = active_harmonics();
+        double ux, vx2, uz, vz2;
+        harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
+        harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
+        out.vx_mps += fh[kVx].value(ux, vx2);
+        out.vz_mps += fh[kVz].value(uz, vz2);
+      }
+    } else {
+      out.vx_mps = out.speed_mps;
+    }
+    if (!with_std) return out;
+    Ekf e = f;
+    std::array<gait::Harmonic, 2> hc{active_harmonics()[kVx], active_harmonics()[kVz]};
+    if (h_s > 0.0) {
+      const double n = std::ceil(h_s / nominal_dt_ - 1e-9);
+      const double dt = h_s / (n > 1.0 ? n : 1.0);
+      DecayFactors::Values fc;
+      fc.dt = dt;
+      fc.accel_decay = std::exp(-dt / g.accel_tau_s);
+      fc.rate_decay = std::exp(-dt / g.omega_rate_tau_s);
+      fc.rate_lp_gain = g.omega_rate_lp_tau_s > 0.0 ? 1.0 - std::exp(-dt / g.omega_rate_lp_tau_s) : 1.0;
+      for (double k = 0.0; k < n; k += 1.0) model_.predict(e, hc.data(), dt, fc, walking);
+    }
+    const double lam = scale_.value();
+    const GaitMatrix& P = e.P;  // upper triangle
+    // Averaged over the step cycle: the variance of X1 alone swings between the phasor's radial
+    // (amplitude) and tangential (phase) variance as it turns; half the trace is their mean, and the
+    // X1-A0 covariance turns with it and averages out.
+    const double var_x = walking ? 0.5 * (P[kX1][kX1] + P[kX2][kX2]) + P[kA0][kA0] : P[kA0][kA0];
+    out.vx_std_mps = std::sqrt(detail::py_max(lam * var_x, 0.0));
+    out.vz_std_mps = walking ? std::sqrt(detail::py_max(lam * 0.5 * (P[kZ1][kZ1] + P[kZ2][kZ2]), 0.0)) : 0.0;
+    return out;
+  }
+
   const EstimatorConfig& config() const noexcept { return cfg_; }
   /// State of the active EKF (the best bank member while acquiring).
   const GaitState& state() const noexcept { return active().x; }
@@ -214,14 +286,14 @@ class GaitFilter {
         factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
                   g.bank_forget_s, g.radii_tau_s}),
         detector_({g.walk_tau_s, g.walk_speed_on_mps, g.walk_speed_off_mps, g.walk_vz_rms_on_mps, g.walk_vz_rms_off_mps}),
-        gate_(g.gate_sigma, g.gate_max_consecutive),
+        gate_(g.gate_sigma, config.samples_in(g.gate_max_consecutive_s)),
         scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
         radii_(g.initial_R_m, g.initial_r_m),
         watchdog_(kTwoPi * g.f_min_hz, kTwoPi * g.f_max_hz, g.bound_watchdog_s),
         nominal_dt_(config.sample_time_s),
         speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
         bank_(bank_settings(g)),
-        spectral_({g.spectral_init, g.spectral_init_s, g.spectral_buffer_samples, g.spectral_grid_step_hz, g.f_min_hz,
+        spectral_({g.spectral_init, g.spectral_init_s, config.samples_in(g.spectral_buffer_s), g.spectral_grid_step_hz, g.f_min_hz,
                    g.f_max_hz, model_.r_vx, model_.r_vz}) {
     reset();
   }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 #include "yoyogait/estimator.hpp"
@@ -52,6 +53,10 @@ struct OnlineEstimate {
   /// v_z ~ |Z| cos(2 pi gait_phase). 0: fastest rise of the pelvis; 0.25: highest; 0.5: fastest
   /// fall; 0.75: lowest (about the double support after heel strike). Held while standing.
   double gait_phase = 0.0;
+  /// Time from t_s to the next step [s]: the next time gait_phase reaches 0.75 (the pelvis low
+  /// point, about the double support after heel strike), at the present step frequency and its
+  /// rate. In [0, 1 / f); counts down and wraps once per step. NaN while not walking.
+  double next_step_in_s = 0.0;
   double input_latency_s = 0.0;  ///< delay of vx_mps, vz_mps behind the true velocity at latency_f_hz [s]
   double estimate_age_s = 0.0;   ///< time since the estimator's last sample [s]
   OnlineStatus status = OnlineStatus::kUsed;
@@ -59,6 +64,17 @@ struct OnlineEstimate {
   bool walking = false;                        ///< the estimator's walking/standing detector
   bool estimator_fed = false;                  ///< this frame completed an interval and fed the estimator
   std::uint8_t points_seen = 0;                ///< points used on this frame
+};
+
+/// Velocities predicted ahead of the last frame (OnlineEstimator::predict).
+struct OnlinePrediction {
+  double t_s = 0.0;         ///< the time predicted for: the last frame's time + horizon_s [s]
+  double horizon_s = 0.0;   ///< [s]
+  double vx_mps = 0.0;      ///< forward velocity (along the heading) at t_s, oscillation included
+  double vz_mps = 0.0;      ///< vertical velocity at t_s
+  double vx_std_mps = std::numeric_limits<double>::infinity();  ///< its standard deviation (model uncertainty)
+  double vz_std_mps = std::numeric_limits<double>::infinity();
+  bool valid = false;       ///< the estimator has been fed and 0 <= horizon_s <= kMaxHorizonS
 };
 
 /// The online gait estimator. update() is noexcept and allocates nothing; the constructor throws
@@ -102,6 +118,7 @@ class OnlineEstimator {
     fed_ = false;
     tick_span_s_ = 0.0;
     phase_ = 0.0;
+    carry_h_s_ = 0.0;
     latency_s_ = 0.0;
     latency_dt_s_ = -1.0;
     latency_t_s_ = 0.0;
@@ -243,6 +260,31 @@ class OnlineEstimator {
     return o;
   }
 
+  /// The longest horizon predict() accepts [s] (validated up to 1 s: docs/online.md sec. 5).
+  static constexpr double kMaxHorizonS = 2.0;
+
+  /// Forward and vertical velocity horizon_s [s] after the last frame's time, from the estimator's
+  /// forecast (rates of speed and cadence included) over the same horizon as vx_hat_mps plus
+  /// horizon_s; predict(0) is the last estimate's vx_hat_mps, vz_hat_mps. Standard deviations: the
+  /// estimator's covariance propagated over that horizon (GaitFilter::forecast). Before the estimator
+  /// has been fed, or for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
+  OnlinePrediction predict(double horizon_s) const noexcept {
+    OnlinePrediction p;
+    p.horizon_s = horizon_s;
+    p.t_s = out_.t_s + horizon_s;
+    if (!(fed_ && horizon_s >= 0.0 && horizon_s <= kMaxHorizonS)) {
+      p.vx_mps = p.vz_mps = 0.0;
+      return p;
+    }
+    const GaitFilter::Forecast f = estimator_.forecast(carry_h_s_ + horizon_s, true);
+    p.vx_mps = f.vx_mps;
+    p.vz_mps = f.vz_mps;
+    p.vx_std_mps = f.vx_std_mps;
+    p.vz_std_mps = f.vz_std_mps;
+    p.valid = true;
+    return p;
+  }
+
   const OnlineConfig& config() const noexcept { return config_; }
   /// The estimator's last estimate (at its last sample, estimate_age_s ago).
   const Estimate& estimate() const noexcept { return est_; }
@@ -286,22 +328,36 @@ class OnlineEstimator {
     if (!fed_) {
       o.vx_hat_mps = o.vz_hat_mps = 0.0;
       o.estimate_age_s = 0.0;
+      o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
+      carry_h_s_ = 0.0;
       return;
     }
     o.estimate_age_s = t_s - t_tick_s_;
     const double h_s = o.estimate_age_s + 0.5 * tick_span_s_ + aa_delay_s_ + latency_s_;
-    const Velocity p = estimator_.predict_ahead(h_s / config_.estimator.sample_time_s);
-    o.vx_hat_mps = p.vx_mps;
-    o.vz_hat_mps = p.vz_mps;
+    carry_h_s_ = h_s;
+    const GaitFilter::Forecast f = estimator_.forecast(h_s, false);
+    o.vx_hat_mps = f.vx_mps;
+    o.vz_hat_mps = f.vz_mps;
     const GaitState& x = e.gait_state;
     const double z1 = x[gait::kZ1], z2 = x[gait::kZ2];
-    if (e.walking && z1 * z1 + z2 * z2 > 1e-12) {
-      constexpr double two_pi = 6.283185307179586476925286766559;
-      const double th = std::atan2(z2, z1) + x[gait::kW] * h_s + 0.5 * x[gait::kDW] * h_s * h_s;
+    constexpr double two_pi = 6.283185307179586476925286766559;
+    const bool phased = e.walking && z1 * z1 + z2 * z2 > 1e-12;
+    if (phased) {
+      const double th = std::atan2(z2, z1) + f.phase_advance_rad;
       double ph = th / two_pi;
       ph -= std::floor(ph);
       if (ph >= 1.0) ph = 0.0;
       phase_ = ph;
+    }
+    if (phased && f.omega_rad_s > 0.0) {
+      // The turn to the next phase 0.75, at the present w and its rate: w t + dw t^2 / 2 = turn.
+      double left = 0.75 - phase_;
+      left -= std::floor(left);
+      if (left >= 1.0) left = 0.0;
+      const double turn = two_pi * left, w = f.omega_rad_s, disc = w * w + 2.0 * f.omega_rate_rad_s2 * turn;
+      o.next_step_in_s = disc > 0.0 ? 2.0 * turn / (w + std::sqrt(disc)) : turn / w;
+    } else {
+      o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
     }
     o.gait_phase = phase_;
   }
@@ -327,6 +383,7 @@ class OnlineEstimator {
   double turn_rate_rad_s_ = 0.0;
   double alpha_dt_s_ = -1.0, alpha_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, tick_span_s_ = 0.0;
+  double carry_h_s_ = 0.0;  ///< the horizon of the last carry_estimate: last frame's time - the state's time
   double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;
 };
 

@@ -104,7 +104,7 @@ class GaitEstimator:
                 with np.errstate(invalid="ignore"):  # inf - inf: a NaN step, flagged by the filter
                     dt[1:] = time_s[1:] - time_s[:-1]
                 dt[0] = (time_s[0] - self._last_time_s) if self._last_time_s is not None else self.config.sample_time_s
-        horizons = np.asarray(horizons_s, dtype=np.float64) / self.config.sample_time_s
+        horizons = np.asarray(horizons_s, dtype=np.float64)
         out = self._impl.run(vx, vz, horizons, dt, bool(diagnostics), bool(covariance))
         if "covariance" in out:
             k = 4 if paper else 8
@@ -137,7 +137,7 @@ class GaitEstimator:
 
     def predict(self, horizon_s: float) -> tuple[float, float]:
         """(vx, vz) predicted ``horizon_s`` after the last sample."""
-        vx, vz = self._impl.predict_ahead(horizon_s / self.config.sample_time_s)
+        vx, vz = self._impl.predict_ahead(float(horizon_s))
         return vx, vz
 
     @property

@@ -115,11 +115,21 @@ class OnlineResult:
     gait_phase: np.ndarray
     input_latency_s: np.ndarray
     estimate_age_s: np.ndarray
+    next_step_in_s: np.ndarray
+    """Time to the next step (gait_phase 0.75, the pelvis low point) [s]; NaN while not walking."""
     status: np.ndarray
     estimator_status: np.ndarray
     walking: np.ndarray
     estimator_fed: np.ndarray
     points_seen: np.ndarray
+    predict_ahead_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    """The horizons of the predictions (m) [s]."""
+    pred_vx_mps: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    """n x m: v_x predicted at each frame for time_s + predict_ahead_s[j] (``OnlineEstimator.predict``)."""
+    pred_vz_mps: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    pred_vx_std_mps: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    """n x m: their standard deviations (inf before the estimator is fed)."""
+    pred_vz_std_mps: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     def __len__(self) -> int:
         return len(self.time_s)
@@ -187,12 +197,34 @@ class OnlineEstimator:
         finally:
             self._lock.release()
 
-    def run(self, recording: Recording | np.ndarray, positions=None) -> OnlineResult:
+    @property
+    def max_horizon_s(self) -> float:
+        """The longest horizon ``predict`` accepts [s]."""
+        return float(_core.OnlineEstimator.max_horizon_s)
+
+    def predict(self, horizon_s: float):
+        """Forward and vertical velocity ``horizon_s`` [s] after the last frame, with standard
+        deviations (rates of speed and cadence included; docs/online.md sec. 5): a native
+        OnlinePrediction (t_s, vx_mps, vz_mps, vx_std_mps, vz_std_mps, valid). ``predict(0)`` is the
+        last estimate's vx_hat_mps, vz_hat_mps."""
+        h = _horizons([horizon_s])[0]
+        self._enter("predict")
+        try:
+            return self._impl.predict(float(h))
+        finally:
+            self._lock.release()
+
+    def run(
+        self, recording: Recording | np.ndarray, positions=None, *, predict_ahead_s: Sequence[float] = (0.2,)
+    ) -> OnlineResult:
         """Every frame through ``update``, in C++, continuing from the current state.
 
         ``run(recording)``: the recording's frames (its points by name, metres converted to the
         length unit). ``run(time_s, positions)``: arrays (n) and (n x k x 3) in the length unit.
+        ``predict_ahead_s``: after each frame, ``predict(h)`` for each h; the result's ``pred_*``
+        arrays (frames x horizons).
         """
+        horizons = _horizons(predict_ahead_s)
         if isinstance(recording, Recording):
             if positions is not None:
                 raise InputError("run(recording) takes no positions")
@@ -214,10 +246,13 @@ class OnlineEstimator:
         p = np.ascontiguousarray(p)
         self._enter("run")
         try:
-            out = self._impl.run(t, p)
+            out = self._impl.run(t, p, horizons)
         finally:
             self._lock.release()
-        return OnlineResult(**out)
+        m = len(horizons)
+        for key in ("pred_vx_mps", "pred_vz_mps", "pred_vx_std_mps", "pred_vz_std_mps"):
+            out[key] = out[key].reshape(len(t), m)
+        return OnlineResult(**out, predict_ahead_s=horizons)
 
     def reset(self) -> None:
         """Back to the state before the first frame."""
@@ -231,3 +266,15 @@ class OnlineEstimator:
     def estimate(self):
         """The gait estimator's last native Estimate (at its last sample)."""
         return self._impl.estimate
+
+
+def _horizons(values) -> np.ndarray:
+    """Prediction horizons as a float array; InputError unless each is in [0, max_horizon_s]."""
+    try:
+        h = np.ascontiguousarray(np.atleast_1d(np.asarray(values, dtype=np.float64)))
+    except (TypeError, ValueError):
+        raise InputError(f"prediction horizons must be numbers in seconds, got {values!r}") from None
+    top = float(_core.OnlineEstimator.max_horizon_s)
+    if h.ndim != 1 or not np.all((h >= 0.0) & (h <= top)):
+        raise InputError(f"prediction horizons must be in [0, {top:g}] s, got {values!r}")
+    return h

@@ -221,21 +221,33 @@ class EstimateResult:
     def aligned_prediction(self, horizon_s: float) -> tuple[np.ndarray, np.ndarray]:
         """(vx, vz) predicted ``horizon_s`` before each sample, aligned to the sample they predict.
 
-        NaN where no prediction reaches (the first samples).
+        Aligned by real time: the prediction made at sample i is for ``time_s[i] + horizon_s``; at
+        sample k it is the prediction whose time is ``time_s[k]`` (to 1e-9 s), else the linear
+        interpolation between the two predictions whose times bracket it (irregular sampling,
+        gaps). Without ``time_s`` (or with times that do not increase) the samples are taken
+        ``sample_time_s`` apart. NaN where no prediction reaches (the first samples).
         """
         for j, h in enumerate(self.predict_ahead_s):  # noqa: B007 (j is used after the loop)
             if math.isclose(h, horizon_s, rel_tol=1e-9, abs_tol=1e-12):
                 break
         else:
             raise InputError(f"no prediction {horizon_s} s ahead was computed; have {self.predict_ahead_s}")
-        shift = int(round(horizon_s / self.sample_time_s))
         assert self.vx_pred is not None and self.vz_pred is not None  # set with predict_ahead_s
-        out_vx = np.full(len(self), np.nan)
-        out_vz = np.full(len(self), np.nan)
-        if shift < len(self):
-            out_vx[shift:] = self.vx_pred[: len(self) - shift, j]
-            out_vz[shift:] = self.vz_pred[: len(self) - shift, j]
-        return out_vx, out_vz
+        n = len(self)
+        t = None if self.time_s is None else np.asarray(self.time_s, dtype=float)
+        if t is None or t.size != n or not np.all(np.diff(t) > 0):
+            t = np.arange(n) * self.sample_time_s
+        target = t + float(h)
+        out = []
+        for pred in (self.vx_pred[:, j], self.vz_pred[:, j]):
+            aligned = np.interp(t, target, pred, left=np.nan, right=np.nan) if n else np.empty(0)
+            # A prediction made for a sample's own time is taken as it is (no interpolation weights).
+            for i in (np.searchsorted(target, t) - 1, np.searchsorted(target, t)):
+                i = np.clip(i, 0, max(n - 1, 0))
+                exact = np.abs(target[i] - t) <= 1e-9 if n else np.zeros(0, dtype=bool)
+                aligned[exact] = pred[i[exact]]
+            out.append(aligned)
+        return out[0], out[1]
 
 
 def result_from_fit(omega_rad_s, a0, cos_part, sin_part, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, time_s):
