@@ -16,6 +16,7 @@ import multiprocessing
 import os
 import signal
 import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
@@ -79,13 +80,21 @@ def _end_workers(pool: cf.ProcessPoolExecutor) -> None:
     if terminate is not None:
         terminate()
         return
-    processes = list((getattr(pool, "_processes", None) or {}).values())
+    # The pool's own dict of workers, not a copy: its manager thread replaces a worker that dies
+    # (CPython's _adjust_process_count) and adds the replacement there, until it notices the end.
+    processes = getattr(pool, "_processes", None) or {}
+    manager = getattr(pool, "_executor_manager_thread", None)
     pool.shutdown(wait=False, cancel_futures=True)
-    for p in processes:
-        if p.is_alive():
+    deadline = time.monotonic() + 5.0
+    while time.monotonic() < deadline:
+        alive = [p for p in list(processes.values()) if p.is_alive()]
+        for p in alive:
             p.terminate()
-    for p in processes:
-        p.join(timeout=5)
+        for p in alive:
+            p.join(timeout=1.0)
+        if not alive and (manager is None or not manager.is_alive()):
+            break
+        time.sleep(0.01)
 
 
 def _failure(exc: BaseException) -> TaskFailure:
