@@ -91,9 +91,11 @@ inline bool predict_scalar(const State& x, const SymMatrix4& P, const std::array
   sincos(x.omega_rad_per_sample(), sn, c);
   const double x1 = x.a1_cos(), x2 = x.a1_sin();
   // E = L P, and B = L P L^T (symmetric 2x2).
-  const double e00 = P(0, 0) - x2 * P(2, 0), e01 = P(0, 1) - x2 * P(2, 1), e02 = P(0, 2) - x2 * P(2, 2),
-               e03 = P(0, 3) - x2 * P(2, 3);
-  const double e11 = P(1, 1) + x1 * P(2, 1), e12 = P(1, 2) + x1 * P(2, 2), e13 = P(1, 3) + x1 * P(2, 3);
+  const double e00 = P(kCos, kCos) - x2 * P(kOmega, kCos), e01 = P(kCos, kSin) - x2 * P(kOmega, kSin),
+               e02 = P(kCos, kOmega) - x2 * P(kOmega, kOmega),
+               e03 = P(kCos, kBias) - x2 * P(kOmega, kBias);
+  const double e11 = P(kSin, kSin) + x1 * P(kOmega, kSin), e12 = P(kSin, kOmega) + x1 * P(kOmega, kOmega),
+               e13 = P(kSin, kBias) + x1 * P(kOmega, kBias);
   const double b00 = e00 - x2 * e02, b01 = e01 + x1 * e02, b11 = e11 + x1 * e12;
 
   x_pred.a1_cos() = x1 * c - x2 * sn;
@@ -104,18 +106,18 @@ inline bool predict_scalar(const State& x, const SymMatrix4& P, const std::array
   // G B G^T + Q(01): q enters first, the late products last.
   const double p00 = (q[kCos] + cc * b00) + (ss * b11 - (cs + cs) * b01);
   const double p11 = (q[kSin] + ss * b00) + (cc * b11 + (cs + cs) * b01);
-  P_pred(0, 0) = p00;
-  P_pred(0, 1) = cs * (b00 - b11) + (cc - ss) * b01;
-  P_pred(1, 1) = p11;
+  P_pred(kCos, kCos) = p00;
+  P_pred(kCos, kSin) = cs * (b00 - b11) + (cc - ss) * b01;
+  P_pred(kSin, kSin) = p11;
   // G E(:, 23).
-  P_pred(0, 2) = c * e02 - sn * e12;
-  P_pred(1, 2) = sn * e02 + c * e12;
-  P_pred(0, 3) = c * e03 - sn * e13;
-  P_pred(1, 3) = sn * e03 + c * e13;
-  const double p22 = P(2, 2) + q[kOmega], p33 = P(3, 3) + q[kBias];
-  P_pred(2, 2) = p22;
-  P_pred(2, 3) = P(2, 3);
-  P_pred(3, 3) = p33;
+  P_pred(kCos, kOmega) = c * e02 - sn * e12;
+  P_pred(kSin, kOmega) = sn * e02 + c * e12;
+  P_pred(kCos, kBias) = c * e03 - sn * e13;
+  P_pred(kSin, kBias) = sn * e03 + c * e13;
+  const double p22 = P(kOmega, kOmega) + q[kOmega], p33 = P(kBias, kBias) + q[kBias];
+  P_pred(kOmega, kOmega) = p22;
+  P_pred(kOmega, kBias) = P(kOmega, kBias);
+  P_pred(kBias, kBias) = p33;
   return (p00 <= max_variance[kCos]) & (p11 <= max_variance[kSin]) & (p22 <= max_variance[kOmega]) &
          (p33 <= max_variance[kBias]);
 }
@@ -150,10 +152,11 @@ inline void predict_scalar(const State& x, const SymMatrix4& P, const std::array
 inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2,
                           double v_vz_mps2, double cert_scale, State& x_post, SymMatrix4& P_post,
                           bool& certified) noexcept {
-  const double u0 = P(0, 0) + P(0, 3), u1 = P(1, 0) + P(1, 3), u2 = P(2, 0) + P(2, 3), u3 = P(3, 0) + P(3, 3);
-  const double v0 = P(0, 1), v1 = P(1, 1), v2 = P(2, 1), v3 = P(3, 1);
+  const double u0 = P(kCos, kCos) + P(kCos, kBias), u1 = P(kSin, kCos) + P(kSin, kBias),
+               u2 = P(kOmega, kCos) + P(kOmega, kBias), u3 = P(kBias, kCos) + P(kBias, kBias);
+  const double v0 = P(kCos, kSin), v1 = P(kSin, kSin), v2 = P(kOmega, kSin), v3 = P(kBias, kSin);
   // S = [[u0 + u3 + V11, -u1], [-u1, v1 + V22]]; adj S = [[s11, u1], [u1, s00]].
-  const double s00 = P(0, 0) + ((P(0, 3) + u3) + v_vx_mps2);
+  const double s00 = P(kCos, kCos) + ((P(kCos, kBias) + u3) + v_vx_mps2);
   const double s11 = v1 + v_vz_mps2;
   const double det = s00 * s11 - u1 * u1;
   const double inv_det = 1.0 / det;
@@ -169,22 +172,22 @@ inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement
   x_post[2] = x[2] + (a2 * y0 + b2 * y1) * inv_det;
   x_post[3] = x[3] + (a3 * y0 + b3 * y1) * inv_det;
   // A U^T = a u^T - b v^T.
-  P_post(0, 0) = P(0, 0) - (a0 * u0 - b0 * v0) * inv_det;
-  P_post(0, 1) = P(0, 1) - (a0 * u1 - b0 * v1) * inv_det;
-  P_post(0, 2) = P(0, 2) - (a0 * u2 - b0 * v2) * inv_det;
-  P_post(0, 3) = P(0, 3) - (a0 * u3 - b0 * v3) * inv_det;
-  P_post(1, 1) = P(1, 1) - (a1 * u1 - b1 * v1) * inv_det;
-  P_post(1, 2) = P(1, 2) - (a1 * u2 - b1 * v2) * inv_det;
-  P_post(1, 3) = P(1, 3) - (a1 * u3 - b1 * v3) * inv_det;
-  P_post(2, 2) = P(2, 2) - (a2 * u2 - b2 * v2) * inv_det;
-  P_post(2, 3) = P(2, 3) - (a2 * u3 - b2 * v3) * inv_det;
-  P_post(3, 3) = P(3, 3) - (a3 * u3 - b3 * v3) * inv_det;
+  P_post(kCos, kCos) = P(kCos, kCos) - (a0 * u0 - b0 * v0) * inv_det;
+  P_post(kCos, kSin) = P(kCos, kSin) - (a0 * u1 - b0 * v1) * inv_det;
+  P_post(kCos, kOmega) = P(kCos, kOmega) - (a0 * u2 - b0 * v2) * inv_det;
+  P_post(kCos, kBias) = P(kCos, kBias) - (a0 * u3 - b0 * v3) * inv_det;
+  P_post(kSin, kSin) = P(kSin, kSin) - (a1 * u1 - b1 * v1) * inv_det;
+  P_post(kSin, kOmega) = P(kSin, kOmega) - (a1 * u2 - b1 * v2) * inv_det;
+  P_post(kSin, kBias) = P(kSin, kBias) - (a1 * u3 - b1 * v3) * inv_det;
+  P_post(kOmega, kOmega) = P(kOmega, kOmega) - (a2 * u2 - b2 * v2) * inv_det;
+  P_post(kOmega, kBias) = P(kOmega, kBias) - (a2 * u3 - b2 * v3) * inv_det;
+  P_post(kBias, kBias) = P(kBias, kBias) - (a3 * u3 - b3 * v3) * inv_det;
   // |P_ij| <= sqrt(P_ii P_jj), so a finite state and diagonal mean everything is finite.
   // (Summed in the order of update_sse2.)
-  const double check = ((x_post[0] + x_post[2]) + (P_post(0, 0) + P_post(2, 2))) +
-                       ((x_post[1] + x_post[3]) + (P_post(1, 1) + P_post(3, 3)));
+  const double check = ((x_post[0] + x_post[2]) + (P_post(kCos, kCos) + P_post(kOmega, kOmega))) +
+                       ((x_post[1] + x_post[3]) + (P_post(kSin, kSin) + P_post(kBias, kBias)));
   // The certificate (in the order of update_sse2).
-  const double trace = (P(0, 0) + P(2, 2)) + (P(1, 1) + P(3, 3));
+  const double trace = (P(kCos, kCos) + P(kOmega, kOmega)) + (P(kSin, kSin) + P(kBias, kBias));
   const double amp2 = x[0] * x[0] + x[1] * x[1];
   certified = ((cert_scale * trace) * (1.0 + amp2)) * (s00 * s11) <= det;
   return std::isfinite(check);
@@ -203,22 +206,22 @@ inline bool update_scalar(const State& x, const SymMatrix4& P, const Measurement
 /// C - B^T A^-1 B > 0. Scaled by det A > 0 the complement is M = det(A) C - B^T adj(A) B, which
 /// needs no division: P > 0 iff P(0,0) > 0, det A > 0, M(0,0) > 0 and det M > 0. A NaN fails.
 inline bool positive_definite_scalar(const SymMatrix4& P) noexcept {
-  const double a00 = P(0, 0), a01 = P(0, 1), a11 = P(1, 1);
+  const double a00 = P(kCos, kCos), a01 = P(kCos, kSin), a11 = P(kSin, kSin);
   const double det_a = a00 * a11 - a01 * a01;
   // N = adj(A) B, column by column (adj A = [[a11, -a01], [-a01, a00]]).
-  const double n00 = a11 * P(0, 2) - a01 * P(1, 2), n10 = a00 * P(1, 2) - a01 * P(0, 2);
-  const double n01 = a11 * P(0, 3) - a01 * P(1, 3), n11 = a00 * P(1, 3) - a01 * P(0, 3);
-  const double m00 = det_a * P(2, 2) - (P(0, 2) * n00 + P(1, 2) * n10);
-  const double m11 = det_a * P(3, 3) - (P(0, 3) * n01 + P(1, 3) * n11);
-  const double m01 = det_a * P(2, 3) - (P(0, 2) * n01 + P(1, 2) * n11);
+  const double n00 = a11 * P(kCos, kOmega) - a01 * P(kSin, kOmega), n10 = a00 * P(kSin, kOmega) - a01 * P(kCos, kOmega);
+  const double n01 = a11 * P(kCos, kBias) - a01 * P(kSin, kBias), n11 = a00 * P(kSin, kBias) - a01 * P(kCos, kBias);
+  const double m00 = det_a * P(kOmega, kOmega) - (P(kCos, kOmega) * n00 + P(kSin, kOmega) * n10);
+  const double m11 = det_a * P(kBias, kBias) - (P(kCos, kBias) * n01 + P(kSin, kBias) * n11);
+  const double m01 = det_a * P(kOmega, kBias) - (P(kCos, kOmega) * n01 + P(kSin, kOmega) * n11);
   const double det_m = m00 * m11 - m01 * m01;
   return a00 > 0.0 && det_a > 0.0 && m00 > 0.0 && det_m > 0.0 && det_m <= std::numeric_limits<double>::max();
 }
 
 /// True when no variance of P exceeds its bound (and none is NaN).
 inline bool within_variance_bounds(const SymMatrix4& P, const std::array<double, kStateDim>& max_variance) noexcept {
-  return P(0, 0) <= max_variance[0] && P(1, 1) <= max_variance[1] && P(2, 2) <= max_variance[2] &&
-         P(3, 3) <= max_variance[3];
+  return P(kCos, kCos) <= max_variance[0] && P(kSin, kSin) <= max_variance[1] && P(kOmega, kOmega) <= max_variance[2] &&
+         P(kBias, kBias) <= max_variance[3];
 }
 
 #ifdef YOYOGAIT_HAVE_SSE2
