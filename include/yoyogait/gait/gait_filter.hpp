@@ -173,22 +173,8 @@ class GaitFilter {
   Prediction predict(double h_s, bool harmonics = true) const noexcept {
     using namespace gait;
     const GaitState& x = active().x;
-    const double A0 = x[kA0];
-    if (!detector_.walking()) return Prediction{A0, 0.0};
-    double s, c;
-    sincos(x[kW] * h_s + 0.5 * x[kDW] * h_s * h_s, s, c);
-    const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
-    const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
-    Prediction p{A0 + X1, Z1};
-    if (harmonics && model_.use_harmonic && !acquiring_) {
-      const gait::Harmonic* fh = active_harmonics();
-      double ux, vx2, uz, vz2;
-      harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
-      harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
-      p.vx_mps += fh[kVx].value(ux, vx2);
-      p.vz_mps += fh[kVz].value(uz, vz2);
-    }
-    return p;
+    if (!detector_.walking()) return Prediction{x[kA0], 0.0};
+    return turned(x[kW] * h_s + 0.5 * x[kDW] * h_s * h_s, x[kA0], harmonics);
   }
 
   /// The model's forecast h_s [s] after the last sample, rates included (docs/online.md sec. 5).
@@ -222,20 +208,9 @@ class GaitFilter {
     out.phase_advance_rad = x[kW] * h_s + x[kDW] * g.omega_rate_tau_s * (h_s - g.omega_rate_tau_s * eb);
     const bool walking = detector_.walking();
     if (walking) {
-      double s, c;
-      sincos(out.phase_advance_rad, s, c);
-      const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
-      const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
-      out.vx_mps = out.speed_mps + X1;
-      out.vz_mps = Z1;
-      if (model_.use_harmonic && !acquiring_) {
-        const gait::Harmonic* fh = active_harmonics();
-        double ux, vx2, uz, vz2;
-        harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
-        harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
-        out.vx_mps += fh[kVx].value(ux, vx2);
-        out.vz_mps += fh[kVz].value(uz, vz2);
-      }
+      const Prediction p = turned(out.phase_advance_rad, out.speed_mps, true);
+      out.vx_mps = p.vx_mps;
+      out.vz_mps = p.vz_mps;
     } else {
       out.vx_mps = out.speed_mps;
     }
@@ -349,6 +324,27 @@ class GaitFilter {
     s.seed_f_var = sw * sw;
     s.seed_phasor_var = c.spectral_phasor_std_mps * c.spectral_phasor_std_mps;
     return s;
+  }
+
+  // (A0 + X1, Z1) with the phasors turned by angle_rad, plus the second harmonics where they apply
+  // (harmonics asked, enabled, and the bank not running): what predict and forecast share.
+  Prediction turned(double angle_rad, double A0, bool harmonics) const noexcept {
+    using namespace gait;
+    const GaitState& x = active().x;
+    double s, c;
+    sincos(angle_rad, s, c);
+    const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
+    const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
+    Prediction p{A0 + X1, Z1};
+    if (harmonics && model_.use_harmonic && !acquiring_) {
+      const gait::Harmonic* fh = active_harmonics();
+      double ux, vx2, uz, vz2;
+      harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
+      harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
+      p.vx_mps += fh[kVx].value(ux, vx2);
+      p.vz_mps += fh[kVz].value(uz, vz2);
+    }
+    return p;
   }
 
   const Ekf& active() const noexcept { return acquiring_ ? bank_.best() : main_; }
