@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import functools
 import math
 
 import numpy as np
@@ -12,32 +11,18 @@ import pytest
 from test_evaluation import write_trc
 from yoyogait import synthetic as sy
 from yoyogait.cli import main
-from yoyogait.evaluation import Item, evaluate_online
+from yoyogait.evaluation import evaluate_online
 from yoyogait.evaluation import online as on
-from yoyogait.evaluation.datasets import _recording_of
+from yoyogait.evaluation.datasets import synthetic_item
 
 REQUIRED_COLUMNS = ("latency_vz_ms", "f_err_first3s_median_hz", "f_err_median_hz", "phase_at_contact_circstd_pct")
-
-
-def _item(walk) -> Item:
-    return Item(
-        name=walk.name,
-        subject=walk.subject.name,
-        walk=walk.walk_type,
-        load=functools.partial(_recording_of, walk),
-        truth=walk.truth,
-        pelvis=list(sy.PELVIS_MARKERS),
-        feet=list(sy.HEEL_MARKERS),
-        up_axis="z",
-        synthetic=True,
-    )
 
 
 @pytest.fixture(scope="module")
 def short_walks():
     straight = sy.make_walk(sy.SUBJECTS[1], "1-straight", duration_s=9.0, rate_hz=100.0, seed=3)
     step = sy.make_step_walk(sy.SUBJECTS[0], duration_s=11.0, step_at_s=6.0, rate_hz=120.0, seed=3)
-    return evaluate_online([_item(straight), _item(step)], dataset="short", synthetic=True)
+    return evaluate_online([synthetic_item(straight), synthetic_item(step)], dataset="short", synthetic=True)
 
 
 def test_lag_recovers_a_known_shift():
