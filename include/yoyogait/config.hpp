@@ -143,6 +143,16 @@ struct FrequencyList {
     "... and the RMS of v_z is below it (<= walk_vz_rms_on_mps)")                                                  \
   X(double, bound_watchdog_s, 1.0, "s", "[", 0.0, 600.0, "]",                                                      \
     "w pinned within 5 % of a bound this long while walking restarts the acquisition")                             \
+  X(bool, cadence_change_adapt, true, "", "[", 0, 1, "]",                                                          \
+    "a sustained trend of the updates' phase corrections opens the frequency variance (cadence changes)")          \
+  X(double, cadence_change_tau_s, 0.15, "s", "[", 0.01, 60.0, "]", "low-pass of the phase corrections' rate")       \
+  X(double, cadence_change_threshold_hz, 0.1, "Hz", "[", 0.0, 10.0, "]",                                           \
+    "beyond this rate (and beyond cadence_change_sigma RMS) P_ww is raised to the excess squared")                 \
+  X(double, cadence_change_sigma, 5.0, "sigma", "[", 0.0, 1e3, "]",                                                \
+    "... the rate must exceed this many times its own RMS (the walker's phase noise)")                             \
+  X(double, cadence_change_noise_tau_s, 2.0, "s", "[", 0.01, 3600.0, "]", "low-pass of the rate's mean square")    \
+  X(double, cadence_change_min_amp_mps, 0.1, "m/s", "[", 0.0, 100.0, "]",                                         \
+    "phase corrections count only while sqrt(|X|^2 + |Z|^2) exceeds this (not while the oscillation fades)")       \
   X(bool, std_scale_adapt, true, "", "[", 0, 1, "]",                                                               \
     "scale the reported standard deviations by the low-passed normalised innovation squared")                      \
   X(double, std_scale_tau_s, 10.0, "s", "[", 0.01, 1e4, "]", "low-pass of that scale")                             \

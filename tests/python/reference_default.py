@@ -126,6 +126,14 @@ class DefaultConfig:
         self.walk_vz_rms_off_mps = 0.025
         # --- watchdog
         self.bound_watchdog_s = 1.0  # w pinned near a bound this long while walking -> re-acquire
+        # --- cadence changes: the rate of the updates' phase corrections, low-passed; beyond
+        # max(threshold, sigma x its RMS) P_ww is raised to the excess squared (with its phase covariance)
+        self.cadence_adapt = True
+        self.cadence_tau_s = 0.15
+        self.cadence_threshold_hz = 0.1
+        self.cadence_sigma = 5.0
+        self.cadence_noise_tau_s = 2.0  # the RMS: of the rates within the limit, over this time
+        self.cadence_min_amp_mps = 0.1  # a turn counts only while sqrt(|X|^2 + |Z|^2) exceeds this
         # --- reported uncertainty: sqrt(lambda P), lambda = low-passed NIS, clipped
         self.std_scale_adapt = True
         self.std_scale_tau_s = 10.0
@@ -459,6 +467,9 @@ class DefaultEstimator:
         self.last_w = TWO_PI * 1.8
         self.n_rejects = 0
         self.t_at_bound = 0.0
+        self.turn_rate_x = self.turn_rate_z = 0.0  # low-passed rates of the updates' turns of X, Z (rad/s)
+        self.phase_trend = 0.0  # their common part
+        self.phase_noise2 = 0.0  # its mean square while within the limit (from the floor at each acquisition)
         self.lam = 1.0
         self.t_now = 0.0
         self.updated = False  # the last step ran the updates (diagnostics)
@@ -511,6 +522,53 @@ class DefaultEstimator:
         self.buf_head = 0
         self.spec_done = False
         self.t_at_bound = 0.0
+        self.turn_rate_x = self.turn_rate_z = self.phase_trend = 0.0
+        self.phase_noise2 = (TWO_PI * c.cadence_threshold_hz) ** 2
+
+    def _cadence_change(self, before, dt):
+        """The phase the updates turned the phasors by (amplitude-weighted small angle), low-passed
+        as a rate. Beyond max(threshold, sigma x RMS) (the RMS of the rates within that limit) P
+        gets add v v^T, v = e_w + tau (-X2, X1, -Z2, Z1) (what a frequency error over the last tau
+        would have built), add = (|rate| - limit)^2 - P_ww, reduced so that no variance takes more than
+        half the room below its bound. A phasor amplitude below cadence_min_amp_mps counts as no turn."""
+        c, m = self.cfg, self.main
+        after = m.x[:4]
+        amin2 = c.cadence_min_amp_mps**2
+        turns = []
+        for i in (0, 2):  # X, then Z
+            amp2 = before[i] ** 2 + before[i + 1] ** 2
+            cross = before[i] * after[i + 1] - before[i + 1] * after[i]
+            turns.append(cross / amp2 if amp2 > amin2 else 0.0)  # no phase in a faded oscillation
+        if dt > 0.0:
+            a = 1.0 - math.exp(-dt / c.cadence_tau_s)
+            self.turn_rate_x += a * (turns[0] / dt - self.turn_rate_x)
+            self.turn_rate_z += a * (turns[1] / dt - self.turn_rate_z)
+        # the common part: the smaller rate when both have the same sign
+        rx, rz = self.turn_rate_x, self.turn_rate_z
+        self.phase_trend = (rx if abs(rx) < abs(rz) else rz) if rx * rz > 0.0 else 0.0
+        limit = max(TWO_PI * c.cadence_threshold_hz, c.cadence_sigma * math.sqrt(self.phase_noise2))
+        excess = abs(self.phase_trend) - limit
+        if excess <= 0.0:
+            if dt > 0.0:
+                b = 1.0 - math.exp(-dt / c.cadence_noise_tau_s)
+                self.phase_noise2 += b * (self.phase_trend**2 - self.phase_noise2)
+            return
+        add = max(excess * excess - m.P[IW, IW], 0.0)
+        if add <= 0.0:
+            return
+        v = np.zeros(NX)
+        v[IX1], v[IX2], v[IZ1], v[IZ2] = -after[1], after[0], -after[3], after[2]
+        v *= c.cadence_tau_s
+        v[IW] = 1.0
+        # no variance takes more than half the room left below its bound (the covariance guard's, sec. 2.7)
+        vmax2 = c.max_abs_velocity_mps**2
+        half = 0.5 * TWO_PI * (c.f_max_hz - c.f_min_hz)
+        bounds = (vmax2, vmax2, vmax2, vmax2, half * half)
+        for i in range(5):
+            if v[i] * v[i] > 0.0:
+                add = min(add, 0.5 * (bounds[i] - m.P[i, i]) / (v[i] * v[i]))
+        if add > 0.0:
+            m.P += add * np.outer(v, v)
 
     def _collapse(self):
         self.main.copy_from(self.bank[self.best])
@@ -686,6 +744,9 @@ class DefaultEstimator:
         filters_h = self.bank_h if self.acquiring else [self.main_h]
         for f in filters:
             f.predict(c, dt, oscillate=osc)
+        track_cadence = osc and not self.acquiring and c.cadence_adapt
+        if track_cadence:
+            phasors_before = self.main.x[:4].copy()
         if osc:
             for fh in filters_h:
                 fh[0].predict(c, dt)
@@ -727,6 +788,8 @@ class DefaultEstimator:
                     fh[ch].update(u, v, e, r)
             f.clamp(c)
             f.guard(c)
+        if track_cadence:
+            self._cadence_change(phasors_before, dt)
         if rejected:
             self.n_rejects += 1
             if status == STATUS_OK:
@@ -908,6 +971,12 @@ _NATIVE_NAMES = {
     "walk_vz_rms_on_mps": "walk_vz_rms_on_mps",
     "walk_vz_rms_off_mps": "walk_vz_rms_off_mps",
     "bound_watchdog_s": "bound_watchdog_s",
+    "cadence_adapt": "cadence_change_adapt",
+    "cadence_tau_s": "cadence_change_tau_s",
+    "cadence_threshold_hz": "cadence_change_threshold_hz",
+    "cadence_sigma": "cadence_change_sigma",
+    "cadence_noise_tau_s": "cadence_change_noise_tau_s",
+    "cadence_min_amp_mps": "cadence_change_min_amp_mps",
     "std_scale_adapt": "std_scale_adapt",
     "std_scale_tau_s": "std_scale_tau_s",
     "std_scale_min": "std_scale_min",
