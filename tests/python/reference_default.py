@@ -126,14 +126,16 @@ class DefaultConfig:
         self.walk_vz_rms_off_mps = 0.025
         # --- watchdog
         self.bound_watchdog_s = 1.0  # w pinned near a bound this long while walking -> re-acquire
-        # --- cadence changes: the rate of the updates' phase corrections, low-passed; beyond
-        # max(threshold, sigma x its RMS) P_ww is raised to the excess squared (with its phase covariance)
+        # --- cadence changes: the phase lag of the model, least squares of the v_z innovations with the
+        # amplitude error over cadence_tau_s; beyond max(phase, sigma x its RMS) P_ww is raised to
+        # (excess / horizon)^2 (with its phase covariance)
         self.cadence_adapt = True
-        self.cadence_tau_s = 0.15
-        self.cadence_threshold_hz = 0.1
-        self.cadence_sigma = 5.0
-        self.cadence_noise_tau_s = 2.0  # the RMS: of the rates within the limit, over this time
-        self.cadence_min_amp_mps = 0.1  # a turn counts only while sqrt(|X|^2 + |Z|^2) exceeds this
+        self.cadence_tau_s = 0.1
+        self.cadence_phase_rad = 0.05
+        self.cadence_sigma = 3.0
+        self.cadence_noise_tau_s = 2.0  # the RMS: of the lags within the limit; no detection before this long
+        self.cadence_horizon_s = 0.4
+        self.cadence_min_amp_mps = 0.05  # a sample counts only while |Z| exceeds this
         # --- reported uncertainty: sqrt(lambda P), lambda = low-passed NIS, clipped
         self.std_scale_adapt = True
         self.std_scale_tau_s = 10.0
@@ -467,9 +469,9 @@ class DefaultEstimator:
         self.last_w = TWO_PI * 1.8
         self.n_rejects = 0
         self.t_at_bound = 0.0
-        self.turn_rate_x = self.turn_rate_z = 0.0  # low-passed rates of the updates' turns of X, Z (rad/s)
-        self.phase_trend = 0.0  # their common part
-        self.phase_noise2 = 0.0  # its mean square while within the limit (from the floor at each acquisition)
+        self.lag_sums = np.zeros(5)  # low-passed Z1^2, Z1 Z2, Z2^2, Z1 nu_z, Z2 nu_z (prior Z)
+        self.lag_noise2 = 0.0  # mean square of the lag while within the limit (from the floor at each acquisition)
+        self.lag_learn_s = 0.0  # walking time of the one EKF since the acquisition
         self.lam = 1.0
         self.t_now = 0.0
         self.updated = False  # the last step ran the updates (diagnostics)
@@ -522,42 +524,45 @@ class DefaultEstimator:
         self.buf_head = 0
         self.spec_done = False
         self.t_at_bound = 0.0
-        self.turn_rate_x = self.turn_rate_z = self.phase_trend = 0.0
-        self.phase_noise2 = (TWO_PI * c.cadence_threshold_hz) ** 2
+        self.lag_sums[:] = 0.0
+        self.lag_noise2 = c.cadence_phase_rad**2
+        self.lag_learn_s = 0.0
 
     def _cadence_change(self, before, dt):
-        """The phase the updates turned the phasors by (amplitude-weighted small angle), low-passed
-        as a rate. Beyond max(threshold, sigma x RMS) (the RMS of the rates within that limit) P
-        gets add v v^T, v = e_w + tau (-X2, X1, -Z2, Z1) (what a frequency error over the last tau
-        would have built), add = (|rate| - limit)^2 - P_ww, reduced so that no variance takes more than
-        half the room below its bound. A phasor amplitude below cadence_min_amp_mps counts as no turn."""
+        """The phase lag d of the model: nu_z = rho Z1 - d Z2 (rho the relative amplitude error; prior
+        Z), least squares over cadence_tau_s (low-passed sums). Beyond max(phase, sigma x RMS) (the RMS
+        of the lags within that limit, learnt for cadence_noise_tau_s after each acquisition before any
+        test) P gets add v v^T, v = e_w + tau (-X2, X1, -Z2, Z1) (what a frequency error over the last
+        tau would have built), add = ((|d| - limit) / horizon)^2 - P_ww, reduced so that no variance
+        takes more than half the room below its bound."""
         c, m = self.cfg, self.main
-        after = m.x[:4]
-        amin2 = c.cadence_min_amp_mps**2
-        turns = []
-        for i in (0, 2):  # X, then Z
-            amp2 = before[i] ** 2 + before[i + 1] ** 2
-            cross = before[i] * after[i + 1] - before[i + 1] * after[i]
-            turns.append(cross / amp2 if amp2 > amin2 else 0.0)  # no phase in a faded oscillation
+        nu = m.innov.get(CH_VZ, (float("nan"), 0.0))[0]
+        z1, z2 = before[2], before[3]
+        if math.isnan(nu) or z1 * z1 + z2 * z2 <= c.cadence_min_amp_mps**2:
+            z1 = z2 = nu = 0.0
         if dt > 0.0:
             a = 1.0 - math.exp(-dt / c.cadence_tau_s)
-            self.turn_rate_x += a * (turns[0] / dt - self.turn_rate_x)
-            self.turn_rate_z += a * (turns[1] / dt - self.turn_rate_z)
-        # the common part: the smaller rate when both have the same sign
-        rx, rz = self.turn_rate_x, self.turn_rate_z
-        self.phase_trend = (rx if abs(rx) < abs(rz) else rz) if rx * rz > 0.0 else 0.0
-        limit = max(TWO_PI * c.cadence_threshold_hz, c.cadence_sigma * math.sqrt(self.phase_noise2))
-        excess = abs(self.phase_trend) - limit
-        if excess <= 0.0:
+            self.lag_sums += a * (np.array([z1 * z1, z1 * z2, z2 * z2, z1 * nu, z2 * nu]) - self.lag_sums)
+        s11, s12, s22, s1n, s2n = self.lag_sums
+        det = s11 * s22 - s12 * s12
+        learning = self.lag_learn_s < c.cadence_noise_tau_s
+        self.lag_learn_s += dt
+        if not det > 1e-3 * s11 * s22:  # too little phase diversity to tell phase from amplitude
+            return
+        lag = (s12 * s1n - s11 * s2n) / det
+        limit = max(c.cadence_phase_rad, c.cadence_sigma * math.sqrt(self.lag_noise2))
+        if learning or abs(lag) <= limit:
             if dt > 0.0:
                 b = 1.0 - math.exp(-dt / c.cadence_noise_tau_s)
-                self.phase_noise2 += b * (self.phase_trend**2 - self.phase_noise2)
+                self.lag_noise2 += b * (lag * lag - self.lag_noise2)
             return
+        excess = (abs(lag) - limit) / c.cadence_horizon_s
         add = max(excess * excess - m.P[IW, IW], 0.0)
         if add <= 0.0:
             return
+        after = m.x
         v = np.zeros(NX)
-        v[IX1], v[IX2], v[IZ1], v[IZ2] = -after[1], after[0], -after[3], after[2]
+        v[IX1], v[IX2], v[IZ1], v[IZ2] = -after[IX2], after[IX1], -after[IZ2], after[IZ1]
         v *= c.cadence_tau_s
         v[IW] = 1.0
         # no variance takes more than half the room left below its bound (the covariance guard's, sec. 2.7)
@@ -788,7 +793,7 @@ class DefaultEstimator:
                     fh[ch].update(u, v, e, r)
             f.clamp(c)
             f.guard(c)
-        if track_cadence:
+        if track_cadence and not rejected:
             self._cadence_change(phasors_before, dt)
         if rejected:
             self.n_rejects += 1
@@ -973,9 +978,10 @@ _NATIVE_NAMES = {
     "bound_watchdog_s": "bound_watchdog_s",
     "cadence_adapt": "cadence_change_adapt",
     "cadence_tau_s": "cadence_change_tau_s",
-    "cadence_threshold_hz": "cadence_change_threshold_hz",
+    "cadence_phase_rad": "cadence_change_phase_rad",
     "cadence_sigma": "cadence_change_sigma",
     "cadence_noise_tau_s": "cadence_change_noise_tau_s",
+    "cadence_horizon_s": "cadence_change_horizon_s",
     "cadence_min_amp_mps": "cadence_change_min_amp_mps",
     "std_scale_adapt": "std_scale_adapt",
     "std_scale_tau_s": "std_scale_tau_s",

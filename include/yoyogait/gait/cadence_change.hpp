@@ -1,6 +1,6 @@
 /// @file gait/cadence_change.hpp
-/// @brief The cadence-change detector (sec. 2.8): the trend of the phase corrections of the
-/// measurement updates opens the frequency variance while the model is consistently off.
+/// @brief The cadence-change detector (sec. 2.8): a phase lag of the model that persists opens the
+/// frequency variance.
 #pragma once
 
 #include <cmath>
@@ -18,70 +18,88 @@ struct PriorPhasors {
   double X1 = 0.0, X2 = 0.0, Z1 = 0.0, Z2 = 0.0;
 };
 
-/// An update turns the phasors by dphi = (X- x X+ + Z- x Z+) / (|X-|^2 + |Z-|^2) (x: the 2-D
-/// cross product; the amplitude-weighted small angle, no atan2). With the right frequency these
-/// turns are noise about zero; after a cadence change of dw they push the phase by about dw per
-/// second, every step the same way. Their rate, low-passed over tau (cadence_change_tau_s),
-/// estimates that frequency error. Its mean square over noise_tau (cadence_change_noise_tau_s) is
-/// the walker's own level of phase noise (real step-to-step variability, left-right asymmetry),
-/// learnt from the steps within the limit only: the rate counts as a cadence change only beyond
-/// sigma times that RMS and beyond the floor threshold (the noise level starts at the floor at each
-/// acquisition: in the first seconds of walking the test is that much stricter). Beyond both, P_ww is raised to the excess squared, so that the EKF moves w instead
-/// of absorbing the difference in the phasors. Below, it does nothing: the steady state keeps its
-/// noise model.
+/// The phase error of the model, from the innovations: a gait phase ahead of the prior by d turns
+/// the phasors by d, so nu_x = -X2 d, nu_z = -Z2 d (first order; X2, Z2 of the prior). The
+/// weighted least-squares d over the last tau (cadence_change_tau_s) is num / den, num and den the
+/// low-passed -X2 nu_x / r_x - Z2 nu_z / r_z and X2^2 / r_x + Z2^2 / r_z. With the right frequency
+/// it is noise about zero; after a change of cadence the EKF keeps lagging the phase one way,
+/// every step. Its mean square over noise_tau (cadence_change_noise_tau_s), learnt while it is
+/// within the limit, is the walker's own phase noise (real step-to-step variability, left-right
+/// asymmetry): d counts as a cadence change beyond sigma times that RMS and beyond the floor
+/// (cadence_change_phase_rad; the noise level starts at the floor at each acquisition, so the
+/// first seconds of walking are tested that much more strictly). Then P_ww is raised to
+/// ((|d| - limit) / tau)^2, with the phase covariance that frequency error would have built
+/// (after_update): the EKF moves w instead of absorbing the lag in the phasors. The innovations
+/// measure the model's error, not the size of the EKF's corrections: opening P does not feed
+/// the detector. Below the limit nothing changes: the steady state keeps its noise model.
 class CadenceChangeDetector {
  public:
   CadenceChangeDetector() noexcept = default;
-  CadenceChangeDetector(bool on, double tau_s, double threshold_rad_s, double sigma, double min_amp_mps) noexcept
-      : on_(on), tau_s_(tau_s), threshold_rad_s_(threshold_rad_s), sigma2_(sigma * sigma), min_amp2_(min_amp_mps * min_amp_mps) {}
+  CadenceChangeDetector(bool on, double tau_s, double horizon_s, double phase_rad, double sigma, double min_amp_mps,
+                        double learn_s) noexcept
+      : on_(on),
+        tau_s_(tau_s),
+        inv_horizon_s_(1.0 / horizon_s),
+        floor2_(phase_rad * phase_rad),
+        sigma2_(sigma * sigma),
+        min_amp2_(min_amp_mps * min_amp_mps),
+        learn_s_(learn_s) {}
 
-  /// A new acquisition (and the state before the first walk): the rate starts again, and so does
-  /// the noise level, from the floor: the corrections of a converging filter are no cadence change.
+  /// A new acquisition (and the state before the first walk): the estimate starts again, and so
+  /// does the noise level, from the floor: a converging filter's lag is no change of cadence.
   void reset() noexcept {
-    rate_x_ = rate_z_ = rate_rad_s_ = 0.0;
-    noise2_ = threshold_rad_s_ * threshold_rad_s_;
+    s11_ = s12_ = s22_ = s1n_ = s2n_ = 0.0;
+    noise2_ = floor2_;
+    learnt_s_ = 0.0;
   }
   bool on() const noexcept { return on_; }
 
   static PriorPhasors prior(const GaitState& x) noexcept { return {x[kX1], x[kX2], x[kZ1], x[kZ2]}; }
 
-  /// One walking step of the one EKF: the prior phasors, the posterior state and the step's
-  /// low-pass factors (fc.cadence_gain = 1 - exp(-dt / tau), fc.cadence_gain_per_s = that / dt,
-  /// fc.cadence_noise_gain = 1 - exp(-dt / noise_tau); all 0 for dt = 0). Returns the increment of
-  /// P_ww that brings it to the target variance (0 when none).
-  double update(const PriorPhasors& p, const GaitState& x, const DecayFactors::Values& fc, double P_ww) noexcept {
-    const double cx = p.X1 * x[kX2] - p.X2 * x[kX1], nx2 = p.X1 * p.X1 + p.X2 * p.X2;
-    const double cz = p.Z1 * x[kZ2] - p.Z2 * x[kZ1], nz2 = p.Z1 * p.Z1 + p.Z2 * p.Z2;
-    // A faded oscillation has no phase to speak of: its corrections are not counted.
-    const bool ox = nx2 > min_amp2_, oz = nz2 > min_amp2_;
-    const double inv = 1.0 / ((ox ? nx2 : 1.0) * (oz ? nz2 : 1.0));  // both turns from one division
-    const double dx = ox ? cx * (oz ? nz2 : 1.0) * inv : 0.0, dz = oz ? cz * (ox ? nx2 : 1.0) * inv : 0.0;
-    rate_x_ += fc.cadence_gain_per_s * dx - fc.cadence_gain * rate_x_;
-    rate_z_ += fc.cadence_gain_per_s * dz - fc.cadence_gain * rate_z_;
-    // A change of cadence turns both phasors alike; a model that is off in one channel (a stop, a
-    // change of speed leaking into X) does not: the common part, the smaller rate of the same sign.
-    rate_rad_s_ = rate_x_ * rate_z_ > 0.0 ? (std::fabs(rate_x_) < std::fabs(rate_z_) ? rate_x_ : rate_z_) : 0.0;
-    const double rate2 = rate_rad_s_ * rate_rad_s_;
-    // Squares first: the steady state takes no square root.
-    const double floor2 = threshold_rad_s_ * threshold_rad_s_;
-    const double limit2 = detail::py_max(sigma2_ * noise2_, floor2);
-    if (!(rate2 > limit2)) {
-      // Only the rate within the limit is noise: a cadence change does not raise its own limit.
-      noise2_ += fc.cadence_noise_gain * (rate2 - noise2_);
+  /// One walking step of the one EKF: the prior phasors, the step's innovations (NaN: channel not
+  /// used) and the low-pass factors (fc.cadence_gain = 1 - exp(-dt / tau), fc.cadence_noise_gain
+  /// = 1 - exp(-dt / noise_tau); 0 for dt = 0). Returns the increment of P_ww that brings it to
+  /// the target variance (0 when none). A faded vertical oscillation (|Z| <= min_amp) gives no
+  /// evidence.
+  double update(const PriorPhasors& p, const Innovations& in, const DecayFactors::Values& fc, double P_ww) noexcept {
+    // nu_z = rho Z1 - d Z2 (rho: relative amplitude error, d: phase error; X carries speed errors
+    // and is not used). The low-passed normal equations [a -b; -b c] [rho d]' = [p -q]'.
+    const bool use = !std::isnan(in.vz_mps) && p.Z1 * p.Z1 + p.Z2 * p.Z2 > min_amp2_;
+    const double nu = use ? in.vz_mps : 0.0, z1 = use ? p.Z1 : 0.0, z2 = use ? p.Z2 : 0.0;
+    const double g = fc.cadence_gain;
+    s11_ += g * (z1 * z1 - s11_);
+    s12_ += g * (z1 * z2 - s12_);
+    s22_ += g * (z2 * z2 - s22_);
+    s1n_ += g * (z1 * nu - s1n_);
+    s2n_ += g * (z2 * nu - s2n_);
+    const double det = s11_ * s22_ - s12_ * s12_;
+    const double num = s12_ * s1n_ - s11_ * s2n_;  // d = num / det
+    // |d| > limit, in squares: no division unless the estimate is needed.
+    const double limit2 = detail::py_max(sigma2_ * noise2_, floor2_);
+    const double num2 = num * num, det2 = det * det;
+    const bool learning = learnt_s_ < learn_s_;
+    learnt_s_ += fc.dt;
+    // Too few samples to tell phase from amplitude (one sample: det = 0): no estimate.
+    if (!(det > 1e-3 * s11_ * s22_)) return 0.0;
+    if (learning || !(num2 > limit2 * det2)) {
+      // Within the limit: noise (a change of cadence does not raise its own limit).
+      noise2_ += fc.cadence_noise_gain * (num2 / det2 - noise2_);
       return 0.0;
     }
-    const double excess = std::fabs(rate_rad_s_) - std::sqrt(limit2);
+    const double excess = (std::fabs(num) / det - std::sqrt(limit2)) * inv_horizon_s_;
     return detail::py_max(excess * excess - P_ww, 0.0);
   }
 
-  /// The hook of the filter (sec. 2.8), after the updates of the one EKF while walking: P of e
-  /// gets add v v^T with v = e_w + tau g, g = [-X2, X1, -Z2, Z1, 0, ...] the direction of the gait
-  /// phase: the variance and the phase covariance that a frequency error of the last tau would
-  /// have built, so that the next updates move w at once. add: the target's excess over P_ww,
-  /// within the variance bounds. A rank-one addition keeps P positive semi-definite.
-  void after_update(const MemberModel& model, Ekf& e, const PriorPhasors& p, const DecayFactors::Values& fc) noexcept {
-    if (!on_) return;
-    const double add = update(p, e.x, fc, e.P[kW][kW]);
+  /// The hook of the filter (sec. 2.8), after the updates of the one EKF while walking (not when
+  /// the gate rejected a channel): P of e gets add v v^T with v = e_w + tau g, g = [-X2, X1, -Z2,
+  /// Z1, 0, ...] the direction of the gait phase: the variance and the phase covariance that a
+  /// frequency error over the last tau would have built, so that the next updates move w at once.
+  /// add: the target's excess over P_ww, within the variance bounds. A rank-one addition keeps P
+  /// positive semi-definite.
+  void after_update(const MemberModel& model, Ekf& e, const PriorPhasors& p, const DecayFactors::Values& fc,
+                    bool rejected) noexcept {
+    if (!on_ || rejected) return;
+    const double add = update(p, e.innovations, fc, e.P[kW][kW]);
     if (add > 0.0) inflate(model, e, add);
   }
 
@@ -101,15 +119,12 @@ class CadenceChangeDetector {
       for (std::size_t j = i; j <= kW; ++j) e.P[i][j] += add * v[i] * v[j];
   }
 
-  /// The low-passed rate of the phase corrections [rad/s] (> 0: the phase runs ahead of w).
-  double rate_rad_s() const noexcept { return rate_rad_s_; }
-
  private:
   bool on_ = true;
-  double tau_s_ = 0.3, threshold_rad_s_ = 0.0, sigma2_ = 0.0, min_amp2_ = 0.0;
-  double rate_x_ = 0.0, rate_z_ = 0.0;  ///< low-passed turn rates of X and of Z [rad/s]
-  double rate_rad_s_ = 0.0;             ///< their common part
-  double noise2_ = 0.0;  ///< mean square of the rate over noise_tau [(rad/s)^2]
+  double tau_s_ = 0.1, inv_horizon_s_ = 2.5, floor2_ = 0.0, sigma2_ = 0.0, min_amp2_ = 0.0;
+  double learn_s_ = 2.0, learnt_s_ = 0.0;  ///< no detection before learn_s of walking since the reset
+  double s11_ = 0.0, s12_ = 0.0, s22_ = 0.0, s1n_ = 0.0, s2n_ = 0.0;  ///< low-passed Z1^2, Z1 Z2, Z2^2, Z1 nu, Z2 nu
+  double noise2_ = 0.0;  ///< mean square of the phase error while within the limit [rad^2]
 };
 
 }  // namespace yoyogait::gait

@@ -227,8 +227,8 @@ class GaitFilter {
         scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
         radii_(g.initial_R_m, g.initial_r_m),
         watchdog_(kTwoPi * g.f_min_hz, kTwoPi * g.f_max_hz, g.bound_watchdog_s),
-        cadence_(g.cadence_change_adapt, g.cadence_change_tau_s, kTwoPi * g.cadence_change_threshold_hz,
-                 g.cadence_change_sigma, g.cadence_change_min_amp_mps),
+        cadence_(g.cadence_change_adapt, g.cadence_change_tau_s, g.cadence_change_horizon_s, g.cadence_change_phase_rad,
+                 g.cadence_change_sigma, g.cadence_change_min_amp_mps, g.cadence_change_noise_tau_s),
         nominal_dt_(config.sample_time_s),
         speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
         bank_(bank_settings(g)),
@@ -419,7 +419,7 @@ class GaitFilter {
       const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
       rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_,
                                       fc.std_gain);
-      if (walking) cadence_.after_update(model_, main_, prior, fc);  // sec. 2.8: cadence changes
+      if (walking) cadence_.after_update(model_, main_, prior, fc, rejected);  // sec. 2.8: cadence changes
     }
     updated_ = true;
     // A non-finite or out-of-range channel says more about the sample than the gate.
