@@ -1,4 +1,4 @@
-"""The cadence-change detector of the default estimator (gait/cadence_change.hpp, docs/default_estimator.md sec. 2.8)."""
+"""The cadence-change detector of the default estimator (gait/cadence_change.hpp, default_estimator.md sec. 2.8)."""
 
 from __future__ import annotations
 
