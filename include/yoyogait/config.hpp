@@ -155,6 +155,8 @@ struct FrequencyList {
     "low-pass of the lag's mean square; no detection in the first this long after an acquisition")                 \
   X(double, cadence_change_horizon_s, 0.4, "s", "[", 0.01, 60.0, "]",                                              \
     "the excess lag over this long is the frequency error: P_ww is raised to (excess / horizon)^2")                \
+  X(double, cadence_change_max_std_hz, 0.15, "Hz", "[", 0.0, 10.0, "]",                                           \
+    "... at most to this std (a jump to a harmonic of the cadence would need more)")                               \
   X(double, cadence_change_min_amp_mps, 0.05, "m/s", "[", 0.0, 100.0, "]",                                         \
     "a sample is evidence only while |Z| exceeds this (not while the oscillation fades)")                           \
   X(bool, std_scale_adapt, true, "", "[", 0, 1, "]",                                                               \

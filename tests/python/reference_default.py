@@ -135,6 +135,7 @@ class DefaultConfig:
         self.cadence_sigma = 3.0
         self.cadence_noise_tau_s = 2.0  # the RMS: of the lags within the limit; no detection before this long
         self.cadence_horizon_s = 0.4
+        self.cadence_max_std_hz = 0.15  # the opened frequency std at most (no jump to a harmonic)
         self.cadence_min_amp_mps = 0.05  # a sample counts only while |Z| exceeds this
         # --- reported uncertainty: sqrt(lambda P), lambda = low-passed NIS, clipped
         self.std_scale_adapt = True
@@ -533,8 +534,8 @@ class DefaultEstimator:
         Z), least squares over cadence_tau_s (low-passed sums). Beyond max(phase, sigma x RMS) (the RMS
         of the lags within that limit, learnt for cadence_noise_tau_s after each acquisition before any
         test) P gets add v v^T, v = e_w + tau (-X2, X1, -Z2, Z1) (what a frequency error over the last
-        tau would have built), add = ((|d| - limit) / horizon)^2 - P_ww, reduced so that no variance
-        takes more than half the room below its bound."""
+        tau would have built), add = min((|d| - limit) / horizon, 2 pi max_std)^2 - P_ww, reduced so
+        that no variance takes more than half the room below its bound."""
         c, m = self.cfg, self.main
         nu = m.innov.get(CH_VZ, (float("nan"), 0.0))[0]
         z1, z2 = before[2], before[3]
@@ -556,7 +557,7 @@ class DefaultEstimator:
                 b = 1.0 - math.exp(-dt / c.cadence_noise_tau_s)
                 self.lag_noise2 += b * (lag * lag - self.lag_noise2)
             return
-        excess = (abs(lag) - limit) / c.cadence_horizon_s
+        excess = min((abs(lag) - limit) / c.cadence_horizon_s, TWO_PI * c.cadence_max_std_hz)
         add = max(excess * excess - m.P[IW, IW], 0.0)
         if add <= 0.0:
             return
@@ -982,6 +983,7 @@ _NATIVE_NAMES = {
     "cadence_sigma": "cadence_change_sigma",
     "cadence_noise_tau_s": "cadence_change_noise_tau_s",
     "cadence_horizon_s": "cadence_change_horizon_s",
+    "cadence_max_std_hz": "cadence_change_max_std_hz",
     "cadence_min_amp_mps": "cadence_change_min_amp_mps",
     "std_scale_adapt": "std_scale_adapt",
     "std_scale_tau_s": "std_scale_tau_s",

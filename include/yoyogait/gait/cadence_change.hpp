@@ -35,11 +35,12 @@ struct PriorPhasors {
 class CadenceChangeDetector {
  public:
   CadenceChangeDetector() noexcept = default;
-  CadenceChangeDetector(bool on, double tau_s, double horizon_s, double phase_rad, double sigma, double min_amp_mps,
-                        double learn_s) noexcept
+  CadenceChangeDetector(bool on, double tau_s, double horizon_s, double max_std_rad_s, double phase_rad, double sigma,
+                        double min_amp_mps, double learn_s) noexcept
       : on_(on),
         tau_s_(tau_s),
         inv_horizon_s_(1.0 / horizon_s),
+        max_std_rad_s_(max_std_rad_s),
         floor2_(phase_rad * phase_rad),
         sigma2_(sigma * sigma),
         min_amp2_(min_amp_mps * min_amp_mps),
@@ -87,7 +88,8 @@ class CadenceChangeDetector {
       return 0.0;
     }
     const double excess = (std::fabs(num) / det - std::sqrt(limit2)) * inv_horizon_s_;
-    return detail::py_max(excess * excess - P_ww, 0.0);
+    const double capped = detail::py_min(excess, max_std_rad_s_);
+    return detail::py_max(capped * capped - P_ww, 0.0);
   }
 
   /// The hook of the filter (sec. 2.8), after the updates of the one EKF while walking (not when
@@ -121,7 +123,7 @@ class CadenceChangeDetector {
 
  private:
   bool on_ = true;
-  double tau_s_ = 0.1, inv_horizon_s_ = 2.5, floor2_ = 0.0, sigma2_ = 0.0, min_amp2_ = 0.0;
+  double tau_s_ = 0.1, inv_horizon_s_ = 2.5, max_std_rad_s_ = 0.0, floor2_ = 0.0, sigma2_ = 0.0, min_amp2_ = 0.0;
   double learn_s_ = 2.0, learnt_s_ = 0.0;  ///< no detection before learn_s of walking since the reset
   double s11_ = 0.0, s12_ = 0.0, s22_ = 0.0, s1n_ = 0.0, s2n_ = 0.0;  ///< low-passed Z1^2, Z1 Z2, Z2^2, Z1 nu, Z2 nu
   double noise2_ = 0.0;  ///< mean square of the phase error while within the limit [rad^2]

@@ -237,6 +237,7 @@ class GaitFilterConfig:
     cadence_change_sigma: float = _field("gait_filter", "cadence_change_sigma")
     cadence_change_noise_tau_s: float = _field("gait_filter", "cadence_change_noise_tau_s")
     cadence_change_horizon_s: float = _field("gait_filter", "cadence_change_horizon_s")
+    cadence_change_max_std_hz: float = _field("gait_filter", "cadence_change_max_std_hz")
     cadence_change_min_amp_mps: float = _field("gait_filter", "cadence_change_min_amp_mps")
     std_scale_adapt: bool = _field("gait_filter", "std_scale_adapt")
     std_scale_tau_s: float = _field("gait_filter", "std_scale_tau_s")
