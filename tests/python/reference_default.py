@@ -473,6 +473,7 @@ class DefaultEstimator:
         self.lag_sums = np.zeros(5)  # low-passed Z1^2, Z1 Z2, Z2^2, Z1 nu_z, Z2 nu_z (prior Z)
         self.lag_noise2 = 0.0  # mean square of the lag while within the limit (from the floor at each acquisition)
         self.lag_learn_s = 0.0  # walking time of the one EKF since the acquisition
+        self.lag_beyond_s = 0.0  # how long the lag has been beyond the limit
         self.lam = 1.0
         self.t_now = 0.0
         self.updated = False  # the last step ran the updates (diagnostics)
@@ -527,7 +528,7 @@ class DefaultEstimator:
         self.t_at_bound = 0.0
         self.lag_sums[:] = 0.0
         self.lag_noise2 = c.cadence_phase_rad**2
-        self.lag_learn_s = 0.0
+        self.lag_learn_s = self.lag_beyond_s = 0.0
 
     def _cadence_change(self, before, dt):
         """The phase lag d of the model: nu_z = rho Z1 - d Z2 (rho the relative amplitude error; prior
@@ -537,10 +538,13 @@ class DefaultEstimator:
         tau would have built), add = min((|d| - limit) / horizon, 2 pi max_std)^2 - P_ww, reduced so
         that no variance takes more than half the room below its bound."""
         c, m = self.cfg, self.main
-        nu = m.innov.get(CH_VZ, (float("nan"), 0.0))[0]
+        # evidence: a sample with both channels and a vertical oscillation; another changes nothing
+        if CH_VX not in m.innov or CH_VZ not in m.innov:
+            return
+        nu = m.innov[CH_VZ][0]
         z1, z2 = before[2], before[3]
-        if math.isnan(nu) or z1 * z1 + z2 * z2 <= c.cadence_min_amp_mps**2:
-            z1 = z2 = nu = 0.0
+        if z1 * z1 + z2 * z2 <= c.cadence_min_amp_mps**2:
+            return
         if dt > 0.0:
             a = 1.0 - math.exp(-dt / c.cadence_tau_s)
             self.lag_sums += a * (np.array([z1 * z1, z1 * z2, z2 * z2, z1 * nu, z2 * nu]) - self.lag_sums)
@@ -556,6 +560,10 @@ class DefaultEstimator:
             if dt > 0.0:
                 b = 1.0 - math.exp(-dt / c.cadence_noise_tau_s)
                 self.lag_noise2 += b * (lag * lag - self.lag_noise2)
+            self.lag_beyond_s = 0.0
+            return
+        self.lag_beyond_s += dt
+        if self.lag_beyond_s < c.cadence_tau_s:  # the lag must persist for tau: one corrupt sample is not enough
             return
         excess = min((abs(lag) - limit) / c.cadence_horizon_s, TWO_PI * c.cadence_max_std_hz)
         add = max(excess * excess - m.P[IW, IW], 0.0)

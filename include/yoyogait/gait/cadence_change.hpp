@@ -51,7 +51,7 @@ class CadenceChangeDetector {
   void reset() noexcept {
     s11_ = s12_ = s22_ = s1n_ = s2n_ = 0.0;
     noise2_ = floor2_;
-    learnt_s_ = 0.0;
+    learnt_s_ = beyond_s_ = 0.0;
   }
   bool on() const noexcept { return on_; }
 
@@ -60,14 +60,14 @@ class CadenceChangeDetector {
   /// One walking step of the one EKF: the prior phasors, the step's innovations (NaN: channel not
   /// used) and the low-pass factors (fc.cadence_gain = 1 - exp(-dt / tau), fc.cadence_noise_gain
   /// = 1 - exp(-dt / noise_tau); 0 for dt = 0). Returns the increment of P_ww that brings it to
-  /// the target variance (0 when none). A faded vertical oscillation (|Z| <= min_amp) gives no
-  /// evidence.
+  /// the target variance (0 when none). Only a sample with both channels and a vertical
+  /// oscillation (|Z| > min_amp) is evidence; another leaves everything as it is. The lag must stay
+  /// beyond the limit for tau: one corrupt sample is no change of cadence.
   double update(const PriorPhasors& p, const Innovations& in, const DecayFactors::Values& fc, double P_ww) noexcept {
+    if (std::isnan(in.vx_mps) || std::isnan(in.vz_mps) || !(p.Z1 * p.Z1 + p.Z2 * p.Z2 > min_amp2_)) return 0.0;
     // nu_z = rho Z1 - d Z2 (rho: relative amplitude error, d: phase error; X carries speed errors
     // and is not used). The low-passed normal equations [a -b; -b c] [rho d]' = [p -q]'.
-    const bool use = !std::isnan(in.vz_mps) && p.Z1 * p.Z1 + p.Z2 * p.Z2 > min_amp2_;
-    const double nu = use ? in.vz_mps : 0.0, z1 = use ? p.Z1 : 0.0, z2 = use ? p.Z2 : 0.0;
-    const double g = fc.cadence_gain;
+    const double nu = in.vz_mps, z1 = p.Z1, z2 = p.Z2, g = fc.cadence_gain;
     s11_ += g * (z1 * z1 - s11_);
     s12_ += g * (z1 * z2 - s12_);
     s22_ += g * (z2 * z2 - s22_);
@@ -85,8 +85,11 @@ class CadenceChangeDetector {
     if (learning || !(num2 > limit2 * det2)) {
       // Within the limit: noise (a change of cadence does not raise its own limit).
       noise2_ += fc.cadence_noise_gain * (num2 / det2 - noise2_);
+      beyond_s_ = 0.0;
       return 0.0;
     }
+    beyond_s_ += fc.dt;
+    if (beyond_s_ < tau_s_) return 0.0;
     const double excess = (std::fabs(num) / det - std::sqrt(limit2)) * inv_horizon_s_;
     const double capped = detail::py_min(excess, max_std_rad_s_);
     return detail::py_max(capped * capped - P_ww, 0.0);
@@ -125,6 +128,7 @@ class CadenceChangeDetector {
   bool on_ = true;
   double tau_s_ = 0.1, inv_horizon_s_ = 2.5, max_std_rad_s_ = 0.0, floor2_ = 0.0, sigma2_ = 0.0, min_amp2_ = 0.0;
   double learn_s_ = 2.0, learnt_s_ = 0.0;  ///< no detection before learn_s of walking since the reset
+  double beyond_s_ = 0.0;                  ///< how long the lag has been beyond the limit
   double s11_ = 0.0, s12_ = 0.0, s22_ = 0.0, s1n_ = 0.0, s2n_ = 0.0;  ///< low-passed Z1^2, Z1 Z2, Z2^2, Z1 nu, Z2 nu
   double noise2_ = 0.0;  ///< mean square of the phase error while within the limit [rad^2]
 };
