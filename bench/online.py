@@ -17,6 +17,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import subprocess
 import tempfile
 from pathlib import Path
@@ -50,7 +51,14 @@ def lag_s(est, ref, rate_hz, max_lag_s=0.15):
     return (lags[i] + off) / rate_hz
 
 
-def evaluate(item, config=None):
+def decimation_factor(rate_hz: float, reference_hz: float) -> int:
+    """The integer factor that brings ``rate_hz`` closest to ``reference_hz`` (1: no reduction)."""
+    return max(1, int(round(rate_hz / reference_hz)))
+
+
+def evaluate(item, config=None, decimate=1):
+    """One walk's figures; ``decimate`` k > 1 feeds the online estimator every k-th frame only (what
+    a camera at 1/k of the rate would have delivered), everything it is scored against unchanged."""
     rec = item.load()
     names = list(item.pelvis) if item.pelvis else list(points.choose_point(rec).names)
     up, _ = points.resolve_up_axis(rec, item.up_axis)
@@ -67,7 +75,15 @@ def evaluate(item, config=None):
     t_walk = t[np.flatnonzero(walking)[0]]
     early = walking & (t < t_walk + 3.0)
     late = walking & (t >= t_walk + 3.0)
-    res = OnlineEstimator(names, up, config=config).run(rec)
+    online_rec = rec
+    if decimate > 1:
+        online_rec = dataclasses.replace(
+            rec,
+            positions_m=rec.positions_m[::decimate],
+            time_s=rec.time_s[::decimate],
+            rate_hz=None if rec.rate_hz is None else rec.rate_hz / decimate,
+        )
+    res = OnlineEstimator(names, up, config=config).run(online_rec)
     # The online estimate in force at each grid time: the last frame at or before it.
     idx = np.clip(np.searchsorted(res.time_s, t, side="right") - 1, 0, len(res.time_s) - 1)
     f_on = res.step_frequency_hz[idx]
@@ -88,7 +104,8 @@ def evaluate(item, config=None):
     centre, _ = points.robust_centre(rec.points(names))
     k = "xyz".index(up)
     vz_sg = savgol_velocity(centre, rate, savgol_window_samples(0.25, rate, 3), 3)[:, k]
-    walk_frames = np.interp(rec.time_s, t, walking.astype(float)) > 0.5
+    vz_sg, frame_t, rate = vz_sg[::decimate], rec.time_s[::decimate], rate / decimate
+    walk_frames = np.interp(frame_t, t, walking.astype(float)) > 0.5
     lag = lag_s(np.where(walk_frames, res.vz_mps, np.nan), np.where(walk_frames, vz_sg, np.nan), rate)
     return dict(
         name=item.name,
@@ -170,6 +187,12 @@ def main():
         default=None,
         help="override the estimator's sample_time_s (0.001: every frame)",
     )
+    ap.add_argument(
+        "--reference-hz",
+        type=float,
+        default=25.0,
+        help="compare every rate with the same walks at this input rate (0: no comparison)",
+    )
     ap.add_argument("--datasets", default=str(ROOT.parent / "shared" / "datasets"))
     args = ap.parse_args()
     print(timing())
@@ -181,27 +204,106 @@ def main():
     print()
     print(header())
     groups = []
+    real_items = []
     if not args.no_real:
-        items, _ = manifest_items(Path(args.datasets) / "manifest.json")
-        groups.append(("real (manifest), native rate", items))
+        real_items, _ = manifest_items(Path(args.datasets) / "manifest.json")
+        groups.append(("real (manifest), native rate", real_items))
     groups.append(("synthetic lab, 100 Hz", synthetic_items(rate_hz=100.0)))
-    for rate in [float(r) for r in args.rates.split(",") if r]:
+    rates = [float(r) for r in args.rates.split(",") if r]
+    for rate in rates:
         groups.append((f"synthetic lab, {rate:g} Hz", synthetic_items(rate_hz=rate)))
+    results = {}
     for label, items in groups:
-        rows = []
-        for item in items:
-            try:
-                r = evaluate(item, config)
-            except Exception as exc:  # a recording the pipeline cannot use is reported, not fatal
-                print(f"  skipped {item.name}: {exc}")
-                continue
-            if r is not None:
-                rows.append(r)
-        print(summary(label + " (median)", rows), flush=True)
-        print(summary(label + " (mean)", rows, np.mean), flush=True)
-        if args.per_recording:
-            for r in rows:
-                print(summary(f"  {r['name']} {r['rate_hz']:.0f} Hz", [r]))
+        rows = evaluate_all(items, config)
+        results[label] = rows
+        print_group(label, rows, args.per_recording)
+    if args.reference_hz > 0:
+        reference_comparison(args, config, results, real_items, rates)
+
+
+def evaluate_all(items, config, decimate_to_hz=None):
+    """Rows of ``evaluate`` for the items (a recording the pipeline cannot use is reported, not fatal)."""
+    rows = []
+    for item in items:
+        try:
+            k = 1
+            if decimate_to_hz is not None:
+                k = decimation_factor(item.load().rate_hz, decimate_to_hz)
+                if k < 2:
+                    continue
+            r = evaluate(item, config, decimate=k)
+        except Exception as exc:
+            print(f"  skipped {item.name}: {exc}")
+            continue
+        if r is not None:
+            rows.append(r)
+    return rows
+
+
+def print_group(label, rows, per_recording=False):
+    print(summary(label + " (median)", rows), flush=True)
+    print(summary(label + " (mean)", rows, np.mean), flush=True)
+    if per_recording:
+        for r in rows:
+            print(summary(f"  {r['name']} {r['rate_hz']:.0f} Hz", [r]))
+
+
+# (key, label, lower is better as absolute value)
+COMPARED = (
+    ("f_late", "f err >3 s"),
+    ("f_early", "f err <3 s"),
+    ("lag_ms", "|v_z lag| ms"),
+    ("vz_mse", "v_z recon"),
+    ("vx_mse", "v_x recon"),
+)
+
+
+def compare(label, rows, reference_rows):
+    """A row: each figure's median at the rate / at the reference input on the same walks, and
+    whether the rate is worse anywhere."""
+    by_name = {r["name"]: r for r in reference_rows}
+    pairs = [(r, by_name[r["name"]]) for r in rows if r["name"] in by_name]
+    cells, worse = [], []
+    for key, name in COMPARED:
+        a = np.array([abs(r[key]) for r, q in pairs if np.isfinite(r[key]) and np.isfinite(q[key])])
+        b = np.array([abs(q[key]) for r, q in pairs if np.isfinite(r[key]) and np.isfinite(q[key])])
+        if len(a) == 0:
+            cells.append("-")
+            continue
+        ma, mb = float(np.median(a)), float(np.median(b))
+        cells.append(f"{ma:.3g} / {mb:.3g}")
+        if ma > mb:
+            worse.append(name)
+    verdict = "worse: " + ", ".join(worse) if worse else "no"
+    return f"| {label} | {len(pairs)} | " + " | ".join(cells) + f" | {verdict} |"
+
+
+def reference_comparison(args, config, results, real_items, rates):
+    """Every capture rate against the same walks at the reference input rate (25 Hz)."""
+    ref_hz = args.reference_hz
+    print()
+    print(f"Against {ref_hz:g} Hz input on the same walks (median at the rate / median at {ref_hz:g} Hz):")
+    print()
+    print(
+        "| data | n | "
+        + " | ".join(name for _, name in COMPARED)
+        + f" | worse than {ref_hz:g} Hz |\n|"
+        + "---|" * (len(COMPARED) + 3)
+    )
+    # The synthetic lab generated at the reference rate: same subjects, walk types and seed.
+    ref_rows = evaluate_all(synthetic_items(rate_hz=ref_hz), config)
+    for rate in rates:
+        print(compare(f"synthetic lab, {rate:g} Hz", results[f"synthetic lab, {rate:g} Hz"], ref_rows), flush=True)
+    if real_items:
+        # Each recording with every k-th frame (k = its rate / 25, rounded; recordings below
+        # 1.5 x 25 Hz have no lower rate and are left out).
+        dec_rows = evaluate_all(real_items, config, decimate_to_hz=ref_hz)
+        native = results["real (manifest), native rate"]
+        print(compare("real (manifest), native rate", native, dec_rows), flush=True)
+        for lo, hi in ((45, 80), (80, 110), (110, 160), (160, 260)):
+            sub = [r for r in native if lo <= r["rate_hz"] < hi]
+            if sub:
+                print(compare(f"real, {lo}-{hi} Hz", sub, dec_rows), flush=True)
 
 
 if __name__ == "__main__":
