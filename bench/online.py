@@ -12,6 +12,10 @@
   vz_hat against the offline velocities (mean squared, 1e-2 (m/s)^2, walking after 3 s; v_x against
   the offline velocity along the heading). The offline default estimator's figures on the same
   samples are given beside them. A benchmark, not a test.
+* Every rate of ``--rates`` against the same walks at ``--reference-hz`` (25) input: the synthetic
+  lab rendered once at a rate all of them divide and decimated, the real recordings against every
+  k-th of their frames; medians and a one-sided paired Wilcoxon test per figure
+  (``--reference-only``: this comparison alone).
 """
 
 from __future__ import annotations
