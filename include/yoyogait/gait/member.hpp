@@ -188,7 +188,9 @@ struct MemberModel {
       return rejected;
     }
     const bool harm = !kBank && use_harmonic;
-    double ph1[kDim] = {}, k1[kDim] = {}, ph2[kDim], k2[kDim] = {};
+    // Zeroed only where a channel is not used: an accepted update writes every entry.
+    double ph1[kDim], k1[kDim], ph2[kDim], k2[kDim];
+    bool x_used = false;
     HarmonicStep hx, hz;
     if (use_x) {
       double u = 0.0, v = 0.0;
@@ -210,6 +212,7 @@ struct MemberModel {
           k1[r] = ph1[r] * inv_S;
           x[r] += k1[r] * nu;
         }
+        x_used = true;
         if (kBank) e.loglik += -0.5 * (nu * nu / S + std::log(S));
         if (!kBank && scale.adapts()) scale.update(nu * nu * inv_S, std_gain);
         // The harmonic learns from the residual left by the updated fundamental.
@@ -220,6 +223,8 @@ struct MemberModel {
         }
       }
     }
+    if (!x_used)
+      for (std::size_t r = 0; r < kDim; ++r) ph1[r] = k1[r] = 0.0;
     if (use_z) {
       double u = 0.0, v = 0.0;
       if (harm) harmonic_basis(x[kZ1], x[kZ2], harm_min2, u, v);
@@ -234,6 +239,7 @@ struct MemberModel {
       e.innovations.var_vz_mps2 = S;
       if (gate && gate_.rejects(nu, S)) {
         rejected = true;
+        for (std::size_t r = 0; r < kDim; ++r) k2[r] = 0.0;
       } else {
         const double inv_S = 1.0 / S;
         for (std::size_t r = 0; r < kDim; ++r) {
@@ -249,7 +255,7 @@ struct MemberModel {
         }
       }
     } else {
-      for (std::size_t r = 0; r < kDim; ++r) ph2[r] = 0.0;
+      for (std::size_t r = 0; r < kDim; ++r) ph2[r] = k2[r] = 0.0;
     }
     downdate(e.P, k1, ph1, k2, ph2);
     clamp(e);
