@@ -155,7 +155,7 @@ struct MemberModel {
   /// kBank: a member of the start-up bank (acquiring: no gate, no harmonics, no std scale, the
   /// log-likelihood accumulates); else the one EKF of the steady state.
   template <bool kBank>
-  bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z, bool oscillate,
+  YOYOGAIT_ALWAYS_INLINE bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z, bool oscillate,
               const InnovationGate& gate_, StdScale& scale, double std_gain) const noexcept {
     bool rejected = false;
     const bool gate = !kBank && gate_.active();
