@@ -154,9 +154,11 @@ struct MemberModel {
   /// P[:, Z1] - k1 ph1[Z1], and P -= k1 ph1^T + k2 ph2^T is the same as the two downdates in turn.
   /// kBank: a member of the start-up bank (acquiring: no gate, no harmonics, no std scale, the
   /// log-likelihood accumulates); else the one EKF of the steady state.
+  /// Always inlined: as a call it would take ten arguments and spill the caller's registers.
   template <bool kBank>
-  YOYOGAIT_ALWAYS_INLINE bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z, bool oscillate,
-              const InnovationGate& gate_, StdScale& scale, double std_gain) const noexcept {
+  YOYOGAIT_ALWAYS_INLINE bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z,
+                                     bool oscillate, const InnovationGate& gate_, StdScale& scale,
+                                     double std_gain) const noexcept {
     bool rejected = false;
     const bool gate = !kBank && gate_.active();
     GaitState& x = e.x;
