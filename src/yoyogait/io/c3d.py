@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, check_coordinates, check_rate, check_readable, uniform_time
+from .recording import Recording, all_xyz, check_coordinates, check_rate, check_readable, uniform_time
 from .recording import length_unit_m as unit_of
 
 __all__ = ["read_c3d"]
@@ -89,7 +89,7 @@ def read_c3d(
     n_frames, n_points = xyz.shape[0], xyz.shape[1]
 
     names = _labels(point_group, n_points)
-    missing = negative_residual | np.all(xyz == 0.0, axis=2) | ~np.all(np.isfinite(xyz), axis=2)
+    missing = negative_residual | all_xyz(xyz == 0.0) | ~all_xyz(np.isfinite(xyz))
     xyz[missing] = np.nan
 
     metadata: dict = {"format": "c3d"}
