@@ -95,24 +95,25 @@ def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndar
     return np.where(known >= 0.8 * n, moving_mean(values, n), np.nan)
 
 
-def real_reference(recording, vel, item: Item, *, reuse_events: bool = False):
+def real_reference(recording, vel, item: Item):
     """(step frequency, stride-averaged speed, walking) on the velocity grid, from gait events.
 
     The step frequency is the cadence from the foot contacts with left-right alternation averaged
     out (:func:`yoyogait.metrics.step_frequency_from_contacts` with ``stride_average``).
-    ``reuse_events``: ``vel`` was found with the item's feet, so the gait events it looked for are
-    used rather than detected again.
+    The gait events ``vel`` holds serve when they were found from the same foot points (the events
+    depend on the item's ``feet`` only through them), else they are detected.
     """
     t = vel.time_s
     walking = np.asarray(vel.walking, dtype=bool)
     f_ref = np.full(t.shape, np.nan)
-    if reuse_events and getattr(vel, "events_searched", False):
-        ev = vel.gait_events
-    else:
-        try:
+    try:
+        found = getattr(vel, "gait_events", None)
+        if found is not None and found.feet == events.feet_of(recording, item.feet):
+            ev = found
+        else:
             ev = events.detect_gait_events(recording, feet=item.feet, up_axis=vel.up_axis)
-        except InputError:
-            ev = None
+    except InputError:
+        ev = None
     if ev is not None and len(ev.contacts_s) >= 2:
         f_ref = metrics.step_frequency_from_contacts(ev.contacts_s, t, stride_average=True)
         in_walk = np.zeros(t.shape, dtype=bool)
@@ -148,8 +149,7 @@ def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE
         f_ref, speed_ref = tr.step_frequency_hz, tr.speed_mps
         walking = np.asarray(tr.walking, dtype=bool) & np.isfinite(vel.vx) & np.isfinite(vel.vz)
     else:
-        # gait_velocities looked for the events with feet=None; the same as the item's when it names none
-        f_ref, speed_ref, walking = real_reference(recording, vel, item, reuse_events=item.feet is None)
+        f_ref, speed_ref, walking = real_reference(recording, vel, item)
     if not walking.any():
         walking = np.isfinite(vel.vx) & np.isfinite(vel.vz)
     t1 = clock()

@@ -197,26 +197,25 @@ def walking_mask_and_events(
     walking_speed_mps: float = 0.15,
     min_walk_s: float = 1.0,
     feet=None,
-) -> tuple[np.ndarray, bool, GaitEvents | None]:
-    """:func:`walking_mask`, and what it found on the way: (mask, whether it looked for gait events,
-    the events of :func:`detect_gait_events` with ``feet`` and ``up_axis``, None when they could not
-    be found), so that a caller needing them does not detect them again."""
+) -> tuple[np.ndarray, GaitEvents | None]:
+    """:func:`walking_mask`, and the gait events it found on the way (:func:`detect_gait_events` with
+    ``feet`` and ``up_axis``; None when it did not look for them or found none), so that a caller
+    needing them does not detect them again."""
 
     t = np.asarray(time_s, dtype=float)
-    searched, events = False, None
+    events = None
     if recording.velocities is None and feet is not None:
         feet_of(recording, feet)  # InputError naming a foot point that is not there
     if recording.velocities is None and (feet is not None or points.find_feet(recording.point_names)):
-        searched = True
         try:
             events = detect_gait_events(recording, feet=feet, up_axis=up_axis)
         except InputError:
             events = None
         if events is not None and len(events.contacts_s) > 0:
-            return events.walking_mask(t), searched, events
+            return events.walking_mask(t), events
     if speed_mps is None or rate_hz is None:
-        return np.zeros(t.shape, dtype=bool), searched, events
-    return walking_from_speed(speed_mps, rate_hz, walking_speed_mps, min_walk_s), searched, events
+        return np.zeros(t.shape, dtype=bool), events
+    return walking_from_speed(speed_mps, rate_hz, walking_speed_mps, min_walk_s), events
 
 
 def walking_from_speed(

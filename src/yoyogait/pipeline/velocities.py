@@ -73,9 +73,8 @@ class GaitVelocities:
     treadmill: Treadmill | None = (
         None  # the treadmill check (its belt is in vx when detected); None for given velocities
     )
-    #: Whether ``walking`` came from looking for gait events (found with the ``feet`` and up axis used
-    #: here), and the events found (None: none could be); kept so that they are not detected twice.
-    events_searched: bool = field(default=False, repr=False, compare=False)
+    #: The gait events found for ``walking`` (with the up axis used here; their ``feet`` say which
+    #: points), None when none were; kept so that they need not be detected again.
     gait_events: events.GaitEvents | None = field(default=None, repr=False, compare=False)
 
     def __repr__(self) -> str:
@@ -220,7 +219,7 @@ def gait_velocities(
             f"({label}), at least min_usable_s={min_usable_s:g} s are needed"
         )
 
-    walking, events_searched, gait_events = events.walking_mask_and_events(
+    walking, gait_events = events.walking_mask_and_events(
         recording, t_out, speed_mps=np.hypot(v_h[:, 0], v_h[:, 1]), rate_hz=rate_hz, up_axis=up, feet=feet
     )
     return GaitVelocities(
@@ -236,7 +235,6 @@ def gait_velocities(
         source=where,
         settings=settings,
         treadmill=treadmill,
-        events_searched=events_searched,
         gait_events=gait_events,
     )
 
