@@ -161,20 +161,19 @@ def _read_fast(raw: bytes, header_scale: float | None):
     if processor not in (84, 85) or not 512 <= data_start <= len(raw):
         return None  # MIPS: ezc3d rejects its points; keep its message
     try:
-        c = _parse_parameters(ezc3d, raw[:data_start])
+        c, layout = _parse_parameters(ezc3d, raw[:data_start])
     except (RuntimeError, OSError, ValueError, IndexError):
         return None  # ezc3d's full read gives the message
-    header = c.c3d_swig.header()
     scale = _param(c["parameters"].get("POINT", {}), "SCALE")
     if not scale:
         return None
     point_scale = float(scale[0])
-    n_points, n_frames = int(header.nb3dPoints()), int(header.nbFrames())
-    analog_values = int(header.nbAnalogByFrame()) * int(header.nbAnalogs())
-    analog_float = header.scaleFactor() < 0
+    n_points, n_frames = int(layout["points"]), int(layout["frames"])
+    analog_values = int(layout["analog_values"])
+    analog_float = layout["analog_float"]
     if (
-        header.hasRotationalData()
-        or 512 * (int(header.dataStart()) - 1) != data_start
+        layout["rotations"]
+        or 512 * (int(layout["data_start"]) - 1) != data_start
         or not (np.isfinite(point_scale) and point_scale != 0)
         or (point_scale < 0) != (header_scale < 0)
         or analog_float != (point_scale < 0)
@@ -215,7 +214,9 @@ def _decode_points(raw: bytes, start: int, n_frames: int, frame_bytes: int, n_po
 
 
 def _parse_parameters(ezc3d, head: bytes):
-    """ezc3d's reading of a file that holds only ``head`` (the header and parameter blocks).
+    """ezc3d's reading of a file that holds only ``head`` (the header and parameter blocks): what
+    :func:`read_c3d` uses of ``ezc3d.c3d(...)`` (the POINT group and the point header, converted as
+    ezc3d's Python layer converts them), and ezc3d's header object.
 
     ezc3d reads from a path; an in-memory file (Linux) or else a temporary file holds the copy.
     """
@@ -223,13 +224,49 @@ def _parse_parameters(ezc3d, head: bytes):
         fd = os.memfd_create("yoyogait-c3d", getattr(os, "MFD_CLOEXEC", 0))
         try:
             os.write(fd, head)
-            return ezc3d.c3d(f"/proc/self/fd/{fd}", extract_forceplat_data=False)
+            parsed = ezc3d.ezc3d.c3d(f"/proc/self/fd/{fd}", _options(ezc3d))
         finally:
             os.close(fd)
-    with tempfile.TemporaryDirectory(prefix="yoyogait-c3d-") as folder:
-        copy = Path(folder) / "head.c3d"
-        copy.write_bytes(head)
-        return ezc3d.c3d(str(copy), extract_forceplat_data=False)
+    else:
+        with tempfile.TemporaryDirectory(prefix="yoyogait-c3d-") as folder:
+            copy = Path(folder) / "head.c3d"
+            copy.write_bytes(head)
+            parsed = ezc3d.ezc3d.c3d(str(copy), _options(ezc3d))
+    header = parsed.header()
+    parameters = parsed.parameters()
+    groups = {}
+    if parameters.isGroup("POINT"):
+        group = parameters.group("POINT")
+        groups["POINT"] = {p.name(): {"value": _parameter_value(ezc3d, p)} for p in group.parameters()}
+    points = {"frame_rate": header.frameRate(), "first_frame": header.firstFrame()}
+    layout = {  # copied out: the header object lives inside `parsed`
+        "points": header.nb3dPoints(),
+        "frames": header.nbFrames(),
+        "analog_values": header.nbAnalogByFrame() * header.nbAnalogs(),
+        "analog_float": header.scaleFactor() < 0,
+        "rotations": header.hasRotationalData(),
+        "data_start": header.dataStart(),
+    }
+    return {"parameters": groups, "header": {"points": points}}, layout
+
+
+def _options(ezc3d):
+    """The options ``ezc3d.c3d(path)`` reads with."""
+    return ezc3d.ezc3d.Options(ignoreBadFormatting=False, keepParametersTrailingSpaces=False)
+
+
+def _parameter_value(ezc3d, parameter):
+    """A parameter's value as ``ezc3d.c3d`` gives it (its ``add_parameter``)."""
+    kind = parameter.type()
+    if kind == ezc3d.ezc3d.BYTE:
+        return np.array(parameter.valuesAsByte(), dtype="int").reshape(parameter.dimension(), order="F")
+    if kind == ezc3d.ezc3d.INT:
+        return np.array(parameter.valuesAsInt(), dtype="int").reshape(parameter.dimension(), order="F")
+    if kind == ezc3d.ezc3d.FLOAT:
+        return np.array(parameter.valuesAsDouble()).reshape(parameter.dimension(), order="F")
+    if kind == ezc3d.ezc3d.CHAR:
+        return list(parameter.valuesAsString())
+    raise RuntimeError("Data type not recognized")
 
 
 def _check_header(p: Path, raw: bytes) -> float | None:
