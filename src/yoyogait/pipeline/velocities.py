@@ -128,6 +128,7 @@ class GaitVelocities:
         return slice(start, stop)
 
 
+@points.reusing_trajectories()  # the pelvis centre serves the point, the treadmill check and the gait events
 def gait_velocities(
     recording: Recording,
     point=None,
