@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import corrupt_mutants as cm
+from yoyogait.errors import InputError
 from yoyogait.io import c3d as c3d_module
 from yoyogait.io.c3d import read_c3d
 
@@ -59,3 +61,36 @@ def test_short_data_falls_back_to_ezc3d(datasets_dir, tmp_path):
     header_scale = c3d_module._check_header(path, raw)
     assert c3d_module._read_fast(raw, header_scale) is not None
     assert c3d_module._read_fast(raw[: len(raw) - 4096], header_scale) is None
+
+
+def _outcome(path):
+    try:
+        r = read_c3d(path)
+    except InputError as exc:
+        return ("error", str(exc))
+    return ("read", r.positions_m.tobytes(), r.point_names, r.rate_hz, repr(r.metadata), r.up_axis)
+
+
+def test_corrupt_copies_read_alike_by_both_paths(datasets_dir, tmp_path, monkeypatch):
+    """Corrupt copies of the C3D files (cut, flipped bytes, zeroed blocks, odd header numbers, bogus data)
+    give the same recording or the same error whether numpy decodes the points or ezc3d reads it whole."""
+    files = _c3d_files(datasets_dir)
+    operators = [cm._truncate, cm._flip_bytes, cm._zero_block, cm._c3d_header_number, cm._c3d_data_float]
+    fast_path = c3d_module._read_fast
+    decoded = 0
+    for i in range(150):
+        source = files[i % len(files)]
+        data, detail = operators[(i // len(files)) % len(operators)](
+            source.read_bytes(), np.random.default_rng((11, i))
+        )
+        path = tmp_path / f"m{i:03d}_{source.name}"
+        path.write_bytes(data)
+        monkeypatch.setattr(c3d_module, "_read_fast", fast_path)
+        fast = _outcome(path)
+        try:
+            decoded += fast_path(data, c3d_module._check_header(path, data)) is not None
+        except InputError:
+            pass
+        monkeypatch.setattr(c3d_module, "_read_fast", lambda raw, header_scale: None)
+        assert _outcome(path) == fast, f"{source.name}: {detail}"
+    assert decoded >= 50  # the comparison exercised the numpy path, not only the fallback
