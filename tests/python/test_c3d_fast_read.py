@@ -94,3 +94,43 @@ def test_corrupt_copies_read_alike_by_both_paths(datasets_dir, tmp_path, monkeyp
         monkeypatch.setattr(c3d_module, "_read_fast", lambda raw, header_scale: None)
         assert _outcome(path) == fast, f"{source.name}: {detail}"
     assert decoded >= 50  # the comparison exercised the numpy path, not only the fallback
+
+
+def test_parameters_running_into_the_data_are_read_by_ezc3d_whole(datasets_dir, tmp_path, monkeypatch):
+    """A header whose data start cuts the parameter records short leaves the file to ezc3d whole (the copy
+    ezc3d would parse lacks bytes it reads), with the same outcome as before."""
+    source = datasets_dir / "c3d_org_samples" / "sample26_Qualisys_Walking_Hybrid_1_1.c3d"
+    if not source.is_file():
+        pytest.skip(f"{source} is absent")
+    data = bytearray(source.read_bytes())
+    first = data[0]
+    parameters_end = c3d_module._parameters_end(bytes(data))
+    block = parameters_end // 512 + 1  # the (1-based) block where the parameter records end
+    assert block > first + 1
+    data[512 * (first - 1) + 2] = block - first  # parameter blocks in the header: up to that block
+    data[16:18] = block.to_bytes(2, "little")  # the data start at that block, inside the records
+    path = tmp_path / "short_parameters.c3d"
+    path.write_bytes(bytes(data))
+    assert c3d_module._parameters_end(bytes(data)) > 512 * (block - 1)
+    assert c3d_module._read_fast(bytes(data), c3d_module._check_header(path, bytes(data))) is None
+    fast = _outcome(path)
+    monkeypatch.setattr(c3d_module, "_read_fast", lambda raw, header_scale: None)
+    assert _outcome(path) == fast
+
+
+def test_parameter_records_end_where_ezc3d_stops_reading(datasets_dir):
+    """ezc3d parses the same POINT group and layout from the bytes up to the computed end of the parameter
+    records as from those up to the data start (so the end is not placed too early)."""
+    import ezc3d
+
+    for path in _c3d_files(datasets_dir):
+        raw = path.read_bytes()
+        end = c3d_module._parameters_end(raw)
+        data_start = 512 * (int.from_bytes(raw[16:18], "little") - 1)
+        assert end is not None and end <= data_start, path.name
+        short, layout = c3d_module._parse_parameters(ezc3d, raw[:end])
+        full, full_layout = c3d_module._parse_parameters(ezc3d, raw[:data_start])
+        assert layout == full_layout, path.name
+        assert short["header"] == full["header"], path.name
+        for name, entry in full["parameters"]["POINT"].items():
+            assert np.array_equal(np.asarray(short["parameters"]["POINT"][name]["value"]), np.asarray(entry["value"]))

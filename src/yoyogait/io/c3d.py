@@ -160,6 +160,9 @@ def _read_fast(raw: bytes, header_scale: float | None):
     data_start = 512 * (struct.unpack("<H" if processor != 86 else ">H", raw[16:18])[0] - 1)
     if processor not in (84, 85) or not 512 <= data_start <= len(raw):
         return None  # MIPS: ezc3d rejects its points; keep its message
+    end = _parameters_end(raw)
+    if end is None or end > data_start:
+        return None  # ezc3d's parse of the copy would lack bytes it reads from the file
     try:
         c, layout = _parse_parameters(ezc3d, raw[:data_start])
     except (RuntimeError, OSError, ValueError, IndexError):
@@ -188,6 +191,41 @@ def _read_fast(raw: bytes, header_scale: float | None):
         return None  # ezc3d reads what there is
     xyz, negative_residual = _decode_points(raw, data_start, n_frames, frame_bytes, n_points, point_scale)
     return c, xyz, negative_residual
+
+
+def _parameters_end(raw: bytes) -> int | None:
+    """Where the parameter records ezc3d reads end (a byte offset), following their chain as ezc3d
+    does (Intel or DEC byte order); None when a record is not plain (an unknown type, a negative
+    description length, a chain that leaves the file or does not end)."""
+    pos = 512 * (raw[0] - 1) + 4  # after the parameter section's 4-byte header
+    end = pos
+    for _ in range(65536):
+        if pos + 2 > len(raw):
+            return None
+        n_name, group_id = struct.unpack_from("<bb", raw, pos)
+        if n_name == 0:
+            return max(end, pos + 1)
+        word = pos + 2 + abs(n_name)  # the offset to the next record, counted from this word
+        if word + 2 > len(raw):
+            return None
+        offset = struct.unpack_from("<H", raw, word)[0]
+        at = word + 2
+        if group_id >= 0:  # a parameter: type, dimensions, values
+            if at + 2 > len(raw):
+                return None
+            size, n_dims = struct.unpack_from("<bB", raw, at)
+            if size not in (-1, 1, 2, 4) or at + 2 + n_dims > len(raw) or (n_dims == 0 and size == -1):
+                return None  # (ezc3d reads a text of no dimensions out of bounds)
+            count = int(np.prod(list(raw[at + 2 : at + 2 + n_dims]), dtype=np.int64))  # 1 for a scalar
+            at += 2 + n_dims + abs(size) * count
+        if at + 1 > len(raw) or raw[at] >= 128:
+            return None
+        at += 1 + raw[at]  # the description
+        end = max(end, at)
+        if offset == 0:
+            return end
+        pos = word + offset
+    return None
 
 
 def _decode_points(raw: bytes, start: int, n_frames: int, frame_bytes: int, n_points: int, point_scale: float):
