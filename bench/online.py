@@ -1,6 +1,6 @@
 """Online estimator: native ns per frame and an online evaluation against the offline pipeline.
 
-    python bench/online.py [--rates 30,60,100,120,200,250] [--no-real] [--timing-only]
+    python bench/online.py [--rates 30,60,100,120,200,250] [--no-real] [--timing-only] [--reference-only]
 
 * ns per frame of the C++ ``OnlineEstimator::update`` (front-end and estimator), built here with
   the system compiler at -O3 (bench/bench_online.cpp), median of rounds.
@@ -12,16 +12,23 @@
   vz_hat against the offline velocities (mean squared, 1e-2 (m/s)^2, walking after 3 s; v_x against
   the offline velocity along the heading). The offline default estimator's figures on the same
   samples are given beside them. A benchmark, not a test.
+* Every rate of ``--rates`` against the same walks at ``--reference-hz`` (25) input: the synthetic
+  lab rendered once at a rate all of them divide and decimated, the real recordings against every
+  k-th of their frames; medians and a one-sided paired Wilcoxon test per figure
+  (``--reference-only``: this comparison alone).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import functools
 import subprocess
 import tempfile
 from pathlib import Path
 
 import numpy as np
+from scipy import stats
 
 from yoyogait.estimators import EstimatorConfig, GaitEstimator, OnlineConfig, OnlineEstimator
 from yoyogait.evaluation.datasets import manifest_items, synthetic_items
@@ -50,7 +57,24 @@ def lag_s(est, ref, rate_hz, max_lag_s=0.15):
     return (lags[i] + off) / rate_hz
 
 
-def evaluate(item, config=None):
+def decimation_factor(rate_hz: float, reference_hz: float) -> int:
+    """The integer factor that brings ``rate_hz`` closest to ``reference_hz`` (1: no reduction)."""
+    return max(1, int(round(rate_hz / reference_hz)))
+
+
+def _every_kth_frame(load, k):
+    rec = load()
+    return dataclasses.replace(rec, positions_m=rec.positions_m[::k], time_s=rec.time_s[::k], rate_hz=rec.rate_hz / k)
+
+
+def decimated_item(item, k: int):
+    """The item with every k-th frame of its recording (the same walk seen by a slower camera)."""
+    return dataclasses.replace(item, load=functools.partial(_every_kth_frame, item.load, k))
+
+
+def evaluate(item, config=None, decimate=1):
+    """One walk's figures; ``decimate`` k > 1 feeds the online estimator every k-th frame only (what
+    a camera at 1/k of the rate would have delivered), everything it is scored against unchanged."""
     rec = item.load()
     names = list(item.pelvis) if item.pelvis else list(points.choose_point(rec).names)
     up, _ = points.resolve_up_axis(rec, item.up_axis)
@@ -67,7 +91,15 @@ def evaluate(item, config=None):
     t_walk = t[np.flatnonzero(walking)[0]]
     early = walking & (t < t_walk + 3.0)
     late = walking & (t >= t_walk + 3.0)
-    res = OnlineEstimator(names, up, config=config).run(rec)
+    online_rec = rec
+    if decimate > 1:
+        online_rec = dataclasses.replace(
+            rec,
+            positions_m=rec.positions_m[::decimate],
+            time_s=rec.time_s[::decimate],
+            rate_hz=None if rec.rate_hz is None else rec.rate_hz / decimate,
+        )
+    res = OnlineEstimator(names, up, config=config).run(online_rec)
     # The online estimate in force at each grid time: the last frame at or before it.
     idx = np.clip(np.searchsorted(res.time_s, t, side="right") - 1, 0, len(res.time_s) - 1)
     f_on = res.step_frequency_hz[idx]
@@ -88,7 +120,8 @@ def evaluate(item, config=None):
     centre, _ = points.robust_centre(rec.points(names))
     k = "xyz".index(up)
     vz_sg = savgol_velocity(centre, rate, savgol_window_samples(0.25, rate, 3), 3)[:, k]
-    walk_frames = np.interp(rec.time_s, t, walking.astype(float)) > 0.5
+    vz_sg, frame_t, rate = vz_sg[::decimate], rec.time_s[::decimate], rate / decimate
+    walk_frames = np.interp(frame_t, t, walking.astype(float)) > 0.5
     lag = lag_s(np.where(walk_frames, res.vz_mps, np.nan), np.where(walk_frames, vz_sg, np.nan), rate)
     return dict(
         name=item.name,
@@ -170,9 +203,17 @@ def main():
         default=None,
         help="override the estimator's sample_time_s (0.001: every frame)",
     )
+    ap.add_argument(
+        "--reference-hz",
+        type=float,
+        default=25.0,
+        help="compare every rate with the same walks at this input rate (0: no comparison)",
+    )
+    ap.add_argument("--reference-only", action="store_true", help="only the comparison with the reference input rate")
     ap.add_argument("--datasets", default=str(ROOT.parent / "shared" / "datasets"))
     args = ap.parse_args()
-    print(timing())
+    if not args.reference_only:
+        print(timing())
     if args.timing_only:
         return
     config = OnlineConfig() if args.antialias_hz is None else OnlineConfig(antialias_hz=args.antialias_hz)
@@ -181,27 +222,122 @@ def main():
     print()
     print(header())
     groups = []
+    real_items = []
     if not args.no_real:
-        items, _ = manifest_items(Path(args.datasets) / "manifest.json")
-        groups.append(("real (manifest), native rate", items))
-    groups.append(("synthetic lab, 100 Hz", synthetic_items(rate_hz=100.0)))
-    for rate in [float(r) for r in args.rates.split(",") if r]:
-        groups.append((f"synthetic lab, {rate:g} Hz", synthetic_items(rate_hz=rate)))
+        real_items, _ = manifest_items(Path(args.datasets) / "manifest.json")
+        groups.append(("real (manifest), native rate", real_items))
+    rates = [float(r) for r in args.rates.split(",") if r]
+    if not args.reference_only:
+        groups.append(("synthetic lab, 100 Hz", synthetic_items(rate_hz=100.0)))
+        for rate in rates:
+            groups.append((f"synthetic lab, {rate:g} Hz", synthetic_items(rate_hz=rate)))
+    results = {}
     for label, items in groups:
-        rows = []
-        for item in items:
-            try:
-                r = evaluate(item, config)
-            except Exception as exc:  # a recording the pipeline cannot use is reported, not fatal
-                print(f"  skipped {item.name}: {exc}")
-                continue
-            if r is not None:
-                rows.append(r)
-        print(summary(label + " (median)", rows), flush=True)
-        print(summary(label + " (mean)", rows, np.mean), flush=True)
-        if args.per_recording:
-            for r in rows:
-                print(summary(f"  {r['name']} {r['rate_hz']:.0f} Hz", [r]))
+        rows = evaluate_all(items, config)
+        results[label] = rows
+        print_group(label, rows, args.per_recording)
+    if args.reference_hz > 0:
+        reference_comparison(args, config, results, real_items, rates)
+
+
+def evaluate_all(items, config, decimate_to_hz=None):
+    """Rows of ``evaluate`` for the items (a recording the pipeline cannot use is reported, not fatal)."""
+    rows = []
+    for item in items:
+        try:
+            k = 1
+            if decimate_to_hz is not None:
+                k = decimation_factor(item.load().rate_hz, decimate_to_hz)
+                if k < 2:
+                    continue
+            r = evaluate(item, config, decimate=k)
+        except Exception as exc:
+            print(f"  skipped {item.name}: {exc}")
+            continue
+        if r is not None:
+            rows.append(r)
+    return rows
+
+
+def print_group(label, rows, per_recording=False):
+    print(summary(label + " (median)", rows), flush=True)
+    print(summary(label + " (mean)", rows, np.mean), flush=True)
+    if per_recording:
+        for r in rows:
+            print(summary(f"  {r['name']} {r['rate_hz']:.0f} Hz", [r]))
+
+
+# (key, label, lower is better as absolute value)
+COMPARED = (
+    ("f_late", "f err >3 s"),
+    ("f_early", "f err <3 s"),
+    ("lag_ms", "|v_z lag| ms"),
+    ("vz_mse", "v_z recon"),
+    ("vx_mse", "v_x recon"),
+)
+
+
+def compare(label, rows, reference_rows):
+    """A row: each figure's median at the rate / at the reference input on the same walks, and
+    whether the rate is worse: one-sided Wilcoxon signed-rank test of the paired per-walk values,
+    p < 0.05 (with fewer than 6 pairs no test can say so, shown as "n < 6")."""
+    by_name = {r["name"]: r for r in reference_rows}
+    pairs = [(r, by_name[r["name"]]) for r in rows if r["name"] in by_name]
+    cells, worse = [], []
+    for key, name in COMPARED:
+        ok = [(abs(r[key]), abs(q[key])) for r, q in pairs if np.isfinite(r[key]) and np.isfinite(q[key])]
+        if not ok:
+            cells.append("-")
+            continue
+        a, b = np.array(ok).T
+        ma, mb = float(np.median(a)), float(np.median(b))
+        if len(a) < 6:
+            p = "n < 6"
+        elif np.all(a == b):
+            p = "p = 1"
+        else:
+            pv = float(stats.wilcoxon(a, b, alternative="greater").pvalue)
+            p = f"p = {pv:.2f}"
+            if pv < 0.05:
+                worse.append(name)
+        cells.append(f"{ma:.3g} / {mb:.3g} (n {len(a)}, {p})")
+    verdict = "worse: " + ", ".join(worse) if worse else "no"
+    return f"| {label} | {len(pairs)} | " + " | ".join(cells) + f" | {verdict} |"
+
+
+def reference_comparison(args, config, results, real_items, rates):
+    """Every capture rate against the same walks at the reference input rate (25 Hz)."""
+    ref_hz = args.reference_hz
+    print()
+    print(
+        f"Against {ref_hz:g} Hz input on the same walks (median at the rate / median at {ref_hz:g} Hz; "
+        "worse: one-sided paired Wilcoxon test, p < 0.05):"
+    )
+    print()
+    print(
+        "| data | n | "
+        + " | ".join(name for _, name in COMPARED)
+        + f" | worse than {ref_hz:g} Hz |\n|"
+        + "---|" * (len(COMPARED) + 3)
+    )
+    # The synthetic lab rendered once at a rate that every compared rate divides, then every k-th
+    # frame: the same walks, the same marker noise at the frames that two rates share.
+    base_hz = float(np.lcm.reduce([int(round(r)) for r in [*rates, ref_hz]]))
+    base = synthetic_items(rate_hz=base_hz)
+    ref_rows = evaluate_all([decimated_item(i, int(round(base_hz / ref_hz))) for i in base], config)
+    for rate in rates:
+        rows = evaluate_all([decimated_item(i, int(round(base_hz / rate))) for i in base], config)
+        print(compare(f"synthetic lab, {rate:g} Hz (from {base_hz:g} Hz)", rows, ref_rows), flush=True)
+    if real_items:
+        # Each recording with every k-th frame (k = its rate / 25, rounded; recordings below
+        # 1.5 x 25 Hz have no lower rate and are left out).
+        dec_rows = evaluate_all(real_items, config, decimate_to_hz=ref_hz)
+        native = results["real (manifest), native rate"]
+        print(compare("real (manifest), native rate", native, dec_rows), flush=True)
+        for lo, hi in ((45, 80), (80, 160), (160, 260)):
+            sub = [r for r in native if lo <= r["rate_hz"] < hi]
+            if sub:
+                print(compare(f"real, {lo}-{hi} Hz", sub, dec_rows), flush=True)
 
 
 if __name__ == "__main__":

@@ -134,6 +134,42 @@ TEST(GaitPredict, StructuredPropagationEqualsDenseFPFtPlusQ) {
   }
 }
 
+TEST(GaitPredict, PairFormEqualsTheScalarFormBitForBit) {
+  // gait_predict with the target's X/Z pairs (SSE2 where available) gives exactly the scalar form's bits.
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_real_distribution<double> e(-30.0, 30.0);
+  for (int trial = 0; trial < 500; ++trial) {
+    GaitState x;
+    for (double& v : x) v = u(gen) * std::exp2(std::floor(0.3 * e(gen)));
+    x[kW] = 2.0 + 20.0 * (u(gen) + 1.0);  // |w dt| on both sides of pi/4 (the kernel and std::sin/cos)
+    GaitMatrix P{};
+    for (std::size_t i = 0; i < kDim; ++i)
+      for (std::size_t j = i; j < kDim; ++j) P[i][j] = u(gen) * std::exp2(std::floor(e(gen)));
+    if (trial % 50 == 0) P[kX1][kZ2] = -0.0;  // signed zeros go through the lanes as well
+    const double dt = 0.001 + 0.1 * (u(gen) + 1.0);
+    const double a = std::exp(-dt / 1.0), b = std::exp(-dt / 3.0);
+    GaitProcessNoise q;
+    q.phasor = 2e-3 * dt;
+    q.phase = 0.05 * dt;
+    q.omega = 0.05 * dt;
+    q.speed = 1e-3 * dt;
+    q.accel = 1e-2 * dt;
+    GaitState xs = x, xp = x;
+    GaitMatrix Ps = P, Pp = P;
+    gait_predict<ScalarPair>(xs, Ps, dt, a, b, q);
+    gait_predict<Pair>(xp, Pp, dt, a, b, q);
+    for (std::size_t i = 0; i < kDim; ++i) {
+      EXPECT_EQ(std::signbit(xp[i]), std::signbit(xs[i])) << trial << ": x" << i;
+      EXPECT_EQ(xp[i], xs[i]) << trial << ": x" << i;
+      for (std::size_t j = i; j < kDim; ++j) {
+        EXPECT_EQ(std::signbit(Pp[i][j]), std::signbit(Ps[i][j])) << trial << ": P" << i << j;
+        EXPECT_EQ(Pp[i][j], Ps[i][j]) << trial << ": P" << i << j;
+      }
+    }
+  }
+}
+
 TEST(GaitEstimator, ConvergesToThePositiveFrequencyWithTheRealPhaseRelation) {
   // With the forward oscillation in anti-phase (offset pi), f converges to +1.8 Hz within 1 % after 5 s,
   // and the estimated relation is the real one (phase near +pi/2, signed forward amplitude < 0).

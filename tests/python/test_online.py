@@ -144,7 +144,7 @@ def test_config_mirrors_the_native_struct():
 
 
 def test_estimate_online_writes_one_row_per_frame(datasets_dir, tmp_path, capsys):
-    """`yoyogait estimate FILE --online` writes one finite CSV row per capture frame and keeps an existing file."""
+    """`estimate FILE --online` writes a finite CSV row per frame (next step: while walking), keeps an existing file."""
     import csv
 
     from yoyogait.cli import main
@@ -157,7 +157,13 @@ def test_estimate_online_writes_one_row_per_frame(datasets_dir, tmp_path, capsys
     needed = "time_s vx_mps vz_mps vx_hat_mps vz_hat_mps step_frequency_hz step_frequency_std_hz speed_mps"
     needed += " speed_std_mps heading_rad gait_phase walking status"
     assert set(needed.split()) <= set(rows[0])
-    assert all(np.isfinite(float(v)) for r in rows for v in r.values())
+    assert all(np.isfinite(float(v)) for r in rows for k, v in r.items() if k != "next_step_in_s")
+    next_step = np.array([float(r["next_step_in_s"]) for r in rows])
+    walking = np.array([r["walking"] == "1" for r in rows])
+    assert walking.any() and np.array_equal(np.isfinite(next_step), walking)
+    f_hz = np.array([float(r["step_frequency_hz"]) for r in rows])
+    # The next step comes within about one step period (the frequency's rate may stretch it a little).
+    assert np.all(next_step[walking] >= 0) and np.all(next_step[walking] * f_hz[walking] <= 1.2)
     assert {int(r["status"]) for r in rows} >= {int(OnlineStatus.USED), int(OnlineStatus.ALL_MISSING)}
     before = out.read_bytes()
     assert main(["estimate", str(path), "--online", "--out", str(out)]) != 0

@@ -117,6 +117,27 @@ def test_pelvis_centre_is_nan_only_where_no_marker_is_seen():
     assert np.all(np.isnan(centre[40:45])) and np.all(np.isfinite(np.delete(centre, range(40, 45), axis=0)))
 
 
+def test_trajectories_reused_inside_the_block_are_the_same_and_private(monkeypatch):
+    """Inside reusing_trajectories a recording's pelvis centre is computed once, each caller gets its own copy
+    equal to a fresh computation; outside the block nothing is kept."""
+    markers, _ = _pelvis_markers(120)
+    markers[30:50, 1] = np.nan
+    rec = Recording(markers, ["LASI", "RASI", "LPSI", "RPSI"], np.arange(120) / 100.0, 100.0)
+    fresh = points.point_trajectory(rec)
+    calls = []
+    original = points.robust_centre
+    monkeypatch.setattr(points, "robust_centre", lambda p: calls.append(1) or original(p))
+    with points.reusing_trajectories():
+        first = points.point_trajectory(rec)
+        first.positions_m[:] = 0.0  # a caller changing its copy
+        second = points.point_trajectory(rec, ["LASI", "RASI", "LPSI", "RPSI"])
+    assert len(calls) == 1
+    assert np.array_equal(second.positions_m, fresh.positions_m, equal_nan=True)
+    assert second.used_names == fresh.used_names and second.choice.kind == "named"
+    points.point_trajectory(rec)
+    assert len(calls) == 2
+
+
 def test_rarely_seen_marker_is_left_out_of_the_centre():
     """A marker seen in under half the frames does not take part (its offsets would be stretched too far)."""
     markers, truth = _pelvis_markers(200, turn_deg_per_s=0.0)

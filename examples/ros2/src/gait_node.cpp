@@ -33,7 +33,7 @@ class GaitNode : public rclcpp::Node {
   }
 
  private:
-  static constexpr std::size_t kChannels = 22;
+  static constexpr std::size_t kChannels = 23;
 
   void on_pose(const geometry_msgs::msg::PoseStamped& pose) {
     const double t_s = rclcpp::Time(pose.header.stamp).seconds();
@@ -45,7 +45,7 @@ class GaitNode : public rclcpp::Node {
         e.vx_hat_mps, e.vz_hat_mps, e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps, e.speed_std_mps,
         e.gait_phase, e.input_latency_s, e.estimate_age_s, static_cast<double>(e.status),
         static_cast<double>(e.estimator_status), e.walking ? 1.0 : 0.0, e.estimator_fed ? 1.0 : 0.0,
-        static_cast<double>(e.points_seen)};
+        static_cast<double>(e.points_seen), e.next_step_in_s};
     std::copy(row.begin(), row.end(), message_.data.begin());
     publisher_->publish(message_);
   }

@@ -11,21 +11,26 @@ class BoundWatchdog {
  public:
   BoundWatchdog() noexcept = default;
   BoundWatchdog(double w_min, double w_max, double limit_s) noexcept
-      : w_min_(w_min), w_max_(w_max), limit_s_(limit_s) {}
+      : near_min_(1.05 * w_min),
+        near_max_(0.95 * w_max),
+        inside_min_(1.15 * w_min),
+        inside_max_(0.85 * w_max),
+        limit_s_(limit_s) {}
 
   void reset() noexcept { t_at_bound_s_ = 0.0; }
 
   /// One walking step of dt [s] with the frequency w [rad/s]; true: restart the acquisition.
   bool update(double w, double dt) noexcept {
-    if (w <= 1.05 * w_min_ || w >= 0.95 * w_max_)
+    if (w <= near_min_ || w >= near_max_)
       t_at_bound_s_ += dt;
-    else if (1.15 * w_min_ < w && w < 0.85 * w_max_)
+    else if (inside_min_ < w && w < inside_max_)
       t_at_bound_s_ = 0.0;
     return t_at_bound_s_ > limit_s_;
   }
 
  private:
-  double w_min_ = 0.0, w_max_ = 0.0, limit_s_ = 1.0;
+  // The thresholds, multiplied out once (the same products as per step).
+  double near_min_ = 0.0, near_max_ = 0.0, inside_min_ = 0.0, inside_max_ = 0.0, limit_s_ = 1.0;
   double t_at_bound_s_ = 0.0;
 };
 

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 
+#include "yoyogait/gait/pair.hpp"
 #include "yoyogait/gait/state.hpp"
 #include "yoyogait/math.hpp"
 
@@ -30,14 +31,19 @@ struct GaitProcessNoise {
 ///   P'ab = (Rr Pab + g P[w][b]) L^T,                        P'bb = L Pbb L^T + Q_bb.
 /// Rot B Rot^T of a 2x2 block B leaves its rotation-invariant part (alpha I + beta J) alone and turns
 /// its reflection part [[p, q], [q, -p]] by 2 phi: about 230 flops instead of ~1900 for the two
-/// dense products of F P F^T.
-inline void gait_predict(GaitState& x, GaitMatrix& P, double dt, double accel_decay, double omega_rate_decay,
-                         const GaitProcessNoise& q) noexcept {
+/// dense products of F P F^T. Lanes: the X and Z lanes' form (gait/pair.hpp), the target's SSE2
+/// pairs by default; gait::ScalarPair gives the same bits.
+template <class Lanes = gait::Pair>
+void gait_predict(GaitState& x, GaitMatrix& P, double dt, double accel_decay, double omega_rate_decay,
+                  const GaitProcessNoise& q) noexcept {
   using namespace gait;
   double s, c;
   sincos(x[kW] * dt, s, c);
-  const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
-  const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
+  // X and Z go through the same operations: one lane each (gait/pair.hpp), the scalar form's bits.
+  const Lanes pc = Lanes::splat(c), ps = Lanes::splat(s);
+  const Lanes p1 = Lanes::of(x[kX1], x[kZ1]), p2 = Lanes::of(x[kX2], x[kZ2]);
+  const Lanes R1 = pc * p1 - ps * p2, R2 = ps * p1 + pc * p2;  // (X1, Z1), (X2, Z2) turned
+  const double X1 = R1.lo(), X2 = R2.lo(), Z1 = R1.hi(), Z2 = R2.hi();
   x[kX1] = X1;
   x[kX2] = X2;
   x[kZ1] = Z1;
@@ -49,14 +55,17 @@ inline void gait_predict(GaitState& x, GaitMatrix& P, double dt, double accel_de
 
   const double a = accel_decay, b = omega_rate_decay;
   const double g0 = -X2, g1 = X1, g2 = -Z2, g3 = Z1;  // gq: d(state)/d(phase) at the rotated phasors
+  const Lanes G02 = negated(R2), G13 = R1;               // (g0, g2), (g1, g3)
 
   // Rotation by 2 phi of the reflection parts (cos 2phi, sin 2phi), halves folded in.
   const double C2 = 0.5 * ((c + s) * (c - s)), S2 = c * s;  // = cos(2 phi) / 2, sin(2 phi) / 2
-  // XX and ZZ blocks (symmetric: no J part).
-  const double mX = 0.5 * (P[kX1][kX1] + P[kX2][kX2]), hX = P[kX1][kX1] - P[kX2][kX2], qX = P[kX1][kX2];
-  const double hXr = C2 * hX - (S2 + S2) * qX, qXr = S2 * hX + (C2 + C2) * qX;
-  const double mZ = 0.5 * (P[kZ1][kZ1] + P[kZ2][kZ2]), hZ = P[kZ1][kZ1] - P[kZ2][kZ2], qZ = P[kZ1][kZ2];
-  const double hZr = C2 * hZ - (S2 + S2) * qZ, qZr = S2 * hZ + (C2 + C2) * qZ;
+  // XX and ZZ blocks (symmetric: no J part), as (X, Z) pairs: m = mean of the variances, h = their
+  // difference and q = the covariance, h and q turned by 2 phi.
+  const Lanes d1 = Lanes::of(P[kX1][kX1], P[kZ1][kZ1]), d2 = Lanes::of(P[kX2][kX2], P[kZ2][kZ2]);
+  const Lanes q12 = Lanes::of(P[kX1][kX2], P[kZ1][kZ2]);
+  const Lanes m12 = Lanes::splat(0.5) * (d1 + d2), h12 = d1 - d2;
+  const Lanes hr12 = Lanes::splat(C2) * h12 - Lanes::splat(S2 + S2) * q12;
+  const Lanes qr12 = Lanes::splat(S2) * h12 + Lanes::splat(C2 + C2) * q12;
   // XZ block (general): alpha I + beta J + [[p, q], [q, -p]].
   const double al = 0.5 * (P[kX1][kZ1] + P[kX2][kZ2]), be = 0.5 * (P[kX2][kZ1] - P[kX1][kZ2]);
   const double pXZ = P[kX1][kZ1] - P[kX2][kZ2], qXZ = P[kX1][kZ2] + P[kX2][kZ1];
@@ -76,10 +85,9 @@ inline void gait_predict(GaitState& x, GaitMatrix& P, double dt, double accel_de
   // u' = dt Rr P[a][w] + (dt^2 Pww + q_phase) / 2 gq, from the prior P[a][w] and Pww.
   const double Pww = P[kW][kW];
   const double hw = 0.5 * (dt * dt * Pww + q.phase);
-  const double u0 = dt * (c * P[kX1][kW] - s * P[kX2][kW]) + hw * g0;
-  const double u1 = dt * (s * P[kX1][kW] + c * P[kX2][kW]) + hw * g1;
-  const double u2 = dt * (c * P[kZ1][kW] - s * P[kZ2][kW]) + hw * g2;
-  const double u3 = dt * (s * P[kZ1][kW] + c * P[kZ2][kW]) + hw * g3;
+  const Lanes w1 = Lanes::of(P[kX1][kW], P[kZ1][kW]), w2 = Lanes::of(P[kX2][kW], P[kZ2][kW]);
+  const Lanes U02 = Lanes::splat(dt) * (pc * w1 - ps * w2) + Lanes::splat(hw) * G02;  // (u0, u2)
+  const Lanes U13 = Lanes::splat(dt) * (ps * w1 + pc * w2) + Lanes::splat(hw) * G13;  // (u1, u3)
 
   // P'bb = L Pbb L^T + Q_bb: w' = w + dt dw, A0' = A0 + dt dA0, dA0' = a dA0, dw' = b dw.
   // (M = L Pbb row by row; names: W = w, A = A0, D = dA0, R = dw.)
@@ -99,16 +107,22 @@ inline void gait_predict(GaitState& x, GaitMatrix& P, double dt, double accel_de
   const double pRR = b * b * P[kDW][kDW];
 
   // Write P'aa (rotation part + symmetric rank-2 + q_phasor I).
-  P[kX1][kX1] = mX + hXr + 2.0 * g0 * u0 + q.phasor;
-  P[kX2][kX2] = mX - hXr + 2.0 * g1 * u1 + q.phasor;
-  P[kX1][kX2] = qXr + g0 * u1 + u0 * g1;
-  P[kZ1][kZ1] = mZ + hZr + 2.0 * g2 * u2 + q.phasor;
-  P[kZ2][kZ2] = mZ - hZr + 2.0 * g3 * u3 + q.phasor;
-  P[kZ1][kZ2] = qZr + g2 * u3 + u2 * g3;
-  P[kX1][kZ1] = al + pr + g0 * u2 + u0 * g2;
-  P[kX2][kZ2] = al - pr + g1 * u3 + u1 * g3;
-  P[kX1][kZ2] = qr - be + g0 * u3 + u0 * g3;
-  P[kX2][kZ1] = qr + be + g1 * u2 + u1 * g2;
+  const Lanes two = Lanes::splat(2.0), qph = Lanes::splat(q.phasor);
+  const Lanes D1 = m12 + hr12 + two * G02 * U02 + qph, D2 = m12 - hr12 + two * G13 * U13 + qph;
+  const Lanes O12 = qr12 + G02 * U13 + U02 * G13;
+  P[kX1][kX1] = D1.lo();
+  P[kZ1][kZ1] = D1.hi();
+  P[kX2][kX2] = D2.lo();
+  P[kZ2][kZ2] = D2.hi();
+  P[kX1][kX2] = O12.lo();
+  P[kZ1][kZ2] = O12.hi();
+  // XZ block, row by row: (P'[X1][Z1], P'[X1][Z2]) and (P'[X2][Z1], P'[X2][Z2]) (adjacent in P).
+  static_assert(kZ2 == kZ1 + 1, "Z1, Z2 adjacent");
+  const Lanes u23 = highs(U02, U13), g23 = highs(G02, G13);
+  const Lanes xz1 = Lanes::of(al + pr, qr - be) + Lanes::splat(g0) * u23 + Lanes::splat(U02.lo()) * g23;
+  const Lanes xz2 = Lanes::of(qr + be, al - pr) + Lanes::splat(g1) * u23 + Lanes::splat(U13.lo()) * g23;
+  store2(&P[kX1][kZ1], xz1);
+  store2(&P[kX2][kZ1], xz2);
   // P'ab = V L^T.
   for (std::size_t i = 0; i < kPhasors; ++i) {
     P[i][kW] = V[i][jW] + dt * V[i][jDW];

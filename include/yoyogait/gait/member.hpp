@@ -154,9 +154,11 @@ struct MemberModel {
   /// P[:, Z1] - k1 ph1[Z1], and P -= k1 ph1^T + k2 ph2^T is the same as the two downdates in turn.
   /// kBank: a member of the start-up bank (acquiring: no gate, no harmonics, no std scale, the
   /// log-likelihood accumulates); else the one EKF of the steady state.
+  /// Always inlined: as a call it would take ten arguments and spill the caller's registers.
   template <bool kBank>
-  bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z, bool oscillate,
-              const InnovationGate& gate_, StdScale& scale, double std_gain) const noexcept {
+  YOYOGAIT_ALWAYS_INLINE bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z,
+                                     bool oscillate, const InnovationGate& gate_, StdScale& scale,
+                                     double std_gain) const noexcept {
     bool rejected = false;
     const bool gate = !kBank && gate_.active();
     GaitState& x = e.x;
@@ -188,7 +190,9 @@ struct MemberModel {
       return rejected;
     }
     const bool harm = !kBank && use_harmonic;
-    double ph1[kDim] = {}, k1[kDim] = {}, ph2[kDim], k2[kDim] = {};
+    // Zeroed only where a channel is not used: an accepted update writes every entry.
+    double ph1[kDim], k1[kDim], ph2[kDim], k2[kDim];
+    bool x_used = false;
     HarmonicStep hx, hz;
     if (use_x) {
       double u = 0.0, v = 0.0;
@@ -210,6 +214,7 @@ struct MemberModel {
           k1[r] = ph1[r] * inv_S;
           x[r] += k1[r] * nu;
         }
+        x_used = true;
         if (kBank) e.loglik += -0.5 * (nu * nu / S + std::log(S));
         if (!kBank && scale.adapts()) scale.update(nu * nu * inv_S, std_gain);
         // The harmonic learns from the residual left by the updated fundamental.
@@ -220,6 +225,8 @@ struct MemberModel {
         }
       }
     }
+    if (!x_used)
+      for (std::size_t r = 0; r < kDim; ++r) ph1[r] = k1[r] = 0.0;
     if (use_z) {
       double u = 0.0, v = 0.0;
       if (harm) harmonic_basis(x[kZ1], x[kZ2], harm_min2, u, v);
@@ -234,6 +241,7 @@ struct MemberModel {
       e.innovations.var_vz_mps2 = S;
       if (gate && gate_.rejects(nu, S)) {
         rejected = true;
+        for (std::size_t r = 0; r < kDim; ++r) k2[r] = 0.0;
       } else {
         const double inv_S = 1.0 / S;
         for (std::size_t r = 0; r < kDim; ++r) {
@@ -249,7 +257,7 @@ struct MemberModel {
         }
       }
     } else {
-      for (std::size_t r = 0; r < kDim; ++r) ph2[r] = 0.0;
+      for (std::size_t r = 0; r < kDim; ++r) ph2[r] = k2[r] = 0.0;
     }
     downdate(e.P, k1, ph1, k2, ph2);
     clamp(e);

@@ -78,17 +78,6 @@ class CausalCentre {
     }
     if (n_vis == 0) return r;
 
-    // How far the markers seen on this frame and the previous one moved: what the centre moves
-    // on a frame where the set changes.
-    Vec3 moved{};
-    std::size_t n_both = 0;
-    for (std::size_t j = 0; j < n_; ++j) {
-      if (visible[j] && prev_visible_[j]) {
-        for (int a = 0; a < 3; ++a) moved[a] += positions[j][a] - prev_pos_[j][a];
-        ++n_both;
-      }
-    }
-
     // Markers seen for the first time take their offset from the centre of the known visible ones,
     // or, when none of those is visible, from the last centre (the first frame: their mean).
     bool set_changed = false;
@@ -154,6 +143,16 @@ class CausalCentre {
       for (int a = 0; a < 3; ++a) correction_[a] *= decay_;
     }
     if (set_changed && have_prev_) {
+      // How far the markers seen on this frame and the previous one moved: what the centre moves
+      // on a frame where the set changes (only then: prev_pos_ is still the previous frame's).
+      Vec3 moved{};
+      std::size_t n_both = 0;
+      for (std::size_t j = 0; j < n_; ++j) {
+        if (visible[j] && prev_visible_[j]) {
+          for (int a = 0; a < 3; ++a) moved[a] += positions[j][a] - prev_pos_[j][a];
+          ++n_both;
+        }
+      }
       // Continue from the last centre by the common markers' displacement (none: hold it).
       for (int a = 0; a < 3; ++a) {
         const double target = last_m_[a] + (n_both > 0 ? moved[a] / static_cast<double>(n_both) : 0.0);

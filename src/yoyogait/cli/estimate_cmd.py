@@ -86,7 +86,8 @@ def command(
     default estimator, no figure): one row per capture frame with time_s, vx_mps, vz_mps,
     vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz, speed_mps, speed_std_mps,
     heading_rad, gait_phase, walking, status (0 used, 1 no point seen, 2 timestamp not increasing,
-    3 restart after a gap, 4 non-finite) and input_latency_s; --out defaults to FILE's name + .online.csv.
+    3 restart after a gap, 4 non-finite), input_latency_s and next_step_in_s (time to the next
+    lowest point of the pelvis, NaN while standing); --out defaults to FILE's name + .online.csv.
     """
     if online:
         if belt_speed_mps is not None:
@@ -158,9 +159,10 @@ ONLINE_COLUMNS = (
     "walking",
     "status",
     "input_latency_s",
+    "next_step_in_s",
 )
 #: printf formats of ONLINE_COLUMNS (``live --record`` writes the same).
-ONLINE_FORMATS = ("%.6f",) + ("%.6g",) * 10 + ("%d", "%d", "%.6g")
+ONLINE_FORMATS = ("%.6f",) + ("%.6g",) * 10 + ("%d", "%d", "%.6g", "%.6g")
 
 
 def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force):

@@ -100,12 +100,18 @@ def real_reference(recording, vel, item: Item):
 
     The step frequency is the cadence from the foot contacts with left-right alternation averaged
     out (:func:`yoyogait.metrics.step_frequency_from_contacts` with ``stride_average``).
+    The gait events ``vel`` holds serve when they were found from the same foot points (the events
+    depend on the item's ``feet`` only through them), else they are detected.
     """
     t = vel.time_s
     walking = np.asarray(vel.walking, dtype=bool)
     f_ref = np.full(t.shape, np.nan)
     try:
-        ev = events.detect_gait_events(recording, feet=item.feet, up_axis=vel.up_axis)
+        found = getattr(vel, "gait_events", None)
+        if found is not None and found.feet == events.feet_of(recording, item.feet):
+            ev = found
+        else:
+            ev = events.detect_gait_events(recording, feet=item.feet, up_axis=vel.up_axis)
     except InputError:
         ev = None
     if ev is not None and len(ev.contacts_s) >= 2:

@@ -19,7 +19,7 @@ import json
 import os
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 
 from ..errors import InputError
@@ -65,6 +65,7 @@ class MarkerKnowledge:
     exact: dict  # normalised name -> list of (role, side, rank); role: pelvis, root, hand, foot
     sets: dict  # the named sets as written (for documentation and tests)
     files: list
+    roles_of: dict = field(default_factory=dict)  # name -> its roles, as found (every recording repeats names)
 
 
 def add_marker_sets(path) -> None:
@@ -173,6 +174,13 @@ def _sided(key: str, words: dict | set, k: MarkerKnowledge, *, optional: bool = 
 
 def _roles(name: str, k: MarkerKnowledge) -> list[tuple[str, str | None, int]]:
     """What a name is: (role, side, rank) for pelvis markers, root joints, hands and feet."""
+    found = k.roles_of.get(name)
+    if found is None:
+        found = k.roles_of[name] = tuple(_find_roles(name, k))
+    return list(found)
+
+
+def _find_roles(name: str, k: MarkerKnowledge) -> list[tuple[str, str | None, int]]:
     for key in _keys(name, k):
         roles = list(k.exact.get(key, []))
         if _sided(key, k.pelvis_sided, k, optional=True) or key in k.pelvis_words:

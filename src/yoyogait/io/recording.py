@@ -83,7 +83,7 @@ class Recording:
 
     def visible(self) -> np.ndarray:
         """Bool frames x points: True where the point has a position."""
-        return np.all(np.isfinite(self.positions_m), axis=2)
+        return all_xyz(np.isfinite(self.positions_m))
 
 
 #: Metres per length unit, by the names files use for them.
@@ -225,6 +225,14 @@ def check_time(time_s: np.ndarray, where, line_numbers=None) -> None:
             f"{where}: {at(k + 1)}: time jumps from {t[k]:g} s to {t[k + 1]:g} s; the {len(t)} samples cover "
             f"{covered:.3g} s but their timestamps span {span:.3g} s (a bogus timestamp?)"
         )
+
+
+def all_xyz(mask: np.ndarray) -> np.ndarray:
+    """``mask.all(axis=-1)`` for a mask of x, y, z triples: the same, several times faster than numpy's
+    reduction over an axis of 3."""
+    if mask.shape[-1] != 3:
+        return np.all(mask, axis=-1)
+    return mask[..., 0] & mask[..., 1] & mask[..., 2]
 
 
 def check_coordinates(positions_m: np.ndarray, names, where, line_numbers=None) -> None:

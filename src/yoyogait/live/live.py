@@ -65,6 +65,7 @@ ESTIMATE_CHANNELS: tuple[tuple[str, str], ...] = (
     ("walking", "walking"),
     ("estimator_fed", "estimator_fed"),
     ("points_seen", "points_seen"),
+    ("next_step_in_s", "next_step_in_s"),
 )
 ESTIMATE_COLUMNS = tuple(name for name, _ in ESTIMATE_CHANNELS)
 _ATTRIBUTES = tuple(attr for _, attr in ESTIMATE_CHANNELS)

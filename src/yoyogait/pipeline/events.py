@@ -175,8 +175,35 @@ def walking_mask(
     and a pelvis and some foot contact is found; else from ``speed_mps``
     (horizontal speed on the ``time_s`` grid, see :func:`walking_from_speed`).
     """
+    return walking_mask_and_events(
+        recording,
+        time_s,
+        speed_mps=speed_mps,
+        rate_hz=rate_hz,
+        up_axis=up_axis,
+        walking_speed_mps=walking_speed_mps,
+        min_walk_s=min_walk_s,
+        feet=feet,
+    )[0]
+
+
+def walking_mask_and_events(
+    recording: Recording,
+    time_s,
+    *,
+    speed_mps=None,
+    rate_hz: float | None = None,
+    up_axis: str | None = None,
+    walking_speed_mps: float = 0.15,
+    min_walk_s: float = 1.0,
+    feet=None,
+) -> tuple[np.ndarray, GaitEvents | None]:
+    """:func:`walking_mask`, and the gait events it found on the way (:func:`detect_gait_events` with
+    ``feet`` and ``up_axis``; None when it did not look for them or found none), so that a caller
+    needing them does not detect them again."""
 
     t = np.asarray(time_s, dtype=float)
+    events = None
     if recording.velocities is None and feet is not None:
         feet_of(recording, feet)  # InputError naming a foot point that is not there
     if recording.velocities is None and (feet is not None or points.find_feet(recording.point_names)):
@@ -185,10 +212,10 @@ def walking_mask(
         except InputError:
             events = None
         if events is not None and len(events.contacts_s) > 0:
-            return events.walking_mask(t)
+            return events.walking_mask(t), events
     if speed_mps is None or rate_hz is None:
-        return np.zeros(t.shape, dtype=bool)
-    return walking_from_speed(speed_mps, rate_hz, walking_speed_mps, min_walk_s)
+        return np.zeros(t.shape, dtype=bool), events
+    return walking_from_speed(speed_mps, rate_hz, walking_speed_mps, min_walk_s), events
 
 
 def walking_from_speed(

@@ -21,6 +21,7 @@ carries each marker's offset from the centre across its gaps.
 
 from __future__ import annotations
 
+import contextvars
 import re
 import warnings
 from collections.abc import Sequence
@@ -46,6 +47,7 @@ from ..io.recording import AXES, Recording
 __all__ = [
     "PointChoice",
     "PointTrajectory",
+    "reusing_trajectories",
     "normalise_name",
     "find_pelvis",
     "find_hand",
@@ -200,11 +202,35 @@ def choose_point(rec: Recording, point=None, *, hand_side: str = "right") -> Poi
     return PointChoice(names, "named")
 
 
+#: Centres found inside :func:`reusing_trajectories`: (id of the recording, names) -> (recording, centre, used).
+_CENTRES: contextvars.ContextVar[dict | None] = contextvars.ContextVar("yoyogait_centres", default=None)
+
+
+@contextmanager
+def reusing_trajectories():
+    """Inside the block, :func:`point_trajectory` finds the centre of the same points of the same
+    recording once: for a pipeline that asks for one recording's pelvis several times (velocities,
+    treadmill, gait events). The recordings must not change inside the block."""
+    token = _CENTRES.set({}) if _CENTRES.get() is None else None
+    try:
+        yield
+    finally:
+        if token is not None:
+            _CENTRES.reset(token)
+
+
 def point_trajectory(rec: Recording, point=None, *, hand_side: str = "right") -> PointTrajectory:
     """The chosen point's trajectory (frames x 3, metres), several points averaged by :func:`robust_centre`."""
     choice = point if isinstance(point, PointChoice) else choose_point(rec, point, hand_side=hand_side)
-    positions = rec.points(choice.names)
-    centre, used = robust_centre(positions)
+    centres = _CENTRES.get()
+    key = (id(rec), tuple(choice.names))
+    if centres is not None and key in centres:
+        _, centre, used = centres[key]
+        centre = centre.copy()
+    else:
+        centre, used = robust_centre(rec.points(choice.names))
+        if centres is not None:  # the recording is kept so that its id is not reused inside the block
+            centres[key] = (rec, centre.copy(), list(used))
     return PointTrajectory(centre, choice, tuple(choice.names[i] for i in used))
 
 

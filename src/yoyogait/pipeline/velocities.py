@@ -73,6 +73,9 @@ class GaitVelocities:
     treadmill: Treadmill | None = (
         None  # the treadmill check (its belt is in vx when detected); None for given velocities
     )
+    #: The gait events found for ``walking`` (with the up axis used here; their ``feet`` say which
+    #: points), None when none were; kept so that they need not be detected again.
+    gait_events: events.GaitEvents | None = field(default=None, repr=False, compare=False)
 
     def __repr__(self) -> str:
         n = len(self.time_s)
@@ -125,6 +128,7 @@ class GaitVelocities:
         return slice(start, stop)
 
 
+@points.reusing_trajectories()  # the pelvis centre serves the point, the treadmill check and the gait events
 def gait_velocities(
     recording: Recording,
     point=None,
@@ -216,7 +220,7 @@ def gait_velocities(
             f"({label}), at least min_usable_s={min_usable_s:g} s are needed"
         )
 
-    walking = events.walking_mask(
+    walking, gait_events = events.walking_mask_and_events(
         recording, t_out, speed_mps=np.hypot(v_h[:, 0], v_h[:, 1]), rate_hz=rate_hz, up_axis=up, feet=feet
     )
     return GaitVelocities(
@@ -232,6 +236,7 @@ def gait_velocities(
         source=where,
         settings=settings,
         treadmill=treadmill,
+        gait_events=gait_events,
     )
 
 
