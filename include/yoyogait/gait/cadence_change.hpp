@@ -18,20 +18,22 @@ struct PriorPhasors {
   double X1 = 0.0, X2 = 0.0, Z1 = 0.0, Z2 = 0.0;
 };
 
-/// The phase error of the model, from the innovations: a gait phase ahead of the prior by d turns
-/// the phasors by d, so nu_x = -X2 d, nu_z = -Z2 d (first order; X2, Z2 of the prior). The
-/// weighted least-squares d over the last tau (cadence_change_tau_s) is num / den, num and den the
-/// low-passed -X2 nu_x / r_x - Z2 nu_z / r_z and X2^2 / r_x + Z2^2 / r_z. With the right frequency
-/// it is noise about zero; after a change of cadence the EKF keeps lagging the phase one way,
-/// every step. Its mean square over noise_tau (cadence_change_noise_tau_s), learnt while it is
+/// The phase error of the model, from the innovations: a gait phase ahead of the prior by d and a
+/// vertical amplitude larger by a factor 1 + rho give nu_z = rho Z1 - d Z2 (first order; Z1, Z2 of
+/// the prior). d is the least-squares solution over the last tau (cadence_change_tau_s; low-passed
+/// normal equations), with rho beside it so that a fading oscillation does not read as a lag; v_x
+/// is not used (the speed errors of a stop or a change of speed land in X). With the right
+/// frequency d is noise about zero; after a change of cadence the EKF keeps lagging the phase one
+/// way, every step. Its mean square over noise_tau (cadence_change_noise_tau_s), learnt while it is
 /// within the limit, is the walker's own phase noise (real step-to-step variability, left-right
-/// asymmetry): d counts as a cadence change beyond sigma times that RMS and beyond the floor
-/// (cadence_change_phase_rad; the noise level starts at the floor at each acquisition, so the
-/// first seconds of walking are tested that much more strictly). Then P_ww is raised to
-/// ((|d| - limit) / tau)^2, with the phase covariance that frequency error would have built
-/// (after_update): the EKF moves w instead of absorbing the lag in the phasors. The innovations
-/// measure the model's error, not the size of the EKF's corrections: opening P does not feed
-/// the detector. Below the limit nothing changes: the steady state keeps its noise model.
+/// asymmetry): d counts as a change of cadence beyond sigma times that RMS and beyond the floor
+/// (cadence_change_phase_rad), for at least tau. The noise level starts at the floor at each
+/// acquisition and nothing is detected in its first noise_tau: a converging filter lags too. Then
+/// P_ww is raised to min((|d| - limit) / horizon, max_std)^2, with the phase covariance that
+/// frequency error would have built (after_update): the EKF moves w instead of absorbing the lag
+/// in the phasors. The innovations measure the model's error, not the size of the EKF's
+/// corrections: opening P does not feed the detector. Below the limit nothing changes: the steady
+/// state keeps its noise model.
 class CadenceChangeDetector {
  public:
   CadenceChangeDetector() noexcept = default;
@@ -75,7 +77,7 @@ class CadenceChangeDetector {
     s2n_ += g * (z2 * nu - s2n_);
     const double det = s11_ * s22_ - s12_ * s12_;
     const double num = s12_ * s1n_ - s11_ * s2n_;  // d = num / det
-    // |d| > limit, in squares: no division unless the estimate is needed.
+    // |d| > limit, in squares (the noise level takes the one division of the step).
     const double limit2 = detail::py_max(sigma2_ * noise2_, floor2_);
     const double num2 = num * num, det2 = det * det;
     const bool learning = learnt_s_ < learn_s_;
@@ -110,9 +112,10 @@ class CadenceChangeDetector {
 
   /// P += add v v^T (upper triangle), v = e_w + tau g at the posterior phasors, add reduced so
   /// that no variance takes more than half the room left below its bound (sec. 2.7; not at the
-  /// bound itself, which rounding could pass). Off the steady state's path: only while the
-  /// trend is beyond the limit.
+  /// bound itself, which rounding could pass). Off the steady state's path: only while a change
+  /// is detected. v is indexed by the state: the phasors, then w.
   YOYOGAIT_NOINLINE void inflate(const MemberModel& model, Ekf& e, double add) const noexcept {
+    static_assert(kX1 == 0 && kX2 == 1 && kZ1 == 2 && kZ2 == 3 && kW == kPhasors, "v follows the state's order");
     const GaitState& x = e.x;
     const double v[kPhasors + 1] = {-tau_s_ * x[kX2], tau_s_ * x[kX1], -tau_s_ * x[kZ2], tau_s_ * x[kZ1], 1.0};
     for (std::size_t i = 0; i <= kW; ++i) {
