@@ -44,6 +44,8 @@ Around the core:
   * innovation gate (|nu| > gate_sigma sqrt(S) -> rejected-outlier), non-finite samples
     (rejected-nonfinite) are predicted over; actual dt everywhere; long gaps re-acquire.
   * watchdog: a frequency pinned at a bound for bound_watchdog_s restarts the acquisition.
+  * changes of cadence: a persistent phase lag (least squares of the v_z innovations with the
+    amplitude error) opens P_ww with its phase covariance (docs/default_estimator.md sec. 2.8).
   * uncertainty: std = sqrt(lambda P_ii), lambda = low-passed normalised innovation squared.
 
 Per step in steady state: fixed 8-vector / 8x8 matrix arithmetic, 2 scalar updates, two 2-state
