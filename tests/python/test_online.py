@@ -71,6 +71,19 @@ def test_update_run_and_chunks_agree():
         assert np.array_equal(np.concatenate([getattr(r, name) for r in parts]), getattr(whole, name))
 
 
+def test_before_the_first_estimator_sample_the_reconstruction_is_the_measured_velocity(datasets_dir):
+    """Until the estimator is first fed, vx_hat/vz_hat (and predict) are the front-end's velocities, not zero."""
+    rec = io.read(datasets_dir / "c3d_org_samples" / "sample26_Qualisys_Capture0002.c3d")
+    res = OnlineEstimator.for_recording(rec).run(rec)
+    before = np.cumsum(res.estimator_fed) == 0
+    assert 10 < before.sum() < len(before)
+    assert np.array_equal(res.vx_hat_mps[before], res.vx_mps[before])
+    assert np.array_equal(res.vz_hat_mps[before], res.vz_mps[before])
+    assert np.array_equal(res.pred_vx_mps[before, -1], res.vx_mps[before])
+    assert np.all(np.isinf(res.pred_vx_std_mps[before]))
+    assert np.all(res.vx_mps[before][1:] > 0.9)  # the walker is already walking at 1.2-1.4 m/s
+
+
 def test_synthetic_walk_step_frequency_and_speed():
     """On a synthetic straight walk at 100 Hz the step frequency is within 0.05 Hz and the speed within 0.1 m/s
     of the truth once the walker has walked 3 s."""

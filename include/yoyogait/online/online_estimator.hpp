@@ -43,8 +43,9 @@ struct OnlineEstimate {
   double heading_rad = 0.0;  ///< atan2(b, a) of the low-passed horizontal velocity (held when slow)
   double walk_a_mps = 0.0;   ///< walking velocity without the oscillation: speed_mps along the heading, axis a
   double walk_b_mps = 0.0;   ///< ... axis b
-  double vx_hat_mps = 0.0;   ///< the estimator's reconstruction of v_x (with harmonics), at t_s
-  double vz_hat_mps = 0.0;   ///< ... of v_z, at t_s
+  double vx_hat_mps = 0.0;   ///< the estimator's reconstruction of v_x (with harmonics), at t_s;
+                             ///< before the estimator's first sample, the front-end's vx_mps
+  double vz_hat_mps = 0.0;   ///< ... of v_z, at t_s; before the first sample, vz_mps
   double step_frequency_hz = 0.0;
   double step_frequency_std_hz = 0.0;
   double speed_mps = 0.0;  ///< forward speed without the oscillation (A0)
@@ -267,13 +268,19 @@ class OnlineEstimator {
   /// forecast (rates of speed and cadence included) over the same horizon as vx_hat_mps plus
   /// horizon_s; predict(0) is the last estimate's vx_hat_mps, vz_hat_mps. Standard deviations: the
   /// estimator's covariance propagated over that horizon (GaitFilter::forecast). Before the estimator
-  /// has been fed, or for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
+  /// has been fed: the front-end's velocities held (= vx_hat_mps, vz_hat_mps), stds infinite, valid
+  /// false; for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
   OnlinePrediction predict(double horizon_s) const noexcept {
     OnlinePrediction p;
     p.horizon_s = horizon_s;
     p.t_s = out_.t_s + horizon_s;
-    if (!(fed_ && horizon_s >= 0.0 && horizon_s <= kMaxHorizonS)) {
+    if (!(horizon_s >= 0.0 && horizon_s <= kMaxHorizonS)) {
       p.vx_mps = p.vz_mps = 0.0;
+      return p;
+    }
+    if (!fed_) {
+      p.vx_mps = out_.vx_hat_mps;
+      p.vz_mps = out_.vz_hat_mps;
       return p;
     }
     const GaitFilter::Forecast f = estimator_.forecast(carry_h_s_ + horizon_s, true);
@@ -326,7 +333,10 @@ class OnlineEstimator {
     o.walk_a_mps = e.speed_mps * heading_unit_[0];
     o.walk_b_mps = e.speed_mps * heading_unit_[1];
     if (!fed_) {
-      o.vx_hat_mps = o.vz_hat_mps = 0.0;
+      // No estimate yet (the front-end settles, the first interval fills): the measured velocity
+      // is the best there is; zero would tell a controller that the walker stands.
+      o.vx_hat_mps = o.vx_mps;
+      o.vz_hat_mps = o.vz_mps;
       o.estimate_age_s = 0.0;
       o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
       carry_h_s_ = 0.0;
