@@ -11,6 +11,7 @@ import pytest
 from yoyogait import _core, io, synthetic
 from yoyogait.errors import InputError
 from yoyogait.estimators import ConcurrentUseError, OnlineConfig, OnlineEstimator, OnlineStatus
+from yoyogait.evaluation.online import lag_s
 
 # Recordings of the shared data set with partial and total marker gaps.
 GAPPY = (
@@ -82,6 +83,17 @@ def test_before_the_first_estimator_sample_the_reconstruction_is_the_measured_ve
     assert np.array_equal(res.pred_vx_mps[before, -1], res.vx_mps[before])
     assert np.all(np.isinf(res.pred_vx_std_mps[before]))
     assert np.all(res.vx_mps[before][1:] > 0.9)  # the walker is already walking at 1.2-1.4 m/s
+
+
+@pytest.mark.parametrize("rate_hz", [30.0, 100.0, 250.0])
+def test_reconstruction_is_timed_to_the_frame(rate_hz):
+    """vz_hat describes the velocity at the frame's time: within 3 ms of the truth at any capture rate."""
+    walk = synthetic.default_lab(rate_hz=rate_hz)[0]
+    res = OnlineEstimator.for_recording(walk.recording).run(walk.recording)
+    vz = np.interp(res.time_s, walk.truth.time_s, walk.truth.vz_mps)
+    locked = res.time_s > 8.0
+    lag = lag_s(np.where(locked, res.vz_hat_mps, np.nan), np.where(locked, vz, np.nan), rate_hz)
+    assert abs(lag) < 0.003
 
 
 def test_synthetic_walk_step_frequency_and_speed():

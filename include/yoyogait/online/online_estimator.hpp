@@ -115,9 +115,9 @@ class OnlineEstimator {
     lp_dir_ = {1.0, 0.0};
     lp_dir_known_ = false;
     turn_rate_rad_s_ = 0.0;
-    sum_vx_ = sum_vz_ = span_s_ = 0.0;
+    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     fed_ = false;
-    tick_span_s_ = 0.0;
+    tick_age_s_ = 0.0;
     phase_ = 0.0;
     carry_h_s_ = 0.0;
     latency_s_ = 0.0;
@@ -234,8 +234,10 @@ class OnlineEstimator {
         }
         v_in = aa_.step(v_in, gap_s);
       }
+      if (span_s_ == 0.0) t_first_s_ = t_s;
       sum_vx_ += v_in[0] * gap_s;
       sum_vz_ += v_in[1] * gap_s;
+      sum_age_s2_ += (t_s - t_first_s_) * gap_s;
       span_s_ += gap_s;
       const double T = config_.estimator.sample_time_s;
       if (span_s_ + 0.5 * gap_s >= T * (1.0 - 1e-9)) {
@@ -244,8 +246,10 @@ class OnlineEstimator {
         fed_ = true;
         o.estimator_fed = true;
         t_tick_s_ = t_s;
-        tick_span_s_ = span_s_;
-        sum_vx_ = sum_vz_ = span_s_ = 0.0;
+        // The mean's weights are the frames' intervals, so it describes the velocity at the
+        // weighted mean of the frames' times (the frame time itself when one frame fills it).
+        tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
+        sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
         // The delay changes only with the frame interval and the (converging) gain: evaluated when
         // the interval changes, else once a second.
         if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
@@ -314,13 +318,13 @@ class OnlineEstimator {
   void start_front_end(double t_s, const std::array<double, 3>& centre_m) noexcept {
     diff_.start(centre_m);
     start_t_s_ = t_s;
-    sum_vx_ = sum_vz_ = span_s_ = 0.0;
+    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     aa_started_ = false;
   }
 
   // The estimator's last estimate carried to t_s: its prediction over the time since its sample,
-  // plus half the averaged interval and the differentiator's delay (the sample described the
-  // velocity that long before it was taken).
+  // plus the age of the averaged frames at that sample and the differentiator's delay (the sample
+  // described the velocity that long before it was taken).
   void carry_estimate(double t_s) noexcept {
     OnlineEstimate& o = out_;
     const Estimate& e = est_;
@@ -343,7 +347,7 @@ class OnlineEstimator {
       return;
     }
     o.estimate_age_s = t_s - t_tick_s_;
-    const double h_s = o.estimate_age_s + 0.5 * tick_span_s_ + aa_delay_s_ + latency_s_;
+    const double h_s = o.estimate_age_s + tick_age_s_ + aa_delay_s_ + latency_s_;
     carry_h_s_ = h_s;
     const GaitFilter::Forecast f = estimator_.forecast(h_s, false);
     o.vx_hat_mps = f.vx_mps;
@@ -392,7 +396,10 @@ class OnlineEstimator {
   bool lp_dir_known_ = false;
   double turn_rate_rad_s_ = 0.0;
   double alpha_dt_s_ = -1.0, alpha_ = 0.0;
-  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, tick_span_s_ = 0.0;
+  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0;
+  double t_first_s_ = 0.0;    ///< time of the interval's first frame
+  double sum_age_s2_ = 0.0;   ///< sum over the interval's frames of (t - t_first) times the frame's interval
+  double tick_age_s_ = 0.0;   ///< last sample: its time - the weighted mean time of its frames
   double carry_h_s_ = 0.0;  ///< the horizon of the last carry_estimate: last frame's time - the state's time
   double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;
 };
