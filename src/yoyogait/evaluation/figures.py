@@ -12,23 +12,26 @@ diagonal watermark across the figure.  Layout is fixed margins, not constrained 
 Drawing many figures of one kind (a report): pass the figure of the previous call as ``into``.
 Its axes, ticks, labels and text caches are kept and only the data, legends and marks are drawn
 anew, which takes about half the time of a new figure; the pixels are the same.
+
+matplotlib is imported when the first figure is made, not with this module: the commands that draw
+nothing start without it.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import matplotlib
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.colors import to_rgba
-from matplotlib.figure import Figure
-from PIL import Image, PngImagePlugin
 
 from ..errors import InputError
 from ..pipeline.signals import moving_mean, runs
 from . import metrics as _metrics
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = [
     "parameter_figure",
@@ -164,7 +167,18 @@ def _align_ylabels(fig: Figure) -> None:
             ax.yaxis.set_label_coords(-_YLABEL_GAP_IN / ax_width_in, 0.5)
 
 
+def load_matplotlib() -> None:
+    """Import what drawing figures needs (about a quarter of a second, once per process): worker
+    processes forked afterwards start with it."""
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
+    import PIL.PngImagePlugin  # noqa: F401
+
+
 def _new_figure(kind: str, width_in: float, height_in: float) -> Figure:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(width_in, height_in), dpi=DPI, label=kind)
     FigureCanvasAgg(fig)
     return fig
@@ -175,6 +189,8 @@ def _reused(into: Figure | None, kind: str) -> Figure | None:
     SYNTHETIC marks, as a new one would be before them; None when ``into`` is None."""
     if into is None:
         return None
+    from matplotlib.figure import Figure
+
     if not isinstance(into, Figure) or into.get_label() != kind:
         raise InputError(f"into: not a figure drawn by {kind}_figure")
     for ax in into.axes:
@@ -192,21 +208,33 @@ def _reused(into: Figure | None, kind: str) -> Figure | None:
     return into
 
 
-_PNG_INFO = PngImagePlugin.PngInfo()
-_PNG_INFO.add_text("Software", f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/")
+@functools.cache
+def _png_info():
+    """The text chunk matplotlib's own PNGs have."""
+    import matplotlib
+    from PIL import PngImagePlugin
+
+    info = PngImagePlugin.PngInfo()
+    info.add_text("Software", f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/")
+    return info
 
 
 def _save(fig: Figure, path: Path) -> None:
     """``fig.savefig(path, dpi=DPI)``; a PNG of an opaque figure as RGB at zlib level 1 instead of RGBA
     at level 6: the same pixels, in about half the encoding time (a sixth of a figure's), and no larger."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import to_rgba
+    from PIL import Image
+
     canvas = fig.canvas
     opaque = to_rgba(fig.get_facecolor())[3] == 1.0
     if path.suffix.lower() != ".png" or not opaque or fig.dpi != DPI or not isinstance(canvas, FigureCanvasAgg):
         fig.savefig(path, dpi=DPI)
         return
     canvas.draw()
-    rgb = np.asarray(canvas.buffer_rgba())[..., :3]
-    Image.fromarray(rgb).save(path, format="png", compress_level=1, dpi=(DPI, DPI), pnginfo=_PNG_INFO)
+    width, height = canvas.get_width_height()
+    rgba = Image.frombuffer("RGBA", (width, height), canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+    rgba.convert("RGB").save(path, format="png", compress_level=1, dpi=(DPI, DPI), pnginfo=_png_info())
 
 
 def _finish(fig: Figure, path, synthetic: bool = False, *, new: bool = True) -> Figure:
