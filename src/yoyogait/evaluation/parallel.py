@@ -56,13 +56,15 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def _start_worker() -> None:
+def _start_worker(forked: bool) -> None:
     # Ctrl-C reaches the whole process group: the parent handles it and ends the workers, which
     # would otherwise each print a traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    # What a forked worker inherits (the parent's objects, such as the results of an evaluation) is
-    # left out of its garbage collector's passes, which would walk all of it again and again.
-    gc.freeze()
+    if forked:
+        # What a forked worker inherits (the parent's objects, such as the results of an evaluation)
+        # is left out of its garbage collector's passes, which would walk all of it again and again.
+        # Forked workers end without finalising the interpreter, so nothing frozen is reported left over.
+        gc.freeze()
 
 
 def _context():
@@ -80,7 +82,11 @@ def _context():
 
 def process_pool(jobs: int) -> cf.ProcessPoolExecutor:
     """A pool of ``jobs`` worker processes that leave Ctrl-C to their parent."""
-    return cf.ProcessPoolExecutor(max_workers=max(1, jobs), mp_context=_context(), initializer=_start_worker)
+    ctx = _context()
+    forked = ctx.get_start_method() in ("fork", "forkserver")
+    return cf.ProcessPoolExecutor(
+        max_workers=max(1, jobs), mp_context=ctx, initializer=_start_worker, initargs=(forked,)
+    )
 
 
 def _end_workers(pool: cf.ProcessPoolExecutor) -> None:
