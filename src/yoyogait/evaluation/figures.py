@@ -201,8 +201,10 @@ def _reused(into: Figure | None, kind: str) -> Figure | None:
             legend.remove()
         ax.relim()  # the data limits of a new axes: none, until data are added
         ax.set_prop_cycle(None)
-        ax.set_xlim(0.0, 1.0, auto=True)  # the limits of a new axes, autoscaled to the data at the draw
-        ax.set_ylim(0.0, 1.0, auto=True)
+        # The limits of a new axes, autoscaled to the data at the draw (each axes of the figure is
+        # reset, so the shared ones need not hear of it).
+        ax.set_xlim(0.0, 1.0, emit=False, auto=True)
+        ax.set_ylim(0.0, 1.0, emit=False, auto=True)
     for text in [t for t in into.texts if t.get_gid() == _MARK_GID]:
         text.remove()
     return into

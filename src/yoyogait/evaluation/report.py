@@ -10,6 +10,7 @@ import math
 import os
 import shutil
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -161,23 +162,23 @@ def _recording_task(r, est: str, figdir: Path) -> tuple:
 
 
 _DRAWN: dict = {}
-"""The last figure of each kind this process drew, by (process id, kind): the next one is drawn into
-it (``into``), which is about twice as fast as a new figure. A figure made before a fork is not used
-in the child."""
+"""The last figure of each kind each thread of this process drew, by (process id, thread id, kind):
+the next one is drawn into it (``into``), about twice as fast as a new figure. A figure made before
+a fork is not used in the child (matplotlib's fonts cannot be used across a fork)."""
 
 
-def _last(kind: str):
-    return _DRAWN.get((os.getpid(), kind))
+def _drawer() -> tuple[int, int]:
+    return os.getpid(), threading.get_ident()
 
 
 def draw_figures(kind: str, spec: dict) -> float:
     """Draw one task's figures into their files; the seconds it took. Run in worker processes."""
     start = time.perf_counter()
-    pid = os.getpid()
+    me = _drawer()
     if kind == "recording":
         t = spec["time_s"]
         truth = spec["truth"]
-        _DRAWN[pid, "parameter"] = plots.parameter_figure(
+        _DRAWN[me + ("parameter",)] = plots.parameter_figure(
             t,
             spec["result"],
             dft_step_frequency_hz=spec["dft_step_frequency_hz"],
@@ -187,9 +188,9 @@ def draw_figures(kind: str, spec: dict) -> float:
             title=spec["title"],
             synthetic=spec["synthetic"],
             path=spec["stem"] + "_parameters.png",
-            into=_last("parameter"),
+            into=_DRAWN.get(me + ("parameter",)),
         )
-        _DRAWN[pid, "velocity"] = plots.velocity_figure(
+        _DRAWN[me + ("velocity",)] = plots.velocity_figure(
             t,
             spec["vx"],
             spec["vz"],
@@ -197,7 +198,7 @@ def draw_figures(kind: str, spec: dict) -> float:
             title=spec["title"],
             synthetic=spec["synthetic"],
             path=spec["stem"] + "_velocities.png",
-            into=_last("velocity"),
+            into=_DRAWN.get(me + ("velocity",)),
         )
     elif kind == "distribution":
         plots.distribution_figure(spec["values"], labels=spec["labels"], title=spec["title"], path=spec["path"])
@@ -289,7 +290,8 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
         with _collector_spared():
             outcomes = run_tasks(draw_figures, tasks, jobs=jobs, progress="figures" if progress else None)
     finally:
-        _DRAWN.clear()  # the figures this process drew (one job) are not kept beyond the report
+        for key in [k for k in _DRAWN if k[:2] == _drawer()]:
+            del _DRAWN[key]  # the figures drawn here (one job) are not kept beyond the report
     failed, seconds = [], 0.0
     for (kind, spec), outcome in zip(tasks, outcomes):
         if isinstance(outcome, TaskFailure):
