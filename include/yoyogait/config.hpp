@@ -143,6 +143,22 @@ struct FrequencyList {
     "... and the RMS of v_z is below it (<= walk_vz_rms_on_mps)")                                                  \
   X(double, bound_watchdog_s, 1.0, "s", "[", 0.0, 600.0, "]",                                                      \
     "w pinned within 5 % of a bound this long while walking restarts the acquisition")                             \
+  X(bool, cadence_change_adapt, true, "", "[", 0, 1, "]",                                                          \
+    "a phase lag of the model that persists opens the frequency variance (changes of cadence)")                    \
+  X(double, cadence_change_tau_s, 0.1, "s", "[", 0.01, 60.0, "]",                                                  \
+    "the phase lag: least squares of the v_z innovations over this long (with the amplitude error)")               \
+  X(double, cadence_change_phase_rad, 0.05, "rad", "[", 0.0, 3.2, "]",                                             \
+    "a lag beyond this (and beyond cadence_change_sigma RMS) is a change of cadence")                              \
+  X(double, cadence_change_sigma, 3.0, "sigma", "[", 0.0, 1e3, "]",                                                \
+    "... the lag must exceed this many times its own RMS (the walker's phase noise)")                              \
+  X(double, cadence_change_noise_tau_s, 2.0, "s", "[", 0.01, 3600.0, "]",                                          \
+    "low-pass of the lag's mean square; no detection in the first this long after an acquisition")                 \
+  X(double, cadence_change_horizon_s, 0.4, "s", "[", 0.01, 60.0, "]",                                              \
+    "the excess lag over this long is the frequency error: P_ww is raised to (excess / horizon)^2")                \
+  X(double, cadence_change_max_std_hz, 0.15, "Hz", "[", 0.0, 10.0, "]",                                           \
+    "... at most to this std (a jump to a harmonic of the cadence would need more)")                               \
+  X(double, cadence_change_min_amp_mps, 0.05, "m/s", "[", 0.0, 100.0, "]",                                         \
+    "a sample is evidence only while |Z| exceeds this (not while the oscillation fades)")                           \
   X(bool, std_scale_adapt, true, "", "[", 0, 1, "]",                                                               \
     "scale the reported standard deviations by the low-passed normalised innovation squared")                      \
   X(double, std_scale_tau_s, 10.0, "s", "[", 0.01, 1e4, "]", "low-pass of that scale")                             \

@@ -44,6 +44,8 @@ Around the core:
   * innovation gate (|nu| > gate_sigma sqrt(S) -> rejected-outlier), non-finite samples
     (rejected-nonfinite) are predicted over; actual dt everywhere; long gaps re-acquire.
   * watchdog: a frequency pinned at a bound for bound_watchdog_s restarts the acquisition.
+  * changes of cadence: a persistent phase lag (least squares of the v_z innovations with the
+    amplitude error) opens P_ww with its phase covariance (docs/default_estimator.md sec. 2.8).
   * uncertainty: std = sqrt(lambda P_ii), lambda = low-passed normalised innovation squared.
 
 Per step in steady state: fixed 8-vector / 8x8 matrix arithmetic, 2 scalar updates, two 2-state
@@ -126,6 +128,17 @@ class DefaultConfig:
         self.walk_vz_rms_off_mps = 0.025
         # --- watchdog
         self.bound_watchdog_s = 1.0  # w pinned near a bound this long while walking -> re-acquire
+        # --- cadence changes: the phase lag of the model, least squares of the v_z innovations with the
+        # amplitude error over cadence_tau_s; beyond max(phase, sigma x its RMS) P_ww is raised to
+        # (excess / horizon)^2 (with its phase covariance)
+        self.cadence_adapt = True
+        self.cadence_tau_s = 0.1
+        self.cadence_phase_rad = 0.05
+        self.cadence_sigma = 3.0
+        self.cadence_noise_tau_s = 2.0  # the RMS: of the lags within the limit; no detection before this long
+        self.cadence_horizon_s = 0.4
+        self.cadence_max_std_hz = 0.15  # the opened frequency std at most (no jump to a harmonic)
+        self.cadence_min_amp_mps = 0.05  # a sample counts only while |Z| exceeds this
         # --- reported uncertainty: sqrt(lambda P), lambda = low-passed NIS, clipped
         self.std_scale_adapt = True
         self.std_scale_tau_s = 10.0
@@ -459,6 +472,10 @@ class DefaultEstimator:
         self.last_w = TWO_PI * 1.8
         self.n_rejects = 0
         self.t_at_bound = 0.0
+        self.lag_sums = np.zeros(5)  # low-passed Z1^2, Z1 Z2, Z2^2, Z1 nu_z, Z2 nu_z (prior Z)
+        self.lag_noise2 = 0.0  # mean square of the lag while within the limit (from the floor at each acquisition)
+        self.lag_learn_s = 0.0  # walking time of the one EKF since the acquisition
+        self.lag_beyond_s = 0.0  # how long the lag has been beyond the limit
         self.lam = 1.0
         self.t_now = 0.0
         self.updated = False  # the last step ran the updates (diagnostics)
@@ -511,6 +528,63 @@ class DefaultEstimator:
         self.buf_head = 0
         self.spec_done = False
         self.t_at_bound = 0.0
+        self.lag_sums[:] = 0.0
+        self.lag_noise2 = c.cadence_phase_rad**2
+        self.lag_learn_s = self.lag_beyond_s = 0.0
+
+    def _cadence_change(self, before, dt):
+        """The phase lag d of the model: nu_z = rho Z1 - d Z2 (rho the relative amplitude error; prior
+        Z), least squares over cadence_tau_s (low-passed sums). Beyond max(phase, sigma x RMS) (the RMS
+        of the lags within that limit, learnt for cadence_noise_tau_s after each acquisition before any
+        test) P gets add v v^T, v = e_w + tau (-X2, X1, -Z2, Z1) (what a frequency error over the last
+        tau would have built), add = min((|d| - limit) / horizon, 2 pi max_std)^2 - P_ww, reduced so
+        that no variance takes more than half the room below its bound."""
+        c, m = self.cfg, self.main
+        # evidence: a sample with both channels and a vertical oscillation; another changes nothing
+        if CH_VX not in m.innov or CH_VZ not in m.innov:
+            return
+        nu = m.innov[CH_VZ][0]
+        z1, z2 = before[2], before[3]
+        if z1 * z1 + z2 * z2 <= c.cadence_min_amp_mps**2:
+            return
+        if dt > 0.0:
+            a = 1.0 - math.exp(-dt / c.cadence_tau_s)
+            self.lag_sums += a * (np.array([z1 * z1, z1 * z2, z2 * z2, z1 * nu, z2 * nu]) - self.lag_sums)
+        s11, s12, s22, s1n, s2n = self.lag_sums
+        det = s11 * s22 - s12 * s12
+        learning = self.lag_learn_s < c.cadence_noise_tau_s
+        self.lag_learn_s += dt
+        if not det > 1e-3 * s11 * s22:  # too little phase diversity to tell phase from amplitude
+            return
+        lag = (s12 * s1n - s11 * s2n) / det
+        limit = max(c.cadence_phase_rad, c.cadence_sigma * math.sqrt(self.lag_noise2))
+        if learning or abs(lag) <= limit:
+            if dt > 0.0:
+                b = 1.0 - math.exp(-dt / c.cadence_noise_tau_s)
+                self.lag_noise2 += b * (lag * lag - self.lag_noise2)
+            self.lag_beyond_s = 0.0
+            return
+        self.lag_beyond_s += dt
+        if self.lag_beyond_s < c.cadence_tau_s:  # the lag must persist for tau: one corrupt sample is not enough
+            return
+        excess = min((abs(lag) - limit) / c.cadence_horizon_s, TWO_PI * c.cadence_max_std_hz)
+        add = max(excess * excess - m.P[IW, IW], 0.0)
+        if add <= 0.0:
+            return
+        after = m.x
+        v = np.zeros(NX)
+        v[IX1], v[IX2], v[IZ1], v[IZ2] = -after[IX2], after[IX1], -after[IZ2], after[IZ1]
+        v *= c.cadence_tau_s
+        v[IW] = 1.0
+        # no variance takes more than half the room left below its bound (the covariance guard's, sec. 2.7)
+        vmax2 = c.max_abs_velocity_mps**2
+        half = 0.5 * TWO_PI * (c.f_max_hz - c.f_min_hz)
+        bounds = (vmax2, vmax2, vmax2, vmax2, half * half)
+        for i in range(5):
+            if v[i] * v[i] > 0.0:
+                add = min(add, 0.5 * (bounds[i] - m.P[i, i]) / (v[i] * v[i]))
+        if add > 0.0:
+            m.P += add * np.outer(v, v)
 
     def _collapse(self):
         self.main.copy_from(self.bank[self.best])
@@ -686,6 +760,9 @@ class DefaultEstimator:
         filters_h = self.bank_h if self.acquiring else [self.main_h]
         for f in filters:
             f.predict(c, dt, oscillate=osc)
+        track_cadence = osc and not self.acquiring and c.cadence_adapt
+        if track_cadence:
+            phasors_before = self.main.x[:4].copy()
         if osc:
             for fh in filters_h:
                 fh[0].predict(c, dt)
@@ -727,6 +804,8 @@ class DefaultEstimator:
                     fh[ch].update(u, v, e, r)
             f.clamp(c)
             f.guard(c)
+        if track_cadence and not rejected:
+            self._cadence_change(phasors_before, dt)
         if rejected:
             self.n_rejects += 1
             if status == STATUS_OK:
@@ -908,6 +987,14 @@ _NATIVE_NAMES = {
     "walk_vz_rms_on_mps": "walk_vz_rms_on_mps",
     "walk_vz_rms_off_mps": "walk_vz_rms_off_mps",
     "bound_watchdog_s": "bound_watchdog_s",
+    "cadence_adapt": "cadence_change_adapt",
+    "cadence_tau_s": "cadence_change_tau_s",
+    "cadence_phase_rad": "cadence_change_phase_rad",
+    "cadence_sigma": "cadence_change_sigma",
+    "cadence_noise_tau_s": "cadence_change_noise_tau_s",
+    "cadence_horizon_s": "cadence_change_horizon_s",
+    "cadence_max_std_hz": "cadence_change_max_std_hz",
+    "cadence_min_amp_mps": "cadence_change_min_amp_mps",
     "std_scale_adapt": "std_scale_adapt",
     "std_scale_tau_s": "std_scale_tau_s",
     "std_scale_min": "std_scale_min",

@@ -11,6 +11,7 @@ import pytest
 from yoyogait import _core, io, synthetic
 from yoyogait.errors import InputError
 from yoyogait.estimators import ConcurrentUseError, OnlineConfig, OnlineEstimator, OnlineStatus
+from yoyogait.evaluation.online import lag_s
 
 # Recordings of the shared data set with partial and total marker gaps.
 GAPPY = (
@@ -69,6 +70,30 @@ def test_update_run_and_chunks_agree():
     parts = [est.run(rec.time_s[a:b], p[a:b]) for a, b in ((0, 700), (700, 701), (701, len(rec.time_s)))]
     for name in ("step_frequency_hz", "speed_mps", "vx_mps", "gait_phase", "status"):
         assert np.array_equal(np.concatenate([getattr(r, name) for r in parts]), getattr(whole, name))
+
+
+def test_before_the_first_estimator_sample_the_reconstruction_is_the_measured_velocity(datasets_dir):
+    """Until the estimator is first fed, vx_hat/vz_hat (and predict) are the front-end's velocities, not zero."""
+    rec = io.read(datasets_dir / "c3d_org_samples" / "sample26_Qualisys_Capture0002.c3d")
+    res = OnlineEstimator.for_recording(rec).run(rec)
+    before = np.cumsum(res.estimator_fed) == 0
+    assert 10 < before.sum() < len(before)
+    assert np.array_equal(res.vx_hat_mps[before], res.vx_mps[before])
+    assert np.array_equal(res.vz_hat_mps[before], res.vz_mps[before])
+    assert np.array_equal(res.pred_vx_mps[before, -1], res.vx_mps[before])
+    assert np.all(np.isinf(res.pred_vx_std_mps[before]))
+    assert np.all(res.vx_mps[before][1:] > 0.9)  # the walker is already walking at 1.2-1.4 m/s
+
+
+@pytest.mark.parametrize("rate_hz", [30.0, 100.0, 250.0])
+def test_reconstruction_is_timed_to_the_frame(rate_hz):
+    """vz_hat describes the velocity at the frame's time: within 3 ms of the truth at any capture rate."""
+    walk = synthetic.default_lab(rate_hz=rate_hz)[0]
+    res = OnlineEstimator.for_recording(walk.recording).run(walk.recording)
+    vz = np.interp(res.time_s, walk.truth.time_s, walk.truth.vz_mps)
+    locked = res.time_s > 8.0
+    lag = lag_s(np.where(locked, res.vz_hat_mps, np.nan), np.where(locked, vz, np.nan), rate_hz)
+    assert abs(lag) < 0.003
 
 
 def test_synthetic_walk_step_frequency_and_speed():

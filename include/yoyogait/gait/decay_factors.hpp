@@ -20,6 +20,8 @@ class DecayFactors {
     double std_scale_tau_s = 10.0;     ///< NIS low-pass of the std scale
     double bank_forget_s = 1.5;        ///< bank log-likelihood memory
     double radii_tau_s = 2.0;          ///< R, r low-pass
+    double cadence_change_tau_s = 0.1;        ///< low-pass of the phase evidence (gait/cadence_change.hpp)
+    double cadence_change_noise_tau_s = 2.0;  ///< ... and of their mean square
   };
 
   /// The factors for one dt.
@@ -27,6 +29,7 @@ class DecayFactors {
     double dt = -1.0;
     double accel_decay = 1.0, rate_decay = 1.0, rate_lp_gain = 0.0, walk_gain = 0.0, std_gain = 0.0,
            forget = 1.0, radii_gain = 0.0;
+    double cadence_gain = 0.0, cadence_noise_gain = 0.0;  ///< 1 - exp(-dt / tau), ... noise_tau (0 at dt = 0)
   };
 
   DecayFactors() noexcept = default;
@@ -48,6 +51,8 @@ class DecayFactors {
     f.std_gain = dt > 0.0 ? 0.5 * (1.0 - std::exp(-dt / tau_.std_scale_tau_s)) : 0.0;
     f.forget = std::exp(-dt / tau_.bank_forget_s);
     f.radii_gain = 1.0 - std::exp(-dt / tau_.radii_tau_s);
+    f.cadence_gain = dt > 0.0 ? 1.0 - std::exp(-dt / tau_.cadence_change_tau_s) : 0.0;
+    f.cadence_noise_gain = dt > 0.0 ? 1.0 - std::exp(-dt / tau_.cadence_change_noise_tau_s) : 0.0;
     return f;
   }
 

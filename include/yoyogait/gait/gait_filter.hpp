@@ -14,7 +14,8 @@
 /// (gait/spectral_init.hpp, sec. 2.3), the walking/standing detector (gait/walking_detector.hpp,
 /// sec. 2.4), the innovation gate (gait/innovation_gate.hpp) and the actual time step everywhere
 /// (gait/decay_factors.hpp, sec. 2.5), the bound watchdog, the R/r low-pass and the NIS-scaled
-/// standard deviations (gait/bound_watchdog.hpp, gait/radii.hpp, gait/std_scale.hpp, sec. 2.6).
+/// standard deviations (gait/bound_watchdog.hpp, gait/radii.hpp, gait/std_scale.hpp, sec. 2.6), the
+/// cadence-change detector (gait/cadence_change.hpp, sec. 2.8).
 /// step() makes no heap allocation and cannot throw; everything lives in fixed arrays. The steady
 /// state (walking, one EKF, the same dt as before) runs no exp, log, bank or spectral code.
 #pragma once
@@ -28,6 +29,7 @@
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimate.hpp"
 #include "yoyogait/gait/bound_watchdog.hpp"
+#include "yoyogait/gait/cadence_change.hpp"
 #include "yoyogait/gait/decay_factors.hpp"
 #include "yoyogait/gait/ekf.hpp"
 #include "yoyogait/gait/harmonic.hpp"
@@ -219,12 +221,15 @@ class GaitFilter {
       : cfg_(config),
         model_(member_model(g, config.max_abs_velocity_mps)),
         factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
-                  g.bank_forget_s, g.radii_tau_s}),
+                  g.bank_forget_s, g.radii_tau_s, g.cadence_change_tau_s, g.cadence_change_noise_tau_s}),
         detector_({g.walk_tau_s, g.walk_speed_on_mps, g.walk_speed_off_mps, g.walk_vz_rms_on_mps, g.walk_vz_rms_off_mps}),
         gate_(g.gate_sigma, config.samples_in(g.gate_max_consecutive_s)),
         scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
         radii_(g.initial_R_m, g.initial_r_m),
         watchdog_(kTwoPi * g.f_min_hz, kTwoPi * g.f_max_hz, g.bound_watchdog_s),
+        cadence_(g.cadence_change_adapt, g.cadence_change_tau_s, g.cadence_change_horizon_s,
+                 kTwoPi * g.cadence_change_max_std_hz, g.cadence_change_phase_rad, g.cadence_change_sigma,
+                 g.cadence_change_min_amp_mps, g.cadence_change_noise_tau_s),
         nominal_dt_(config.sample_time_s),
         speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
         bank_(bank_settings(g)),
@@ -321,6 +326,7 @@ class GaitFilter {
     acquiring_ = true;
     spectral_.reset();
     watchdog_.reset();
+    cadence_.reset();
   }
 
   /// The bank's best member becomes the one EKF.
@@ -411,8 +417,10 @@ class GaitFilter {
       rejected = bank_.step(model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
     } else {
       model_.predict(main_, main_h_.data(), dt, fc, walking);
+      const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
       rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_,
                                       fc.std_gain);
+      if (walking) cadence_.after_update(model_, main_, prior, fc, rejected);  // sec. 2.8: cadence changes
     }
     updated_ = true;
     // A non-finite or out-of-range channel says more about the sample than the gate.
@@ -483,6 +491,7 @@ class GaitFilter {
   gait::StdScale scale_;
   gait::RadiiSmoother radii_;
   gait::BoundWatchdog watchdog_;
+  gait::CadenceChangeDetector cadence_;
   double nominal_dt_ = 0.04, speed_floor2_ = 0.0;
   double last_w_ = 0.0;                 ///< the last walking frequency: the re-acquisition hint
   double out_hx_ = 0.0, out_hz_ = 0.0;  ///< second harmonics at the posterior phasors, for output()

@@ -43,8 +43,9 @@ struct OnlineEstimate {
   double heading_rad = 0.0;  ///< atan2(b, a) of the low-passed horizontal velocity (held when slow)
   double walk_a_mps = 0.0;   ///< walking velocity without the oscillation: speed_mps along the heading, axis a
   double walk_b_mps = 0.0;   ///< ... axis b
-  double vx_hat_mps = 0.0;   ///< the estimator's reconstruction of v_x (with harmonics), at t_s
-  double vz_hat_mps = 0.0;   ///< ... of v_z, at t_s
+  double vx_hat_mps = 0.0;   ///< the estimator's reconstruction of v_x (with harmonics), at t_s;
+                             ///< before the estimator's first sample, the front-end's vx_mps
+  double vz_hat_mps = 0.0;   ///< ... of v_z, at t_s; before the first sample, vz_mps
   double step_frequency_hz = 0.0;
   double step_frequency_std_hz = 0.0;
   double speed_mps = 0.0;  ///< forward speed without the oscillation (A0)
@@ -114,9 +115,9 @@ class OnlineEstimator {
     lp_dir_ = {1.0, 0.0};
     lp_dir_known_ = false;
     turn_rate_rad_s_ = 0.0;
-    sum_vx_ = sum_vz_ = span_s_ = 0.0;
+    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     fed_ = false;
-    tick_span_s_ = 0.0;
+    tick_age_s_ = 0.0;
     phase_ = 0.0;
     carry_h_s_ = 0.0;
     latency_s_ = 0.0;
@@ -233,8 +234,10 @@ class OnlineEstimator {
         }
         v_in = aa_.step(v_in, gap_s);
       }
+      if (span_s_ == 0.0) t_first_s_ = t_s;
       sum_vx_ += v_in[0] * gap_s;
       sum_vz_ += v_in[1] * gap_s;
+      sum_age_s2_ += (t_s - t_first_s_) * gap_s;
       span_s_ += gap_s;
       const double T = config_.estimator.sample_time_s;
       if (span_s_ + 0.5 * gap_s >= T * (1.0 - 1e-9)) {
@@ -243,8 +246,10 @@ class OnlineEstimator {
         fed_ = true;
         o.estimator_fed = true;
         t_tick_s_ = t_s;
-        tick_span_s_ = span_s_;
-        sum_vx_ = sum_vz_ = span_s_ = 0.0;
+        // The mean's weights are the frames' intervals, so it describes the velocity at the
+        // weighted mean of the frames' times (the frame time itself when one frame fills it).
+        tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
+        sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
         // The delay changes only with the frame interval and the (converging) gain: evaluated when
         // the interval changes, else once a second.
         if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
@@ -267,13 +272,19 @@ class OnlineEstimator {
   /// forecast (rates of speed and cadence included) over the same horizon as vx_hat_mps plus
   /// horizon_s; predict(0) is the last estimate's vx_hat_mps, vz_hat_mps. Standard deviations: the
   /// estimator's covariance propagated over that horizon (GaitFilter::forecast). Before the estimator
-  /// has been fed, or for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
+  /// has been fed: the front-end's velocities held (= vx_hat_mps, vz_hat_mps), stds infinite, valid
+  /// false; for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
   OnlinePrediction predict(double horizon_s) const noexcept {
     OnlinePrediction p;
     p.horizon_s = horizon_s;
     p.t_s = out_.t_s + horizon_s;
-    if (!(fed_ && horizon_s >= 0.0 && horizon_s <= kMaxHorizonS)) {
+    if (!(horizon_s >= 0.0 && horizon_s <= kMaxHorizonS)) {
       p.vx_mps = p.vz_mps = 0.0;
+      return p;
+    }
+    if (!fed_) {
+      p.vx_mps = out_.vx_hat_mps;
+      p.vz_mps = out_.vz_hat_mps;
       return p;
     }
     const GaitFilter::Forecast f = estimator_.forecast(carry_h_s_ + horizon_s, true);
@@ -307,13 +318,13 @@ class OnlineEstimator {
   void start_front_end(double t_s, const std::array<double, 3>& centre_m) noexcept {
     diff_.start(centre_m);
     start_t_s_ = t_s;
-    sum_vx_ = sum_vz_ = span_s_ = 0.0;
+    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     aa_started_ = false;
   }
 
   // The estimator's last estimate carried to t_s: its prediction over the time since its sample,
-  // plus half the averaged interval and the differentiator's delay (the sample described the
-  // velocity that long before it was taken).
+  // plus the age of the averaged frames at that sample and the differentiator's delay (the sample
+  // described the velocity that long before it was taken).
   void carry_estimate(double t_s) noexcept {
     OnlineEstimate& o = out_;
     const Estimate& e = est_;
@@ -326,14 +337,17 @@ class OnlineEstimator {
     o.walk_a_mps = e.speed_mps * heading_unit_[0];
     o.walk_b_mps = e.speed_mps * heading_unit_[1];
     if (!fed_) {
-      o.vx_hat_mps = o.vz_hat_mps = 0.0;
+      // No estimate yet (the front-end settles, the first interval fills): the measured velocity
+      // is the best there is; zero would tell a controller that the walker stands.
+      o.vx_hat_mps = o.vx_mps;
+      o.vz_hat_mps = o.vz_mps;
       o.estimate_age_s = 0.0;
       o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
       carry_h_s_ = 0.0;
       return;
     }
     o.estimate_age_s = t_s - t_tick_s_;
-    const double h_s = o.estimate_age_s + 0.5 * tick_span_s_ + aa_delay_s_ + latency_s_;
+    const double h_s = o.estimate_age_s + tick_age_s_ + aa_delay_s_ + latency_s_;
     carry_h_s_ = h_s;
     const GaitFilter::Forecast f = estimator_.forecast(h_s, false);
     o.vx_hat_mps = f.vx_mps;
@@ -382,7 +396,10 @@ class OnlineEstimator {
   bool lp_dir_known_ = false;
   double turn_rate_rad_s_ = 0.0;
   double alpha_dt_s_ = -1.0, alpha_ = 0.0;
-  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, tick_span_s_ = 0.0;
+  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0;
+  double t_first_s_ = 0.0;    ///< time of the interval's first frame
+  double sum_age_s2_ = 0.0;   ///< sum over the interval's frames of (t - t_first) times the frame's interval
+  double tick_age_s_ = 0.0;   ///< last sample: its time - the weighted mean time of its frames
   double carry_h_s_ = 0.0;  ///< the horizon of the last carry_estimate: last frame's time - the state's time
   double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;
 };
