@@ -15,7 +15,19 @@ ROOT = Path(__file__).resolve().parents[2]
 PACKAGE = ROOT / "src" / "yoyogait"
 
 # Optional or heavy dependencies that a module may import where it needs them (and only there).
-LATE_IMPORTS_ALLOWED = {"ezc3d", "pylsl", "rclpy", "std_msgs", "dask", "distributed", "optuna", "pandas", "tomli_w"}
+LATE_IMPORTS_ALLOWED = {
+    "ezc3d",
+    "pylsl",
+    "rclpy",
+    "std_msgs",
+    "dask",
+    "distributed",
+    "optuna",
+    "pandas",
+    "tomli_w",
+    "matplotlib",
+    "PIL",
+}
 
 
 def _module_name(path: Path) -> str:

@@ -183,3 +183,32 @@ def test_estimate_figure_has_bands_standing_cadence_and_a_zoom(estimate_inputs, 
     assert walking.all()
     assert "foot contact" in labels[zoom_z] or not (lo <= 10.0 <= hi)
     assert "SYNTHETIC DATA" in _texts(fig)
+
+
+def _pixels(fig):
+    fig.canvas.draw()
+    return np.asarray(fig.canvas.buffer_rgba()).copy()
+
+
+def test_a_figure_drawn_into_an_earlier_one_is_the_same_as_a_new_one(walk, fake_result):
+    """Drawn into one that held another recording (synthetic, longer, other lines), a figure has a new one's pixels."""
+    t, tr, result = fake_result
+    n = t.size // 3
+    short = SimpleNamespace(**{k: v[:n] for k, v in vars(result).items()})
+    cases = [
+        (
+            plots.parameter_figure(t, result, truth=walk.truth, title="synthetic walk"),
+            lambda into=None: plots.parameter_figure(
+                t[:n], short, dft_step_frequency_hz=1.72, reference_step_frequency_hz=np.full(n, 1.7), into=into
+            ),
+        ),
+        (
+            plots.velocity_figure(t, tr.vx_path_mps, tr.vz_mps, result, synthetic=True),
+            lambda into=None: plots.velocity_figure(t[:n], tr.vx_path_mps[:n], tr.vz_mps[:n], short, into=into),
+        ),
+    ]
+    for first, draw in cases:
+        _pixels(first)
+        again = draw(into=first)
+        assert again is first and not any("SYNTHETIC" in text for text in _texts(again))
+        np.testing.assert_array_equal(_pixels(again), _pixels(draw()))

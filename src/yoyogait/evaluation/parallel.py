@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
+import gc
 import multiprocessing
 import os
 import signal
@@ -31,7 +32,12 @@ __all__ = ["TaskFailure", "default_jobs", "process_pool", "run_tasks", "dask_exe
 DASK_EXTRA = "yoyogait[distributed]"
 """The optional extra that brings Dask distributed."""
 
-_PRELOAD = ["yoyogait.evaluation.running", "yoyogait.evaluation.report"]
+_PRELOAD = [
+    "yoyogait.evaluation.running",
+    "yoyogait.evaluation.report",
+    "matplotlib.figure",
+    "matplotlib.backends.backend_agg",
+]
 """Modules a fork server imports once, so that each worker it forks starts with them loaded."""
 
 
@@ -50,10 +56,15 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def _ignore_sigint() -> None:
+def _start_worker(forked: bool) -> None:
     # Ctrl-C reaches the whole process group: the parent handles it and ends the workers, which
     # would otherwise each print a traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if forked:
+        # What a forked worker inherits (the parent's objects, such as the results of an evaluation)
+        # is left out of its garbage collector's passes, which would walk all of it again and again.
+        # Forked workers end without finalising the interpreter, so nothing frozen is reported left over.
+        gc.freeze()
 
 
 def _context():
@@ -71,7 +82,11 @@ def _context():
 
 def process_pool(jobs: int) -> cf.ProcessPoolExecutor:
     """A pool of ``jobs`` worker processes that leave Ctrl-C to their parent."""
-    return cf.ProcessPoolExecutor(max_workers=max(1, jobs), mp_context=_context(), initializer=_ignore_sigint)
+    ctx = _context()
+    forked = ctx.get_start_method() in ("fork", "forkserver")
+    return cf.ProcessPoolExecutor(
+        max_workers=max(1, jobs), mp_context=ctx, initializer=_start_worker, initargs=(forked,)
+    )
 
 
 def _end_workers(pool: cf.ProcessPoolExecutor) -> None:
