@@ -547,7 +547,7 @@ def test_synthetic_lab_accuracy():
         ({"spectral_buffer_s": 0.01}, "spectral_buffer_s"),  # not one sample of 0.04 s
         ({"spectral_buffer_s": 20.0}, "spectral_buffer_s"),  # 500 samples, above the buffer's 256
         ({"q_phase_rad2_per_s": float("nan")}, "q_phase_rad2_per_s"),
-        ({"meas_vx_std_mps": 0.0}, "meas_vx_std_mps"),
+        ({"meas_vx_density_m2_per_s": 0.0}, "meas_vx_density_m2_per_s"),
         ({"walk_vz_rms_off_mps": 1.0}, "walk_vz_rms_off_mps"),
         ({"std_scale_min": -1.0}, "std_scale_min"),
         ({"radii_tau_s": "2"}, "radii_tau_s"),
