@@ -127,8 +127,10 @@ struct FrequencyList {
   X(double, p0_harmonic_std_mps, 0.1, "m/s", "[", 0.0, 100.0, "]", "initial std of the harmonic coefficients")      \
   X(double, q_harmonic_m2_per_s3, 1e-3, "(m/s)^2/s", "[", 0.0, 1e4, "]", "random walk of the harmonic coefficients") \
   X(double, harmonic_min_amp_mps, 0.02, "m/s", "[", 0.0, 100.0, "]", "below this fundamental amplitude the harmonic is not used") \
-  X(double, meas_vx_std_mps, 0.05, "m/s", "[", 1e-6, 100.0, "]", "measurement noise (std) of v_x: noise and what the model leaves") \
-  X(double, meas_vz_std_mps, 0.05, "m/s", "[", 1e-6, 100.0, "]", "measurement noise (std) of v_z")                 \
+  X(double, meas_vx_density_m2_per_s, 1e-4, "(m/s)^2 s", "[", 1e-12, 1e4, "]",                                    \
+    "measurement noise density of v_x (noise and what the model leaves): R = density / dt; 1e-4 is 0.05 m/s at 25 Hz") \
+  X(double, meas_vz_density_m2_per_s, 1e-4, "(m/s)^2 s", "[", 1e-12, 1e4, "]",                                    \
+    "measurement noise density of v_z: R = density / dt")                                                          \
   X(double, gate_sigma, 5.0, "sigma", "[", 0.1, INFINITY, "]",                                                      \
     "innovation gate: a channel with |nu| > gate_sigma sqrt(S) is not used (infinity: no gate)")                   \
   X(double, gate_max_consecutive_s, 0.24, "s", "[", 0.0, 3600.0, "]",                                              \

@@ -355,7 +355,7 @@ TEST(GaitEstimator, BadConfigurationIsRejectedWithAMessage) {
       {[](EstimatorConfig& c) { c.gait_filter.bank_f_hz = {1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8}; }, "bank_f_hz"},
       {[](EstimatorConfig& c) { c.gait_filter.bank_f_hz[0] = 5.0; }, "bank_f_hz"},
       {[](EstimatorConfig& c) { c.gait_filter.q_phase_rad2_per_s = -1.0; }, "q_phase_rad2_per_s"},
-      {[](EstimatorConfig& c) { c.gait_filter.meas_vz_std_mps = 0.0; }, "meas_vz_std_mps"},
+      {[](EstimatorConfig& c) { c.gait_filter.meas_vz_density_m2_per_s = 0.0; }, "meas_vz_density_m2_per_s"},
       {[](EstimatorConfig& c) { c.gait_filter.gate_sigma = std::numeric_limits<double>::quiet_NaN(); }, "gate_sigma"},
       {[](EstimatorConfig& c) { c.gait_filter.walk_speed_off_mps = 0.5; }, "walk_speed_off_mps"},
       {[](EstimatorConfig& c) { c.gait_filter.spectral_buffer_s = 1000.0; }, "spectral_buffer_s"},

@@ -26,6 +26,7 @@ Core: a dual-phasor EKF with one shared, strictly positive step frequency.
   w > 0 loses nothing: the paper's negative-frequency solution is the same signal with X2, Z2
   mirrored.
 
+  Measurement noise: R = diag(r_vx_density, r_vz_density) / dt (a sample is the mean over dt).
   Process noise (continuous densities, times dt):
       q_phasor I on X and Z (independent drift: amplitude, phase relation),
       q_phase g g^T with g = [-X2, X1, -Z2, Z1, 0...] (common gait-phase jitter: rotates X and Z together),
@@ -113,9 +114,10 @@ class DefaultConfig:
         self.p0_harm_std_mps = 0.1
         self.q_harm_mps2_per_s = 1e-3
         self.harm_min_amp_mps = 0.02  # below this fundamental amplitude the basis is undefined
-        # --- measurement noise (std): noise + what the model does not explain
-        self.r_vx_std_mps = 0.05
-        self.r_vz_std_mps = 0.05
+        # --- measurement noise densities ((m/s)^2 s): noise + what the model does not explain; a
+        # sample is the mean over its interval, R = density / dt (dt = 0: nominal_dt_s)
+        self.r_vx_density_m2_per_s = 1e-4
+        self.r_vz_density_m2_per_s = 1e-4
         # --- innovation gate
         self.gate_sigma = 5.0
         self.max_consecutive_rejects_s = 0.24  # then the sample is accepted and P inflated (in samples: below)
@@ -654,7 +656,7 @@ class DefaultEstimator:
         nb = c.spec_buffer_n
         t_last = self.buf_t[(self.buf_head - 1) % nb]
         i0 = (self.buf_head - n) % nb
-        rx, rz = c.r_vx_std_mps**2, c.r_vz_std_mps**2
+        rx, rz = c.r_vx_density_m2_per_s / c.nominal_dt_s, c.r_vz_density_m2_per_s / c.nominal_dt_s
         nf = int((c.f_max_hz - c.f_min_hz) / c.spec_grid_step_hz) + 1
         costs = [0.0] * nf  # fixed size in C++
         best_k = 0
@@ -768,7 +770,8 @@ class DefaultEstimator:
                 fh[0].predict(c, dt)
                 fh[1].predict(c, dt)
 
-        rx, rz = c.r_vx_std_mps**2, c.r_vz_std_mps**2
+        dt_r = dt if dt > 0.0 else c.nominal_dt_s
+        rx, rz = c.r_vx_density_m2_per_s / dt_r, c.r_vz_density_m2_per_s / dt_r
         chans = []
         if osc:
             if use_x:
@@ -976,8 +979,8 @@ _NATIVE_NAMES = {
     "p0_harm_std_mps": "p0_harmonic_std_mps",
     "q_harm_mps2_per_s": "q_harmonic_m2_per_s3",
     "harm_min_amp_mps": "harmonic_min_amp_mps",
-    "r_vx_std_mps": "meas_vx_std_mps",
-    "r_vz_std_mps": "meas_vz_std_mps",
+    "r_vx_density_m2_per_s": "meas_vx_density_m2_per_s",
+    "r_vz_density_m2_per_s": "meas_vz_density_m2_per_s",
     "gate_sigma": "gate_sigma",
     "max_consecutive_rejects_s": "gate_max_consecutive_s",
     "max_gap_s": "max_gap_s",

@@ -547,7 +547,7 @@ def test_synthetic_lab_accuracy():
         ({"spectral_buffer_s": 0.01}, "spectral_buffer_s"),  # not one sample of 0.04 s
         ({"spectral_buffer_s": 20.0}, "spectral_buffer_s"),  # 500 samples, above the buffer's 256
         ({"q_phase_rad2_per_s": float("nan")}, "q_phase_rad2_per_s"),
-        ({"meas_vx_std_mps": 0.0}, "meas_vx_std_mps"),
+        ({"meas_vx_density_m2_per_s": 0.0}, "meas_vx_density_m2_per_s"),
         ({"walk_vz_rms_off_mps": 1.0}, "walk_vz_rms_off_mps"),
         ({"std_scale_min": -1.0}, "std_scale_min"),
         ({"radii_tau_s": "2"}, "radii_tau_s"),
@@ -675,3 +675,19 @@ def test_covariance_stays_positive_semidefinite_on_a_corrupt_sequence():
         assert ev[0] >= -1e-9 * ev[-1], (k, ev)
         assert np.all(np.diag(P) >= 0) and np.all(np.diag(P)[:4] <= 1e6), k
         assert math.isfinite(e.step_frequency_std_hz) and math.isfinite(e.speed_std_mps)
+
+
+def test_measurement_noise_is_a_density_so_the_sample_rate_does_not_change_the_steady_state_covariance():
+    """The same walk at 25 Hz and 100 Hz ends with the speed variance P_A0A0 within 10 % (R = density / dt)."""
+
+    def speed_variance(rate_hz):
+        t = np.arange(int(30.0 * rate_hz)) / rate_hz
+        theta = 2 * np.pi * 1.8 * t
+        est = GaitEstimator(EstimatorConfig())
+        res = est.run(1.3 + 0.2 * np.cos(theta + np.pi), -0.15 * np.sin(theta), time_s=t)
+        assert res.walking[-1] and not res.acquiring[-1]
+        return est.covariance[ref.IA0, ref.IA0]
+
+    # A variance per sample (the same R at every rate) makes the 100 Hz filter trust the data 4x
+    # more: its P_A0A0 is some 35 % lower.
+    assert speed_variance(100.0) == pytest.approx(speed_variance(25.0), rel=0.1)

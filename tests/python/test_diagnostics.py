@@ -104,7 +104,9 @@ def test_nis_of_the_default_is_consistent_on_a_walk_from_its_own_model():
 
     def nis(meas_std):
         cfg = EstimatorConfig()
-        cfg.gait_filter.meas_vx_std_mps = cfg.gait_filter.meas_vz_std_mps = meas_std
+        # the std at the nominal 25 Hz: R = density / dt
+        density = meas_std**2 * cfg.sample_time_s
+        cfg.gait_filter.meas_vx_density_m2_per_s = cfg.gait_filter.meas_vz_density_m2_per_s = density
         out = []
         for seed in range(2):
             t, vx, vz = _model_walk(seed)

@@ -1,5 +1,6 @@
 /// @file gait/decay_factors.hpp
-/// @brief The gait filter's exp(-dt / tau) factors, cached per time step.
+/// @brief The gait filter's dt-dependent factors (exp(-dt / tau), the measurement noise), cached per
+/// time step.
 #pragma once
 
 #include <cmath>
@@ -24,16 +25,30 @@ class DecayFactors {
     double cadence_change_noise_tau_s = 2.0;  ///< ... and of their mean square
   };
 
+  /// The measurement noise densities [(m/s)^2 s] (sec. 2.2): a sample is the mean velocity over
+  /// its interval, so its variance is the density over the interval, R = density / dt. A step
+  /// without an interval (dt = 0: the first sample, after a long gap) takes nominal_dt_s.
+  struct MeasurementNoise {
+    double vx_density = 1e-4, vz_density = 1e-4;
+    double nominal_dt_s = 0.04;
+    /// The variances R at an interval dt > 0 (else at nominal_dt_s) [(m/s)^2].
+    double r_vx(double dt) const noexcept { return vx_density / (dt > 0.0 ? dt : nominal_dt_s); }
+    double r_vz(double dt) const noexcept { return vz_density / (dt > 0.0 ? dt : nominal_dt_s); }
+  };
+
   /// The factors for one dt.
   struct Values {
     double dt = -1.0;
     double accel_decay = 1.0, rate_decay = 1.0, rate_lp_gain = 0.0, walk_gain = 0.0, std_gain = 0.0,
            forget = 1.0, radii_gain = 0.0;
     double cadence_gain = 0.0, cadence_noise_gain = 0.0;  ///< 1 - exp(-dt / tau), ... noise_tau (0 at dt = 0)
+    /// Measurement noise variances of v_x, v_z [(m/s)^2], and ||H^T R^-1 H|| of the two updates
+    /// (2 / r_vx + 1 / r_vz): the covariance guard's certificate (sec. 2.7).
+    double r_vx = 0.0, r_vz = 0.0, info = 0.0;
   };
 
   DecayFactors() noexcept = default;
-  explicit DecayFactors(const TimeConstants& tau) noexcept : tau_(tau) {}
+  DecayFactors(const TimeConstants& tau, const MeasurementNoise& meas) noexcept : tau_(tau), meas_(meas) {}
 
   /// Forget the cached dt: the next at() computes.
   void reset() noexcept { values_.dt = -1.0; }
@@ -53,11 +68,15 @@ class DecayFactors {
     f.radii_gain = 1.0 - std::exp(-dt / tau_.radii_tau_s);
     f.cadence_gain = dt > 0.0 ? 1.0 - std::exp(-dt / tau_.cadence_change_tau_s) : 0.0;
     f.cadence_noise_gain = dt > 0.0 ? 1.0 - std::exp(-dt / tau_.cadence_change_noise_tau_s) : 0.0;
+    f.r_vx = meas_.r_vx(dt);
+    f.r_vz = meas_.r_vz(dt);
+    f.info = 2.0 / f.r_vx + 1.0 / f.r_vz;
     return f;
   }
 
  private:
   TimeConstants tau_;
+  MeasurementNoise meas_;
   Values values_;
 };
 

@@ -5,6 +5,7 @@
 ///
 ///   x = [X1, X2, Z1, Z2, w, A0, dA0, dw]                          (sec. 2.1; gait/state.hpp)
 ///   v_x = A0 + X1 + h_x,   v_z = Z1 + h_z      (two sequential scalar updates; h: second harmonics)
+///   R = diag(meas_vx_density, meas_vz_density) / dt          (the samples are means over dt; sec. 2.2)
 ///   Q = q_phasor dt I(X, Z) + q_phase dt g g^T + diag(q_omega, q_rate(dw_lp), q_speed, q_accel) dt,
 ///   g = [-X2, X1, -Z2, Z1, 0, 0, 0, 0]                                  (sec. 2.2; gait/member.hpp)
 ///
@@ -221,7 +222,8 @@ class GaitFilter {
       : cfg_(config),
         model_(member_model(g, config.max_abs_velocity_mps)),
         factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
-                  g.bank_forget_s, g.radii_tau_s, g.cadence_change_tau_s, g.cadence_change_noise_tau_s}),
+                  g.bank_forget_s, g.radii_tau_s, g.cadence_change_tau_s, g.cadence_change_noise_tau_s},
+                 {g.meas_vx_density_m2_per_s, g.meas_vz_density_m2_per_s, config.sample_time_s}),
         detector_({g.walk_tau_s, g.walk_speed_on_mps, g.walk_speed_off_mps, g.walk_vz_rms_on_mps, g.walk_vz_rms_off_mps}),
         gate_(g.gate_sigma, config.samples_in(g.gate_max_consecutive_s)),
         scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
@@ -234,7 +236,8 @@ class GaitFilter {
         speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
         bank_(bank_settings(g)),
         spectral_({g.spectral_init, g.spectral_init_s, config.samples_in(g.spectral_buffer_s), g.spectral_grid_step_hz, g.f_min_hz,
-                   g.f_max_hz, model_.r_vx, model_.r_vz}) {
+                   g.f_max_hz, g.meas_vx_density_m2_per_s / config.sample_time_s,
+                   g.meas_vz_density_m2_per_s / config.sample_time_s}) {
     reset();
   }
 
@@ -254,8 +257,6 @@ class GaitFilter {
     m.use_harmonic = c.use_harmonic;
     m.q_harmonic = c.q_harmonic_m2_per_s3;
     m.harm_min2 = c.harmonic_min_amp_mps * c.harmonic_min_amp_mps;
-    m.r_vx = c.meas_vx_std_mps * c.meas_vx_std_mps;
-    m.r_vz = c.meas_vz_std_mps * c.meas_vz_std_mps;
     m.p0_phasor = c.p0_phasor_std_mps * c.p0_phasor_std_mps;
     const double sw = kTwoPi * c.p0_f_std_hz;
     m.p0_omega = sw * sw;
@@ -275,7 +276,6 @@ class GaitFilter {
     // dw without its rate state is held at exactly zero (a zero row): no noise needed there.
     m.q_floor = detail::py_min(detail::py_min(m.q_phasor, m.q_omega), detail::py_min(m.q_speed, m.q_accel));
     if (m.use_omega_rate) m.q_floor = detail::py_min(m.q_floor, detail::py_min(m.q_rate_lo, m.q_rate_hi));
-    m.info = 2.0 / m.r_vx + 1.0 / m.r_vz;
     return m;
   }
 
@@ -418,8 +418,7 @@ class GaitFilter {
     } else {
       model_.predict(main_, main_h_.data(), dt, fc, walking);
       const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
-      rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_,
-                                      fc.std_gain);
+      rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_, fc);
       if (walking) cadence_.after_update(model_, main_, prior, fc, rejected);  // sec. 2.8: cadence changes
     }
     updated_ = true;

@@ -53,7 +53,7 @@ class HypothesisBank {
     for (std::size_t i = 0; i < s_.size; ++i) model.predict(members_[i], harmonics_[i].data(), dt, fc, oscillate);
     for (std::size_t i = 0; i < s_.size; ++i)
       rejected |= model.update<true>(members_[i], harmonics_[i].data(), vx, vz, use_x, use_z, oscillate, gate,
-                                     scale, fc.std_gain);
+                                     scale, fc);
     return rejected;
   }
 

@@ -52,8 +52,6 @@ struct MemberModel {
   bool rate_lowpass = true;                                     ///< omega_rate_lp_tau_s > 0
   bool use_harmonic = true;
   double q_harmonic = 0.0, harm_min2 = 0.0;  ///< harmonic noise; squared minimum fundamental amplitude
-  // Measurement noise variances of v_x, v_z.
-  double r_vx = 0.0, r_vz = 0.0;
   // Initial variances of a member: phasors, w, A0, dA0, dw (0 without the rate state), harmonics.
   double p0_phasor = 0.0, p0_omega = 0.0, p0_speed = 0.0, p0_accel = 0.0, p0_rate = 0.0, p0_harmonic = 0.0;
   // The frequency bounds [rad/s].
@@ -61,9 +59,9 @@ struct MemberModel {
   /// The covariance guard's variance bounds (docs/default_estimator.md, sec. 2.7); infinite for
   /// the rates, which their decay bounds (and which within_variance_bounds does not test).
   std::array<double, kDim> max_variance{};
-  /// The smallest process-noise density on the diagonal of Q, and ||H^T R^-1 H|| of the two
-  /// updates (2 / r_vx + 1 / r_vz): the certificate's lower bound on the eigenvalues (sec. 2.7).
-  double q_floor = 0.0, info = 0.0;
+  /// The smallest process-noise density on the diagonal of Q: with ||H^T R^-1 H|| of the step's
+  /// two updates (DecayFactors::Values::info), the certificate's lower bound on the eigenvalues (sec. 2.7).
+  double q_floor = 0.0;
 
   /// A fresh member at frequency f_hz and speed A0, with its initial covariance.
   void reset(Ekf& e, double f_hz, double A0) const noexcept {
@@ -125,7 +123,7 @@ struct MemberModel {
     const double qh = q_harmonic * dt;
     h[kVx].predict(qh);
     h[kVz].predict(qh);
-    certify(e, dt);
+    certify(e, dt, fc.info);
   }
 
   /// The covariance guard's certificate (sec. 2.7): P- is within its variance bounds, and P+ stays
@@ -134,7 +132,7 @@ struct MemberModel {
   /// few units of round-off times trace(P-) (1 + dt^2 |phasors|^2), far within a margin of 1024
   /// units (kRoundingMargin). Multiplied out, no division; on walking data the two sides are some
   /// 1e8 apart.
-  void certify(Ekf& e, double dt) const noexcept {
+  void certify(Ekf& e, double dt, double info) const noexcept {
     const GaitMatrix& P = e.P;
     const GaitState& x = e.x;
     const double trace = ((P[kX1][kX1] + P[kX2][kX2]) + (P[kZ1][kZ1] + P[kZ2][kZ2])) +
@@ -147,7 +145,8 @@ struct MemberModel {
 
   /// The measurement updates of one EKF (sec. 2.1, 2.5): for each usable channel, cancel the
   /// predicted harmonic, gate, update, adapt the std scale, then let the harmonic learn from the
-  /// residual. Returns true when a channel was rejected by the gate.
+  /// residual. Returns true when a channel was rejected by the gate. fc: the step's measurement
+  /// noise variances and std-scale gain.
   ///
   /// While walking the two channels are the sequential scalar updates of v_x (H = e_X1 + e_A0) and
   /// then v_z (H = e_Z1); P is touched once: the second update's P H^T is the first-updated column,
@@ -158,7 +157,8 @@ struct MemberModel {
   template <bool kBank>
   YOYOGAIT_ALWAYS_INLINE bool update(Ekf& e, Harmonic* h, double vx, double vz, bool use_x, bool use_z,
                                      bool oscillate, const InnovationGate& gate_, StdScale& scale,
-                                     double std_gain) const noexcept {
+                                     const DecayFactors::Values& fc) const noexcept {
+    const double r_vx = fc.r_vx, r_vz = fc.r_vz, std_gain = fc.std_gain;
     bool rejected = false;
     const bool gate = !kBank && gate_.active();
     GaitState& x = e.x;

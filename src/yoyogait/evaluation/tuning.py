@@ -51,8 +51,9 @@ SECTION = "gait_filter"
 
 SEARCH_SPACE: dict[str, tuple[float, float, bool]] = {
     # name: (low, high, log scale); all inside what EstimatorConfig validation accepts.
-    "meas_vx_std_mps": (0.01, 0.2, True),
-    "meas_vz_std_mps": (0.01, 0.2, True),
+    # densities: (0.01 m/s)^2 to (0.2 m/s)^2 at 25 Hz (R = density / dt)
+    "meas_vx_density_m2_per_s": (4e-6, 1.6e-3, True),
+    "meas_vz_density_m2_per_s": (4e-6, 1.6e-3, True),
     "q_phasor_m2_per_s3": (1e-4, 2e-2, True),
     "q_phase_rad2_per_s": (0.005, 0.5, True),
     "q_omega_rad2_per_s3": (0.005, 0.5, True),
