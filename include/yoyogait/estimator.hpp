@@ -40,7 +40,7 @@ class Estimator {
 
   /// One sample, taken sample_time_s after the previous one.
   /// paper: PaperEstimator::step (eq. 6, 9, 11-14). gait: GaitFilter::step.
-  Estimate step(double vx_mps, double vz_mps) noexcept {
+  YOYOGAIT_ALWAYS_INLINE Estimate step(double vx_mps, double vz_mps) noexcept {
     ++samples_;
     if (is_paper_) return paper_.step(vx_mps, vz_mps);
     return gait_estimate(gait_.step(vx_mps, vz_mps));
@@ -49,7 +49,7 @@ class Estimator {
   /// One sample, taken dt_s [s] after the previous one. gait: every propagation uses dt_s (a
   /// non-finite or negative dt_s leaves the sample unused, kRejectedNonFinite). paper: dt_s is not
   /// used; the paper's filter works per sample at the nominal T (resample irregular data first).
-  Estimate step(double vx_mps, double vz_mps, double dt_s) noexcept {
+  YOYOGAIT_ALWAYS_INLINE Estimate step(double vx_mps, double vz_mps, double dt_s) noexcept {
     ++samples_;
     if (is_paper_) return paper_.step(vx_mps, vz_mps);
     return gait_estimate(gait_.step(vx_mps, vz_mps, dt_s));
