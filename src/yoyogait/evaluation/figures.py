@@ -184,6 +184,22 @@ def _new_figure(kind: str, width_in: float, height_in: float) -> Figure:
     return fig
 
 
+def _time_panels(into: Figure | None, kind: str, height_in: float, ylabels, **adjust) -> tuple[Figure, bool]:
+    """``into`` emptied for reuse (:func:`_reused`), else a new 8 in wide ``kind`` figure of panels
+    stacked over a shared time axis, one per label of ``ylabels``; and whether it is new."""
+    fig = _reused(into, kind)
+    if fig is not None:
+        return fig, False
+    fig = _new_figure(kind, 8.0, height_in)
+    fig.subplots_adjust(left=0.1, right=0.97, **adjust)
+    axes = fig.subplots(len(ylabels), 1, sharex=True)
+    for ax, label in zip(axes, ylabels):
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("time (s)")
+    return fig, True
+
+
 def _reused(into: Figure | None, kind: str) -> Figure | None:
     """``into`` (drawn by an earlier call of the ``kind`` figure) emptied of its data, legends and
     SYNTHETIC marks, as a new one would be before them; None when ``into`` is None."""
@@ -308,16 +324,9 @@ def parameter_figure(
     if dft_step_frequency_hz is None and measured_vz_mps is not None:
         dft_step_frequency_hz = _metrics.dft_step_frequency_hz(t, measured_vz_mps)
 
-    fig = _reused(into, "parameter")
-    new = fig is None
-    if fig is None:
-        fig = _new_figure("parameter", 8.0, 7.5)
-        fig.subplots_adjust(left=0.1, right=0.97, top=0.9, bottom=0.07, hspace=0.32)
-        axes = fig.subplots(3, 1, sharex=True)
-        for ax, label in zip(axes, ("step frequency (Hz)", "R, r (m)", "A0, A1 (m/s)")):
-            ax.set_ylabel(label)
-            ax.grid(True, alpha=0.3)
-        axes[-1].set_xlabel("time (s)")
+    fig, new = _time_panels(
+        into, "parameter", 7.5, ("step frequency (Hz)", "R, r (m)", "A0, A1 (m/s)"), top=0.9, bottom=0.07, hspace=0.32
+    )
     ax_f, ax_R, ax_A = fig.axes
 
     ax_f.axhline(0.0, color="0.3", lw=0.8)
@@ -400,16 +409,9 @@ def velocity_figure(
     vz_hat = _pick(vz_hat_mps, result, "vz_hat", "vz_hat_mps")
     _check(t, measured_vx_mps=vx, measured_vz_mps=vz, vx_hat_mps=vx_hat, vz_hat_mps=vz_hat)
 
-    fig = _reused(into, "velocity")
-    new = fig is None
-    if fig is None:
-        fig = _new_figure("velocity", 8.0, 5.5)
-        fig.subplots_adjust(left=0.1, right=0.97, top=0.86, bottom=0.1, hspace=0.3)
-        axes = fig.subplots(2, 1, sharex=True)
-        for ax, label in zip(axes, ("forward $v_x$ (m/s)", "vertical $v_z$ (m/s)")):
-            ax.set_ylabel(label)
-            ax.grid(True, alpha=0.3)
-        axes[-1].set_xlabel("time (s)")
+    fig, new = _time_panels(
+        into, "velocity", 5.5, ("forward $v_x$ (m/s)", "vertical $v_z$ (m/s)"), top=0.86, bottom=0.1, hspace=0.3
+    )
     ax_x, ax_z = fig.axes
     for ax, measured, estimate, name in ((ax_x, vx, vx_hat, "v_x"), (ax_z, vz, vz_hat, "v_z")):
         ax.plot(t, measured, color="0.45", lw=1.0, label=f"measured ${name}$")
