@@ -38,6 +38,7 @@
 #include "yoyogait/gait/innovation_gate.hpp"
 #include "yoyogait/gait/member.hpp"
 #include "yoyogait/gait/radii.hpp"
+#include "yoyogait/gait/settings.hpp"
 #include "yoyogait/gait/spectral_init.hpp"
 #include "yoyogait/gait/state.hpp"
 #include "yoyogait/gait/std_scale.hpp"
@@ -220,7 +221,7 @@ class GaitFilter {
 
   GaitFilter(const EstimatorConfig& config, const GaitFilterConfig& g) noexcept
       : cfg_(config),
-        model_(member_model(g, config.max_abs_velocity_mps)),
+        model_(gait::member_model(g, config.max_abs_velocity_mps)),
         factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
                   g.bank_forget_s, g.radii_tau_s, g.cadence_change_tau_s, g.cadence_change_noise_tau_s},
                  {g.meas_vx_density_m2_per_s, g.meas_vz_density_m2_per_s, config.sample_time_s}),
@@ -234,61 +235,11 @@ class GaitFilter {
                  g.cadence_change_min_amp_mps, g.cadence_change_noise_tau_s),
         nominal_dt_(config.sample_time_s),
         speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
-        bank_(bank_settings(g)),
+        bank_(gait::bank_settings(g)),
         spectral_({g.spectral_init, g.spectral_init_s, config.samples_in(g.spectral_buffer_s), g.spectral_grid_step_hz, g.f_min_hz,
                    g.f_max_hz, g.meas_vx_density_m2_per_s / config.sample_time_s,
                    g.meas_vz_density_m2_per_s / config.sample_time_s}) {
     reset();
-  }
-
-
-  static gait::MemberModel member_model(const GaitFilterConfig& c, double max_abs_velocity_mps) noexcept {
-    gait::MemberModel m;
-    m.q_phasor = c.q_phasor_m2_per_s3;
-    m.q_phase = c.q_phase_rad2_per_s;
-    m.q_omega = c.q_omega_rad2_per_s3;
-    m.q_speed = c.q_speed_m2_per_s3;
-    m.q_accel = c.q_accel_m2_per_s5;
-    m.use_omega_rate = c.use_omega_rate;
-    m.q_rate_lo = c.q_omega_rate_lo_rad2_per_s5;
-    m.q_rate_hi = c.q_omega_rate_hi_rad2_per_s5;
-    m.inv_rate_ref = 1.0 / c.omega_rate_ref_rad_s2;
-    m.rate_lowpass = c.omega_rate_lp_tau_s > 0.0;
-    m.use_harmonic = c.use_harmonic;
-    m.q_harmonic = c.q_harmonic_m2_per_s3;
-    m.harm_min2 = c.harmonic_min_amp_mps * c.harmonic_min_amp_mps;
-    m.p0_phasor = c.p0_phasor_std_mps * c.p0_phasor_std_mps;
-    const double sw = kTwoPi * c.p0_f_std_hz;
-    m.p0_omega = sw * sw;
-    m.p0_speed = c.p0_speed_std_mps * c.p0_speed_std_mps;
-    m.p0_accel = c.p0_accel_std_mps2 * c.p0_accel_std_mps2;
-    m.p0_rate = c.use_omega_rate ? c.p0_omega_rate_std_rad_s2 * c.p0_omega_rate_std_rad_s2 : 0.0;
-    m.p0_harmonic = c.p0_harmonic_std_mps * c.p0_harmonic_std_mps;
-    m.w_min = kTwoPi * c.f_min_hz;
-    m.w_max = kTwoPi * c.f_max_hz;
-    // Popoviciu's inequality (a quantity within an interval of width L has a variance of at most
-    // L^2 / 4): the phasors within +-max_abs_velocity_mps (v_z = Z1, and the oscillation of v_x),
-    // A0 within [0, max_abs_velocity_mps], w within [w_min, w_max]. The rates are bounded by their
-    // decay (stationary variance q tau / 2); no bound.
-    const double v2 = max_abs_velocity_mps * max_abs_velocity_mps, half_w = 0.5 * (m.w_max - m.w_min);
-    const double inf = std::numeric_limits<double>::infinity();
-    m.max_variance = {v2, v2, v2, v2, half_w * half_w, 0.25 * v2, inf, inf};
-    // dw without its rate state is held at exactly zero (a zero row): no noise needed there.
-    m.q_floor = detail::py_min(detail::py_min(m.q_phasor, m.q_omega), detail::py_min(m.q_speed, m.q_accel));
-    if (m.use_omega_rate) m.q_floor = detail::py_min(m.q_floor, detail::py_min(m.q_rate_lo, m.q_rate_hi));
-    return m;
-  }
-
-  static gait::HypothesisBank::Settings bank_settings(const GaitFilterConfig& c) noexcept {
-    gait::HypothesisBank::Settings s;
-    s.f_hz = c.bank_f_hz.hz;
-    s.size = c.bank_f_hz.size;
-    s.prior_f_hz = c.bank_prior_f_hz;
-    s.prior_bonus_nats = c.bank_prior_bonus_nats;
-    const double sw = kTwoPi * c.spectral_f_std_hz;
-    s.seed_f_var = sw * sw;
-    s.seed_phasor_var = c.spectral_phasor_std_mps * c.spectral_phasor_std_mps;
-    return s;
   }
 
   // (A0 + X1, Z1) with the phasors turned by angle_rad, plus the second harmonics where they apply
