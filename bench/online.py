@@ -62,20 +62,31 @@ def decimation_factor(rate_hz: float, reference_hz: float) -> int:
     return max(1, int(round(rate_hz / reference_hz)))
 
 
-def _every_kth_frame(load, k):
-    rec = load()
-    return dataclasses.replace(rec, positions_m=rec.positions_m[::k], time_s=rec.time_s[::k], rate_hz=rec.rate_hz / k)
+def every_kth_frame(rec, k: int):
+    """The recording with every k-th frame (the same walk seen by a slower camera)."""
+    if k == 1:
+        return rec
+    rate_hz = None if rec.rate_hz is None else rec.rate_hz / k
+    return dataclasses.replace(rec, positions_m=rec.positions_m[::k], time_s=rec.time_s[::k], rate_hz=rate_hz)
+
+
+def _load_every_kth_frame(load, k):
+    return every_kth_frame(load(), k)
 
 
 def decimated_item(item, k: int):
-    """The item with every k-th frame of its recording (the same walk seen by a slower camera)."""
-    return dataclasses.replace(item, load=functools.partial(_every_kth_frame, item.load, k))
+    """The item with every k-th frame of its recording."""
+    return dataclasses.replace(item, load=functools.partial(_load_every_kth_frame, item.load, k))
 
 
-def evaluate(item, config=None, decimate=1):
-    """One walk's figures; ``decimate`` k > 1 feeds the online estimator every k-th frame only (what
-    a camera at 1/k of the rate would have delivered), everything it is scored against unchanged."""
+def evaluate(item, config=None, decimate_to_hz=None):
+    """One walk's figures; ``decimate_to_hz``: the online estimator is fed every k-th frame only
+    (k = :func:`decimation_factor`, what a camera at 1/k of the rate would have delivered; None when
+    k would be 1), everything it is scored against unchanged."""
     rec = item.load()
+    decimate = 1 if decimate_to_hz is None else decimation_factor(rec.rate_hz, decimate_to_hz)
+    if decimate_to_hz is not None and decimate < 2:
+        return None
     names = list(item.pelvis) if item.pelvis else list(points.choose_point(rec).names)
     up, _ = points.resolve_up_axis(rec, item.up_axis)
     vel = gait_velocities(rec, point=names, up_axis=up)
@@ -91,15 +102,7 @@ def evaluate(item, config=None, decimate=1):
     t_walk = t[np.flatnonzero(walking)[0]]
     early = walking & (t < t_walk + 3.0)
     late = walking & (t >= t_walk + 3.0)
-    online_rec = rec
-    if decimate > 1:
-        online_rec = dataclasses.replace(
-            rec,
-            positions_m=rec.positions_m[::decimate],
-            time_s=rec.time_s[::decimate],
-            rate_hz=None if rec.rate_hz is None else rec.rate_hz / decimate,
-        )
-    res = OnlineEstimator(names, up, config=config).run(online_rec)
+    res = OnlineEstimator(names, up, config=config).run(every_kth_frame(rec, decimate))
     # The online estimate in force at each grid time: the last frame at or before it.
     idx = np.clip(np.searchsorted(res.time_s, t, side="right") - 1, 0, len(res.time_s) - 1)
     f_on = res.step_frequency_hz[idx]
@@ -253,12 +256,7 @@ def evaluate_all(items, config, decimate_to_hz=None):
     rows = []
     for item in items:
         try:
-            k = 1
-            if decimate_to_hz is not None:
-                k = decimation_factor(item.load().rate_hz, decimate_to_hz)
-                if k < 2:
-                    continue
-            r = evaluate(item, config, decimate=k)
+            r = evaluate(item, config, decimate_to_hz)
         except Exception as exc:
             print(f"  skipped {item.name}: {exc}")
             continue

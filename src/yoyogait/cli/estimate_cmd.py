@@ -17,7 +17,14 @@ from ..evaluation import figures as plots
 from ..evaluation import metrics
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
-from .options import check_points, estimator_config_option, force_option, input_options, preset_option
+from .options import (
+    belt_speed_option,
+    check_points,
+    estimator_config_option,
+    force_option,
+    input_options,
+    preset_option,
+)
 
 
 def foot_contacts(recording, feet, up_axis):
@@ -48,13 +55,7 @@ def foot_contacts(recording, feet, up_axis):
     default=None,
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
-@click.option(
-    "--belt-speed-mps",
-    type=float,
-    default=None,
-    metavar="M/S",
-    help="Treadmill belt speed (else found from the stance feet).",
-)
+@belt_speed_option
 @force_option("Overwrite the --out and --figure files if they exist.")
 @click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
 @click.pass_context

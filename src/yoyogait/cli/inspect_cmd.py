@@ -11,7 +11,7 @@ from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
 from ..pipeline.velocities import gait_velocities
-from .options import input_options
+from .options import belt_speed_option, input_options
 
 
 def inspect_file(
@@ -142,13 +142,7 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
     show_default=True,
     help="Forward velocity: 2-norm of the horizontal velocity (paper) or signed along the heading.",
 )
-@click.option(
-    "--belt-speed-mps",
-    type=float,
-    default=None,
-    metavar="M/S",
-    help="Treadmill belt speed (else found from the stance feet).",
-)
+@belt_speed_option
 @click.option("--all-points", is_flag=True, help="List every point name.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
 def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json) -> None:

@@ -166,6 +166,17 @@ def estimator_config_option(multiple: bool):
     )
 
 
+def belt_speed_option(f):
+    """--belt-speed-mps: a treadmill's belt speed, else found from the stance feet."""
+    return click.option(
+        "--belt-speed-mps",
+        type=float,
+        default=None,
+        metavar="M/S",
+        help="Treadmill belt speed (else found from the stance feet).",
+    )(f)
+
+
 def force_option(what: str):
     return click.option("--force", is_flag=True, help=what)
 
