@@ -71,6 +71,8 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     delimiter = "," if "," in header_line else ";" if ";" in header_line else "\t" if "\t" in header_line else ","
     header = [h.strip() for h in next(_csv.reader([header_line], delimiter=delimiter))]
 
+    _refuse_inertial(header, p)
+
     rows = []
     line_numbers = []
     body = [(n, line) for n, line in enumerate(lines[first + 1 :], start=first + 2) if line.strip()]
@@ -151,6 +153,21 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
         source=str(p),
         metadata=metadata,
     )
+
+
+_INERTIAL_PREFIXES = ("acc", "gyr", "gyro", "mag")
+
+
+def _refuse_inertial(header: list[str], where) -> None:
+    """An IMU table (accelerometer and gyroscope columns, no point positions) is not motion capture."""
+    lower = [h.lower() for h in header]
+    inertial = [h for h in lower if h.split("_")[0] in _INERTIAL_PREFIXES]
+    has_points = any(h.endswith(("_x", ".x", " x")) and h.split("_")[0] not in _INERTIAL_PREFIXES for h in lower)
+    if len(inertial) >= 3 and not has_points:
+        raise InputError(
+            f"{where}: an IMU recording ({', '.join(header[lower.index(h)] for h in inertial[:6])}), "
+            "not point positions: yoyogait reads motion capture here"
+        )
 
 
 def _points(header: list[str], table: np.ndarray, where) -> tuple[list[str], np.ndarray]:
