@@ -6,7 +6,7 @@
 Prints how many runs ended in a traceback, left a partial output, gave a message that is not one
 line naming the file, or accepted an absurd result (median speed >= 3 m/s, step frequency outside
 0.5-3.5 Hz), per format and mutation, and lists the first of them.  The mutants are those of
-tests/python/corrupt_mutants.py (the test runs the first few dozen).  Exit status 1 if any run is
+tests/python/reference/corrupt_mutants.py (the test runs the first few dozen).  Exit status 1 if any run is
 not ok.
 """
 
@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests" / "python"))
+sys.path.insert(0, str(ROOT / "tests" / "python" / "reference"))
 
 import corrupt_mutants as cm  # noqa: E402 (after the path is set)
 

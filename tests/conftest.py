@@ -4,11 +4,16 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+# The independent numpy references and the corrupt-file generator, shared by tests of several stages.
+# and the builders of small recordings and files (tests/python/builders.py).
+sys.path.insert(0, str(ROOT / "tests" / "python" / "reference"))
+sys.path.insert(0, str(ROOT / "tests" / "python"))
 DATASETS = Path(os.environ.get("YOYOGAIT_DATASETS", ROOT.parent / "shared" / "datasets"))
 
 

@@ -425,7 +425,7 @@ def schema_markdown() -> str:
         "<!-- Generated from the C++ tables (include/yoyogait/config.hpp) by",
         "     python -c 'import sys, yoyogait.estimators.config as c; sys.stdout.write(c.schema_markdown())' \\",
         "     > docs/configuration.md",
-        "     and checked by tests/python/test_config.py. -->",
+        "     and checked by tests/python/estimators/test_config.py. -->",
         "",
         "Every field of `EstimatorConfig` (Python `yoyogait.EstimatorConfig`, C++ `yoyogait::EstimatorConfig`),",
         "declared once in `include/yoyogait/config.hpp`. A value outside its valid range is an error naming",

@@ -6,8 +6,8 @@ import dataclasses
 
 import numpy as np
 import pytest
-
 from test_default_estimator import make_walk
+
 from yoyogait import EstimatorConfig, GaitEstimator
 from yoyogait.estimators.online import OnlineConfig, OnlineEstimator
 from yoyogait.evaluation import online as on

@@ -1,6 +1,6 @@
 """Corrupt copies of real recordings, and what ``yoyogait inspect`` and ``estimate`` make of them.
 
-Shared by tests/python/test_corrupt_files.py (a few dozen mutants) and bench/corrupt.py (hundreds).
+Shared by tests/python/io/test_corrupt_files.py (a few dozen mutants) and bench/corrupt.py (hundreds).
 Mutant ``i`` is fully determined by ``(seed, i)``: its source file is ``SOURCES[i % len(SOURCES)]``
 and its mutation is drawn from that format's operators with ``numpy.random.default_rng((seed, i))``.
 

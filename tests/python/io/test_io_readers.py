@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import yoyogait.io as yio
+from builders import write_trc_positions as write_trc
 from yoyogait.errors import InputError
 from yoyogait.io.bvh import CANDIDATE_UNITS_M
 
@@ -34,29 +35,6 @@ def write_c3d(path, positions_mm, names, *, rate_hz=100.0, units="mm", residuals
             "camera_masks": np.zeros((7, n_points, n_frames), dtype=bool),
         }
     c.write(str(path))
-    return path
-
-
-def write_trc(path, positions, names, *, rate_hz=100.0, units="mm", blank=None, frames_announced=None):
-    """A TRC file as OpenSim writes it; ``blank`` (frame, point) cells are left empty."""
-    n_frames = positions.shape[0]
-    lines = [
-        f"PathFileType\t4\t(X/Y/Z)\t{path.name}",
-        "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames",
-        f"{rate_hz}\t{rate_hz}\t{frames_announced or n_frames}\t{len(names)}\t{units}\t{rate_hz}\t1\t{n_frames}",
-        "Frame#\tTime\t" + "\t\t\t".join(names),
-        "\t\t" + "\t".join(f"X{i + 1}\tY{i + 1}\tZ{i + 1}" for i in range(len(names))),
-        "",
-    ]
-    for f in range(n_frames):
-        cells = [str(f + 1), f"{f / rate_hz:.6f}"]
-        for p in range(len(names)):
-            if blank is not None and (f, p) in blank:
-                cells += ["", "", ""]
-            else:
-                cells += [f"{v:.9f}" for v in positions[f, p]]
-        lines.append("\t".join(cells))
-    path.write_text("\n".join(lines) + "\n")
     return path
 
 

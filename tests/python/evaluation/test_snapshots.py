@@ -4,7 +4,7 @@ Every metric of ``paper`` and ``default`` on every recording of the shared manif
 ``tests/snapshots/real_metrics.csv``. A change that moves any of them beyond the tolerance below
 fails here and must be explained; to accept it on purpose, regenerate the file with
 
-    YOYOGAIT_UPDATE_SNAPSHOTS=1 pytest tests/python/test_snapshots.py
+    YOYOGAIT_UPDATE_SNAPSHOTS=1 pytest tests/python/evaluation/test_snapshots.py
 
 and commit the diff with the reason.
 """
@@ -21,7 +21,7 @@ import pytest
 from yoyogait import evaluation as ev
 from yoyogait.evaluation.metrics import METRIC_KEYS
 
-SNAPSHOT = Path(__file__).resolve().parents[1] / "snapshots" / "real_metrics.csv"
+SNAPSHOT = Path(__file__).resolve().parents[2] / "snapshots" / "real_metrics.csv"
 ESTIMATORS = ("paper", "default")
 # Beyond rounding: the pipeline and both estimators are deterministic, so anything larger is a change.
 RTOL, ATOL = 1e-6, 1e-9

@@ -12,10 +12,11 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from test_inspect_cli import write_walk_c3d
+from test_io_readers import write_bvh
 
 import yoyogait
-from test_inspect_cli import write_walk_c3d
-from test_io_readers import write_bvh, write_trc
+from builders import write_trc_positions as write_trc
 from yoyogait.cli import main
 from yoyogait.errors import InputError
 from yoyogait.pipeline.signals import resample
@@ -136,7 +137,7 @@ def test_c3d_header_scale_and_data_start_are_checked(tmp_path, capsys, offset, f
 
 def test_absurd_coordinates_are_an_error_naming_point_and_line(tmp_path, capsys):
     """1e308 in the pelvis cells of a TRC is an error naming the point and the line (was a speed of 0.00)."""
-    from test_events import stepping_walk
+    from builders import stepping_walk
 
     rec, _ = stepping_walk()
     pos = np.nan_to_num(rec.positions_m)
@@ -159,7 +160,7 @@ def test_a_velocity_faster_than_any_person_is_an_error(tmp_path, capsys):
 
 def test_a_point_that_jumps_is_an_error_not_a_speed(tmp_path):
     """A pelvis that jumps 1 km for a few frames gives an error naming the jump, not an absurd speed."""
-    from test_events import stepping_walk
+    from builders import stepping_walk
 
     rec, _ = stepping_walk()
     rec.positions_m[400:405, :3, 0] += 1000.0

@@ -9,8 +9,8 @@ import time
 
 import numpy as np
 import pytest
-
 from live_helpers import marker_info, pelvis_frames, pelvis_labels, short_walk, unique
+
 from yoyogait import OnlineEstimator
 from yoyogait.cli import main
 from yoyogait.live.live import ESTIMATE_COLUMNS, estimate_row

@@ -14,7 +14,7 @@ import yoyogait
 from yoyogait import EstimatorConfig, GaitEstimator, _core
 from yoyogait.estimators.config import SCHEMA, SECTIONS, GaitFilterConfig, PaperConfig, schema_markdown
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 PY_TYPES = {"float": float, "int": int, "bool": bool, "float_list": tuple, "str": str}
 
 

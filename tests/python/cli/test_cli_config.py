@@ -7,7 +7,7 @@ import csv
 import numpy as np
 import pytest
 
-from test_evaluation import write_trc
+from builders import write_trc
 from yoyogait import EstimatorConfig, synthetic
 from yoyogait.cli import main
 

@@ -7,7 +7,7 @@ and for the default irregular, repeated, backward and non-finite timestamps.
 
 Profiles (``YOYOGAIT_HYPOTHESIS_PROFILE``): ``ci`` (the default: few, derandomized examples, a few
 seconds in all) and ``long`` (thousands of random examples per test, for a search before a release:
-``YOYOGAIT_HYPOTHESIS_PROFILE=long pytest tests/python/test_properties.py``). A failure prints the
+``YOYOGAIT_HYPOTHESIS_PROFILE=long pytest tests/python/estimators/test_properties.py``). A failure prints the
 shrunk example, and ``bench/fuzz.py`` runs the same checks over 100,000 random sequences.
 """
 

@@ -7,23 +7,13 @@ import json
 import math
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from test_io_readers import write_trc as _write_trc
+from builders import write_trc
 from yoyogait import evaluation as ev
 from yoyogait.cli import main
-
-
-def write_trc(path, recording):
-    """A synthetic recording as a TRC file in metres, missing samples as empty cells."""
-    pos = recording.positions_m
-    blank = {(f, p) for f, p in zip(*np.nonzero(np.isnan(pos).any(axis=2)))}
-    return _write_trc(
-        Path(path), np.nan_to_num(pos), recording.point_names, rate_hz=recording.rate_hz, units="m", blank=blank
-    )
 
 
 @pytest.fixture(scope="module")

@@ -6,69 +6,10 @@ import numpy as np
 import pytest
 
 import yoyogait
+from builders import stepping_walk
 from yoyogait.errors import InputError
 from yoyogait.io import Recording
 from yoyogait.pipeline import events
-
-STEP_M = 0.7
-
-
-def stepping_walk(
-    step_hz=1.8,
-    stand_before_s=2.0,
-    walk_s=5.0,
-    stand_after_s=2.0,
-    rate_hz=100.0,
-    treadmill=False,
-    radius_m=None,
-    later_step_hz=None,
-):
-    """A person who stands, walks and stands, with heels that really step (z up).
-
-    The number of steps taken so far, ``s(t)``, is the integral of the step
-    frequency; everything is a function of it, so standing freezes the body.
-    Foot contacts happen at whole ``s`` (left on even, right on odd); each
-    foot is still in stance and swings forward 2 steps during the last 40 %
-    of its stride.  ``later_step_hz`` changes the frequency half way through
-    the walk; ``radius_m`` bends the path into a circle; ``treadmill`` removes
-    the forward progression.  Returns the recording and the contact times.
-    """
-    n = int((stand_before_s + walk_s + stand_after_s) * rate_hz)
-    t = np.arange(n) / rate_hz
-    f = np.where((t >= stand_before_s) & (t < stand_before_s + walk_s), step_hz, 0.0)
-    if later_step_hz is not None:
-        f[(t >= stand_before_s + walk_s / 2) & (f > 0)] = later_step_hz
-    s = np.concatenate([[0.0], np.cumsum(f[:-1]) / rate_hz])
-    pelvis_fwd = STEP_M * s
-    pelvis_up = 0.95 + 0.02 * np.cos(2 * np.pi * s)
-
-    def foot(first_contact):
-        j = np.floor((s - first_contact) / 2)
-        local = s - (first_contact + 2 * j)
-        planted = STEP_M * (first_contact + 2 * j) + STEP_M / 2
-        q = np.clip((local - 1.2) / 0.8, 0, 1)
-        fwd = planted + 2 * STEP_M * (1 - np.cos(np.pi * q)) / 2
-        return fwd, 0.05 + 0.1 * np.sin(np.pi * q)
-
-    parts = {"pelvis": (pelvis_fwd, 0.0, pelvis_up), "LHEE": (*foot(0),), "RHEE": (*foot(1),)}
-    fwd = {"pelvis": pelvis_fwd, "LHEE": parts["LHEE"][0], "RHEE": parts["RHEE"][0]}
-    lateral = {"pelvis": 0.02 * np.sin(np.pi * s), "LHEE": 0.1, "RHEE": -0.1}
-    up = {"pelvis": pelvis_up, "LHEE": parts["LHEE"][1], "RHEE": parts["RHEE"][1]}
-    positions = []
-    for name in ("pelvis", "LHEE", "RHEE"):
-        a = fwd[name] - (pelvis_fwd if treadmill else 0.0)
-        b = np.broadcast_to(lateral[name], a.shape)
-        if radius_m is not None:  # bend the straight path onto a circle of this radius
-            a, b = (radius_m - b) * np.sin(a / radius_m), radius_m - (radius_m - b) * np.cos(a / radius_m)
-        positions.append(np.column_stack([a, b, up[name]]))
-    offsets = {"LASI": (0.1, 0.12), "RASI": (0.1, -0.12), "SACR": (-0.2, 0.0)}
-    pelvis = positions[0]
-    markers = [pelvis + np.array([dx, dy, 0.0]) for dx, dy in offsets.values()]
-    pos = np.stack(markers + positions[1:], axis=1)
-    rec = Recording(pos, list(offsets) + ["LHEE", "RHEE"], t, rate_hz=rate_hz, up_axis="z", source="synthetic")
-    steps_taken = int(round(s[-1]))
-    contacts = [float(t[np.argmax(s >= k - 1e-9)]) for k in range(1, steps_taken + 1)]
-    return rec, np.array(contacts)
 
 
 def matched(found, truth, tolerance_s=0.1):

@@ -31,7 +31,7 @@ REFUSED = {
 #: The lower-back IMU tables (acc_x..gyr_z, no positions) are refused as IMU recordings, not positions.
 REFUSED.update(
     {
-        f"imu_mobgap/example_data/data_csv/{who}/TimeMeasure1_{test}.csv": r"an IMU recording \(acc_x, .*not point positions"
+        f"imu_mobgap/example_data/data_csv/{who}/TimeMeasure1_{test}.csv": r"an IMU recording \(acc_x, .*positions"
         for who in ("HA/001", "HA/002", "MS/001")
         for test in ("Test11_Trial1", "Test5_Trial1", "Test5_Trial2")
     }

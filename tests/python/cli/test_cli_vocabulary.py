@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from test_evaluation import write_trc
+from builders import write_trc
 from yoyogait import evaluation as ev
 from yoyogait import synthetic
 from yoyogait._files import MARKER

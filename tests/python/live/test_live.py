@@ -12,7 +12,6 @@ from io import StringIO
 
 import numpy as np
 import pytest
-
 from live_helpers import (
     PELVIS,
     LiveThread,
@@ -23,6 +22,7 @@ from live_helpers import (
     unique,
     write_csv,
 )
+
 from yoyogait import OnlineEstimator, io
 from yoyogait.cli import main
 from yoyogait.errors import InputError

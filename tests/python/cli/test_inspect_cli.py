@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from test_events import stepping_walk
+from builders import stepping_walk
 from yoyogait.cli import main
 
 ezc3d = pytest.importorskip("ezc3d")

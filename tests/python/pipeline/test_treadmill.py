@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import yoyogait
-from test_events import STEP_M, stepping_walk
+from builders import STEP_M, stepping_walk
 from yoyogait.errors import InputError
 from yoyogait.pipeline.treadmill import detect_treadmill
 

@@ -6,11 +6,11 @@ import math
 
 import numpy as np
 import pytest
+from test_default_estimator import _hard_scenario
 
 import reference_default as ref
 import yoyogait
 from reference_ekf import reference_paper_estimator
-from test_default_estimator import _hard_scenario
 from yoyogait import EstimatorConfig, GaitEstimator, _core
 
 T = 0.04

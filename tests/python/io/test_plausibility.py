@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import yoyogait
-from test_io_readers import write_trc
+from builders import write_trc_positions as write_trc
 from yoyogait.errors import InputError
 from yoyogait.io.plausibility import body_measures
 

@@ -12,8 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from test_evaluation import write_trc
-from test_events import stepping_walk
+from builders import stepping_walk, write_trc
 from yoyogait import _files, _guard
 from yoyogait.cli import main
 from yoyogait.errors import InputError

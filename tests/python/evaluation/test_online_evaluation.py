@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from test_evaluation import write_trc
+from builders import write_trc
 from yoyogait import synthetic as sy
 from yoyogait.cli import main
 from yoyogait.evaluation import evaluate_online
