@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import ezc3d
 import numpy as np
 
 from yoyogait.io import Recording
@@ -99,3 +100,18 @@ def write_trc(path, recording):
     return write_trc_positions(
         Path(path), np.nan_to_num(pos), recording.point_names, rate_hz=recording.rate_hz, units="m", blank=blank
     )
+
+
+def write_walk_c3d(path, **walk):
+    """The stepping walk as a Vicon-like C3D in mm (Z up stated in Y_SCREEN)."""
+    rec, _ = stepping_walk(**walk)
+    c = ezc3d.c3d()
+    data = np.ones((4, len(rec.point_names), rec.n_frames))
+    data[:3] = np.transpose(np.nan_to_num(rec.positions_m * 1000.0), (2, 1, 0))
+    c["parameters"]["POINT"]["RATE"]["value"] = [rec.rate_hz]
+    c["parameters"]["POINT"]["LABELS"]["value"] = rec.point_names
+    c.add_parameter("POINT", "UNITS", ["mm"])
+    c.add_parameter("POINT", "Y_SCREEN", ["+Z"])
+    c["data"]["points"] = data
+    c.write(str(path))
+    return path

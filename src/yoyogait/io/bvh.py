@@ -29,7 +29,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
-from ..pipeline.points import detect_up_axis, find_pelvis
+from .body import detect_up_axis, find_pelvis
 from .recording import MAX_COORDINATE_M, Recording, check_coordinates, check_rate, read_text, uniform_time
 
 __all__ = ["read_bvh", "infer_length_unit", "CANDIDATE_UNITS_M", "PELVIS_HEIGHT_M"]
@@ -128,7 +128,7 @@ def read_bvh(
 def infer_length_unit(rec: Recording, up_axis: str | None = None) -> tuple[float, str]:
     """Metres per file unit, from the pelvis height above the floor while standing or walking.
 
-    The pelvis is the one :func:`yoyogait.pipeline.points.find_pelvis` picks (Hips,
+    The pelvis is the one :func:`yoyogait.io.body.find_pelvis` picks (Hips,
     pelvis, root ...); the floor is the lowest point of the skeleton.  Each
     unit of :data:`CANDIDATE_UNITS_M` is tried, and the one that puts the
     pelvis 0.8-1.1 m above the floor wins (the nearest to 0.95 m if several

@@ -6,28 +6,12 @@ import json
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
-from builders import stepping_walk
+from builders import write_walk_c3d
 from yoyogait.cli import main
 
 ezc3d = pytest.importorskip("ezc3d")
-
-
-def write_walk_c3d(path, **walk):
-    """The stepping walk of test_events as a Vicon-like C3D in mm (Z up stated in Y_SCREEN)."""
-    rec, _ = stepping_walk(**walk)
-    c = ezc3d.c3d()
-    data = np.ones((4, len(rec.point_names), rec.n_frames))
-    data[:3] = np.transpose(np.nan_to_num(rec.positions_m * 1000.0), (2, 1, 0))
-    c["parameters"]["POINT"]["RATE"]["value"] = [rec.rate_hz]
-    c["parameters"]["POINT"]["LABELS"]["value"] = rec.point_names
-    c.add_parameter("POINT", "UNITS", ["mm"])
-    c.add_parameter("POINT", "Y_SCREEN", ["+Z"])
-    c["data"]["points"] = data
-    c.write(str(path))
-    return path
 
 
 def run(capsys, *args):

@@ -12,11 +12,11 @@ import tracemalloc
 
 import numpy as np
 import pytest
-from test_inspect_cli import write_walk_c3d
 from test_io_readers import write_bvh
 
 import yoyogait
 from builders import write_trc_positions as write_trc
+from builders import write_walk_c3d
 from yoyogait.cli import main
 from yoyogait.errors import InputError
 from yoyogait.pipeline.signals import resample
