@@ -6,4 +6,5 @@
 #include "yoyogait/online/differentiator.hpp"
 #include "yoyogait/online/lowpass.hpp"
 #include "yoyogait/online/online_config.hpp"
+#include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/online/online_estimator.hpp"
