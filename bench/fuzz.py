@@ -52,8 +52,8 @@ CHECKS = (
 )
 OUTPUTS = (
     "state",
-    "vx_hat",
-    "vz_hat",
+    "vx_hat_mps",
+    "vz_hat_mps",
     "R_m",
     "r_m",
     "step_frequency_hz",
@@ -62,8 +62,8 @@ OUTPUTS = (
     "speed_std_mps",
     "A0_mps",
     "A1_mps",
-    "vx_hat_h2",
-    "vz_hat_h2",
+    "vx_hat_h2_mps",
+    "vz_hat_h2_mps",
     "std_scale",
     "gait_state",
 )

@@ -8,8 +8,8 @@
   synthetic lab generated at each rate of ``--rates``: the step-frequency error (median absolute,
   Hz) within the first 3 s of walking and after them (reference: the synthetic truth, on real data
   the cadence from gait events, as in the evaluation); the lag of the online v_z behind the offline
-  centred Savitzky-Golay velocity (cross-correlation, ms); the reconstruction errors of vx_hat and
-  vz_hat against the offline velocities (mean squared, 1e-2 (m/s)^2, walking after 3 s; v_x against
+  centred Savitzky-Golay velocity (cross-correlation, ms); the reconstruction errors of vx_hat_mps and
+  vz_hat_mps against the offline velocities (mean squared, 1e-2 (m/s)^2, walking after 3 s; v_x against
   the offline velocity along the heading). The offline default estimator's figures on the same
   samples are given beside them. A benchmark, not a test.
 * Every rate of ``--rates`` against the same walks at ``--reference-hz`` (25) input: the synthetic
@@ -145,8 +145,8 @@ def evaluate(item, config=None, decimate_to_hz=None):
         # time would add up to a frame interval of age at rates the grid does not divide.
         vz_mse=mse(res.vz_hat_mps, at_frames(vel.vz), late_frames),
         vx_mse=mse(res.vx_hat_mps, at_frames(vel.vx_signed), late_frames),
-        vz_mse_off=mse(off.vz_hat_h2, vel.vz, late),
-        vx_mse_off=mse(off.vx_hat_h2, vel.vx_signed, late),
+        vz_mse_off=mse(off.vz_hat_h2_mps, vel.vz, late),
+        vx_mse_off=mse(off.vx_hat_h2_mps, vel.vx_signed, late),
     )
 
 

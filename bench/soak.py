@@ -190,7 +190,7 @@ def main() -> int:
         vx, vz, f, gain, theta = generate(schedule, t, theta, rng)
         res = est.run(vx, vz, time_s=t, covariance=True)
         outputs = (res.state, res.step_frequency_hz, res.step_frequency_std_hz, res.speed_mps, res.speed_std_mps,
-                   res.vx_hat, res.vz_hat, res.R_m, res.r_m)  # fmt: skip
+                   res.vx_hat_mps, res.vz_hat_mps, res.R_m, res.r_m)  # fmt: skip
         nonfinite += int(sum((~np.isfinite(x)).reshape(len(t), -1).any(axis=1).sum() for x in outputs))
         ev = np.linalg.eigvalsh(res.covariance)
         not_psd += int((ev[:, 0] < -1e-9 * np.maximum(ev[:, -1], 0)).sum())

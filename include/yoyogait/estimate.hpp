@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "yoyogait/gait/state.hpp"
+#include "yoyogait/record.hpp"
 #include "yoyogait/heuristics.hpp"
 #include "yoyogait/state.hpp"
 
@@ -21,6 +22,54 @@ enum class Status : std::uint8_t {
   kRejectedOutlier = 4,     ///< gait filter: a channel failed the innovation gate and was not used
 };
 
+/// The per-sample fields of Estimate, declared once: X(type, name, default, "unit", scope, "doc").
+/// scope kAll: both algorithms fill it; kGait: only the gait filter carries something new (the
+/// paper's value is fixed: vx_hat_h2 = vx_hat, std_scale 1, walking true, acquiring false), so a
+/// batch run writes it only for the gait filter. The struct below, the bindings' columns and
+/// properties, the schema `_core.record_schema()` and the Python result classes, the CSV columns
+/// and docs/records.md all follow this table. Beside it, Estimate holds the two state vectors
+/// (state, gait_state) and the values derived from gait_state on demand (YOYOGAIT_ESTIMATE_DERIVED).
+#define YOYOGAIT_ESTIMATE_FIELDS(X)                                                                                \
+  X(double, vx_hat_mps, 0.0, "m/s", kAll, "reconstructed v_x: paper eq. 13; gait A0 + X1 (standing: A0)")         \
+  X(double, vz_hat_mps, 0.0, "m/s", kAll, "reconstructed v_z: paper eq. 14; gait Z1 (standing: 0)")               \
+  X(double, R_hat_mps, 0.0, "m/s", kAll, "R_hat(k) of eq. 11 in the paper's unit (R/T); gait: R_m / T")           \
+  X(double, r_hat_mps, 0.0, "m/s", kAll, "r_hat(k) of eq. 12 in the paper's unit (r/T); gait: r_m / T")           \
+  X(double, R_m, 0.0, "m", kAll, "R: paper T R_hat; gait A0 / w low-passed while walking")                       \
+  X(double, r_m, 0.0, "m", kAll, "r: paper T r_hat; gait |Z| / w low-passed while walking")                      \
+  X(double, omega_rad_s, 0.0, "rad/s", kAll, "step angular frequency: paper x3 / T (signed); gait w (> 0)")      \
+  X(double, step_frequency_hz, 0.0, "Hz", kAll, "omega_rad_s / 2 pi")                                             \
+  X(double, step_frequency_std_hz, 0.0, "Hz", kAll, "paper sqrt(P33) / (2 pi T); gait sqrt(lambda P_ww) / 2 pi") \
+  X(double, speed_mps, 0.0, "m/s", kAll,                                                                          \
+    "forward speed without the oscillation: paper R_hat x3 = R omega; gait A0")                                   \
+  X(double, speed_std_mps, 0.0, "m/s", kAll, "paper sqrt(P44); gait sqrt(lambda P_A0A0 + speed_std_floor^2)")    \
+  X(double, A0_mps, 0.0, "m/s", kAll, "bias of v_x: paper x4; gait A0")                                           \
+  X(double, A1_mps, 0.0, "m/s", kAll, "amplitude of the forward oscillation: paper |(x1, x2)|; gait |X|")        \
+  X(double, vx_hat_h2_mps, 0.0, "m/s", kGait, "gait: vx_hat with the second harmonic; paper: vx_hat")             \
+  X(double, vz_hat_h2_mps, 0.0, "m/s", kGait, "gait: vz_hat with the second harmonic; paper: vz_hat")             \
+  X(double, std_scale, 1.0, "", kGait, "gait: lambda, the scale of the reported standard deviations; paper: 1")  \
+  X(::yoyogait::Status, status, ::yoyogait::Status::kUpdated, "", kAll, "what the step did with its sample (Status)")                    \
+  X(bool, parameters_updated, false, "", kAll,                                                                    \
+    "paper: eq. 11-12 took the update branch; gait: R, r were updated (walking)")                                 \
+  X(bool, walking, true, "", kGait, "gait: the walking/standing detector; paper: always true")                   \
+  X(bool, acquiring, false, "", kGait, "gait: the start-up bank is running; paper: always false")
+
+/// Values of Estimate derived from gait_state when read: X(name, "unit", "doc") (member functions).
+#define YOYOGAIT_ESTIMATE_DERIVED(X)                                                                               \
+  X(amp_z_mps, "m/s", "amplitude of the vertical oscillation |Z| (paper: A1)")                                    \
+  X(phase_x_rel_z_rad, "rad", "phase of the forward oscillation relative to the vertical one, in [-pi, pi]")     \
+  X(signed_amp_x_mps, "m/s", "forward amplitude signed by the relation (> 0 the Yoyo relation)")                 \
+  X(omega_rate_rad_s2, "rad/s^2", "rate of the step angular frequency dw (paper: 0)")                            \
+  X(accel_mps2, "m/s^2", "rate of the forward-speed bias dA0 (paper: 0)")
+
+/// The diagnostics of a step (Innovation), declared once: X(type, name, default, "unit", scope, "doc").
+#define YOYOGAIT_INNOVATION_FIELDS(X)                                                                              \
+  X(double, innovation_vx_mps, ::std::numeric_limits<double>::quiet_NaN(), "m/s", kAll,                            \
+    "v_x measurement minus its prediction; NaN where the channel was not used")                                   \
+  X(double, innovation_vz_mps, ::std::numeric_limits<double>::quiet_NaN(), "m/s", kAll,                            \
+    "v_z measurement minus its prediction (gait: after the v_x update); NaN where not used")                      \
+  X(double, nis, ::std::numeric_limits<double>::quiet_NaN(), "", kAll,                                              \
+    "normalised innovation squared nu^T S^-1 nu (about 2 when the noise model fits); NaN when no channel was used")
+
 /// One estimate, after the sample of step k. Physical units beside the paper's.
 ///
 /// Every field is filled by both algorithms. Where the two differ, the comment says "paper:" for
@@ -32,26 +81,7 @@ struct Estimate {
   /// gait: the state [X1, X2, Z1, Z2, w, A0, dA0, dw] (gait::Index). paper: eq. 5 in that form,
   /// [x1, x2, -x2, x1, x3 / T, x4, 0, 0] (v_z = -x2 = Z1; the frequency signed, as the filter has it).
   GaitState gait_state{};
-  double vx_hat_mps = 0.0;         ///< reconstructed v_x: paper eq. 13; gait A0 + X1 (standing: A0)
-  double vz_hat_mps = 0.0;         ///< reconstructed v_z: paper eq. 14; gait Z1 (standing: 0)
-  double R_hat_mps = 0.0;          ///< R_hat(k) of eq. 11 in the paper's unit (R/T); gait: R_m / T
-  double r_hat_mps = 0.0;          ///< r_hat(k) of eq. 12 in the paper's unit (r/T); gait: r_m / T
-  double R_m = 0.0;                ///< R [m]: paper T R_hat; gait A0 / w low-passed while walking
-  double r_m = 0.0;                ///< r [m]: paper T r_hat; gait |Z| / w low-passed while walking
-  double omega_rad_s = 0.0;        ///< step angular frequency [rad/s]: paper x3 / T (signed); gait w (> 0)
-  double step_frequency_hz = 0.0;  ///< omega_rad_s / 2 pi [Hz]
-  double step_frequency_std_hz = 0.0;  ///< paper sqrt(P33) / (2 pi T); gait sqrt(lambda P_ww) / 2 pi [Hz]
-  double speed_mps = 0.0;          ///< forward speed without the oscillation: paper R_hat x3 = R omega; gait A0 [m/s]
-  double speed_std_mps = 0.0;      ///< paper sqrt(P44); gait sqrt(lambda P_A0A0 + speed_std_floor^2) [m/s]
-  double A0_mps = 0.0;             ///< bias of v_x: paper x4; gait A0 [m/s]
-  double A1_mps = 0.0;             ///< amplitude of the forward oscillation: paper |(x1, x2)|; gait |X| [m/s]
-  double vx_hat_h2_mps = 0.0;      ///< gait: vx_hat with the second harmonic; paper: vx_hat [m/s]
-  double vz_hat_h2_mps = 0.0;      ///< gait: vz_hat with the second harmonic; paper: vz_hat [m/s]
-  double std_scale = 1.0;          ///< gait: lambda, the scale of the reported standard deviations; paper: 1
-  Status status = Status::kUpdated;
-  bool parameters_updated = false;  ///< paper: eq. 11-12 took the update branch; gait: R, r were updated (walking)
-  bool walking = true;              ///< gait: the walking/standing detector; paper: always true
-  bool acquiring = false;           ///< gait: the start-up bank is running; paper: always false
+  YOYOGAIT_ESTIMATE_FIELDS(YOYOGAIT_RECORD_MEMBER)
 
   // Derived from gait_state on demand, so that a step pays for no atan2 nobody reads and the
   // struct stays small enough (<= 256 bytes) to be copied without a string instruction.
@@ -102,9 +132,7 @@ using Velocity = Reconstruction;
 /// innovation after the v_x update, and NIS = nu_x^2 / S_x + nu_z^2 / S_z, which equals the joint
 /// nu^T S^-1 nu of the two channels. Innovations of a channel rejected by the gate are reported.
 struct Innovation {
-  double vx_mps = std::numeric_limits<double>::quiet_NaN();
-  double vz_mps = std::numeric_limits<double>::quiet_NaN();
-  double nis = std::numeric_limits<double>::quiet_NaN();
+  YOYOGAIT_INNOVATION_FIELDS(YOYOGAIT_RECORD_MEMBER)
 };
 
 }  // namespace yoyogait

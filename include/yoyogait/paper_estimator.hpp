@@ -126,13 +126,13 @@ class PaperEstimator {
       return out;
     const Measurement h = measure(pred_state_);
     const SymMatrix4& P = pred_P_;
-    out.vx_mps = vx - h.vx_mps;
-    out.vz_mps = vz - h.vz_mps;
+    out.innovation_vx_mps = vx - h.vx_mps;
+    out.innovation_vz_mps = vz - h.vz_mps;
     // S = [[s00, -u1], [-u1, s11]] as in update(); nu^T S^-1 nu = nu^T adj(S) nu / det(S).
     const double u1 = P(kSin, kCos) + P(kSin, kBias);
     const double s00 = P(kCos, kCos) + 2.0 * P(kCos, kBias) + P(kBias, kBias) + v_vx_mps2_;
     const double s11 = P(kSin, kSin) + v_vz_mps2_;
-    const double y0 = out.vx_mps, y1 = out.vz_mps;
+    const double y0 = out.innovation_vx_mps, y1 = out.innovation_vz_mps;
     out.nis = (y0 * y0 * s11 + 2.0 * y0 * y1 * u1 + y1 * y1 * s00) / (s00 * s11 - u1 * u1);
     return out;
   }

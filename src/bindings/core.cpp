@@ -13,10 +13,13 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "online.hpp"
+#include "yoyogait/online/online_config.hpp"
+#include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/yoyogait.hpp"
 
 namespace nb = nanobind;
@@ -135,28 +138,72 @@ class Block {
 // The doubles are one row-major table, each column a strided view: a step writes its values to
 // one place (whole cache lines) rather than to a separate stream per column, which costs a
 // long run several ns per sample more.
+// Where each field of Estimate goes in a run (YOYOGAIT_ESTIMATE_FIELDS): a double is a column of
+// the row-major table, anything else (Status, bool) an array of its own. Columns: the 4-state, the
+// double fields of scope kAll, then (gait filter only) the 8-state and the double fields of scope kGait.
+enum EstimateField : std::size_t {
+#define YOYO_FIELD_ENUM(type, name, ...) kField_##name,
+  YOYOGAIT_ESTIMATE_FIELDS(YOYO_FIELD_ENUM)
+#undef YOYO_FIELD_ENUM
+  kEstimateFieldCount
+};
+struct FieldLayout {
+  bool is_double;
+  yoyogait::FieldScope scope;
+};
+constexpr FieldLayout kEstimateLayout[] = {
+#define YOYO_LAYOUT(type, name, def, unit, scope, doc) {std::is_same_v<type, double>, yoyogait::FieldScope::scope},
+    YOYOGAIT_ESTIMATE_FIELDS(YOYO_LAYOUT)
+#undef YOYO_LAYOUT
+};
+constexpr std::size_t kStateCols = yoyogait::kStateDim, kGaitStateCols = yoyogait::gait::kDim;
+// Number of double fields of a scope before field f (or in all, f = kEstimateFieldCount).
+constexpr std::size_t doubles_before(std::size_t f, yoyogait::FieldScope scope) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < f; ++i) n += kEstimateLayout[i].is_double && kEstimateLayout[i].scope == scope;
+  return n;
+}
+constexpr std::size_t kCommonEnd = kStateCols + doubles_before(kEstimateFieldCount, yoyogait::FieldScope::kAll);
+constexpr std::size_t kGaitStateCol = kCommonEnd;
+constexpr std::size_t kGaitEnd =
+    kGaitStateCol + kGaitStateCols + doubles_before(kEstimateFieldCount, yoyogait::FieldScope::kGait);
+// The column of double field f.
+constexpr std::size_t column_of(std::size_t f) {
+  return kEstimateLayout[f].scope == yoyogait::FieldScope::kAll
+             ? kStateCols + doubles_before(f, yoyogait::FieldScope::kAll)
+             : kGaitStateCol + kGaitStateCols + doubles_before(f, yoyogait::FieldScope::kGait);
+}
+// The array type of a field that is not a column: bool stays bool, a code is its byte.
+template <class T>
+using ByteOf = std::conditional_t<std::is_same_v<T, bool>, bool, std::uint8_t>;
+
+// The estimates of a run. Written for both algorithms: state and the fields of scope kAll. The
+// fields of scope kGait (the 8-state, the harmonic reconstruction, lambda, the detector flags) are
+// written only for the gait filter: for the paper they carry nothing new (see yoyogait::Estimate)
+// and every byte per sample costs run() time.
+//
+// The doubles are one row-major table, each column a strided view: a step writes its values to
+// one place (whole cache lines) rather than to a separate stream per column, which costs a
+// long run several ns per sample more.
 template <bool kGait, bool kDiag>
 nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const InArray& horizons,
                   const double* pdt) {
-  constexpr std::size_t kS = yoyogait::kStateDim;
-  constexpr std::size_t kG = yoyogait::gait::kDim;
+  using yoyogait::FieldScope;
   const std::size_t n = vx.shape(0);
   const std::size_t nh = horizons.shape(0);
-  // Column layout of a row.
-  enum : std::size_t {
-    kState = 0, kVx = kS, kVz, kRhat, krhat, kRm, krm, kOmega, kF, kFstd, kSpeed, kSpeedStd, kA0, kA1,
-    kCommon,  // the gait filter's columns follow
-    kGstate = kCommon, kVxH2 = kGstate + kG, kVzH2, kScale, kGaitEnd
-  };
-  // With diagnostics: innovation_vx_mps, innovation_vz_mps, nis; then vx_pred (nh), vz_pred (nh).
-  const std::size_t kDiagCol = kGait ? kGaitEnd : kCommon;
-  const std::size_t kPred = kDiagCol + (kDiag ? 3 : 0);
+  // With diagnostics: the Innovation fields; then vx_pred (nh), vz_pred (nh).
+  constexpr std::size_t kInnovationCols = 3;
+  const std::size_t kDiagCol = kGait ? kGaitEnd : kCommonEnd;
+  const std::size_t kPred = kDiagCol + (kDiag ? kInnovationCols : 0);
   const std::size_t width = kPred + 2 * nh;
-  Block block(n * (sizeof(double) * width + (kGait ? 4 : 2)) + 64);
+  Block block(n * (sizeof(double) * width + kEstimateFieldCount) + 64);
   double* rows = block.raw<double>(n * width);
-  auto status = block.take<std::uint8_t>(n);
-  auto updated = block.take<bool>(n);
-  auto walking = block.take<bool>(kGait ? n : 0), acquiring = block.take<bool>(kGait ? n : 0);
+  // One array per field that is not a column, in the table's order (absent for the paper's kGait ones).
+#define YOYO_BYTES(type, name, def, unit, scope, doc)                                                          \
+  auto bytes_##name = block.take<ByteOf<type>>(                                                                \
+      std::is_same_v<type, double> || (FieldScope::scope == FieldScope::kGait && !kGait) ? 0 : n);
+  YOYOGAIT_ESTIMATE_FIELDS(YOYO_BYTES)
+#undef YOYO_BYTES
   const double* px = vx.data();
   const double* pz = vz.data();
   const double* ph = horizons.data();
@@ -170,35 +217,24 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
       for (std::size_t i = 0; i < n; ++i) {
         const Estimate e = step(local, i);
         double* r = rows + i * width;
-        for (std::size_t j = 0; j < kS; ++j) r[kState + j] = e.state[j];
-        r[kVx] = e.vx_hat_mps;
-        r[kVz] = e.vz_hat_mps;
-        r[kRhat] = e.R_hat_mps;
-        r[krhat] = e.r_hat_mps;
-        r[kRm] = e.R_m;
-        r[krm] = e.r_m;
-        r[kOmega] = e.omega_rad_s;
-        r[kF] = e.step_frequency_hz;
-        r[kFstd] = e.step_frequency_std_hz;
-        r[kSpeed] = e.speed_mps;
-        r[kSpeedStd] = e.speed_std_mps;
-        r[kA0] = e.A0_mps;
-        r[kA1] = e.A1_mps;
-        status.data[i] = static_cast<std::uint8_t>(e.status);
-        updated.data[i] = e.parameters_updated;
-        if constexpr (kGait) {
-          for (std::size_t j = 0; j < kG; ++j) r[kGstate + j] = e.gait_state[j];
-          r[kVxH2] = e.vx_hat_h2_mps;
-          r[kVzH2] = e.vz_hat_h2_mps;
-          r[kScale] = e.std_scale;
-          walking.data[i] = e.walking;
-          acquiring.data[i] = e.acquiring;
-        }
+        for (std::size_t j = 0; j < kStateCols; ++j) r[j] = e.state[j];
+        if constexpr (kGait)
+          for (std::size_t j = 0; j < kGaitStateCols; ++j) r[kGaitStateCol + j] = e.gait_state[j];
+#define YOYO_STORE(type, name, def, unit, scope, doc)                                          \
+  if constexpr (FieldScope::scope == FieldScope::kAll || kGait) {                              \
+    if constexpr (std::is_same_v<type, double>)                                                \
+      r[column_of(kField_##name)] = e.name;                                                    \
+    else                                                                                       \
+      bytes_##name.data[i] = static_cast<ByteOf<type>>(e.name);                                \
+  }
+        YOYOGAIT_ESTIMATE_FIELDS(YOYO_STORE)
+#undef YOYO_STORE
         if constexpr (kDiag) {
           const yoyogait::Innovation d = local.innovation();
-          r[kDiagCol] = d.vx_mps;
-          r[kDiagCol + 1] = d.vz_mps;
-          r[kDiagCol + 2] = d.nis;
+          std::size_t c = kDiagCol;
+#define YOYO_STORE_DIAG(type, name, ...) r[c++] = d.name;
+          YOYOGAIT_INNOVATION_FIELDS(YOYO_STORE_DIAG)
+#undef YOYO_STORE_DIAG
         }
         for (std::size_t j = 0; j < nh; ++j) {
           const yoyogait::Velocity v = local.predict_ahead(ph[j]);
@@ -220,34 +256,22 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
   }
   const auto column = [&](std::size_t c) { return block.view(rows + c, n, 0, width); };
   nb::dict out;
-  out["state"] = block.view(rows + kState, n, kS, width);
-  out["vx_hat"] = column(kVx);
-  out["vz_hat"] = column(kVz);
-  out["R_hat_mps"] = column(kRhat);
-  out["r_hat_mps"] = column(krhat);
-  out["R_m"] = column(kRm);
-  out["r_m"] = column(krm);
-  out["omega_rad_s"] = column(kOmega);
-  out["step_frequency_hz"] = column(kF);
-  out["step_frequency_std_hz"] = column(kFstd);
-  out["speed_mps"] = column(kSpeed);
-  out["speed_std_mps"] = column(kSpeedStd);
-  out["A0_mps"] = column(kA0);
-  out["A1_mps"] = column(kA1);
-  out["status"] = status.array;
-  out["parameters_updated"] = updated.array;
-  if constexpr (kGait) {
-    out["gait_state"] = block.view(rows + kGstate, n, kG, width);
-    out["vx_hat_h2"] = column(kVxH2);
-    out["vz_hat_h2"] = column(kVzH2);
-    out["std_scale"] = column(kScale);
-    out["walking"] = walking.array;
-    out["acquiring"] = acquiring.array;
+  out["state"] = block.view(rows, n, kStateCols, width);
+  if constexpr (kGait) out["gait_state"] = block.view(rows + kGaitStateCol, n, kGaitStateCols, width);
+#define YOYO_PUT(type, name, def, unit, scope, doc)                                         \
+  if constexpr (FieldScope::scope == FieldScope::kAll || kGait) {                           \
+    if constexpr (std::is_same_v<type, double>)                                             \
+      out[#name] = column(column_of(kField_##name));                                        \
+    else                                                                                    \
+      out[#name] = bytes_##name.array;                                                      \
   }
+  YOYOGAIT_ESTIMATE_FIELDS(YOYO_PUT)
+#undef YOYO_PUT
   if constexpr (kDiag) {
-    out["innovation_vx_mps"] = column(kDiagCol);
-    out["innovation_vz_mps"] = column(kDiagCol + 1);
-    out["nis"] = column(kDiagCol + 2);
+    std::size_t c = kDiagCol;
+#define YOYO_PUT_DIAG(type, name, ...) out[#name] = column(c++);
+    YOYOGAIT_INNOVATION_FIELDS(YOYO_PUT_DIAG)
+#undef YOYO_PUT_DIAG
   }
   if (nh) {
     out["vx_pred"] = block.view(rows + kPred, n, nh, width);
@@ -426,6 +450,10 @@ nb::list config_schema() {
   YOYOGAIT_SHARED_FIELDS(YOYO_SCHEMA_SHARED)
   YOYOGAIT_PAPER_FIELDS(YOYO_SCHEMA_PAPER)
   YOYOGAIT_GAIT_FILTER_FIELDS(YOYO_SCHEMA_GAIT)
+  const yoyogait::OnlineConfig online{};
+#define YOYO_SCHEMA_ONLINE(...) YOYO_SCHEMA("online", online, __VA_ARGS__)
+  YOYOGAIT_ONLINE_FIELDS(YOYO_SCHEMA_ONLINE)
+#undef YOYO_SCHEMA_ONLINE
 #undef YOYO_SCHEMA_SHARED
 #undef YOYO_SCHEMA_PAPER
 #undef YOYO_SCHEMA_GAIT
@@ -435,16 +463,67 @@ nb::list config_schema() {
 
 // An estimate with the step's diagnostics (yoyogait::Innovation), for the streaming form.
 struct DiagnosedEstimate : Estimate {
-  double innovation_vx_mps = 0.0, innovation_vz_mps = 0.0, nis = 0.0;
+  YOYOGAIT_INNOVATION_FIELDS(YOYOGAIT_RECORD_MEMBER)
 };
 
 DiagnosedEstimate diagnosed(const yoyogait::Estimator& est, const Estimate& e) {
   const yoyogait::Innovation d = est.innovation();
   DiagnosedEstimate out;
   static_cast<Estimate&>(out) = e;
-  out.innovation_vx_mps = d.vx_mps;
-  out.innovation_vz_mps = d.vz_mps;
-  out.nis = d.nis;
+#define YOYO_COPY(type, name, ...) out.name = d.name;
+  YOYOGAIT_INNOVATION_FIELDS(YOYO_COPY)
+#undef YOYO_COPY
+  return out;
+}
+
+// The type of a record field as the schema names it.
+template <class T>
+const char* record_type() {
+  if constexpr (std::is_same_v<T, double>) return "float";
+  if constexpr (std::is_same_v<T, bool>) return "bool";
+  return "uint8";
+}
+
+nb::dict record_field(const char* name, const char* type, const char* unit, const char* scope, const char* doc) {
+  nb::dict f;
+  f["name"] = name;
+  f["type"] = type;
+  f["unit"] = unit;
+  f["scope"] = scope;
+  f["doc"] = doc;
+  return f;
+}
+
+// Every per-sample record, from its table: record name -> list of fields (name, type, unit, scope, doc).
+// Estimate also lists its two state vectors first and its derived values (type "derived") last.
+nb::dict record_schema() {
+  nb::dict out;
+  nb::list est;
+  est.append(record_field("state", "float[4]", "", "all", "the paper's state form [x1, x2, x3, x4] (eq. 5)"));
+  est.append(record_field("gait_state", "float[8]", "", "gait", "the gait filter's state [X1, X2, Z1, Z2, w, A0, dA0, dw]"));
+#define YOYO_SCOPE(scope) (yoyogait::FieldScope::scope == yoyogait::FieldScope::kAll ? "all" : "gait")
+#define YOYO_SCHEMA(type, name, def, unit, scope, doc) \
+  list.append(record_field(#name, record_type<type>(), unit, YOYO_SCOPE(scope), doc));
+  {
+    nb::list& list = est;
+    YOYOGAIT_ESTIMATE_FIELDS(YOYO_SCHEMA)
+#define YOYO_SCHEMA_DERIVED(name, unit, doc) list.append(record_field(#name, "derived", unit, "all", doc));
+    YOYOGAIT_ESTIMATE_DERIVED(YOYO_SCHEMA_DERIVED)
+#undef YOYO_SCHEMA_DERIVED
+  }
+  out["Estimate"] = est;
+  {
+    nb::list list;
+    YOYOGAIT_INNOVATION_FIELDS(YOYO_SCHEMA)
+    out["Innovation"] = list;
+  }
+  {
+    nb::list list;
+    YOYOGAIT_ONLINE_ESTIMATE_FIELDS(YOYO_SCHEMA)
+    out["OnlineEstimate"] = list;
+  }
+#undef YOYO_SCHEMA
+#undef YOYO_SCOPE
   return out;
 }
 
@@ -490,45 +569,29 @@ NB_MODULE(_core, m) {
       .value("REJECTED_OUT_OF_RANGE", yoyogait::Status::kRejectedOutOfRange)
       .value("REJECTED_OUTLIER", yoyogait::Status::kRejectedOutlier);
 
-  nb::class_<Estimate>(m, "Estimate")
+  // Estimate, Innovation: every field of their tables, under the table's name.
+  auto estimate_cls = nb::class_<Estimate>(m, "Estimate")
       .def_prop_ro("state", [](const Estimate& e) { return e.state.x; })
-      .def_ro("vx_hat", &Estimate::vx_hat_mps)
-      .def_ro("vz_hat", &Estimate::vz_hat_mps)
-      .def_ro("R_hat_mps", &Estimate::R_hat_mps)
-      .def_ro("r_hat_mps", &Estimate::r_hat_mps)
-      .def_ro("R_m", &Estimate::R_m)
-      .def_ro("r_m", &Estimate::r_m)
-      .def_ro("omega_rad_s", &Estimate::omega_rad_s)
-      .def_ro("step_frequency_hz", &Estimate::step_frequency_hz)
-      .def_ro("step_frequency_std_hz", &Estimate::step_frequency_std_hz)
-      .def_ro("speed_mps", &Estimate::speed_mps)
-      .def_ro("speed_std_mps", &Estimate::speed_std_mps)
-      .def_ro("A0_mps", &Estimate::A0_mps)
-      .def_ro("A1_mps", &Estimate::A1_mps)
-      .def_prop_ro("gait_state", [](const Estimate& e) { return e.gait_state; })
-      .def_ro("vx_hat_h2", &Estimate::vx_hat_h2_mps)
-      .def_ro("vz_hat_h2", &Estimate::vz_hat_h2_mps)
-      .def_prop_ro("amp_z_mps", &Estimate::amp_z_mps)
-      .def_prop_ro("phase_x_rel_z_rad", &Estimate::phase_x_rel_z_rad)
-      .def_prop_ro("signed_amp_x_mps", &Estimate::signed_amp_x_mps)
-      .def_prop_ro("omega_rate_rad_s2", &Estimate::omega_rate_rad_s2)
-      .def_prop_ro("accel_mps2", &Estimate::accel_mps2)
-      .def_ro("std_scale", &Estimate::std_scale)
-      .def_ro("status", &Estimate::status)
-      .def_ro("parameters_updated", &Estimate::parameters_updated)
-      .def_ro("walking", &Estimate::walking)
-      .def_ro("acquiring", &Estimate::acquiring)
-      .def("__repr__", [](const Estimate& e) {
-        return nb::str("Estimate(step_frequency_hz={:.4f}, speed_mps={:.4f}, R_m={:.4f}, r_m={:.4f}, "
-                       "vx_hat={:.4f}, vz_hat={:.4f}, status={})")
-            .format(e.step_frequency_hz, e.speed_mps, e.R_m, e.r_m, e.vx_hat_mps, e.vz_hat_mps,
-                    static_cast<int>(e.status));
-      });
+      .def_prop_ro("gait_state", [](const Estimate& e) { return e.gait_state; });
+#define YOYO_RO(type, name, ...) estimate_cls.def_ro(#name, &Estimate::name);
+#define YOYO_DERIVED(name, ...) estimate_cls.def_prop_ro(#name, &Estimate::name);
+  YOYOGAIT_ESTIMATE_FIELDS(YOYO_RO)
+  YOYOGAIT_ESTIMATE_DERIVED(YOYO_DERIVED)
+#undef YOYO_DERIVED
+#undef YOYO_RO
+  estimate_cls.def("__repr__", [](const Estimate& e) {
+    return nb::str("Estimate(step_frequency_hz={:.4f}, speed_mps={:.4f}, R_m={:.4f}, r_m={:.4f}, "
+                   "vx_hat_mps={:.4f}, vz_hat_mps={:.4f}, status={})")
+        .format(e.step_frequency_hz, e.speed_mps, e.R_m, e.r_m, e.vx_hat_mps, e.vz_hat_mps,
+                static_cast<int>(e.status));
+  });
 
-  nb::class_<DiagnosedEstimate, Estimate>(m, "DiagnosedEstimate")
-      .def_ro("innovation_vx_mps", &DiagnosedEstimate::innovation_vx_mps)
-      .def_ro("innovation_vz_mps", &DiagnosedEstimate::innovation_vz_mps)
-      .def_ro("nis", &DiagnosedEstimate::nis);
+  auto diagnosed_cls = nb::class_<DiagnosedEstimate, Estimate>(m, "DiagnosedEstimate");
+#define YOYO_RO(type, name, ...) diagnosed_cls.def_ro(#name, &DiagnosedEstimate::name);
+  YOYOGAIT_INNOVATION_FIELDS(YOYO_RO)
+#undef YOYO_RO
+  m.def("record_schema", &record_schema,
+        "Every per-sample record (Estimate, Innovation, OnlineEstimate): its fields' names, types, units, docs.");
 
   nb::class_<yoyogait::Estimator>(m, "Estimator")
       .def(nb::init<const EstimatorConfig&>(), "config"_a)

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "yoyogait/online.hpp"
@@ -21,6 +22,10 @@ namespace {
 
 using Positions = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
 using Times = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+
+// How run() stores a field of OnlineEstimate: doubles and bools as they are, codes and counts as bytes.
+template <class T>
+using Stored = std::conditional_t<std::is_same_v<T, double> || std::is_same_v<T, bool>, T, std::uint8_t>;
 
 template <class T>
 std::pair<T*, nb::object> fresh(std::size_t n) {
@@ -55,21 +60,11 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
     throw nb::value_error(("positions must be frames x " + std::to_string(k) + " x 3 with " + std::to_string(n) +
                            " frames, got " + std::to_string(positions.size()) + " values")
                               .c_str());
-  // clang-format off: the field lists are macro chains
-#define YOYO_DOUBLE(name) auto name = fresh<double>(n);
-#define YOYO_FIELDS(X)                                                                                             \
-  X(vx_mps) X(vz_mps) X(vh_a_mps) X(vh_b_mps) X(heading_rad) X(walk_a_mps) X(walk_b_mps) X(vx_hat_mps)            \
-  X(vz_hat_mps) X(step_frequency_hz) X(step_frequency_std_hz) X(speed_mps) X(speed_std_mps) X(gait_phase)         \
-  X(input_latency_s) X(estimate_age_s) X(next_step_in_s)
-  YOYO_FIELDS(YOYO_DOUBLE)
-#undef YOYO_DOUBLE
-  // clang-format on
-  auto t_out = fresh<double>(n);
-  auto status = fresh<std::uint8_t>(n);
-  auto estimator_status = fresh<std::uint8_t>(n);
-  auto walking = fresh<bool>(n);
-  auto fed = fresh<bool>(n);
-  auto seen = fresh<std::uint8_t>(n);
+  // One array per field of OnlineEstimate (YOYOGAIT_ONLINE_ESTIMATE_FIELDS): doubles as doubles,
+  // bools as bools, codes and counts as bytes.
+#define YOYO_ARRAY(type, name, ...) auto col_##name = fresh<Stored<type>>(n);
+  YOYOGAIT_ONLINE_ESTIMATE_FIELDS(YOYO_ARRAY)
+#undef YOYO_ARRAY
   auto pred_vx = fresh<double>(n * m), pred_vz = fresh<double>(n * m);
   auto pred_vx_std = fresh<double>(n * m), pred_vz_std = fresh<double>(n * m);
   {
@@ -78,15 +73,11 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
     const double* p = positions.data();
     for (std::size_t i = 0; i < n; ++i) {
       const OnlineEstimate e = est.update(t[i], p + i * k * 3);
-#define YOYO_STORE(name) name.first[i] = e.name;
-      YOYO_FIELDS(YOYO_STORE)
+#define YOYO_STORE(type, name, ...) col_##name.first[i] = static_cast<Stored<type>>(e.name);
+      YOYOGAIT_ONLINE_ESTIMATE_FIELDS(YOYO_STORE)
 #undef YOYO_STORE
-      t_out.first[i] = std::isfinite(t[i]) ? t[i] : e.t_s;  // the row of a NaN timestamp: the last one accepted
-      status.first[i] = static_cast<std::uint8_t>(e.status);
-      estimator_status.first[i] = static_cast<std::uint8_t>(e.estimator_status);
-      walking.first[i] = e.walking;
-      fed.first[i] = e.estimator_fed;
-      seen.first[i] = e.points_seen;
+      // The run's rows are the input frames: a NaN timestamp's row carries the last one accepted.
+      col_t_s.first[i] = std::isfinite(t[i]) ? t[i] : e.t_s;
       for (std::size_t j = 0; j < m; ++j) {
         const yoyogait::OnlinePrediction pr = est.predict(predict_ahead_s.data()[j]);
         pred_vx.first[i * m + j] = pr.vx_mps;
@@ -97,16 +88,12 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
     }
   }
   nb::dict out;
-#define YOYO_PUT(name) out[#name] = name.second;
-  YOYO_FIELDS(YOYO_PUT)
+#define YOYO_PUT(type, name, ...) out[#name] = col_##name.second;
+  YOYOGAIT_ONLINE_ESTIMATE_FIELDS(YOYO_PUT)
 #undef YOYO_PUT
-#undef YOYO_FIELDS
-  out["time_s"] = t_out.second;
-  out["status"] = status.second;
-  out["estimator_status"] = estimator_status.second;
-  out["walking"] = walking.second;
-  out["estimator_fed"] = fed.second;
-  out["points_seen"] = seen.second;
+  // The rows' time is time_s, as in every per-sample table of the package (the record's t_s).
+  out["time_s"] = out["t_s"];
+  nb::del(out["t_s"]);
   out["pred_vx_mps"] = pred_vx.second;
   out["pred_vz_mps"] = pred_vz.second;
   out["pred_vx_std_mps"] = pred_vx_std.second;
@@ -118,17 +105,15 @@ nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positio
 
 // clang-format off: the bindings are macro chains
 void bind_online(nb::module_& m) {
-#define YOYO_FIELD(name) .def_rw(#name, &OnlineConfig::name)
-  nb::class_<OnlineConfig>(m, "OnlineConfig")
+  auto config_cls = nb::class_<OnlineConfig>(m, "OnlineConfig")
       .def(nb::init<>())
       .def("validate", [](const OnlineConfig& c) -> nb::object {
         const char* e = c.validate();
         return e ? nb::cast(e) : nb::none();
       })
-      YOYO_FIELD(estimator) YOYO_FIELD(antialias_hz) YOYO_FIELD(q_jerk_m2_per_s5) YOYO_FIELD(meas_position_std_m)
-      YOYO_FIELD(initial_velocity_std_mps) YOYO_FIELD(initial_accel_std_mps2) YOYO_FIELD(settle_s)
-      YOYO_FIELD(centre_blend_tau_s) YOYO_FIELD(centre_forget_s) YOYO_FIELD(max_abs_position_m)
-      YOYO_FIELD(max_gap_s) YOYO_FIELD(heading_tau_s) YOYO_FIELD(heading_min_speed_mps) YOYO_FIELD(latency_f_hz);
+      .def_rw("estimator", &OnlineConfig::estimator);
+#define YOYO_FIELD(type, name, ...) config_cls.def_rw(#name, &OnlineConfig::name);
+  YOYOGAIT_ONLINE_FIELDS(YOYO_FIELD)
 #undef YOYO_FIELD
 
   nb::enum_<yoyogait::OnlineStatus>(m, "OnlineStatus", nb::is_arithmetic())
@@ -138,20 +123,16 @@ void bind_online(nb::module_& m) {
       .value("GAP_RESTART", yoyogait::OnlineStatus::kGapRestart)
       .value("NON_FINITE", yoyogait::OnlineStatus::kNonFinite);
 
-#define YOYO_RO(name) .def_ro(#name, &OnlineEstimate::name)
-  nb::class_<OnlineEstimate>(m, "OnlineEstimate")
-      YOYO_RO(t_s) YOYO_RO(vx_mps) YOYO_RO(vz_mps) YOYO_RO(vh_a_mps) YOYO_RO(vh_b_mps) YOYO_RO(heading_rad)
-      YOYO_RO(walk_a_mps) YOYO_RO(walk_b_mps) YOYO_RO(vx_hat_mps) YOYO_RO(vz_hat_mps) YOYO_RO(step_frequency_hz)
-      YOYO_RO(step_frequency_std_hz) YOYO_RO(speed_mps) YOYO_RO(speed_std_mps) YOYO_RO(gait_phase)
-      YOYO_RO(input_latency_s) YOYO_RO(estimate_age_s) YOYO_RO(next_step_in_s) YOYO_RO(status) YOYO_RO(estimator_status)
-      YOYO_RO(walking) YOYO_RO(estimator_fed) YOYO_RO(points_seen)
-      .def("__repr__", [](const OnlineEstimate& e) {
-        return nb::str("OnlineEstimate(t_s={:.4f}, vx_mps={:.4f}, vz_mps={:.4f}, step_frequency_hz={:.4f}, "
-                       "speed_mps={:.4f}, gait_phase={:.3f}, walking={}, status={})")
-            .format(e.t_s, e.vx_mps, e.vz_mps, e.step_frequency_hz, e.speed_mps, e.gait_phase, e.walking,
-                    static_cast<int>(e.status));
-      });
+  auto estimate_cls = nb::class_<OnlineEstimate>(m, "OnlineEstimate");
+#define YOYO_RO(type, name, ...) estimate_cls.def_ro(#name, &OnlineEstimate::name);
+  YOYOGAIT_ONLINE_ESTIMATE_FIELDS(YOYO_RO)
 #undef YOYO_RO
+  estimate_cls.def("__repr__", [](const OnlineEstimate& e) {
+    return nb::str("OnlineEstimate(t_s={:.4f}, vx_mps={:.4f}, vz_mps={:.4f}, step_frequency_hz={:.4f}, "
+                   "speed_mps={:.4f}, gait_phase={:.3f}, walking={}, status={})")
+        .format(e.t_s, e.vx_mps, e.vz_mps, e.step_frequency_hz, e.speed_mps, e.gait_phase, e.walking,
+                static_cast<int>(e.status));
+  });
 
   nb::class_<yoyogait::OnlinePrediction>(m, "OnlinePrediction")
       .def_ro("t_s", &yoyogait::OnlinePrediction::t_s)

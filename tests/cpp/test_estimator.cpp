@@ -357,15 +357,15 @@ TEST(Estimator, InnovationIsTheMeasurementMinusThePrediction) {
     est.step(w.vx[i], w.vz[i]);
     const Innovation d = est.innovation();
     const double y0 = w.vx[i] - (x[kBias] + x[kCos]), y1 = w.vz[i] + x[kSin];
-    ASSERT_NEAR(d.vx_mps, y0, 1e-12);
-    ASSERT_NEAR(d.vz_mps, y1, 1e-12);
+    ASSERT_NEAR(d.innovation_vx_mps, y0, 1e-12);
+    ASSERT_NEAR(d.innovation_vz_mps, y1, 1e-12);
     const double s00 = P[kCos][kCos] + 2 * P[kCos][kBias] + P[kBias][kBias] + pc.v_vx_mps2;
     const double s01 = -(P[kCos][kSin] + P[kBias][kSin]), s11 = P[kSin][kSin] + pc.v_vz_mps2;
     const double det = s00 * s11 - s01 * s01;
     ASSERT_NEAR(d.nis, (y0 * y0 * s11 - 2 * y0 * y1 * s01 + y1 * y1 * s00) / det, 1e-9 * (1 + d.nis));
   }
   est.step(std::numeric_limits<double>::quiet_NaN(), 0.0);
-  EXPECT_TRUE(std::isnan(est.innovation().vx_mps) && std::isnan(est.innovation().vz_mps));
+  EXPECT_TRUE(std::isnan(est.innovation().innovation_vx_mps) && std::isnan(est.innovation().innovation_vz_mps));
   EXPECT_TRUE(std::isnan(est.innovation().nis));
 }
 
@@ -378,7 +378,7 @@ TEST(GaitEstimator, InnovationIsUndefinedWhenNothingWasUpdated) {
   EXPECT_TRUE(std::isnan(est.innovation().nis));
   for (std::size_t i = 0; i < w.vx.size(); ++i) est.step(w.vx[i], w.vz[i]);
   const Innovation d = est.innovation();
-  EXPECT_TRUE(std::isfinite(d.vx_mps) && std::isfinite(d.vz_mps) && d.nis >= 0.0);
+  EXPECT_TRUE(std::isfinite(d.innovation_vx_mps) && std::isfinite(d.innovation_vz_mps) && d.nis >= 0.0);
   est.step(1.0, 0.0, -1.0);
-  EXPECT_TRUE(std::isnan(est.innovation().vx_mps) && std::isnan(est.innovation().nis));
+  EXPECT_TRUE(std::isnan(est.innovation().innovation_vx_mps) && std::isnan(est.innovation().nis));
 }

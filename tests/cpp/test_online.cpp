@@ -319,7 +319,7 @@ TEST(OnlineEstimator, ExtremeTimestampsStayFinite) {
   }
 }
 
-// predict(0) is the frame's vx_hat/vz_hat; predict is noexcept, allocates nothing; stds grow with the horizon.
+// predict(0) is the frame's vx_hat_mps/vz_hat_mps; predict is noexcept, allocates nothing; stds grow with the horizon.
 TEST(OnlineEstimator, PredictAtZeroIsTheReconstructionAndAllocatesNothing) {
   static_assert(noexcept(std::declval<const OnlineEstimator&>().predict(0.2)), "predict must be noexcept");
   SyntheticPelvis walk;

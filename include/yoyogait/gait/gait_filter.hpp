@@ -132,8 +132,8 @@ class GaitFilter {
     Innovation out;
     if (!updated_) return out;
     const gait::Innovations& in = active().innovations;
-    out.vx_mps = in.vx_mps;
-    out.vz_mps = in.vz_mps;
+    out.innovation_vx_mps = in.vx_mps;
+    out.innovation_vz_mps = in.vz_mps;
     const bool x = !std::isnan(in.vx_mps), z = !std::isnan(in.vz_mps);
     if (x || z)
       out.nis = (x ? in.vx_mps * in.vx_mps / in.var_vx_mps2 : 0.0) + (z ? in.vz_mps * in.vz_mps / in.var_vz_mps2 : 0.0);

@@ -8,69 +8,61 @@
 
 namespace yoyogait {
 
-/// Settings of OnlineEstimator (docs/online.md). None is a number of frames: the front-end behaves
-/// the same at any capture rate.
+/// Settings of OnlineEstimator (docs/online.md), declared once, as the estimator's tables of
+/// config.hpp are: X(type, name, default, "unit", lo, min, max, hi, "doc"). None is a number of
+/// frames: the front-end behaves the same at any capture rate. The struct, its validation, the
+/// bindings, the schema (`_core.config_schema()`, section "online"), the Python OnlineConfig, the
+/// `[online]` section of the TOML files and docs/configuration.md follow this table.
+#define YOYOGAIT_ONLINE_FIELDS(X)                                                                                   \
+  X(double, antialias_hz, 0.0, "Hz", "[", 0.0, 1e100, "]",                                                         \
+    "Butterworth low-pass (2nd order) of the forward and vertical velocity before the decimation, delay compensated (0: only the interval mean)") \
+  X(double, q_jerk_m2_per_s5, 1000.0, "m^2/s^5", "(", 0.0, 1e100, "]",                                            \
+    "white-jerk noise density of the constant-acceleration Kalman differentiator")                                \
+  X(double, meas_position_std_m, 0.001, "m", "(", 0.0, 1e100, "]", "noise of the centre's position (marker noise)") \
+  X(double, initial_velocity_std_mps, 1.0, "m/s", "(", 0.0, 1e100, "]", "velocity uncertainty after a (re)start") \
+  X(double, initial_accel_std_mps2, 10.0, "m/s^2", "(", 0.0, 1e100, "]", "acceleration uncertainty after a (re)start") \
+  X(double, settle_s, 0.1, "s", "[", 0.0, 1e100, "]",                                                              \
+    "the estimator is fed once the differentiator has run this long after a (re)start")                           \
+  X(double, centre_blend_tau_s, 0.3, "s", "(", 0.0, 1e100, "]",                                                    \
+    "a step of the centre when the visible markers change is blended out over this")                              \
+  X(double, centre_forget_s, 2.0, "s", "(", 0.0, 1e100, "]", "a marker unseen this long leaves the centre's set") \
+  X(double, max_abs_position_m, 1e5, "m", "(", 0.0, 1e100, "]", "a coordinate beyond this counts as missing")     \
+  X(double, max_gap_s, 0.25, "s", "(", 0.0, 1e100, "]", "no point seen for longer than this restarts the front-end") \
+  X(double, heading_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                         \
+    "low-pass of the horizontal velocity for the heading (its lag in turns is compensated)")                      \
+  X(double, heading_min_speed_mps, 0.1, "m/s", "[", 0.0, 1e100, "]", "below this low-passed speed the heading is held") \
+  X(double, latency_f_hz, 2.0, "Hz", "(", 0.0, 1e100, "]", "frequency at which the reported input latency is evaluated")
+
+#define YOYOGAIT_ONLINE_MEMBER(type, name, def, unit, lo, min, max, hi, doc) type name = def;
+
+/// Settings of OnlineEstimator: the gait estimator behind it and YOYOGAIT_ONLINE_FIELDS.
 struct OnlineConfig {
   /// The gait estimator behind the front-end. It is fed every estimator.sample_time_s (0.04 s, the
   /// paper's 25 Hz) with the mean of the front-end's velocities over that interval (the
   /// anti-aliasing filter of the decimation).
   EstimatorConfig estimator{};
+  YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_ONLINE_MEMBER)
 
-  /// Anti-aliasing in front of the decimation: second-order Butterworth low-pass of the forward and
-  /// vertical velocity at this cutoff (0: only the mean over the interval) [Hz]. Its delay is
-  /// compensated by the estimator's prediction, so the estimates stay aligned with the frame time.
-  double antialias_hz = 0.0;
-
-  /// Differentiator: constant-acceleration Kalman filter, white-jerk noise density [m^2/s^5] ...
-  double q_jerk_m2_per_s5 = 1000.0;
-  /// ... and the noise of the centre's position [m] (marker noise, about 1 mm).
-  double meas_position_std_m = 0.001;
-  /// Initial uncertainty of velocity [m/s] and acceleration [m/s^2] after a (re)start.
-  double initial_velocity_std_mps = 1.0;
-  double initial_accel_std_mps2 = 10.0;
-  /// After a (re)start, the estimator is fed only once the differentiator has run this long [s].
-  double settle_s = 0.1;
-
-  /// Centre of the points: a step of the centre when the visible markers change is blended out
-  /// with this time constant [s]; a marker unseen for centre_forget_s leaves the set [s].
-  double centre_blend_tau_s = 0.3;
-  double centre_forget_s = 2.0;
-  /// A coordinate beyond this (after the length unit) counts as missing [m].
-  double max_abs_position_m = 1e5;
-  /// No point seen for longer than this: the front-end restarts (kGapRestart) [s].
-  double max_gap_s = 0.25;
-
-  /// Heading: first-order low-pass of the horizontal velocity over about half a stride, turned
-  /// forward by its lag in a turn (atan of the low-passed turn rate times heading_tau_s) [s]; below
-  /// heading_min_speed_mps of low-passed speed the last heading is held [m/s].
-  double heading_tau_s = 0.5;
-  double heading_min_speed_mps = 0.1;
-
-  /// Frequency at which input_latency_s is evaluated (a typical step frequency) [Hz].
-  double latency_f_hz = 2.0;
-
-  /// nullptr when usable, else what is wrong.
+  /// nullptr when usable, else what is wrong, naming the field ("online.field") and its range.
   const char* validate() const noexcept {
-    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-    auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
     if (const char* e = estimator.validate()) return e;
-    if (!nonneg(antialias_hz)) return "antialias_hz must be finite and >= 0";
-    if (!positive(q_jerk_m2_per_s5)) return "q_jerk_m2_per_s5 must be finite and > 0";
-    if (!positive(meas_position_std_m)) return "meas_position_std_m must be finite and > 0";
-    if (!positive(initial_velocity_std_mps)) return "initial_velocity_std_mps must be finite and > 0";
-    if (!positive(initial_accel_std_mps2)) return "initial_accel_std_mps2 must be finite and > 0";
-    if (!nonneg(settle_s)) return "settle_s must be finite and >= 0";
-    if (!positive(centre_blend_tau_s)) return "centre_blend_tau_s must be finite and > 0";
-    if (!positive(centre_forget_s)) return "centre_forget_s must be finite and > 0";
-    if (!positive(max_abs_position_m)) return "max_abs_position_m must be finite and > 0";
-    if (!positive(max_gap_s)) return "max_gap_s must be finite and > 0";
-    if (!positive(heading_tau_s)) return "heading_tau_s must be finite and > 0";
-    if (!nonneg(heading_min_speed_mps)) return "heading_min_speed_mps must be finite and >= 0";
-    if (!positive(latency_f_hz)) return "latency_f_hz must be finite and > 0";
+#define YOYOGAIT_CHECK_ONLINE(type, name, def, unit, lo, min, max, hi, doc) \
+  if (!detail::in_range(name, min, max, lo, hi)) return detail::range_message("online.", #name, name, min, max, lo, hi, unit);
+    YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_CHECK_ONLINE)
+#undef YOYOGAIT_CHECK_ONLINE
     if (estimator.algorithm != Algorithm::kGaitFilter)
       return "the online estimator runs the gait filter (algorithm gait_filter)";
     return nullptr;
   }
 };
+
+#undef YOYOGAIT_ONLINE_MEMBER
+
+#define YOYOGAIT_SPEC_ONLINE(type, name, def, unit, lo, min, max, hi, doc)                                        \
+  FieldSpec{"online", #name, detail::type_name<type>(), unit, static_cast<double>(min), static_cast<double>(max), \
+            lo[0] == '[', hi[0] == ']', doc},
+/// Every field of the online table, as kConfigFields lists the estimator's.
+inline constexpr FieldSpec kOnlineConfigFields[] = {YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_SPEC_ONLINE)};
+#undef YOYOGAIT_SPEC_ONLINE
 
 }  // namespace yoyogait

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "yoyogait/estimate.hpp"
+#include "yoyogait/record.hpp"
 
 namespace yoyogait {
 
@@ -19,39 +20,42 @@ enum class OnlineStatus : std::uint8_t {
   kNonFinite = 4,          ///< non-finite timestamp, or every seen coordinate non-finite or absurd: ignored
 };
 
-/// One estimate, at the time of one frame. Velocities in m/s in the frame of the data (the up
-/// axis given at construction; "horizontal" = the two other axes in increasing order, a then b).
+/// The fields of OnlineEstimate, declared once: X(type, name, default, "unit", scope, "doc") (scope:
+/// always kAll). The struct, the bindings' properties and run() columns, the schema
+/// `_core.record_schema()`, the Python OnlineResult, the CSV of `estimate --online` and
+/// docs/records.md follow this table. Velocities in m/s in the frame of the data (the up axis given
+/// at construction; "horizontal" = the two other axes in increasing order, a then b).
+#define YOYOGAIT_ONLINE_ESTIMATE_FIELDS(X)                                                                         \
+  X(double, t_s, 0.0, "s", kAll, "the frame's timestamp (an ignored frame: the last one accepted)")               \
+  X(double, vx_mps, 0.0, "m/s", kAll, "front-end: horizontal velocity along the heading")                        \
+  X(double, vz_mps, 0.0, "m/s", kAll, "front-end: vertical velocity")                                             \
+  X(double, vh_a_mps, 0.0, "m/s", kAll, "front-end: horizontal velocity, first horizontal axis")                 \
+  X(double, vh_b_mps, 0.0, "m/s", kAll, "front-end: horizontal velocity, second horizontal axis")                \
+  X(double, heading_rad, 0.0, "rad", kAll, "atan2(b, a) of the low-passed horizontal velocity (held when slow)") \
+  X(double, walk_a_mps, 0.0, "m/s", kAll, "walking velocity without the oscillation: speed_mps along the heading, axis a") \
+  X(double, walk_b_mps, 0.0, "m/s", kAll, "walking velocity without the oscillation, axis b")                    \
+  X(double, vx_hat_mps, 0.0, "m/s", kAll,                                                                         \
+    "the estimator's reconstruction of v_x (with harmonics) at t_s; before its first sample the front-end's vx_mps") \
+  X(double, vz_hat_mps, 0.0, "m/s", kAll, "the reconstruction of v_z at t_s; before the first sample vz_mps")     \
+  X(double, step_frequency_hz, 0.0, "Hz", kAll, "step frequency")                                                 \
+  X(double, step_frequency_std_hz, 0.0, "Hz", kAll, "its standard deviation")                                    \
+  X(double, speed_mps, 0.0, "m/s", kAll, "forward speed without the oscillation (A0)")                           \
+  X(double, speed_std_mps, 0.0, "m/s", kAll, "its standard deviation")                                            \
+  X(double, gait_phase, 0.0, "", kAll,                                                                            \
+    "phase within the step in [0, 1): v_z ~ |Z| cos(2 pi gait_phase); 0.25 highest, 0.75 lowest; held while standing") \
+  X(double, next_step_in_s, 0.0, "s", kAll,                                                                       \
+    "time to the next gait_phase 0.75 (pelvis low point, about heel strike), in [0, 1/f); NaN while not walking")  \
+  X(double, input_latency_s, 0.0, "s", kAll, "delay of vx_mps, vz_mps behind the true velocity at latency_f_hz") \
+  X(double, estimate_age_s, 0.0, "s", kAll, "time since the estimator's last sample")                            \
+  X(::yoyogait::OnlineStatus, status, ::yoyogait::OnlineStatus::kUsed, "", kAll, "what update() did with the frame (OnlineStatus)")     \
+  X(::yoyogait::Status, estimator_status, ::yoyogait::Status::kUpdated, "", kAll, "Status of the estimator's last sample")               \
+  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector")                                  \
+  X(bool, estimator_fed, false, "", kAll, "this frame completed an interval and fed the estimator")              \
+  X(::std::uint8_t, points_seen, 0, "", kAll, "points used on this frame")
+
+/// One estimate, at the time of one frame (YOYOGAIT_ONLINE_ESTIMATE_FIELDS).
 struct OnlineEstimate {
-  double t_s = 0.0;          ///< the frame's timestamp [s] (an ignored frame: the last one accepted)
-  double vx_mps = 0.0;       ///< front-end: horizontal velocity along the heading
-  double vz_mps = 0.0;       ///< front-end: vertical velocity
-  double vh_a_mps = 0.0;     ///< front-end: horizontal velocity, first horizontal axis
-  double vh_b_mps = 0.0;     ///< ... second horizontal axis
-  double heading_rad = 0.0;  ///< atan2(b, a) of the low-passed horizontal velocity (held when slow)
-  double walk_a_mps = 0.0;   ///< walking velocity without the oscillation: speed_mps along the heading, axis a
-  double walk_b_mps = 0.0;   ///< ... axis b
-  double vx_hat_mps = 0.0;   ///< the estimator's reconstruction of v_x (with harmonics), at t_s;
-                             ///< before the estimator's first sample, the front-end's vx_mps
-  double vz_hat_mps = 0.0;   ///< ... of v_z, at t_s; before the first sample, vz_mps
-  double step_frequency_hz = 0.0;
-  double step_frequency_std_hz = 0.0;
-  double speed_mps = 0.0;  ///< forward speed without the oscillation (A0)
-  double speed_std_mps = 0.0;
-  /// Phase within the current step, in [0, 1): the angle of the vertical oscillation's phasor,
-  /// v_z ~ |Z| cos(2 pi gait_phase). 0: fastest rise of the pelvis; 0.25: highest; 0.5: fastest
-  /// fall; 0.75: lowest (about the double support after heel strike). Held while standing.
-  double gait_phase = 0.0;
-  /// Time from t_s to the next step [s]: the next time gait_phase reaches 0.75 (the pelvis low
-  /// point, about the double support after heel strike), at the present step frequency and its
-  /// rate. In [0, 1 / f); counts down and wraps once per step. NaN while not walking.
-  double next_step_in_s = 0.0;
-  double input_latency_s = 0.0;  ///< delay of vx_mps, vz_mps behind the true velocity at latency_f_hz [s]
-  double estimate_age_s = 0.0;   ///< time since the estimator's last sample [s]
-  OnlineStatus status = OnlineStatus::kUsed;
-  Status estimator_status = Status::kUpdated;  ///< of the estimator's last sample
-  bool walking = false;                        ///< the estimator's walking/standing detector
-  bool estimator_fed = false;                  ///< this frame completed an interval and fed the estimator
-  std::uint8_t points_seen = 0;                ///< points used on this frame
+  YOYOGAIT_ONLINE_ESTIMATE_FIELDS(YOYOGAIT_RECORD_MEMBER)
 };
 
 /// Velocities predicted ahead of the last frame (OnlineEstimator::predict).

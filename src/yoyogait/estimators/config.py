@@ -42,6 +42,8 @@ __all__ = [
     "SECTIONS",
     "EstimatorConfig",
     "FieldSchema",
+    "ONLINE_SECTION",
+    "OnlineConfig",
     "GaitFilterConfig",
     "PaperConfig",
     "schema_markdown",
@@ -55,12 +57,15 @@ MAX_BANK_SIZE = int(_core.MAX_BANK_SIZE)
 SECTIONS = ("paper_estimator", "gait_filter")
 """The per-algorithm sections of :class:`EstimatorConfig`, as in the C++ struct and the TOML files."""
 
+ONLINE_SECTION = "online"
+"""The section of the online front-end (:class:`OnlineConfig`) in the schema and the TOML files."""
+
 
 @dataclass(frozen=True)
 class FieldSchema:
     """One field of the configuration, as the C++ tables declare it."""
 
-    section: str  # "" for the shared fields, else one of SECTIONS
+    section: str  # "" for the shared fields, else one of SECTIONS or ONLINE_SECTION
     name: str
     type: str  # "float", "int", "bool", "float_list" or "str"
     default: Any
@@ -147,7 +152,7 @@ def _schema() -> tuple[FieldSchema, ...]:
 
 
 SCHEMA: tuple[FieldSchema, ...] = _schema()
-"""Every field of the configuration, from the C++ tables: shared, then paper_estimator, then gait_filter."""
+"""Every field of the configuration, from the C++ tables: shared, paper_estimator, gait_filter, then online."""
 
 _BY_PATH = {f.path: f for f in SCHEMA}
 
@@ -334,19 +339,12 @@ class EstimatorConfig:
     @classmethod
     def from_file(cls, path) -> EstimatorConfig:
         """A configuration from a TOML file (as :meth:`save` writes; fields left out keep their
-        defaults). InputError naming the file and the field for anything unusable."""
+        defaults; an ``[online]`` section, the online front-end's, is read by
+        :meth:`OnlineConfig.from_file` and ignored here). InputError naming the file and the field
+        for anything unusable."""
         path = Path(path)
-        try:
-            with open(path, "rb") as fh:
-                values = tomllib.load(fh)
-        except FileNotFoundError:
-            raise InputError(f"{path}: no such file") from None
-        except IsADirectoryError:
-            raise InputError(f"{path}: is a folder, not a configuration file") from None
-        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-            raise InputError(f"{path}: not a valid TOML file: {exc}") from None
-        except OSError as exc:
-            raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from None
+        values = _read_toml(path)
+        values.pop(ONLINE_SECTION, None)
         try:
             return cls.from_dict(values)
         except InputError as exc:
@@ -355,11 +353,12 @@ class EstimatorConfig:
     def save(self, path, *, force: bool = False) -> None:
         """Write the configuration as TOML (every field); an existing file only with ``force``."""
         self.validate()
-        path = Path(path)
-        if path.exists() and not force:
-            raise InputError(f"{path} exists; use force=True to overwrite it")
-        text = tomli_w.dumps(self.to_dict())
-        atomic_file(path, lambda p: Path(p).write_text(text, encoding="utf-8"))
+        _save_toml(path, self.to_dict(), force)
+
+    def to_toml(self) -> str:
+        """The configuration as TOML, every field (what :meth:`save` writes)."""
+        self.validate()
+        return tomli_w.dumps(self.to_dict())
 
     # ------------------------------------------------------------------------------- checking
 
@@ -408,6 +407,119 @@ def _reject_unknown(values: Mapping, known: set, section: str) -> None:
     raise InputError(f"unknown estimator parameter(s){where}: {', '.join(hints)}")
 
 
+def _read_toml(path: Path) -> dict:
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a folder, not a configuration file") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: not a valid TOML file: {exc}") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from None
+
+
+def _save_toml(path, values: dict, force: bool) -> None:
+    path = Path(path)
+    if path.exists() and not force:
+        raise InputError(f"{path} exists; use force=True to overwrite it")
+    text = tomli_w.dumps(values)
+    atomic_file(path, lambda p: Path(p).write_text(text, encoding="utf-8"))
+
+
+@dataclass
+class OnlineConfig:
+    """Settings of the online front-end (docs/online.md); mirrors ``yoyogait::OnlineConfig``: the
+    gait estimator behind it and the fields of the C++ table ``YOYOGAIT_ONLINE_FIELDS``, whose
+    defaults, units, ranges and docs :data:`SCHEMA` gives (section ``online``). In a TOML file the
+    estimator's fields as :class:`EstimatorConfig` has them, and an ``[online]`` table.
+
+    Every setting is in seconds, metres or a noise density, none in frames: the front-end
+    behaves the same at any capture rate.
+    """
+
+    estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
+    """The gait estimator behind the front-end, fed every ``estimator.sample_time_s``."""
+    antialias_hz: float = _field(ONLINE_SECTION, "antialias_hz")
+    q_jerk_m2_per_s5: float = _field(ONLINE_SECTION, "q_jerk_m2_per_s5")
+    meas_position_std_m: float = _field(ONLINE_SECTION, "meas_position_std_m")
+    initial_velocity_std_mps: float = _field(ONLINE_SECTION, "initial_velocity_std_mps")
+    initial_accel_std_mps2: float = _field(ONLINE_SECTION, "initial_accel_std_mps2")
+    settle_s: float = _field(ONLINE_SECTION, "settle_s")
+    centre_blend_tau_s: float = _field(ONLINE_SECTION, "centre_blend_tau_s")
+    centre_forget_s: float = _field(ONLINE_SECTION, "centre_forget_s")
+    max_abs_position_m: float = _field(ONLINE_SECTION, "max_abs_position_m")
+    max_gap_s: float = _field(ONLINE_SECTION, "max_gap_s")
+    heading_tau_s: float = _field(ONLINE_SECTION, "heading_tau_s")
+    heading_min_speed_mps: float = _field(ONLINE_SECTION, "heading_min_speed_mps")
+    latency_f_hz: float = _field(ONLINE_SECTION, "latency_f_hz")
+
+    def _own(self):
+        return [f for f in fields(self) if f.name != "estimator"]
+
+    def to_dict(self) -> dict:
+        """The estimator's :meth:`EstimatorConfig.to_dict` with an ``online`` table of the front-end's fields."""
+        return self.estimator.to_dict() | {ONLINE_SECTION: {f.name: _plain(getattr(self, f.name)) for f in self._own()}}
+
+    @classmethod
+    def from_dict(cls, values: Mapping) -> OnlineConfig:
+        """The default with ``values`` (nested as :meth:`to_dict`, partial) applied, checked."""
+        return cls().with_values(values)
+
+    def with_values(self, values: Mapping) -> OnlineConfig:
+        """A copy with ``values`` (the estimator's fields and an ``online`` table, partial) applied, checked."""
+        if not isinstance(values, Mapping):
+            raise InputError(f"a configuration must be a table of fields, got {type(values).__name__}")
+        values = dict(values)
+        online = values.pop(ONLINE_SECTION, {})
+        if not isinstance(online, Mapping):
+            raise InputError(f"{ONLINE_SECTION} must be a table of fields, got {online!r}")
+        _reject_unknown(online, {f.name for f in self._own()}, ONLINE_SECTION)
+        out = dataclasses.replace(self, estimator=self.estimator.with_values(values), **dict(online))
+        out.validate()
+        return out
+
+    @classmethod
+    def from_file(cls, path) -> OnlineConfig:
+        """The estimator's fields and the ``[online]`` table of a TOML file (fields left out keep
+        their defaults). InputError naming the file and the field for anything unusable."""
+        path = Path(path)
+        values = _read_toml(path)
+        try:
+            return cls.from_dict(values)
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+
+    def save(self, path, *, force: bool = False) -> None:
+        """Write the configuration as TOML (every field); an existing file only with ``force``."""
+        self.validate()
+        _save_toml(path, self.to_dict(), force)
+
+    def to_toml(self) -> str:
+        """The configuration as TOML, every field (what :meth:`save` writes)."""
+        self.validate()
+        return tomli_w.dumps(self.to_dict())
+
+    def validate(self) -> None:
+        """InputError (a ValueError) naming the first field that is not usable; None if all are."""
+        self.to_native()
+
+    def to_native(self) -> _core.OnlineConfig:
+        """The C++ struct; raises InputError saying what is not usable."""
+        if not isinstance(self.estimator, EstimatorConfig):
+            raise InputError(f"estimator must be an EstimatorConfig, got {type(self.estimator).__name__}")
+        native = _core.OnlineConfig()
+        native.estimator = self.estimator.to_native()
+        for f in self._own():
+            setattr(native, f.name, f.metadata["schema"].check(getattr(self, f.name)))
+        problem = native.validate()
+        if problem:
+            raise InputError(f"invalid online configuration: {problem}")
+        return native
+
+
 PRESETS = {"paper": EstimatorConfig.paper, "default": EstimatorConfig.default}
 """Named configurations: the paper's estimator and the default (the gait filter)."""
 
@@ -418,6 +530,7 @@ def schema_markdown() -> str:
         "": "Shared by both algorithms",
         "paper_estimator": '`[paper_estimator]`: the paper\'s estimator (`algorithm = "paper"`)',
         "gait_filter": '`[gait_filter]`: the gait filter, the default estimator (`algorithm = "gait_filter"`)',
+        ONLINE_SECTION: "`[online]`: the online front-end (`OnlineConfig`; `--online`, `live`, `evaluate --online`)",
     }
     lines = [
         "# Configuration",
@@ -448,9 +561,16 @@ def schema_markdown() -> str:
         "[gait_filter]",
         "gate_sigma = 4.0",
         "bank_f_hz = [1.0, 1.5, 2.0]",
+        "",
+        "[online]",
+        "meas_position_std_m = 0.002",
         "```",
+        "",
+        "The `[online]` table is the online front-end's (`OnlineConfig`: `estimate --online`, `live`,",
+        "`evaluate --online`); the offline commands ignore it, so one file serves both. `yoyogait config`",
+        "prints the effective configuration of a preset or a file as TOML.",
     ]
-    for section in ("", *SECTIONS):
+    for section in ("", *SECTIONS, ONLINE_SECTION):
         lines += ["", f"## {titles[section]}", "", "| field | type | default | unit | valid range | what it is |"]
         lines.append("|---|---|---|---|---|---|")
         for f in SCHEMA:

@@ -115,8 +115,8 @@ class GaitEstimator:
             # flags are read-only views, and the 8-state is left to the per-step Estimate.
             n = vx.size
             out.update(
-                vx_hat_h2=out["vx_hat"],
-                vz_hat_h2=out["vz_hat"],
+                vx_hat_h2_mps=out["vx_hat_mps"],
+                vz_hat_h2_mps=out["vz_hat_mps"],
                 std_scale=np.broadcast_to(np.float64(1.0), (n,)),
                 walking=np.broadcast_to(np.True_, (n,)),
                 acquiring=np.broadcast_to(np.False_, (n,)),

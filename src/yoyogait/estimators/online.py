@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Sequence
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -25,7 +25,7 @@ from .. import _core
 from ..errors import InputError, YoyogaitError
 from ..io.recording import AXES, Recording
 from ..pipeline import points
-from .config import EstimatorConfig
+from .config import OnlineConfig
 
 __all__ = ["OnlineConfig", "OnlineEstimator", "OnlineResult", "OnlineStatus", "ConcurrentUseError", "MAX_POINTS"]
 
@@ -37,61 +37,6 @@ MAX_POINTS = 16
 
 class ConcurrentUseError(YoyogaitError, RuntimeError):
     """An OnlineEstimator was called from a second thread while a call was running."""
-
-
-@dataclass
-class OnlineConfig:
-    """Settings of the online front-end; mirrors ``yoyogait::OnlineConfig`` field by field.
-
-    Every setting is in seconds, metres or a noise density, none in frames: the front-end
-    behaves the same at any capture rate.
-    """
-
-    estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
-    """The gait estimator behind the front-end, fed every ``estimator.sample_time_s``."""
-    antialias_hz: float = 0.0
-    """Butterworth low-pass (2nd order) before the decimation, delay compensated (0: none) [Hz]."""
-    q_jerk_m2_per_s5: float = 1000.0
-    """White-jerk noise density of the constant-acceleration Kalman differentiator [m^2/s^5]."""
-    meas_position_std_m: float = 0.001
-    """Noise of the centre's position [m]."""
-    initial_velocity_std_mps: float = 1.0
-    """Velocity uncertainty after a (re)start [m/s]."""
-    initial_accel_std_mps2: float = 10.0
-    """Acceleration uncertainty after a (re)start [m/s^2]."""
-    settle_s: float = 0.1
-    """The estimator is fed once the differentiator has run this long after a (re)start [s]."""
-    centre_blend_tau_s: float = 0.3
-    """A step of the centre when the visible markers change is blended out over this [s]."""
-    centre_forget_s: float = 2.0
-    """A marker unseen this long leaves the centre's set [s]."""
-    max_abs_position_m: float = 1e5
-    """A coordinate beyond this counts as missing [m]."""
-    max_gap_s: float = 0.25
-    """No point seen for longer than this restarts the front-end [s]."""
-    heading_tau_s: float = 0.5
-    """Low-pass of the horizontal velocity for the heading (its lag in turns is compensated) [s]."""
-    heading_min_speed_mps: float = 0.1
-    """Below this low-passed speed the heading is held [m/s]."""
-    latency_f_hz: float = 2.0
-    """Frequency at which the reported input latency is evaluated [Hz]."""
-
-    def to_native(self) -> _core.OnlineConfig:
-        """The C++ struct; raises InputError saying what is not usable."""
-        if not isinstance(self.estimator, EstimatorConfig):
-            raise InputError(f"estimator must be an EstimatorConfig, got {type(self.estimator).__name__}")
-        native = _core.OnlineConfig()
-        native.estimator = self.estimator.to_native()
-        for f in fields(self):
-            if f.name != "estimator":
-                try:
-                    setattr(native, f.name, float(getattr(self, f.name)))
-                except (TypeError, ValueError):
-                    raise InputError(f"{f.name} must be a number, got {getattr(self, f.name)!r}") from None
-        problem = native.validate()
-        if problem:
-            raise InputError(f"invalid online configuration: {problem}")
-        return native
 
 
 @dataclass

@@ -84,7 +84,7 @@ class AdaptiveOscillator:
         return float(self.b[0] + np.dot(self.b[1:], np.cos(k * p1)) + np.dot(self.c[1:], np.sin(k * p1)))
 
     def step(self, vx: float, vz: float, dt_s: float | None = None) -> tuple[float, float]:
-        """One sample; returns the reconstruction (vx_hat, vz_hat) after it."""
+        """One sample; returns the reconstruction (vx_hat_mps, vz_hat_mps) after it."""
         cfg = self.config
         dt = dt_s if (dt_s is not None and dt_s > 0 and math.isfinite(dt_s)) else cfg.sample_time_s
         if not self.started:
@@ -137,20 +137,20 @@ def run_oscillator(
     osc = AdaptiveOscillator(cfg)
     horizons = tuple(float(h) for h in predict_ahead_s)
     omega, b0, x1, z1 = (np.empty(n) for _ in range(4))
-    vx_hat, vz_hat = np.empty(n), np.empty(n)
+    vx_hat_mps, vz_hat_mps = np.empty(n), np.empty(n)
     vx_pred, vz_pred = np.empty((n, len(horizons))), np.empty((n, len(horizons)))
     prev = None
     for i in range(n):
         dt = None if prev is None else t[i] - prev
         prev = t[i]
-        vx_hat[i], vz_hat[i] = osc.step(vx[i], vz[i], dt)
+        vx_hat_mps[i], vz_hat_mps[i] = osc.step(vx[i], vz[i], dt)
         omega[i], b0[i] = osc.omega_rad_s, osc.b[0]
         x1[i] = osc.b[1] * math.cos(osc.phi[1]) + osc.c[1] * math.sin(osc.phi[1])  # v_x fundamental
         z1[i] = osc.a[1] * math.cos(osc.phi[1])  # v_z fundamental
         for j, h in enumerate(horizons):
             vx_pred[i, j], vz_pred[i, j] = osc.predict(h)
     # In the paper's state, v_z = -x2.
-    return result_from_fit(omega, b0, x1, -z1, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, t)
+    return result_from_fit(omega, b0, x1, -z1, vx_hat_mps, vz_hat_mps, T, vx_pred, vz_pred, horizons, t)
 
 
 @dataclass(frozen=True)

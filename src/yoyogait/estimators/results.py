@@ -28,7 +28,7 @@ TWO_PI = 2.0 * math.pi
 class EstimateResult:
     """Estimates over a signal, one row per sample (the estimate after that sample).
 
-    Arrays in physical units: ``vx_hat``, ``vz_hat`` (the model's reconstruction,
+    Arrays in physical units: ``vx_hat_mps``, ``vz_hat_mps`` (the model's reconstruction,
     m/s), ``R_m``, ``r_m`` (m), ``step_frequency_hz`` (paper: signed, as the
     filter has it; default: > 0), ``omega_rad_s``, ``speed_mps`` (the forward
     speed without the oscillation), ``A0_mps``, ``A1_mps``, their standard
@@ -39,10 +39,10 @@ class EstimateResult:
     for ``predict_ahead_s[j]`` later.
 
     From the native estimators also (None for results built elsewhere):
-    ``vx_hat_h2``, ``vz_hat_h2`` (with the second harmonics), ``std_scale``,
+    ``vx_hat_h2_mps``, ``vz_hat_h2_mps`` (with the second harmonics), ``std_scale``,
     ``walking``, ``acquiring`` and, for the default, ``gait_state`` (N, 8) =
     [X1, X2, Z1, Z2, w, A0, dA0, dw].  For the paper these carry nothing new
-    and are not written per sample: ``vx_hat_h2`` is ``vx_hat``, the flags and
+    and are not written per sample: ``vx_hat_h2_mps`` is ``vx_hat_mps``, the flags and
     ``std_scale`` are constant read-only views (True, False, 1) and
     ``gait_state`` is None (``GaitEstimator.step`` gives it in the gait form).
     ``covariance`` (N, k, k): the filter's covariance after each sample (k = 4 for the
@@ -60,8 +60,8 @@ class EstimateResult:
     """
 
     state: np.ndarray
-    vx_hat: np.ndarray
-    vz_hat: np.ndarray
+    vx_hat_mps: np.ndarray
+    vz_hat_mps: np.ndarray
     R_hat_mps: np.ndarray
     r_hat_mps: np.ndarray
     R_m: np.ndarray
@@ -81,8 +81,8 @@ class EstimateResult:
     vz_pred: np.ndarray | None = None
     time_s: np.ndarray | None = field(default=None)
     gait_state: np.ndarray | None = None
-    vx_hat_h2: np.ndarray | None = None
-    vz_hat_h2: np.ndarray | None = None
+    vx_hat_h2_mps: np.ndarray | None = None
+    vz_hat_h2_mps: np.ndarray | None = None
     std_scale: np.ndarray | None = None
     walking: np.ndarray | None = None
     acquiring: np.ndarray | None = None
@@ -92,7 +92,7 @@ class EstimateResult:
     covariance: np.ndarray | None = None
 
     def __len__(self) -> int:
-        return int(self.vx_hat.shape[0])
+        return int(self.vx_hat_mps.shape[0])
 
     def __repr__(self) -> str:
         n = len(self)
@@ -144,8 +144,8 @@ class EstimateResult:
             cols.update(vx_mps=velocities.vx, vz_mps=velocities.vz, walking=np.asarray(velocities.walking, bool))
         state = np.asarray(self.state)
         cols.update(
-            vx_hat_mps=self.vx_hat,
-            vz_hat_mps=self.vz_hat,
+            vx_hat_mps=self.vx_hat_mps,
+            vz_hat_mps=self.vz_hat_mps,
             step_frequency_hz=self.step_frequency_hz,
             step_frequency_std_hz=self.step_frequency_std_hz,
             speed_mps=self.speed_mps,
@@ -250,7 +250,7 @@ class EstimateResult:
         return out[0], out[1]
 
 
-def result_from_fit(omega_rad_s, a0, cos_part, sin_part, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, time_s):
+def result_from_fit(omega_rad_s, a0, cos_part, sin_part, vx_hat_mps, vz_hat_mps, T, vx_pred, vz_pred, horizons, time_s):
     """An EstimateResult from per-sample fit values (state in the paper's form, eq. 5), for the baselines."""
     n = omega_rad_s.size
     w = omega_rad_s * T
@@ -261,8 +261,8 @@ def result_from_fit(omega_rad_s, a0, cos_part, sin_part, vx_hat, vz_hat, T, vx_p
     nan = np.full(n, np.nan)
     return EstimateResult(
         state=np.column_stack([cos_part, sin_part, w, a0]),
-        vx_hat=vx_hat,
-        vz_hat=vz_hat,
+        vx_hat_mps=vx_hat_mps,
+        vz_hat_mps=vz_hat_mps,
         R_hat_mps=R_m / T,
         r_hat_mps=r_m / T,
         R_m=R_m,

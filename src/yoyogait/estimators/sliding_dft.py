@@ -103,8 +103,8 @@ def sliding_dft(
     pz = np.linalg.solve(G, bz[..., None])[..., 0]
     a0, ax, bxs = px[:, 0], px[:, 1], px[:, 2]
     az, bzs = pz[:, 1], pz[:, 2]
-    vx_hat = a0 + ax
-    vz_hat = pz[:, 0] + az
+    vx_hat_mps = a0 + ax
+    vz_hat_mps = pz[:, 0] + az
     horizons = tuple(float(h) for h in predict_ahead_s)
     vx_pred = np.empty((n, len(horizons)))
     vz_pred = np.empty((n, len(horizons)))
@@ -113,12 +113,12 @@ def sliding_dft(
         vx_pred[:, j] = a0 + ax * ch + bxs * sh
         vz_pred[:, j] = pz[:, 0] + az * ch + bzs * sh
     bad = ~enough
-    for arr in (omega, a0, vx_hat, vz_hat, az, bzs):
+    for arr in (omega, a0, vx_hat_mps, vz_hat_mps, az, bzs):
         arr[bad] = np.nan
     vx_pred[bad] = np.nan
     vz_pred[bad] = np.nan
     # In the paper's state, v_z = -x2: the oscillation's phasor at the sample is (x1, x2) with x2 = -v_z part.
-    return result_from_fit(omega, a0, ax, -az, vx_hat, vz_hat, T, vx_pred, vz_pred, horizons, t)
+    return result_from_fit(omega, a0, ax, -az, vx_hat_mps, vz_hat_mps, T, vx_pred, vz_pred, horizons, t)
 
 
 @dataclass(frozen=True)

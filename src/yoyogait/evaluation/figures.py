@@ -3,7 +3,7 @@
 Figures are built on matplotlib's object API with the Agg canvas, never
 pyplot, so that making them needs no display and leaves no global state
 behind (safe in tests, scripts and servers).  Inputs are plain arrays, or an
-estimator result object with the fields ``vx_hat``, ``vz_hat``, ``R_m``,
+estimator result object with the fields ``vx_hat_mps``, ``vz_hat_mps``, ``R_m``,
 ``r_m``, ``step_frequency_hz``, ``A0_mps``, ``A1_mps`` (and ``state``).
 Figures of synthetic data always say so: in their title, in a boxed label and in a
 diagonal watermark across the figure.  Layout is fixed margins, not constrained layout
@@ -65,15 +65,10 @@ def _title(title: str, synthetic: bool) -> str:
     return title
 
 
-def _pick(explicit, result, *names):
-    if explicit is not None:
-        return np.asarray(explicit, dtype=float)
-    if result is not None:
-        for name in names:
-            value = getattr(result, name, None)
-            if value is not None:
-                return np.asarray(value, dtype=float)
-    return None
+def _given(explicit, result, name: str):
+    """The explicit array, else ``result.<name>`` (one spelling: the record tables'), as floats; None if neither."""
+    value = explicit if explicit is not None else None if result is None else getattr(result, name, None)
+    return None if value is None else np.asarray(value, dtype=float)
 
 
 def _check(t, **arrays):
@@ -301,12 +296,12 @@ def parameter_figure(
     again with these data (faster than a new one, see the module's notes).
     """
     t = np.asarray(time_s, dtype=float)
-    f = _pick(step_frequency_hz, result, "step_frequency_hz")
-    R = _pick(R_m, result, "R_m")
-    r = _pick(r_m, result, "r_m")
-    A0 = _pick(A0_mps, result, "A0_mps")
-    A1 = _pick(A1_mps, result, "A1_mps")
-    state = _pick(None, result, "state")
+    f = _given(step_frequency_hz, result, "step_frequency_hz")
+    R = _given(R_m, result, "R_m")
+    r = _given(r_m, result, "r_m")
+    A0 = _given(A0_mps, result, "A0_mps")
+    A1 = _given(A1_mps, result, "A1_mps")
+    state = _given(None, result, "state")
     if state is not None and state.ndim == 2 and state.shape[1] == 4:
         A0 = state[:, 3] if A0 is None else A0  # x4 is the bias of v_x
         A1 = np.hypot(state[:, 0], state[:, 1]) if A1 is None else A1
@@ -405,15 +400,15 @@ def velocity_figure(
     t = np.asarray(time_s, dtype=float)
     vx = np.asarray(measured_vx_mps, dtype=float)
     vz = np.asarray(measured_vz_mps, dtype=float)
-    vx_hat = _pick(vx_hat_mps, result, "vx_hat", "vx_hat_mps")
-    vz_hat = _pick(vz_hat_mps, result, "vz_hat", "vz_hat_mps")
-    _check(t, measured_vx_mps=vx, measured_vz_mps=vz, vx_hat_mps=vx_hat, vz_hat_mps=vz_hat)
+    vx_hat_mps = _given(vx_hat_mps, result, "vx_hat_mps")
+    vz_hat_mps = _given(vz_hat_mps, result, "vz_hat_mps")
+    _check(t, measured_vx_mps=vx, measured_vz_mps=vz, vx_hat_mps=vx_hat_mps, vz_hat_mps=vz_hat_mps)
 
     fig, new = _time_panels(
         into, "velocity", 5.5, ("forward $v_x$ (m/s)", "vertical $v_z$ (m/s)"), top=0.86, bottom=0.1, hspace=0.3
     )
     ax_x, ax_z = fig.axes
-    for ax, measured, estimate, name in ((ax_x, vx, vx_hat, "v_x"), (ax_z, vz, vz_hat, "v_z")):
+    for ax, measured, estimate, name in ((ax_x, vx, vx_hat_mps, "v_x"), (ax_z, vz, vz_hat_mps, "v_z")):
         ax.plot(t, measured, color="0.45", lw=1.0, label=f"measured ${name}$")
         if estimate is not None:
             ax.plot(t, estimate, color=_EST, lw=1.2, label=f"reconstructed ${name}$")
@@ -456,13 +451,13 @@ def estimate_figure(
     vel, res = velocities, result
     t = np.asarray(vel.time_s, dtype=float)
     vx, vz = np.asarray(vel.vx, dtype=float), np.asarray(vel.vz, dtype=float)
-    vx_hat, vz_hat = np.asarray(res.vx_hat, dtype=float), np.asarray(res.vz_hat, dtype=float)
+    vx_hat_mps, vz_hat_mps = np.asarray(res.vx_hat_mps, dtype=float), np.asarray(res.vz_hat_mps, dtype=float)
     f = np.asarray(res.step_frequency_hz, dtype=float)
     f_std = np.asarray(res.step_frequency_std_hz, dtype=float)
     speed = np.asarray(res.speed_mps, dtype=float)
     speed_std = np.asarray(res.speed_std_mps, dtype=float)
     f_ref = None if reference_step_frequency_hz is None else np.asarray(reference_step_frequency_hz, dtype=float)
-    _check(t, vx_hat=vx_hat, vz_hat=vz_hat, step_frequency_hz=f, speed_mps=speed, reference=f_ref)
+    _check(t, vx_hat_mps=vx_hat_mps, vz_hat_mps=vz_hat_mps, step_frequency_hz=f, speed_mps=speed, reference=f_ref)
     walking = getattr(vel, "walking", None)
 
     fig = _new_figure("estimate", 10.0, 11.0)
@@ -495,7 +490,10 @@ def estimate_figure(
         ax.grid(True, alpha=0.3)
         ax.margins(x=0)
 
-    for ax, zoom, measured, estimate, name in ((ax_x, zoom_x, vx, vx_hat, "v_x"), (ax_z, zoom_z, vz, vz_hat, "v_z")):
+    for ax, zoom, measured, estimate, name in (
+        (ax_x, zoom_x, vx, vx_hat_mps, "v_x"),
+        (ax_z, zoom_z, vz, vz_hat_mps, "v_z"),
+    ):
         for a in (ax, zoom):
             a.plot(t, measured, color="0.4", lw=0.9, label=f"measured ${name}$")
             a.plot(t, estimate, color=_EST, lw=1.1, label=f"reconstructed ${name}$")
@@ -542,7 +540,9 @@ def estimate_figure(
     for zoom, name in ((zoom_x, "forward $v_x$ (m/s)"), (zoom_z, "vertical $v_z$ (m/s)")):
         zoom.set_xlim(lo, hi)
         inside = (t >= lo) & (t <= hi)
-        values = np.concatenate([vx[inside], vx_hat[inside]] if zoom is zoom_x else [vz[inside], vz_hat[inside]])
+        values = np.concatenate(
+            [vx[inside], vx_hat_mps[inside]] if zoom is zoom_x else [vz[inside], vz_hat_mps[inside]]
+        )
         values = values[np.isfinite(values)]
         if values.size:
             pad = 0.08 * (values.max() - values.min() + 1e-3)

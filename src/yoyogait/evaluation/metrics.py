@@ -369,14 +369,9 @@ METRIC_KEYS: tuple[str, ...] = (
 """
 
 
-def _field(result, *names):
-    if result is None:
-        return None
-    for name in names:
-        value = getattr(result, name, None)
-        if value is not None:
-            return value
-    return None
+def _of(result, name: str):
+    """``result.<name>`` (one spelling: the record tables'), None without a result or the field."""
+    return None if result is None else getattr(result, name, None)
 
 
 def evaluate(
@@ -408,7 +403,7 @@ def evaluate(
 
     ``time_s`` is the estimator's time grid; the measured velocities and every
     estimate are on it.  Estimates come from ``result`` (an object with
-    ``vx_hat``, ``vz_hat``, ``step_frequency_hz``, ``speed_mps``, ``R_m``,
+    ``vx_hat_mps``, ``vz_hat_mps``, ``step_frequency_hz``, ``speed_mps``, ``R_m``,
     ``r_m``; without ``speed_mps``, ``R_m * |omega_rad_s|``) or the explicit
     arrays, which win.  References: ``truth`` (a
     :class:`~yoyogait.synthetic.SyntheticTruth`, resampled here with its
@@ -423,13 +418,13 @@ def evaluate(
     vz = _arr(measured_vz_mps, "measured_vz_mps")
     n = _same_length((t, "time_s"), (vx, "measured_vx_mps"), (vz, "measured_vz_mps"))
 
-    vx_hat = vx_hat_mps if vx_hat_mps is not None else _field(result, "vx_hat", "vx_hat_mps")
-    vz_hat = vz_hat_mps if vz_hat_mps is not None else _field(result, "vz_hat", "vz_hat_mps")
-    f_hat = step_frequency_hz if step_frequency_hz is not None else _field(result, "step_frequency_hz")
-    speed_hat = speed_mps if speed_mps is not None else _field(result, "speed_mps")
-    R_hat = R_m if R_m is not None else _field(result, "R_m")
-    r_hat = r_m if r_m is not None else _field(result, "r_m")
-    omega_hat = _field(result, "omega_rad_s")
+    vx_hat_mps = vx_hat_mps if vx_hat_mps is not None else _of(result, "vx_hat_mps")
+    vz_hat_mps = vz_hat_mps if vz_hat_mps is not None else _of(result, "vz_hat_mps")
+    f_hat = step_frequency_hz if step_frequency_hz is not None else _of(result, "step_frequency_hz")
+    speed_hat = speed_mps if speed_mps is not None else _of(result, "speed_mps")
+    R_hat = R_m if R_m is not None else _of(result, "R_m")
+    r_hat = r_m if r_m is not None else _of(result, "r_m")
+    omega_hat = _of(result, "omega_rad_s")
     if speed_hat is None and R_hat is not None and omega_hat is not None:
         speed_hat = np.asarray(R_hat, dtype=float) * np.abs(np.asarray(omega_hat, dtype=float))
 
@@ -458,7 +453,7 @@ def evaluate(
             out[f"{prefix}{comp}_sq_err_mean_1e-2"] = stats.mean_1e_2
             out[f"{prefix}{comp}_sq_err_std_1e-2"] = stats.std_1e_2
 
-    put_velocity("", (vx_hat, vz_hat))
+    put_velocity("", (vx_hat_mps, vz_hat_mps))
     put_velocity("pred1_", predicted_1step)
     put_velocity("pred200ms_", predicted_200ms)
 

@@ -91,7 +91,7 @@ ONLINE_METRIC_KEYS: tuple[str, ...] = metrics.METRIC_KEYS + ONLINE_EXTRA_KEYS
 
 ``f_err_median_hz`` is after the first 3 s of walking (as offline), ``f_err_first3s_median_hz``
 within them, ``f_err_whole_median_hz`` over the whole walking part; ``latency_vz_ms``: lag of
-``vz_hat`` behind the offline v_z; ``latency_vz_input_ms``: the same for the front-end's v_z
+``vz_hat_mps`` behind the offline v_z; ``latency_vz_input_ms``: the same for the front-end's v_z
 (online only); ``phase_at_contact_circstd_pct``: circular standard deviation of the gait phase at
 the foot contacts, % of a step; ``startup_time_s``, ``cadence_step_time_s``,
 ``speed_step_time_s``: settling times on synthetic walks (inf: never, NaN: not defined).
@@ -247,8 +247,8 @@ def _contacts(recording, item: Item, up_axis: str) -> np.ndarray:
 def _score(
     ref: _Refs,
     *,
-    vx_hat,
-    vz_hat,
+    vx_hat_mps,
+    vz_hat_mps,
     f_hat,
     speed_hat,
     phase,
@@ -269,8 +269,8 @@ def _score(
             t,
             ref.vx,
             ref.vz,
-            vx_hat_mps=vx_hat,
-            vz_hat_mps=vz_hat,
+            vx_hat_mps=vx_hat_mps,
+            vz_hat_mps=vz_hat_mps,
             step_frequency_hz=f_hat,
             speed_mps=speed_hat,
             walking=walk,
@@ -296,11 +296,11 @@ def _score(
     row["f_err_whole_median_hz"] = metrics.step_frequency_error(t, f_hat, ref.f_ref, mask=walk).median_abs_hz
     row["f_err_first3s_median_hz"] = metrics.step_frequency_error(t, f_hat, ref.f_ref, mask=first).median_abs_hz
     for part, mask in (("first3s", first), ("after3s", after)):
-        err = metrics.velocity_error(ref.vx, ref.vz, vx_hat, vz_hat, mask)
+        err = metrics.velocity_error(ref.vx, ref.vz, vx_hat_mps, vz_hat_mps, mask)
         row[f"vx_sq_err_{part}_mean_1e-2"] = err.vx.mean_1e_2
         row[f"vz_sq_err_{part}_mean_1e-2"] = err.vz.mean_1e_2
         row[f"speed_err_{part}_median_mps"] = metrics.speed_error(speed_hat, ref.speed_ref, mask).median_abs_mps
-    row["latency_vz_ms"] = 1e3 * lag_s(np.where(walk, vz_hat, np.nan), np.where(walk, ref.vz, np.nan), ref.rate_hz)
+    row["latency_vz_ms"] = 1e3 * lag_s(np.where(walk, vz_hat_mps, np.nan), np.where(walk, ref.vz, np.nan), ref.rate_hz)
     if vz_input is not None:
         row["latency_vz_input_ms"] = 1e3 * lag_s(
             np.where(walk, vz_input, np.nan), np.where(walk, ref.vz, np.nan), ref.rate_hz
@@ -374,8 +374,8 @@ def evaluate_item_online(item: Item) -> ItemResult:
     osc = _run_oscillator(vel)
     online_row = _score(
         ref_frames,
-        vx_hat=res.vx_hat_mps,
-        vz_hat=res.vz_hat_mps,
+        vx_hat_mps=res.vx_hat_mps,
+        vz_hat_mps=res.vz_hat_mps,
         f_hat=res.step_frequency_hz,
         speed_hat=res.speed_mps,
         phase=np.where(res.walking, res.gait_phase, np.nan),
@@ -392,8 +392,8 @@ def evaluate_item_online(item: Item) -> ItemResult:
     )
     osc_row = _score(
         ref_grid,
-        vx_hat=osc["vx_hat_mps"],
-        vz_hat=osc["vz_hat_mps"],
+        vx_hat_mps=osc["vx_hat_mps"],
+        vz_hat_mps=osc["vz_hat_mps"],
         f_hat=osc["step_frequency_hz"],
         speed_hat=osc["speed_mps"],
         phase=osc["gait_phase"],

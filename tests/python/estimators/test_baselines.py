@@ -40,8 +40,10 @@ def test_oscillator_skips_missing_samples_and_streams_like_the_batch():
     res = run_oscillator(t, vx, vz, predict_ahead_s=(0.2,))
     osc = AdaptiveOscillator()
     streamed = [osc.step(a, b, None if i == 0 else T) for i, (a, b) in enumerate(zip(vx, vz))]
-    np.testing.assert_allclose(np.array(streamed), np.column_stack([res.vx_hat, res.vz_hat]), rtol=0, atol=1e-12)
-    assert np.all(np.isfinite(res.vx_hat)) and np.all(np.isfinite(res.step_frequency_hz))
+    np.testing.assert_allclose(
+        np.array(streamed), np.column_stack([res.vx_hat_mps, res.vz_hat_mps]), rtol=0, atol=1e-12
+    )
+    assert np.all(np.isfinite(res.vx_hat_mps)) and np.all(np.isfinite(res.step_frequency_hz))
 
 
 def test_oscillator_rejects_bad_config():

@@ -12,7 +12,18 @@ import pytest
 
 import yoyogait
 from yoyogait import EstimatorConfig, GaitEstimator, _core
-from yoyogait.estimators.config import SCHEMA, SECTIONS, GaitFilterConfig, PaperConfig, schema_markdown
+from yoyogait.estimators.config import (
+    ONLINE_SECTION,
+    SCHEMA,
+    SECTIONS,
+    GaitFilterConfig,
+    OnlineConfig,
+    PaperConfig,
+    schema_markdown,
+)
+
+ESTIMATOR_SCHEMA = [spec for spec in SCHEMA if spec.section != ONLINE_SECTION]
+ONLINE_SCHEMA = [spec for spec in SCHEMA if spec.section == ONLINE_SECTION]
 
 ROOT = Path(__file__).resolve().parents[3]
 PY_TYPES = {"float": float, "int": int, "bool": bool, "float_list": tuple, "str": str}
@@ -40,8 +51,8 @@ def _walk(seconds=6.0, seed=0):
 
 FLOAT_OUTPUTS = (
     "state",
-    "vx_hat",
-    "vz_hat",
+    "vx_hat_mps",
+    "vz_hat_mps",
     "R_hat_mps",
     "r_hat_mps",
     "R_m",
@@ -53,8 +64,8 @@ FLOAT_OUTPUTS = (
     "speed_std_mps",
     "A0_mps",
     "A1_mps",
-    "vx_hat_h2",
-    "vz_hat_h2",
+    "vx_hat_h2_mps",
+    "vz_hat_h2_mps",
     "std_scale",
     "vx_pred",
     "vz_pred",
@@ -64,10 +75,11 @@ FLOAT_OUTPUTS = (
 def test_python_dataclasses_agree_with_the_cpp_tables_field_by_field():
     """Each section's dataclass has the C++ table's fields in its order, with its type, default and doc."""
     raw = _core.config_schema()
-    tables = {section: [d for d in raw if d["section"] == section] for section in ("", *SECTIONS)}
+    tables = {section: [d for d in raw if d["section"] == section] for section in ("", *SECTIONS, ONLINE_SECTION)}
     classes = {"": EstimatorConfig, "paper_estimator": PaperConfig, "gait_filter": GaitFilterConfig}
+    classes[ONLINE_SECTION] = OnlineConfig
     for section, cls in classes.items():
-        own = [f for f in dataclasses.fields(cls) if f.name not in SECTIONS]
+        own = [f for f in dataclasses.fields(cls) if f.name not in (*SECTIONS, "estimator")]
         assert [f.name for f in own] == [d["name"] for d in tables[section]], section
         defaults = cls()
         for f, d in zip(own, tables[section]):
@@ -91,13 +103,16 @@ def test_every_field_outside_its_range_is_a_value_error_naming_it():
             if math.isinf(value):
                 continue
             with pytest.raises(ValueError, match=rf"{spec.path}\b"):
-                GaitEstimator(_with(EstimatorConfig(), spec, value))
+                if spec.section == ONLINE_SECTION:
+                    OnlineConfig(**{spec.name: value}).validate()
+                else:
+                    GaitEstimator(_with(EstimatorConfig(), spec, value))
 
 
 @pytest.mark.parametrize("value", [2**63, 2**64, 2**100, -1, 1.5, True, "3"])
 def test_integer_fields_reject_bad_values_with_value_error(value):
     """An integer field given 2**64 (or a negative, a float, a bool, a string) raises ValueError, not TypeError."""
-    for spec in SCHEMA:
+    for spec in ESTIMATOR_SCHEMA:
         if spec.type == "int":
             with pytest.raises(ValueError, match=spec.path):
                 _with(EstimatorConfig(), spec, value).validate()
@@ -113,7 +128,7 @@ def test_every_float_field_over_absurd_values_gives_an_error_or_finite_estimates
     negative, inf, NaN) either raises ValueError or gives finite estimates on a short walk, both presets."""
     t, vx, vz = _walk()
     accepted = rejected = 0
-    for spec in SCHEMA:
+    for spec in ESTIMATOR_SCHEMA:
         if spec.type == "float":
             values = _sweep_values(spec.default)
         elif spec.type == "float_list":
@@ -187,6 +202,27 @@ def test_bad_config_files_name_the_file_and_the_field(tmp_path, text, message):
     assert str(path) in str(info.value)
     with pytest.raises(ValueError, match="no such file"):
         EstimatorConfig.from_file(tmp_path / "missing.toml")
+
+
+def test_online_settings_share_the_toml_file_in_an_online_table(tmp_path):
+    """OnlineConfig saves and loads the estimator fields and an [online] table; EstimatorConfig reads that file."""
+    cfg = OnlineConfig(meas_position_std_m=0.004, heading_tau_s=0.8)
+    cfg.estimator.gait_filter.gate_sigma = 4.0
+    path = tmp_path / "online.toml"
+    cfg.save(path)
+    assert "[online]" in path.read_text()
+    assert OnlineConfig.from_file(path) == cfg
+    assert EstimatorConfig.from_file(path) == cfg.estimator
+    partial = tmp_path / "partial.toml"
+    partial.write_text("[online]\nmax_gap_s = 0.5\n")
+    assert OnlineConfig.from_file(partial) == OnlineConfig(max_gap_s=0.5)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[online]\nheading_tau = 0.5\n")
+    with pytest.raises(ValueError, match=r"bad.toml: unknown estimator parameter\(s\) in \[online\]: heading_tau"):
+        OnlineConfig.from_file(bad)
+    bad.write_text("[online]\nmax_gap_s = -1.0\n")
+    with pytest.raises(ValueError, match=r"online.max_gap_s = -1.0 is outside its valid range"):
+        OnlineConfig.from_file(bad)
 
 
 def test_configuration_doc_is_generated_from_the_schema():

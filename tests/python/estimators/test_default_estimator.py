@@ -219,10 +219,10 @@ def test_native_matches_the_numpy_reference(changes):
         "step_frequency_std_hz",
         "speed_mps",
         "speed_std_mps",
-        "vx_hat",
-        "vz_hat",
-        "vx_hat_h2",
-        "vz_hat_h2",
+        "vx_hat_mps",
+        "vz_hat_mps",
+        "vx_hat_h2_mps",
+        "vz_hat_h2_mps",
         "R_m",
         "r_m",
         "std_scale",
@@ -262,7 +262,7 @@ def test_step_run_and_chunked_run_agree_bit_for_bit(with_time):
         est.step(a, b, None if (not with_time or k == 0) else t[k] - t[k - 1]) for k, (a, b) in enumerate(zip(vx, vz))
     ]
     assert np.array_equal(np.array([e.gait_state for e in streamed]), batch.gait_state)
-    assert np.array_equal(np.array([e.vx_hat_h2 for e in streamed]), batch.vx_hat_h2)
+    assert np.array_equal(np.array([e.vx_hat_h2_mps for e in streamed]), batch.vx_hat_h2_mps)
     assert np.array_equal(np.array([e.status for e in streamed]).astype(np.uint8), batch.status)
     # Derived in C++ (step) and in numpy (run) from the same state: equal to rounding.
     np.testing.assert_allclose(
@@ -277,8 +277,8 @@ def test_step_run_and_chunked_run_agree_bit_for_bit(with_time):
     for name in (
         "state",
         "gait_state",
-        "vx_hat",
-        "vz_hat_h2",
+        "vx_hat_mps",
+        "vz_hat_h2_mps",
         "R_m",
         "r_m",
         "step_frequency_hz",
@@ -579,7 +579,7 @@ def test_non_finite_out_of_range_and_bad_timestamps():
     nonfinite = set(np.flatnonzero(res.status == int(Status.REJECTED_NON_FINITE)))
     assert nonfinite == {50, 51, 60, 90, 91, 120}
     assert set(np.flatnonzero(res.status == int(Status.REJECTED_OUT_OF_RANGE))) == {70, 80}
-    for name in ("gait_state", "step_frequency_std_hz", "speed_std_mps", "vx_hat_h2", "R_m", "r_m"):
+    for name in ("gait_state", "step_frequency_std_hz", "speed_std_mps", "vx_hat_h2_mps", "R_m", "r_m"):
         assert np.all(np.isfinite(getattr(res, name))), name
     assert np.all(res.step_frequency_hz > 0)
     est = GaitEstimator()

@@ -36,8 +36,8 @@ def test_native_matches_numpy_reference_to_1e12():
     np.testing.assert_allclose(res.state, ref["state"], rtol=0, atol=1e-12)
     np.testing.assert_allclose(res.R_hat_mps, ref["R_hat"], rtol=0, atol=1e-12)
     np.testing.assert_allclose(res.r_hat_mps, ref["r_hat"], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(res.vx_hat, ref["vx_hat"], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(res.vz_hat, ref["vz_hat"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.vx_hat_mps, ref["vx_hat_mps"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.vz_hat_mps, ref["vz_hat_mps"], rtol=0, atol=1e-12)
     assert np.all(res.parameters_updated[:10] == 0)
     assert res.parameters_updated.sum() > 5000  # the comparison covered the update branch of eq. 11-12
 
@@ -98,12 +98,12 @@ def test_streaming_batch_and_chunked_agree_bit_for_bit():
     est = GaitEstimator()
     streamed = [est.step(a, b) for a, b in zip(vx, vz)]
     assert np.array_equal(np.array([e.state for e in streamed]), batch.state)
-    assert np.array_equal(np.array([e.vx_hat for e in streamed]), batch.vx_hat)
+    assert np.array_equal(np.array([e.vx_hat_mps for e in streamed]), batch.vx_hat_mps)
     assert np.array_equal(np.array([e.R_m for e in streamed]), batch.R_m)
     est = GaitEstimator()
     edges = [0, 1, 7, 100, 101, 333, vx.size]
     chunks = [est.run(vx[a:b], vz[a:b]) for a, b in zip(edges[:-1], edges[1:])]
-    for name in ("state", "vx_hat", "vz_hat", "R_m", "r_m", "step_frequency_hz", "status"):
+    for name in ("state", "vx_hat_mps", "vz_hat_mps", "R_m", "r_m", "step_frequency_hz", "status"):
         assert np.array_equal(np.concatenate([getattr(c, name) for c in chunks]), getattr(batch, name)), name
 
 
@@ -113,7 +113,7 @@ def test_run_results_survive_later_runs_that_reuse_memory(preset):
     _, vx, vz = yoyo_walk(60.0, noise=0.05, seed=5)
     cfg = EstimatorConfig.preset(preset)
     kept = GaitEstimator(cfg).run(vx, vz)
-    kept_copy = {k: np.array(getattr(kept, k), copy=True) for k in ("state", "vx_hat", "R_m", "status")}
+    kept_copy = {k: np.array(getattr(kept, k), copy=True) for k in ("state", "vx_hat_mps", "R_m", "status")}
     for seed in range(3):  # freed results hand their memory to the next run
         _, wx, wz = yoyo_walk(60.0, noise=0.2, seed=10 + seed)
         other = GaitEstimator(cfg).run(wx, wz)
@@ -122,7 +122,7 @@ def test_run_results_survive_later_runs_that_reuse_memory(preset):
     for name, value in kept_copy.items():
         assert np.array_equal(getattr(kept, name), value), name
         assert np.array_equal(getattr(again, name), value), name
-    assert not np.shares_memory(kept.vx_hat, again.vx_hat)
+    assert not np.shares_memory(kept.vx_hat_mps, again.vx_hat_mps)
 
 
 def test_nan_sample_is_prediction_only_and_flagged():

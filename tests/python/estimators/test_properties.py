@@ -34,8 +34,8 @@ settings.load_profile(os.environ.get("YOYOGAIT_HYPOTHESIS_PROFILE", "ci"))
 T = 0.04
 V_MAX = EstimatorConfig().max_abs_velocity_mps
 PRESETS = ("paper", "default")
-OUTPUTS = ("state", "vx_hat", "vz_hat", "R_m", "r_m", "step_frequency_hz", "step_frequency_std_hz", "speed_mps",
-           "speed_std_mps", "A0_mps", "A1_mps", "vx_hat_h2", "vz_hat_h2", "std_scale")  # fmt: skip
+OUTPUTS = ("state", "vx_hat_mps", "vz_hat_mps", "R_m", "r_m", "step_frequency_hz", "step_frequency_std_hz", "speed_mps",
+           "speed_std_mps", "A0_mps", "A1_mps", "vx_hat_h2_mps", "vz_hat_h2_mps", "std_scale")  # fmt: skip
 
 # ------------------------------------------------------------------------------------ strategies
 
@@ -235,7 +235,7 @@ def test_step_run_and_chunked_run_agree_bit_for_bit(preset, c, cuts):
         est.run(vx[a:b], vz[a:b], time_s=None if time_s is None else time_s[a:b], covariance=True)
         for a, b in zip(edges[:-1], edges[1:])
     ]
-    names = ("state", "vx_hat", "step_frequency_std_hz", "speed_std_mps", "R_m", "status", "covariance")
+    names = ("state", "vx_hat_mps", "step_frequency_std_hz", "speed_std_mps", "R_m", "status", "covariance")
     for name in names:
         assert same(np.concatenate([getattr(c, name) for c in chunks]), getattr(whole, name)), name
     est = GaitEstimator(cfg)

@@ -208,8 +208,8 @@ def _perfect_result(truth, t):
     """An estimator output equal to the truth, on grid t."""
     tr = truth.at(t)
     return SimpleNamespace(
-        vx_hat=tr.vx_path_mps,
-        vz_hat=tr.vz_mps,
+        vx_hat_mps=tr.vx_path_mps,
+        vz_hat_mps=tr.vz_mps,
         step_frequency_hz=tr.step_frequency_hz,
         speed_mps=tr.speed_mps,
         R_m=tr.R_m,
@@ -250,7 +250,7 @@ def test_evaluate_known_offsets():
     t = np.arange(0.0, truth.time_s[-1], 0.04)
     tr = truth.at(t)
     result = _perfect_result(truth, t)
-    result.vx_hat = tr.vx_path_mps + 0.1
+    result.vx_hat_mps = tr.vx_path_mps + 0.1
     result.step_frequency_hz = -(tr.step_frequency_hz + 0.2)
     result.R_m = 1.1 * tr.R_m
     del result.speed_mps  # falls back to R_m * |omega_rad_s|

@@ -118,7 +118,7 @@ def test_200ms_prediction_is_compared_with_the_velocity_0_2_s_later():
     vx, vz = 1.0 + 0.2 * np.sin(2 * np.pi * 1.8 * t), 0.1 * np.cos(2 * np.pi * 1.8 * t)
     ref = on._Refs(t, 100.0, vx, vz, np.ones_like(t, dtype=bool), np.full_like(t, 1.8), np.ones_like(t))
     ahead = [np.interp(t + 0.2, t, v, right=np.nan) for v in (vx, vz)]
-    kw = dict(vx_hat=vx, vz_hat=vz, f_hat=np.full_like(t, 1.8), speed_hat=np.ones_like(t), phase=t % 1.0)
+    kw = dict(vx_hat_mps=vx, vz_hat_mps=vz, f_hat=np.full_like(t, 1.8), speed_hat=np.ones_like(t), phase=t % 1.0)
     kw.update(contacts_s=np.empty(0), synthetic=False, step_at_s=None)
     exact = on._score(ref, pred200=(*ahead, *ahead), **kw)
     stale = on._score(ref, pred200=(*ahead, vx, vz), **kw)

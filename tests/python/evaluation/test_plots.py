@@ -30,8 +30,8 @@ def fake_result(walk):
         tr,
         SimpleNamespace(
             state=state,
-            vx_hat=tr.vx_path_mps + 0.05,
-            vz_hat=tr.vz_mps - 0.02,
+            vx_hat_mps=tr.vx_path_mps + 0.05,
+            vz_hat_mps=tr.vz_mps - 0.02,
             R_m=tr.R_m * 1.05,
             r_m=tr.r_m * 0.9,
             step_frequency_hz=-tr.step_frequency_hz,
@@ -105,9 +105,9 @@ def test_velocity_figure_plots_measured_and_reconstructed(walk, fake_result, tmp
     top, bottom = fig.axes
     (mx, rx), (mz, rz) = top.get_lines(), bottom.get_lines()
     np.testing.assert_allclose(mx.get_ydata(), tr.vx_path_mps)
-    np.testing.assert_allclose(rx.get_ydata(), result.vx_hat)
+    np.testing.assert_allclose(rx.get_ydata(), result.vx_hat_mps)
     np.testing.assert_allclose(mz.get_ydata(), tr.vz_mps)
-    np.testing.assert_allclose(rz.get_ydata(), result.vz_hat)
+    np.testing.assert_allclose(rz.get_ydata(), result.vz_hat_mps)
     np.testing.assert_allclose(rz.get_xdata(), t)
     assert "synthetic" in suptitle(fig).lower()
 
@@ -129,7 +129,7 @@ def test_recording_title_names_real_and_synthetic_sources(walk):
 
 def test_arrays_of_the_wrong_length_are_refused():
     """An estimate not on the time grid is an input error, not a misleading figure."""
-    with pytest.raises(InputError, match="vx_hat"):
+    with pytest.raises(InputError, match="vx_hat_mps"):
         plots.velocity_figure(np.arange(5.0), np.zeros(5), np.zeros(5), vx_hat_mps=np.zeros(4))
 
 

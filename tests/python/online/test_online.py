@@ -73,7 +73,7 @@ def test_update_run_and_chunks_agree():
 
 
 def test_before_the_first_estimator_sample_the_reconstruction_is_the_measured_velocity(datasets_dir):
-    """Until the estimator is first fed, vx_hat/vz_hat (and predict) are the front-end's velocities, not zero."""
+    """Until the estimator is first fed, vx_hat_mps/vz_hat_mps (and predict) are the front-end velocities, not 0."""
     rec = io.read(datasets_dir / "c3d_org_samples" / "sample26_Qualisys_Capture0002.c3d")
     res = OnlineEstimator.for_recording(rec).run(rec)
     before = np.cumsum(res.estimator_fed) == 0
@@ -87,7 +87,7 @@ def test_before_the_first_estimator_sample_the_reconstruction_is_the_measured_ve
 
 @pytest.mark.parametrize("rate_hz", [30.0, 100.0, 250.0])
 def test_reconstruction_is_timed_to_the_frame(rate_hz):
-    """vz_hat describes the velocity at the frame's time: within 3 ms of the truth at any capture rate."""
+    """vz_hat_mps describes the velocity at the frame's time: within 3 ms of the truth at any capture rate."""
     walk = synthetic.default_lab(rate_hz=rate_hz)[0]
     res = OnlineEstimator.for_recording(walk.recording).run(walk.recording)
     vz = np.interp(res.time_s, walk.truth.time_s, walk.truth.vz_mps)

@@ -869,15 +869,15 @@ class DefaultEstimator:
         x, P = f.x, f.P
         w = x[IW]
         if self.walking:
-            vx_hat = x[IA0] + x[IX1]  # model reconstruction: R w + phase-shifted oscillation
-            vz_hat = x[IZ1]
+            vx_hat_mps = x[IA0] + x[IX1]  # model reconstruction: R w + phase-shifted oscillation
+            vz_hat_mps = x[IZ1]
             ux, vx2 = self._harm_basis(f, CH_VX)
             uz, vz2 = self._harm_basis(f, CH_VZ)
-            vx_h2 = vx_hat + fh[0].value(ux, vx2)
-            vz_h2 = vz_hat + fh[1].value(uz, vz2)
+            vx_h2 = vx_hat_mps + fh[0].value(ux, vx2)
+            vz_h2 = vz_hat_mps + fh[1].value(uz, vz2)
         else:
-            vx_hat = vx_h2 = x[IA0]
-            vz_hat = vz_h2 = 0.0
+            vx_hat_mps = vx_h2 = x[IA0]
+            vz_hat_mps = vz_h2 = 0.0
         ax = math.hypot(x[IX1], x[IX2])
         az = math.hypot(x[IZ1], x[IZ2])
         # phase of the forward oscillation relative to the vertical one, (-pi, pi]: the Yoyo model
@@ -909,10 +909,10 @@ class DefaultEstimator:
             amp_z_mps=az,
             phase_x_rel_z_rad=rel,
             signed_amp_x_mps=signed,
-            vx_hat=vx_hat,
-            vz_hat=vz_hat,
-            vx_hat_h2=vx_h2,
-            vz_hat_h2=vz_h2,
+            vx_hat_mps=vx_hat_mps,
+            vz_hat_mps=vz_hat_mps,
+            vx_hat_h2_mps=vx_h2,
+            vz_hat_h2_mps=vz_h2,
             R_m=self.R_m,
             r_m=self.r_m,
             std_scale=lam,
@@ -1037,10 +1037,10 @@ def run_reference(vx, vz, dt=None, cfg=None, predict_ahead_s=()):
         "amp_z_mps",
         "phase_x_rel_z_rad",
         "signed_amp_x_mps",
-        "vx_hat",
-        "vz_hat",
-        "vx_hat_h2",
-        "vz_hat_h2",
+        "vx_hat_mps",
+        "vz_hat_mps",
+        "vx_hat_h2_mps",
+        "vz_hat_h2_mps",
         "R_m",
         "r_m",
         "std_scale",

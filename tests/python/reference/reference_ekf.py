@@ -67,7 +67,7 @@ def reference_paper_estimator(
     mu_A0=0.1,
     v_max=1000.0,
 ):
-    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat, vz_hat, the
+    """Run eq. 5-14 over the samples; returns dict of arrays (state, R_hat, r_hat, vx_hat_mps, vz_hat_mps, the
     covariance P after each sample, and the diagnostics: innovation (N, 2) = z - H x- at the
     prediction, nis = y^T S^-1 y; NaN where unused)."""
     N = len(vx)
@@ -83,8 +83,8 @@ def reference_paper_estimator(
     R_hist = np.empty(N + 1)
     r_hist = np.empty(N + 1)
     R_hist[0], r_hist[0] = R0, r0
-    vx_hat = np.empty(N)
-    vz_hat = np.empty(N)
+    vx_hat_mps = np.empty(N)
+    vz_hat_mps = np.empty(N)
     innovation = np.full((N, 2), np.nan)
     nis = np.full(N, np.nan)
     for k in range(1, N + 1):
@@ -136,14 +136,14 @@ def reference_paper_estimator(
             R_hist[k] = R_hist[k - 1]
             r_hist[k] = r_hist[k - 1]
         # Eq. 13-14.
-        vx_hat[k - 1] = R_hist[k] * x[2] + r_hist[k] * x[2] * x[0] / A1
-        vz_hat[k - 1] = -r_hist[k] * x[2] * x[1] / A1
+        vx_hat_mps[k - 1] = R_hist[k] * x[2] + r_hist[k] * x[2] * x[0] / A1
+        vz_hat_mps[k - 1] = -r_hist[k] * x[2] * x[1] / A1
     return {
         "state": states,
         "R_hat": R_hist[1:],
         "r_hat": r_hist[1:],
-        "vx_hat": vx_hat,
-        "vz_hat": vz_hat,
+        "vx_hat_mps": vx_hat_mps,
+        "vz_hat_mps": vz_hat_mps,
         "innovation": innovation,
         "nis": nis,
         "P": covariances,
