@@ -8,9 +8,9 @@ import click
 import numpy as np
 
 from .. import io
-from .._files import atomic_file, atomic_files
+from .._files import atomic_files
 from ..errors import InputError, OutputError, about_file
-from ..estimators.config import EstimatorConfig
+from ..estimators.config import EstimatorConfig, OnlineConfig
 from ..estimators.online import OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
@@ -84,8 +84,8 @@ def command(
     last walking values) and status (0: the sample was used).
 
     --online replays FILE frame by frame through the online estimator (nothing from the future;
-    default estimator, no figure): one row per capture frame with time_s, vx_mps, vz_mps,
-    vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz, speed_mps, speed_std_mps,
+    the default estimator, or the one --config FILE sets with its [online] table; no figure): one
+    row per capture frame with time_s, vx_mps, vz_mps, vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz, speed_mps, speed_std_mps,
     heading_rad, gait_phase, walking, status (0 used, 1 no point seen, 2 timestamp not increasing,
     3 restart after a gap, 4 non-finite), input_latency_s and next_step_in_s (time to the next
     lowest point of the pelvis, NaN while standing); --out defaults to FILE's name + .online.csv.
@@ -93,9 +93,8 @@ def command(
     if online:
         if belt_speed_mps is not None:
             raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")
-        if config_file is not None:
-            raise InputError("--config is not available with --online (the online estimator runs the default)")
-        return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force)
+        config = OnlineConfig.from_file(config_file) if config_file is not None else None
+        return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config)
     run = estimators()[preset]
     if config_file is not None:
         if ctx.get_parameter_source("preset") == click.core.ParameterSource.COMMANDLINE:
@@ -145,29 +144,8 @@ def command(
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))
 
 
-ONLINE_COLUMNS = (
-    "time_s",
-    "vx_mps",
-    "vz_mps",
-    "vx_hat_mps",
-    "vz_hat_mps",
-    "step_frequency_hz",
-    "step_frequency_std_hz",
-    "speed_mps",
-    "speed_std_mps",
-    "heading_rad",
-    "gait_phase",
-    "walking",
-    "status",
-    "input_latency_s",
-    "next_step_in_s",
-)
-#: printf formats of ONLINE_COLUMNS (``live --record`` writes the same).
-ONLINE_FORMATS = ("%.6f",) + ("%.6g",) * 10 + ("%d", "%d", "%.6g", "%.6g")
-
-
-def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force):
-    """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator (ONLINE_COLUMNS;
+def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config=None):
+    """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator (ONLINE_CSV_COLUMNS;
     status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite)."""
     if preset != "default":
         raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
@@ -181,13 +159,9 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     with about_file(file):
         recording = io.read(file, **overrides)
         check_points(recording, point)
-        est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis)
+        est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis, config=config)
         res = est.run(recording)
-    table = np.column_stack([getattr(res, c).astype(float) for c in ONLINE_COLUMNS])
-    fmt = list(ONLINE_FORMATS)
-    atomic_file(
-        out, lambda p: np.savetxt(p, table, delimiter=",", header=",".join(ONLINE_COLUMNS), comments="", fmt=fmt)
-    )
+    res.to_csv(out)
     walking = res.walking
     f = res.step_frequency_hz[walking] if walking.any() else res.step_frequency_hz
     click.echo(

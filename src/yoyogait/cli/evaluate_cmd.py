@@ -14,6 +14,7 @@ from .. import io
 from .._files import check_output_folder
 from .._guard import output_lock
 from ..errors import InputError
+from ..estimators.config import OnlineConfig
 from ..estimators.registry import config_estimators
 from ..evaluation import parallel
 from .options import (
@@ -71,8 +72,9 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
 
 
 def _evaluate_and_write(
-    dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online=False
-):
+    dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online=False,
+    online_config=None,
+):  # fmt: skip
     """The evaluation of :func:`run_evaluation`, its printout, and then its report."""
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
     if online:  # the online estimator and the oscillator; the synthetic lab gains its cadence-step walks
@@ -90,7 +92,11 @@ def _evaluate_and_write(
             if ship_files:
                 items = [ev.datasets.shipped(item) for item in items]
         click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings ({where}): {label}", err=True)
-        run = ev.evaluate_online if online else functools.partial(ev.evaluate, names=names, configs=configs)
+        run = (
+            functools.partial(ev.evaluate_online, config=online_config)
+            if online
+            else functools.partial(ev.evaluate, names=names, configs=configs)
+        )
         result = run(
             items,
             progress=True,
@@ -141,9 +147,14 @@ def run_evaluation(
     ``online``: the online evaluation (:func:`yoyogait.evaluation.evaluate_online`).
     The whole run holds the lock on ``out``: a second run on it fails at once.
     """
-    if online and config_files:
-        raise InputError("--config applies to the estimators of the offline evaluation, not to --online")
-    configs = config_estimators(config_files)
+    online_config = None
+    if online:
+        if len(config_files) > 1:
+            raise InputError("--online takes one --config (the online estimator's settings), not several")
+        online_config = OnlineConfig.from_file(config_files[0]) if config_files else None
+        configs = {}
+    else:
+        configs = config_estimators(config_files)
     names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
     jobs = parallel.default_jobs() if jobs is None else jobs
     if jobs < 1:
@@ -154,8 +165,9 @@ def run_evaluation(
     with output_lock(out):
         check_output_folder(out, force)  # again: a run that just finished may have written it
         result = _evaluate_and_write(
-            dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online
-        )
+            dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online,
+            online_config,
+        )  # fmt: skip
     click.echo(f"\nReport: {out / 'index.md'}")
     for name, message in result.failures:
         click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)

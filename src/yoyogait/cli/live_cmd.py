@@ -9,10 +9,11 @@ from pathlib import Path
 
 import click
 
+from ..estimators.config import OnlineConfig
+from ..estimators.online import ONLINE_CSV_COLUMNS, csv_formats
 from ..live.live import describe_source, run_live
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
-from .estimate_cmd import ONLINE_COLUMNS, ONLINE_FORMATS
 from .options import POSITIVE, split_names
 
 
@@ -64,6 +65,15 @@ from .options import POSITIVE, split_names
 )
 @click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
 @click.option(
+    "--config",
+    "config_file",
+    type=click.Path(dir_okay=False),
+    metavar="FILE",
+    default=None,
+    help="Settings of the online estimator: a TOML file with the estimator's fields and an [online] table "
+    "(docs/configuration.md).",
+)
+@click.option(
     "--ros2-topic",
     default=None,
     metavar="TOPIC",
@@ -71,9 +81,10 @@ from .options import POSITIVE, split_names
 )
 def command(
     source, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout, max_buffer_s,
-    list_points, ros2_topic,
+    list_points, config_file, ros2_topic,
 ):  # fmt: skip
     """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates."""
+    config = OnlineConfig.from_file(config_file) if config_file is not None else None
     if list_points:
         for line in describe_source(source, timeout):
             click.echo(line)
@@ -105,14 +116,15 @@ def command(
             duration_s=duration,
             exit_on_end=exit_on_end,
             record=Path(record) if record else None,
-            record_columns=ONLINE_COLUMNS,
-            record_formats=ONLINE_FORMATS,
+            record_columns=ONLINE_CSV_COLUMNS,
+            record_formats=csv_formats(ONLINE_CSV_COLUMNS),
             force=force,
             max_buffer_s=max_buffer_s,
             on_setup=setup,
             on_estimate=sink.publish if sink is not None else None,
             on_status=status.show if status is not None else None,
             stop=stop,
+            config=config,
         )
     finally:
         if in_main:

@@ -46,6 +46,7 @@ __all__ = [
     "OnlineConfig",
     "GaitFilterConfig",
     "PaperConfig",
+    "effective_toml",
     "schema_markdown",
 ]
 
@@ -518,6 +519,24 @@ class OnlineConfig:
         if problem:
             raise InputError(f"invalid online configuration: {problem}")
         return native
+
+
+def effective_toml(preset: str | None = None, path=None) -> str:
+    """The effective configuration as TOML: the estimator of ``preset`` (default: the default) or of
+    the file ``path`` applied to the defaults, then the ``[online]`` table (the file's, checked, else
+    the defaults). The online table is printed for either algorithm: the offline commands ignore it."""
+    if path is not None:
+        path = Path(path)
+        estimator = EstimatorConfig.from_file(path)
+        online_values = _read_toml(path).get(ONLINE_SECTION, {})
+    else:
+        estimator = EstimatorConfig.preset(preset or "default")
+        online_values = {}
+    try:  # the online table checked on its own (with the default estimator behind it)
+        online = OnlineConfig().with_values({ONLINE_SECTION: online_values})
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}" if path is not None else str(exc)) from None
+    return estimator.to_toml() + "\n" + tomli_w.dumps({ONLINE_SECTION: online.to_dict()[ONLINE_SECTION]})
 
 
 PRESETS = {"paper": EstimatorConfig.paper, "default": EstimatorConfig.default}

@@ -18,16 +18,28 @@ from __future__ import annotations
 import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from .. import _core
+from .._files import atomic_file
 from ..errors import InputError, YoyogaitError
 from ..io.recording import AXES, Recording
 from ..pipeline import points
 from .config import OnlineConfig
+from .records import fields_of
 
-__all__ = ["OnlineConfig", "OnlineEstimator", "OnlineResult", "OnlineStatus", "ConcurrentUseError", "MAX_POINTS"]
+__all__ = [
+    "ONLINE_CSV_COLUMNS",
+    "ONLINE_ESTIMATE_COLUMNS",
+    "OnlineConfig",
+    "OnlineEstimator",
+    "OnlineResult",
+    "OnlineStatus",
+    "ConcurrentUseError",
+    "MAX_POINTS",
+]
 
 OnlineStatus = _core.OnlineStatus
 """What ``update`` did with a frame: USED, ALL_MISSING, TIME_NOT_INCREASING, GAP_RESTART, NON_FINITE."""
@@ -39,9 +51,51 @@ class ConcurrentUseError(YoyogaitError, RuntimeError):
     """An OnlineEstimator was called from a second thread while a call was running."""
 
 
+#: The fields of the native OnlineEstimate as its C++ table declares them (YOYOGAIT_ONLINE_ESTIMATE_FIELDS,
+#: include/yoyogait/online/online_estimate.hpp): name, type, unit, doc, in the table's order.
+ONLINE_ESTIMATE_FIELDS = fields_of("OnlineEstimate")
+
+
+def column_of(field_name: str) -> str:
+    """The column of a record field in every per-frame table: the record's ``t_s`` is ``time_s``, as the
+    time of every table of the package; the others keep their names."""
+    return "time_s" if field_name == "t_s" else field_name
+
+
+#: One column per field of OnlineEstimate, in the table's order (``OnlineResult``, the LSL estimate stream).
+ONLINE_ESTIMATE_COLUMNS: tuple[str, ...] = tuple(column_of(f.name) for f in ONLINE_ESTIMATE_FIELDS)
+
+#: The columns of an online estimate CSV (``estimate --online``, ``live --record``), in order.
+ONLINE_CSV_COLUMNS = (
+    "time_s",
+    "vx_mps",
+    "vz_mps",
+    "vx_hat_mps",
+    "vz_hat_mps",
+    "step_frequency_hz",
+    "step_frequency_std_hz",
+    "speed_mps",
+    "speed_std_mps",
+    "heading_rad",
+    "gait_phase",
+    "walking",
+    "status",
+    "input_latency_s",
+    "next_step_in_s",
+)
+
+
+def csv_formats(columns) -> list[str]:
+    """printf formats of per-frame columns, from the record table's types: the time to the microsecond,
+    other floats to 6 significant digits, flags, codes and counts as integers."""
+    types = {column_of(f.name): f.type for f in ONLINE_ESTIMATE_FIELDS}
+    return ["%.6f" if c == "time_s" else "%.6g" if types[c] == "float" else "%d" for c in columns]
+
+
 @dataclass
 class OnlineResult:
-    """One row per frame of ``OnlineEstimator.run``: the fields of the native OnlineEstimate as arrays."""
+    """One row per frame of ``OnlineEstimator.run``: the fields of the native OnlineEstimate as arrays, in the
+    order of its table (docs/records.md; a test holds them to it), then the predictions."""
 
     time_s: np.ndarray
     vx_mps: np.ndarray
@@ -58,10 +112,10 @@ class OnlineResult:
     speed_mps: np.ndarray
     speed_std_mps: np.ndarray
     gait_phase: np.ndarray
-    input_latency_s: np.ndarray
-    estimate_age_s: np.ndarray
     next_step_in_s: np.ndarray
     """Time to the next step (gait_phase 0.75, the pelvis low point) [s]; NaN while not walking."""
+    input_latency_s: np.ndarray
+    estimate_age_s: np.ndarray
     status: np.ndarray
     estimator_status: np.ndarray
     walking: np.ndarray
@@ -78,6 +132,14 @@ class OnlineResult:
 
     def __len__(self) -> int:
         return len(self.time_s)
+
+    def to_csv(self, path, columns=ONLINE_CSV_COLUMNS):
+        """Write ``columns`` (default :data:`ONLINE_CSV_COLUMNS`, what ``estimate --online`` writes) as
+        CSV to ``path``, through a temporary file; returns the path."""
+        table = np.column_stack([getattr(self, c).astype(float) for c in columns])
+        header, fmt = ",".join(columns), csv_formats(columns)
+        atomic_file(Path(path), lambda p: np.savetxt(p, table, delimiter=",", header=header, comments="", fmt=fmt))
+        return Path(path)
 
 
 class OnlineEstimator:

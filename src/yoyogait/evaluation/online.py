@@ -28,7 +28,7 @@ import numpy as np
 
 from .. import synthetic as synth
 from ..errors import InputError
-from ..estimators.online import OnlineEstimator
+from ..estimators.online import OnlineConfig, OnlineEstimator
 from ..estimators.oscillator import AdaptiveOscillator
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
@@ -353,13 +353,14 @@ def _run_oscillator(vel) -> dict[str, np.ndarray]:
     return out
 
 
-def evaluate_item_online(item: Item) -> ItemResult:
-    """Replay one item frame by frame through the online estimator and score it, with the adaptive
-    oscillator beside it (a top-level function: it runs in worker processes too)."""
+def evaluate_item_online(item: Item, config: OnlineConfig | None = None) -> ItemResult:
+    """Replay one item frame by frame through the online estimator (``config``: its settings, else the
+    defaults) and score it, with the adaptive oscillator beside it (a top-level function: it runs in
+    worker processes too)."""
     recording = item.load()
     point = item.pelvis if item.pelvis else None
     vel = gait_velocities(recording, point=point, rate_hz=RATE_HZ, up_axis=item.up_axis)
-    estimator = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis)
+    estimator = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis, config=config)
     res = estimator.run(recording, predict_ahead_s=(PREDICT_AHEAD_S,))
     t = np.asarray(res.time_s, dtype=float)
     dt = np.diff(t)
@@ -466,11 +467,11 @@ def step_walk_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:
     return [synthetic_item(walk) for walk in synth.step_walks(seed=seed, rate_hz=rate_hz)]
 
 
-def run_item_online(item: Item) -> ItemResult | TaskFailure:
+def run_item_online(item: Item, config: OnlineConfig | None = None) -> ItemResult | TaskFailure:
     """:func:`evaluate_item_online`, with what stops it as a :class:`TaskFailure` (what worker
     processes and Dask workers run)."""
     try:
-        return evaluate_item_online(item)
+        return evaluate_item_online(item, config)
     except InputError as exc:
         return TaskFailure(str(exc))
 
@@ -484,6 +485,7 @@ def evaluate_online(
     failures=None,
     jobs: int = 1,
     executor=None,
+    config: OnlineConfig | None = None,
 ) -> OnlineEvaluation:
     """The online evaluation of every item; an item that cannot be read or processed is reported.
 
@@ -494,7 +496,7 @@ def evaluate_online(
     items = list(items)
     outcomes = run_tasks(
         run_item_online,
-        [(item,) for item in items],
+        [(item, config) for item in items],
         jobs=jobs,
         executor=executor,
         progress="evaluating online" if progress else None,

@@ -22,6 +22,7 @@ Real conditions:
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import time
@@ -33,7 +34,7 @@ from typing import Any, TextIO
 import numpy as np
 
 from ..errors import InputError
-from ..estimators.online import OnlineEstimator
+from ..estimators.online import ONLINE_ESTIMATE_FIELDS, OnlineConfig, OnlineEstimator, column_of
 from ..io.recording import Recording
 from ..pipeline import points
 from ._lsl import pylsl
@@ -41,32 +42,9 @@ from .layout import MarkerLayout, read_layout
 
 ESTIMATE_STREAM_TYPE = "GaitEstimate"
 
-#: The estimate stream's channels, in order: (name with its unit, attribute of the native estimate).
-ESTIMATE_CHANNELS: tuple[tuple[str, str], ...] = (
-    ("time_s", "t_s"),
-    ("vx_mps", "vx_mps"),
-    ("vz_mps", "vz_mps"),
-    ("vh_a_mps", "vh_a_mps"),
-    ("vh_b_mps", "vh_b_mps"),
-    ("heading_rad", "heading_rad"),
-    ("walk_a_mps", "walk_a_mps"),
-    ("walk_b_mps", "walk_b_mps"),
-    ("vx_hat_mps", "vx_hat_mps"),
-    ("vz_hat_mps", "vz_hat_mps"),
-    ("step_frequency_hz", "step_frequency_hz"),
-    ("step_frequency_std_hz", "step_frequency_std_hz"),
-    ("speed_mps", "speed_mps"),
-    ("speed_std_mps", "speed_std_mps"),
-    ("gait_phase", "gait_phase"),
-    ("input_latency_s", "input_latency_s"),
-    ("estimate_age_s", "estimate_age_s"),
-    ("status", "status"),
-    ("estimator_status", "estimator_status"),
-    ("walking", "walking"),
-    ("estimator_fed", "estimator_fed"),
-    ("points_seen", "points_seen"),
-    ("next_step_in_s", "next_step_in_s"),
-)
+#: The estimate stream's channels, in order: (name with its unit, attribute of the native estimate), one
+#: per field of the C++ table of OnlineEstimate (its ``t_s`` is the ``time_s`` channel).
+ESTIMATE_CHANNELS: tuple[tuple[str, str], ...] = tuple((column_of(f.name), f.name) for f in ONLINE_ESTIMATE_FIELDS)
 ESTIMATE_COLUMNS = tuple(name for name, _ in ESTIMATE_CHANNELS)
 _ATTRIBUTES = tuple(attr for _, attr in ESTIMATE_CHANNELS)
 
@@ -260,6 +238,7 @@ def run_live(
     on_status: Callable[[LiveCounters, list[float]], None] | None = None,
     status_interval_s: float = 0.5,
     stop: threading.Event | None = None,
+    config: OnlineConfig | None = None,
 ) -> LiveCounters:
     """Estimate gait live from the marker stream ``source`` until ``duration_s``, its end (with
     ``exit_on_end``) or ``stop``. Returns the counters.
@@ -294,7 +273,8 @@ def run_live(
         except (lsl.util.TimeoutError, lsl.util.LostError) as exc:
             raise InputError(f"stream {source!r}: could not connect within {resolve_timeout_s:g} s ({exc})") from None
         counters = _loop(
-            inlet, outlet, recorder, setup, OnlineEstimator, duration_s, reacquire_after_s, stop,
+            inlet, outlet, recorder, setup, functools.partial(OnlineEstimator, config=config), duration_s,
+            reacquire_after_s, stop,
             on_estimate, on_status, status_interval_s,
         )  # fmt: skip
     except BaseException:

@@ -49,3 +49,39 @@ def test_evaluate_with_config_file_adds_an_estimator(walk_dir, tmp_path):
     assert main([*argv, "--config", str(walk_dir / "mine.toml")]) == 0
     rows = list(csv.DictReader(open(out / "recordings.csv")))
     assert sorted({r["estimator"] for r in rows}) == ["mine", "paper"]
+
+
+def test_config_prints_the_effective_configuration_that_reads_back(walk_dir, tmp_path, capsys):
+    """`yoyogait config` prints every field and the [online] table as TOML; read back by --config it prints the same."""
+    assert main(["config", "--config", str(walk_dir / "mine.toml")]) == 0
+    text = capsys.readouterr().out
+    assert "gate_sigma = 4.0" in text and "[online]" in text and "heading_tau_s = 0.5" in text
+    saved = tmp_path / "effective.toml"
+    saved.write_text(text)
+    assert main(["config", "--config", str(saved)]) == 0
+    assert capsys.readouterr().out == text
+    assert main(["config", "--preset", "paper"]) == 0
+    assert 'algorithm = "paper"' in capsys.readouterr().out
+    assert main(["config", "--preset", "paper", "--config", str(saved)]) == 2
+    assert "not both" in capsys.readouterr().err
+
+
+def test_online_commands_take_the_online_table_of_a_config_file(walk_dir, tmp_path, capsys, monkeypatch):
+    """`estimate --online --config` runs the front-end the file's [online] table sets (a change shows in the CSV)."""
+    monkeypatch.chdir(tmp_path)
+    tuned = tmp_path / "slow_heading.toml"
+    tuned.write_text("[online]\nheading_tau_s = 2.0\nmeas_position_std_m = 0.01\n")
+    trc = str(walk_dir / "w.trc")
+    assert main(["estimate", "--online", trc, "--out", "plain.csv"]) == 0
+    assert main(["estimate", "--online", trc, "--config", str(tuned), "--out", "tuned.csv"]) == 0
+    plain = np.genfromtxt(tmp_path / "plain.csv", delimiter=",", names=True)
+    changed = np.genfromtxt(tmp_path / "tuned.csv", delimiter=",", names=True)
+    assert plain.dtype.names == changed.dtype.names and plain.size == changed.size
+    assert not np.allclose(plain["vx_mps"], changed["vx_mps"], equal_nan=True)
+    capsys.readouterr()
+    bad = tmp_path / "bad_online.toml"
+    bad.write_text("[online]\nmax_gap_s = 0.0\n")
+    assert main(["estimate", "--online", trc, "--config", str(bad), "--out", "x.csv"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "bad_online.toml" in err[0] and "online.max_gap_s" in err[0]
+    assert not (tmp_path / "x.csv").exists()
