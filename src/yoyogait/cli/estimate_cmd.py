@@ -85,10 +85,11 @@ def command(
 
     --online replays FILE frame by frame through the online estimator (nothing from the future;
     the default estimator, or the one --config FILE sets with its [online] table; no figure): one
-    row per capture frame with time_s, vx_mps, vz_mps, vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz, speed_mps, speed_std_mps,
-    heading_rad, gait_phase, walking, status (0 used, 1 no point seen, 2 timestamp not increasing,
-    3 restart after a gap, 4 non-finite), input_latency_s and next_step_in_s (time to the next
-    lowest point of the pelvis, NaN while standing); --out defaults to FILE's name + .online.csv.
+    row per capture frame with time_s, vx_mps, vz_mps, vx_hat_mps, vz_hat_mps, step_frequency_hz,
+    step_frequency_std_hz, speed_mps, speed_std_mps, heading_rad, gait_phase, walking, status (0
+    used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite),
+    input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
+    standing); --out defaults to FILE's name + .online.csv.
     """
     if online:
         if belt_speed_mps is not None:
