@@ -9,6 +9,7 @@ import numpy as np
 
 from .. import io
 from .._files import atomic_files
+from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError, OutputError, about_file
 from ..estimators.config import EstimatorConfig, OnlineConfig
 from ..estimators.online import OnlineEstimator
@@ -97,10 +98,13 @@ def command(
         config = OnlineConfig.from_file(config_file) if config_file is not None else None
         return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config)
     run = estimators()[preset]
+    resample_hz = RESAMPLE_RATE_HZ
     if config_file is not None:
         if ctx.get_parameter_source("preset") == click.core.ParameterSource.COMMANDLINE:
             raise InputError("give --preset or --config, not both")
-        run = preset_runner(EstimatorConfig.from_file(config_file))
+        config = EstimatorConfig.from_file(config_file)
+        run = preset_runner(config)
+        resample_hz = 1.0 / config.sample_time_s  # the velocities come at the estimator's sample time
         preset = Path(config_file).name
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
@@ -112,7 +116,9 @@ def command(
     with about_file(file):
         recording = io.read(file, **overrides)
         check_points(recording, point, feet)
-        vel = gait_velocities(recording, point=point, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps)
+        vel = gait_velocities(
+            recording, point=point, rate_hz=resample_hz, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps
+        )
         res = run(vel)
         contacts = foot_contacts(recording, feet, vel.up_axis) if fig is not None else None
     f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._sample_time import SAMPLE_TIME_S
 from ..errors import InputError
 from .results import PREDICTION_HORIZONS_S, EstimateResult, result_from_fit
 
@@ -47,7 +48,7 @@ class OscillatorConfig:
     min_rms_mps: float = 0.02  # floor of the normalisation
     f_min_hz: float = 0.3
     f_max_hz: float = 4.0
-    sample_time_s: float = 0.04  # used where no time step is given
+    sample_time_s: float = SAMPLE_TIME_S  # used where no time step is given
 
     def __post_init__(self):
         if not (isinstance(self.n_harmonics, int) and self.n_harmonics >= 1):

@@ -14,12 +14,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import _table
+from .._sample_time import SAMPLE_TIME_S
 from ..errors import InputError
 
 __all__ = ["EstimateResult", "PREDICTION_HORIZONS_S", "result_from_fit"]
 
-PREDICTION_HORIZONS_S = (0.04, 0.2)
-"""Horizons the evaluation predicts at [s]: one sample at 25 Hz, and 0.2 s."""
+PREDICTION_HORIZONS_S = (SAMPLE_TIME_S, 0.2)
+"""Horizons the evaluation predicts at [s]: one sample (the estimator's sample_time_s, 0.04 s), and 0.2 s."""
 
 TWO_PI = 2.0 * math.pi
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._sample_time import SAMPLE_TIME_S
 from .results import PREDICTION_HORIZONS_S, EstimateResult, result_from_fit
 
 __all__ = ["SlidingDft", "sliding_dft"]
@@ -36,7 +37,7 @@ def sliding_dft(
     min_hz: float = 0.5,
     max_hz: float = 4.0,
     resolution_hz: float = 0.01,
-    predict_ahead_s=(0.04, 0.2),
+    predict_ahead_s=PREDICTION_HORIZONS_S,
 ) -> EstimateResult:
     """The offline sliding-DFT estimate on a uniform grid (see the module doc).
 
@@ -46,7 +47,7 @@ def sliding_dft(
     vx = np.asarray(vx, dtype=float)
     vz = np.asarray(vz, dtype=float)
     n = t.size
-    T = float(np.median(np.diff(t))) if n > 1 else 0.04
+    T = float(np.median(np.diff(t))) if n > 1 else SAMPLE_TIME_S
     half = max(2, int(round(window_s / (2 * T))))
     freqs = np.arange(min_hz, max_hz + resolution_hz / 2, resolution_hz)
     offsets = np.arange(-half, half + 1)

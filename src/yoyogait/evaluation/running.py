@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError
 from ..estimators.registry import check_estimators, estimators
 from ..estimators.results import PREDICTION_HORIZONS_S
@@ -36,7 +37,7 @@ __all__ = [
     "STAGES",
 ]
 
-RATE_HZ = 25.0  # the paper's resampling rate (Sec. IV-A)
+RATE_HZ = RESAMPLE_RATE_HZ  # 1 / the estimator's sample_time_s: the paper's 25 Hz (Sec. IV-A)
 DEFAULT_ESTIMATORS = ("paper", "default")
 STAGES = ("read", "velocities", "events", "estimators", "metrics")
 """The stages of one item, as timed in :attr:`ItemResult.timings_s` (wall time, seconds)."""
@@ -217,6 +218,12 @@ def evaluate(
     is the same either way, in the order of ``items``.
     """
     names = check_estimators(names, configs)
+    for name, config in (configs or {}).items():  # every estimator runs on the same velocities
+        if name in names and config.sample_time_s != 1.0 / RATE_HZ:
+            raise InputError(
+                f"{name}: sample_time_s = {config.sample_time_s:g} s; the estimators of one evaluation share the "
+                f"velocities at {RATE_HZ:g} Hz (sample_time_s = {1.0 / RATE_HZ:g} s); evaluate it on its own"
+            )
     failures = list(failures or [])
     items = list(items)
     outcomes = run_tasks(

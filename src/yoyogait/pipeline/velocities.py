@@ -27,6 +27,7 @@ import numpy as np
 from scipy.signal import savgol_filter
 
 from .. import _table
+from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError
 from ..io.recording import AXES, MAX_SPEED_MPS, Recording, check_time
 from . import events, points
@@ -132,7 +133,7 @@ class GaitVelocities:
 def gait_velocities(
     recording: Recording,
     point=None,
-    rate_hz: float = 25.0,
+    rate_hz: float = RESAMPLE_RATE_HZ,
     *,
     window_s: float = 0.25,
     polyorder: int = 3,
@@ -146,6 +147,9 @@ def gait_velocities(
     feet=None,
 ) -> GaitVelocities:
     """Forward and vertical velocity of ``point`` at ``rate_hz``, by the paper's pipeline.
+
+    ``rate_hz``: the rate the velocities are resampled to (default 1 / the estimator's
+    ``sample_time_s``, the paper's 25 Hz), not the capture rate (``io.read``'s ``capture_rate_hz``).
 
     ``point``: None or "pelvis" (the pelvis centre), "hand", a point name or a
     list of names to average.  ``window_s``/``polyorder``: the Savitzky-Golay
