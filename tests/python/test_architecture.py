@@ -65,6 +65,66 @@ def _imports(modules: dict[str, Path]):
                 yield name, target, node, id(node) in top
 
 
+#: The stages by rank: a module may import from its own stage and from stages of a lower rank, never up
+#: and never from a sibling of the same rank (evaluation, live and guidance know nothing of each other).
+#: Rank 0 is what every stage shares (errors, output files, the native module, the Yoyo-model).
+STAGE_RANKS = {
+    "": 0,
+    "io": 1,
+    "synthetic": 2,
+    "pipeline": 3,
+    "estimators": 4,
+    "evaluation": 5,
+    "live": 5,
+    "guidance": 5,
+    "cli": 6,
+    "__main__": 7,
+    "yoyogait": 7,
+}
+
+
+def _stage(module: str) -> str:
+    """The stage of a module: its subpackage or stage module (yoyogait.io.c3d: io; yoyogait.synthetic:
+    synthetic), "yoyogait" for the package itself, "" for the shared top-level modules."""
+    parts = module.split(".")
+    if len(parts) == 1:
+        return "yoyogait"
+    return parts[1] if parts[1] in STAGE_RANKS else ""
+
+
+def _layer_violations(modules: dict[str, Path]) -> list[str]:
+    out = []
+    for importer, target, _, _ in _imports(modules):
+        if target not in modules or target == "yoyogait":
+            continue
+        a, b = _stage(importer), _stage(target)
+        if a == b:
+            continue
+        if STAGE_RANKS[b] >= STAGE_RANKS[a]:
+            out.append(f"{importer} ({a or 'shared'}) imports {target} ({b or 'shared'})")
+    return sorted(set(out))
+
+
+def test_every_stage_imports_only_from_stages_before_it():
+    """io < synthetic < pipeline < estimators < evaluation, live, guidance < cli: no import goes up or sideways."""
+    modules = _modules()
+    assert set(STAGE_RANKS) - {"", "yoyogait"} >= {p.name for p in PACKAGE.iterdir() if (p / "__init__.py").is_file()}
+    assert _layer_violations(modules) == []
+
+
+def test_the_layer_check_catches_an_import_that_goes_up(tmp_path):
+    """An io module that imports the pipeline, or evaluation importing live, is reported."""
+    modules = _modules()
+    fake_io = tmp_path / "io_up.py"
+    fake_io.write_text("from ..pipeline import points\n")
+    fake_eval = tmp_path / "eval_side.py"
+    fake_eval.write_text("from ..live import live\n")
+    modules = modules | {"yoyogait.io.io_up": fake_io, "yoyogait.evaluation.eval_side": fake_eval}
+    found = _layer_violations(modules)
+    assert any(v.startswith("yoyogait.io.io_up (io) imports yoyogait.pipeline") for v in found), found
+    assert any(v.startswith("yoyogait.evaluation.eval_side (evaluation) imports yoyogait.live") for v in found), found
+
+
 def test_no_import_cycles_between_modules():
     """No yoyogait module imports, directly or through others, a module that imports it back."""
     modules = _modules()
