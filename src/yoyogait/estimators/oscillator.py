@@ -123,10 +123,13 @@ class AdaptiveOscillator:
         return self._vx_hat(phi[1]), self._vz_hat(phi)
 
 
-def run_oscillator(
-    time_s, vx, vz, *, config: OscillatorConfig | None = None, predict_ahead_s=PREDICTION_HORIZONS_S
-) -> EstimateResult:
-    """Run the oscillator over a signal; returns an :class:`~yoyogait.estimators.results.EstimateResult`."""
+def oscillate(time_s, vx, vz, config: OscillatorConfig | None = None, predict_ahead_s=()) -> dict[str, np.ndarray]:
+    """The oscillator over a signal, sample by sample: per sample the reconstruction
+    (``vx_hat_mps``, ``vz_hat_mps``), ``omega_rad_s``, the speed ``b0_mps``, the fundamentals
+    ``x1_mps``, ``z1_mps``, the phase ``gait_phase`` (phi_1 mod 2 pi, in cycles), ``started``
+    (the first finite sample has been seen) and the predictions ``vx_pred``, ``vz_pred``
+    (samples x horizons). The one loop of the baseline: :func:`run_oscillator` and the online
+    evaluation both read it."""
     cfg = config or OscillatorConfig()
     t = np.asarray(time_s, dtype=float)
     vx = np.asarray(vx, dtype=float)
@@ -134,24 +137,42 @@ def run_oscillator(
     if not (t.shape == vx.shape == vz.shape and t.ndim == 1):
         raise InputError("time_s, vx and vz must be one-dimensional and of the same length")
     n = t.size
-    T = float(np.median(np.diff(t))) if n > 1 else cfg.sample_time_s
     osc = AdaptiveOscillator(cfg)
     horizons = tuple(float(h) for h in predict_ahead_s)
-    omega, b0, x1, z1 = (np.empty(n) for _ in range(4))
-    vx_hat_mps, vz_hat_mps = np.empty(n), np.empty(n)
-    vx_pred, vz_pred = np.empty((n, len(horizons))), np.empty((n, len(horizons)))
+    keys = ("vx_hat_mps", "vz_hat_mps", "omega_rad_s", "b0_mps", "x1_mps", "z1_mps", "gait_phase")
+    out = {k: np.empty(n) for k in keys}
+    out["started"] = np.zeros(n, dtype=bool)
+    out["vx_pred"], out["vz_pred"] = np.empty((n, len(horizons))), np.empty((n, len(horizons)))
     prev = None
     for i in range(n):
         dt = None if prev is None else t[i] - prev
         prev = t[i]
-        vx_hat_mps[i], vz_hat_mps[i] = osc.step(vx[i], vz[i], dt)
-        omega[i], b0[i] = osc.omega_rad_s, osc.b[0]
-        x1[i] = osc.b[1] * math.cos(osc.phi[1]) + osc.c[1] * math.sin(osc.phi[1])  # v_x fundamental
-        z1[i] = osc.a[1] * math.cos(osc.phi[1])  # v_z fundamental
+        out["vx_hat_mps"][i], out["vz_hat_mps"][i] = osc.step(vx[i], vz[i], dt)
+        out["omega_rad_s"][i], out["b0_mps"][i] = osc.omega_rad_s, osc.b[0]
+        out["x1_mps"][i] = osc.b[1] * math.cos(osc.phi[1]) + osc.c[1] * math.sin(osc.phi[1])  # v_x fundamental
+        out["z1_mps"][i] = osc.a[1] * math.cos(osc.phi[1])  # v_z fundamental
+        out["gait_phase"][i] = (osc.phi[1] % TWO_PI) / TWO_PI
+        out["started"][i] = osc.started
         for j, h in enumerate(horizons):
-            vx_pred[i, j], vz_pred[i, j] = osc.predict(h)
+            out["vx_pred"][i, j], out["vz_pred"][i, j] = osc.predict(h)
+    return out
+
+
+def run_oscillator(
+    time_s, vx, vz, *, config: OscillatorConfig | None = None, predict_ahead_s=PREDICTION_HORIZONS_S
+) -> EstimateResult:
+    """Run the oscillator over a signal; returns an :class:`~yoyogait.estimators.results.EstimateResult`."""
+    cfg = config or OscillatorConfig()
+    t = np.asarray(time_s, dtype=float)
+    o = oscillate(t, vx, vz, cfg, predict_ahead_s)
+    n = t.size
+    T = float(np.median(np.diff(t))) if n > 1 else cfg.sample_time_s
+    horizons = tuple(float(h) for h in predict_ahead_s)
     # In the paper's state, v_z = -x2.
-    return result_from_fit(omega, b0, x1, -z1, vx_hat_mps, vz_hat_mps, T, vx_pred, vz_pred, horizons, t)
+    return result_from_fit(
+        o["omega_rad_s"], o["b0_mps"], o["x1_mps"], -o["z1_mps"], o["vx_hat_mps"], o["vz_hat_mps"], T,
+        o["vx_pred"], o["vz_pred"], horizons, t,
+    )  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -29,13 +29,13 @@ import numpy as np
 from .. import synthetic as synth
 from ..errors import InputError
 from ..estimators.online import OnlineConfig, OnlineEstimator
-from ..estimators.oscillator import AdaptiveOscillator
+from ..estimators.oscillator import oscillate
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
 from . import metrics
 from .datasets import Item, synthetic_item
-from .parallel import TaskFailure, run_tasks, split_outcomes
-from .running import RATE_HZ, Evaluation, ItemResult, real_reference
+from .parallel import TaskFailure
+from .running import RATE_HZ, Evaluation, ItemResult, evaluate_items, outcome, real_reference
 
 __all__ = [
     "ONLINE_ESTIMATORS",
@@ -335,21 +335,13 @@ def _score(
 
 
 def _run_oscillator(vel) -> dict[str, np.ndarray]:
-    """The adaptive oscillator over the offline velocities; its phase phi_1 mod 2 pi in cycles."""
-    t = np.asarray(vel.time_s, dtype=float)
-    vx, vz = np.asarray(vel.vx_signed, dtype=float), np.asarray(vel.vz, dtype=float)
-    osc = AdaptiveOscillator()
-    n = t.size
-    out = {k: np.full(n, np.nan) for k in ("vx_hat_mps", "vz_hat_mps", "step_frequency_hz", "speed_mps", "gait_phase")}
-    prev = None
-    for i in range(n):
-        dt = None if prev is None else float(t[i] - prev)
-        prev = t[i]
-        out["vx_hat_mps"][i], out["vz_hat_mps"][i] = osc.step(float(vx[i]), float(vz[i]), dt)
-        if osc.started:
-            out["step_frequency_hz"][i] = osc.omega_rad_s / (2.0 * math.pi)
-            out["speed_mps"][i] = osc.b[0]
-            out["gait_phase"][i] = (osc.phi[1] % (2.0 * math.pi)) / (2.0 * math.pi)
+    """The adaptive oscillator over the offline velocities (NaN before its first sample); its phase in cycles."""
+    o = oscillate(vel.time_s, vel.vx_signed, vel.vz)
+    out = {k: o[k] for k in ("vx_hat_mps", "vz_hat_mps", "gait_phase")}
+    out["step_frequency_hz"] = o["omega_rad_s"] / (2.0 * math.pi)
+    out["speed_mps"] = o["b0_mps"]
+    for k in ("step_frequency_hz", "speed_mps", "gait_phase"):
+        out[k] = np.where(o["started"], out[k], np.nan)
     return out
 
 
@@ -468,12 +460,8 @@ def step_walk_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:
 
 
 def run_item_online(item: Item, config: OnlineConfig | None = None) -> ItemResult | TaskFailure:
-    """:func:`evaluate_item_online`, with what stops it as a :class:`TaskFailure` (what worker
-    processes and Dask workers run)."""
-    try:
-        return evaluate_item_online(item, config)
-    except InputError as exc:
-        return TaskFailure(str(exc))
+    """:func:`evaluate_item_online`, with what stops it as a :class:`TaskFailure`."""
+    return outcome(evaluate_item_online, item, config)
 
 
 def evaluate_online(
@@ -492,14 +480,13 @@ def evaluate_online(
     ``jobs`` > 1: in that many worker processes; ``executor``: any ``concurrent.futures.Executor``
     (e.g. :func:`~yoyogait.evaluation.parallel.dask_executor`). Same result, in the order of ``items``.
     """
-    failures = list(failures or [])
-    items = list(items)
-    outcomes = run_tasks(
-        run_item_online,
-        [(item, config) for item in items],
+    done, failures = evaluate_items(
+        evaluate_item_online,
+        items,
+        (config,),
+        progress="evaluating online" if progress else None,
+        failures=failures,
         jobs=jobs,
         executor=executor,
-        progress="evaluating online" if progress else None,
     )
-    done = split_outcomes(items, outcomes, failures)
     return OnlineEvaluation(ONLINE_ESTIMATORS, done, failures, dataset, synthetic)

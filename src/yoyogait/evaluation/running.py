@@ -189,13 +189,33 @@ def score(out: ItemResult, name: str, res) -> None:
     )
 
 
-def run_item(item: Item, names=DEFAULT_ESTIMATORS, rate_hz: float = RATE_HZ, configs=None) -> ItemResult | TaskFailure:
-    """:func:`evaluate_item`, with what stops it as a :class:`TaskFailure`: the function that worker
-    processes and Dask workers run."""
+def outcome(evaluate_one, item: Item, *args):
+    """``evaluate_one(item, *args)``, with what stops it (an InputError) as a :class:`TaskFailure`:
+    what worker processes and Dask workers run for one item of an offline or online evaluation."""
     try:
-        return evaluate_item(item, names, rate_hz=rate_hz, configs=configs)
+        return evaluate_one(item, *args)
     except InputError as exc:
         return TaskFailure(str(exc))
+
+
+def run_item(item: Item, names=DEFAULT_ESTIMATORS, rate_hz: float = RATE_HZ, configs=None) -> ItemResult | TaskFailure:
+    """:func:`evaluate_item`, with what stops it as a :class:`TaskFailure`."""
+    return outcome(_evaluate_item_positional, item, names, rate_hz, configs)
+
+
+def _evaluate_item_positional(item: Item, names, rate_hz: float, configs) -> ItemResult:
+    return evaluate_item(item, names, rate_hz=rate_hz, configs=configs)
+
+
+def evaluate_items(evaluate_one, items, args=(), *, progress: str | None, failures=None, jobs: int = 1, executor=None):
+    """Every item through ``evaluate_one(item, *args)`` (a top-level function: it runs in worker
+    processes or on a Dask cluster), in the order of ``items``: (the results, the failures, those
+    given first). The skeleton of :func:`evaluate` and :func:`~yoyogait.evaluation.evaluate_online`."""
+    failures = list(failures or [])
+    items = list(items)
+    outcomes = run_tasks(outcome, [(evaluate_one, item, *args) for item in items], jobs=jobs, executor=executor,
+                         progress=progress)  # fmt: skip
+    return split_outcomes(items, outcomes, failures), failures
 
 
 def evaluate(
@@ -224,14 +244,13 @@ def evaluate(
                 f"{name}: sample_time_s = {config.sample_time_s:g} s; the estimators of one evaluation share the "
                 f"velocities at {RATE_HZ:g} Hz (sample_time_s = {1.0 / RATE_HZ:g} s); evaluate it on its own"
             )
-    failures = list(failures or [])
-    items = list(items)
-    outcomes = run_tasks(
-        run_item,
-        [(item, names, RATE_HZ, configs) for item in items],
+    done, failures = evaluate_items(
+        _evaluate_item_positional,
+        items,
+        (names, RATE_HZ, configs),
+        progress="evaluating" if progress else None,
+        failures=failures,
         jobs=jobs,
         executor=executor,
-        progress="evaluating" if progress else None,
     )
-    done = split_outcomes(items, outcomes, failures)
     return Evaluation(names, done, failures, dataset, synthetic)
