@@ -25,6 +25,7 @@ from .options import (
     force_option,
     input_options,
     preset_option,
+    read_overrides,
 )
 
 
@@ -112,7 +113,7 @@ def command(
     for option, target in (("--out", out), ("--figure", fig)):
         if target is not None and target.exists() and not force:
             raise OutputError(f"{option} {target}: exists; use --force to overwrite it")
-    overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
+    overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     with about_file(file):
         recording = io.read(file, **overrides)
         check_points(recording, point, feet)
@@ -162,7 +163,7 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     out = Path(out or f"{stem}.online.csv")
     if out.exists() and not force:
         raise OutputError(f"--out {out}: exists; use --force to overwrite it")
-    overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
+    overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     with about_file(file):
         recording = io.read(file, **overrides)
         check_points(recording, point)

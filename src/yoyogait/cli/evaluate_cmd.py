@@ -24,6 +24,7 @@ from .options import (
     estimators_option,
     force_option,
     input_options,
+    read_overrides,
 )
 
 
@@ -48,9 +49,7 @@ def _load_checked(load, point, feet):
 
 def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=None, rate_hz=None):
     """The items with the command line's input options applied to every one (they win over a manifest's)."""
-    read_overrides = {k: v for k, v in (("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v is not None}
-    if up_axis is not None:
-        read_overrides["up_axis"] = up_axis
+    reading = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     out = []
     for item in items:
         changes: dict = {}
@@ -60,11 +59,11 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
             changes["feet"] = list(feet)
         if up_axis is not None:
             changes["up_axis"] = up_axis
-        if read_overrides:
+        if reading:
             load = item.load
             if not isinstance(load, functools.partial) or load.func is not io.read:
                 raise InputError("--up-axis, --length-unit-m and --rate-hz apply to files, not to the synthetic lab")
-            changes["load"] = functools.partial(io.read, *load.args, **{**load.keywords, **read_overrides})
+            changes["load"] = functools.partial(io.read, *load.args, **{**load.keywords, **reading})
         if point is not None or feet is not None:
             changes["load"] = functools.partial(_load_checked, changes.get("load", item.load), point, feet)
         out.append(dataclasses.replace(item, **changes))

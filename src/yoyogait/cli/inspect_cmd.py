@@ -11,7 +11,7 @@ from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
 from ..pipeline.velocities import gait_velocities
-from .options import belt_speed_option, input_options
+from .options import belt_speed_option, input_options, read_overrides
 
 
 def inspect_file(
@@ -40,7 +40,7 @@ def inspect_file(
 
 
 def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward: str, belt_speed_mps) -> dict:
-    rec = read(path, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
+    rec = read(path, **read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz))
     velocities = gait_velocities(
         rec, point=point, up_axis=up_axis, forward=forward, feet=feet, belt_speed_mps=belt_speed_mps
     )

@@ -116,6 +116,12 @@ _INPUT_OPTIONS = (
 )
 
 
+def read_overrides(*, up_axis=None, length_unit_m=None, rate_hz=None) -> dict:
+    """What the input options given on the command line ask ``io.read`` for (the ones left out: none)."""
+    given = {"up_axis": up_axis, "length_unit_m": length_unit_m, "rate_hz": rate_hz}
+    return {k: v for k, v in given.items() if v is not None}
+
+
 def input_options(f):
     """--point, --feet, --up-axis, --length-unit-m, --rate-hz: how to read the recordings."""
     for decorator in reversed(_INPUT_OPTIONS):

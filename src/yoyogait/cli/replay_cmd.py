@@ -6,7 +6,7 @@ import click
 
 from .. import io
 from ..live.replay import replay
-from .options import POSITIVE
+from .options import POSITIVE, read_overrides
 
 
 @click.command("replay")
@@ -42,7 +42,7 @@ def command(file, name, speed, loop, up_axis, length_unit_m, rate_hz, wait_s):
     file's rate times --speed; up axis, unit and point names in the stream's description
     (docs/live.md).
     """
-    rec = io.read(file, length_unit_m=length_unit_m, up_axis=up_axis, rate_hz=rate_hz)
+    rec = io.read(file, **read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz))
 
     def ready():
         click.echo(
