@@ -37,6 +37,7 @@ from collections import defaultdict
 import numpy as np
 
 from yoyogait import EstimatorConfig, GaitEstimator, Status
+from yoyogait.estimators.records import RECORDS
 
 PRESETS = ("paper", "default")
 T = 0.04
@@ -50,23 +51,8 @@ CHECKS = (
     "wrong_status",
     "numerical_restart",
 )
-OUTPUTS = (
-    "state",
-    "vx_hat_mps",
-    "vz_hat_mps",
-    "R_m",
-    "r_m",
-    "step_frequency_hz",
-    "step_frequency_std_hz",
-    "speed_mps",
-    "speed_std_mps",
-    "A0_mps",
-    "A1_mps",
-    "vx_hat_h2_mps",
-    "vz_hat_h2_mps",
-    "std_scale",
-    "gait_state",
-)
+#: Every float output of an estimate and the two states, from the record table (docs/records.md).
+OUTPUTS = tuple(f.name for f in RECORDS["Estimate"] if f.type.startswith("float"))
 
 
 def draw_value(rng: np.random.Generator) -> float:

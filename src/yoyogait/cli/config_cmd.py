@@ -6,6 +6,7 @@ import click
 
 from ..errors import InputError
 from ..estimators.config import PRESETS, effective_toml
+from .options import config_file_option
 
 
 @click.command("config")
@@ -15,14 +16,7 @@ from ..estimators.config import PRESETS, effective_toml
     default=None,
     help="The estimator of this preset [default: default].",
 )
-@click.option(
-    "--config",
-    "config_file",
-    type=click.Path(dir_okay=False),
-    metavar="FILE",
-    default=None,
-    help="A configuration file (TOML) to apply to the defaults, as --config does for the other commands.",
-)
+@config_file_option("A configuration file (TOML) to apply to the defaults, as --config does for the other commands.")
 def command(preset, config_file):
     """Print the effective configuration as TOML: every field of the estimator and the [online] table
     of the online front-end (docs/configuration.md). Save it, edit it and pass it back with --config."""

@@ -14,7 +14,7 @@ from ..estimators.online import ONLINE_CSV_COLUMNS, csv_formats
 from ..live.live import describe_source, run_live
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
-from .options import POSITIVE, split_names
+from .options import POSITIVE, config_file_option, split_names
 
 
 @click.command("live")
@@ -64,14 +64,9 @@ from .options import POSITIVE, split_names
     help="Frames kept when falling behind [s].",
 )
 @click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
-@click.option(
-    "--config",
-    "config_file",
-    type=click.Path(dir_okay=False),
-    metavar="FILE",
-    default=None,
-    help="Settings of the online estimator: a TOML file with the estimator's fields and an [online] table "
-    "(docs/configuration.md).",
+@config_file_option(
+    "Settings of the online estimator: a TOML file with the estimator's fields and an [online] table "
+    "(docs/configuration.md)."
 )
 @click.option(
     "--ros2-topic",

@@ -151,24 +151,26 @@ def estimators_option(default: str = "paper,default"):
     )
 
 
+def config_file_option(help_text: str):
+    """--config FILE (one configuration file, TOML, docs/configuration.md), as ``config_file``."""
+    return click.option(
+        "--config", "config_file", type=click.Path(dir_okay=False), metavar="FILE", default=None, help=help_text
+    )
+
+
 def estimator_config_option(multiple: bool):
     """--config FILE: an estimator configuration (TOML, docs/configuration.md). estimate: instead of
     --preset; evaluate, demo: one more estimator per file, named by the file's stem (repeatable)."""
-    if multiple:
-        help_text = (
-            "Also evaluate the estimator configured in this TOML file (docs/configuration.md), "
-            "named by the file's stem; repeatable."
-        )
-    else:
-        help_text = "Estimator configuration file (TOML, docs/configuration.md), instead of --preset."
+    if not multiple:
+        return config_file_option("Estimator configuration file (TOML, docs/configuration.md), instead of --preset.")
     return click.option(
         "--config",
-        "config_files" if multiple else "config_file",
+        "config_files",
         type=click.Path(dir_okay=False),
         metavar="FILE",
-        multiple=multiple,
-        default=None,
-        help=help_text,
+        multiple=True,
+        help="Also evaluate the estimator configured in this TOML file (docs/configuration.md), "
+        "named by the file's stem; repeatable.",
     )
 
 

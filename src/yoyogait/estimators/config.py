@@ -262,8 +262,42 @@ class GaitFilterConfig:
 _SECTION_TYPES: dict[str, Any] = {"paper_estimator": PaperConfig, "gait_filter": GaitFilterConfig}
 
 
+class _ConfigFile:
+    """What both configurations do with files: TOML with every field, checked before it is written."""
+
+    def to_dict(self) -> dict:
+        raise NotImplementedError
+
+    def to_native(self) -> Any:
+        raise NotImplementedError
+
+    def validate(self) -> None:
+        """InputError (a ValueError) naming the first field that is not usable; None if all are."""
+        self.to_native()
+
+    def to_toml(self) -> str:
+        """The configuration as TOML, every field (what :meth:`save` writes)."""
+        self.validate()
+        return tomli_w.dumps(self.to_dict())
+
+    def save(self, path, *, force: bool = False) -> None:
+        """Write the configuration as TOML (every field); an existing file only with ``force``."""
+        text = self.to_toml()
+        path = Path(path)
+        if path.exists() and not force:
+            raise InputError(f"{path} exists; use force=True to overwrite it")
+        atomic_file(path, lambda p: Path(p).write_text(text, encoding="utf-8"))
+
+    @classmethod
+    def _from_file_values(cls, path: Path, values: dict):
+        try:
+            return cls.from_dict(values)  # type: ignore[attr-defined]
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+
+
 @dataclass
-class EstimatorConfig:
+class EstimatorConfig(_ConfigFile):
     """Parameters of the estimator; mirrors ``yoyogait::EstimatorConfig``, section by section.
 
     ``EstimatorConfig()`` is the default estimator (``algorithm="gait_filter"``); :meth:`paper`
@@ -346,26 +380,9 @@ class EstimatorConfig:
         path = Path(path)
         values = _read_toml(path)
         values.pop(ONLINE_SECTION, None)
-        try:
-            return cls.from_dict(values)
-        except InputError as exc:
-            raise InputError(f"{path}: {exc}") from None
-
-    def save(self, path, *, force: bool = False) -> None:
-        """Write the configuration as TOML (every field); an existing file only with ``force``."""
-        self.validate()
-        _save_toml(path, self.to_dict(), force)
-
-    def to_toml(self) -> str:
-        """The configuration as TOML, every field (what :meth:`save` writes)."""
-        self.validate()
-        return tomli_w.dumps(self.to_dict())
+        return cls._from_file_values(path, values)
 
     # ------------------------------------------------------------------------------- checking
-
-    def validate(self) -> None:
-        """InputError (a ValueError) naming the first field that is not usable; None if all are."""
-        self.to_native()
 
     def to_native(self) -> _core.EstimatorConfig:
         """The C++ struct; raises InputError naming the field that is not usable (type, range, or
@@ -422,16 +439,8 @@ def _read_toml(path: Path) -> dict:
         raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from None
 
 
-def _save_toml(path, values: dict, force: bool) -> None:
-    path = Path(path)
-    if path.exists() and not force:
-        raise InputError(f"{path} exists; use force=True to overwrite it")
-    text = tomli_w.dumps(values)
-    atomic_file(path, lambda p: Path(p).write_text(text, encoding="utf-8"))
-
-
 @dataclass
-class OnlineConfig:
+class OnlineConfig(_ConfigFile):
     """Settings of the online front-end (docs/online.md); mirrors ``yoyogait::OnlineConfig``: the
     gait estimator behind it and the fields of the C++ table ``YOYOGAIT_ONLINE_FIELDS``, whose
     defaults, units, ranges and docs :data:`SCHEMA` gives (section ``online``). In a TOML file the
@@ -487,25 +496,7 @@ class OnlineConfig:
         """The estimator's fields and the ``[online]`` table of a TOML file (fields left out keep
         their defaults). InputError naming the file and the field for anything unusable."""
         path = Path(path)
-        values = _read_toml(path)
-        try:
-            return cls.from_dict(values)
-        except InputError as exc:
-            raise InputError(f"{path}: {exc}") from None
-
-    def save(self, path, *, force: bool = False) -> None:
-        """Write the configuration as TOML (every field); an existing file only with ``force``."""
-        self.validate()
-        _save_toml(path, self.to_dict(), force)
-
-    def to_toml(self) -> str:
-        """The configuration as TOML, every field (what :meth:`save` writes)."""
-        self.validate()
-        return tomli_w.dumps(self.to_dict())
-
-    def validate(self) -> None:
-        """InputError (a ValueError) naming the first field that is not usable; None if all are."""
-        self.to_native()
+        return cls._from_file_values(path, _read_toml(path))
 
     def to_native(self) -> _core.OnlineConfig:
         """The C++ struct; raises InputError saying what is not usable."""

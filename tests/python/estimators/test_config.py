@@ -21,6 +21,7 @@ from yoyogait.estimators.config import (
     PaperConfig,
     schema_markdown,
 )
+from yoyogait.estimators.records import RECORDS
 
 ESTIMATOR_SCHEMA = [spec for spec in SCHEMA if spec.section != ONLINE_SECTION]
 ONLINE_SCHEMA = [spec for spec in SCHEMA if spec.section == ONLINE_SECTION]
@@ -49,27 +50,9 @@ def _walk(seconds=6.0, seed=0):
     return t, vx, vz
 
 
-FLOAT_OUTPUTS = (
-    "state",
-    "vx_hat_mps",
-    "vz_hat_mps",
-    "R_hat_mps",
-    "r_hat_mps",
-    "R_m",
-    "r_m",
-    "omega_rad_s",
-    "step_frequency_hz",
-    "step_frequency_std_hz",
-    "speed_mps",
-    "speed_std_mps",
-    "A0_mps",
-    "A1_mps",
-    "vx_hat_h2_mps",
-    "vz_hat_h2_mps",
-    "std_scale",
-    "vx_pred",
-    "vz_pred",
-)
+#: Every float output of an estimate (from its record table) and the predictions.
+FLOAT_OUTPUTS = (*(f.name for f in RECORDS["Estimate"] if f.type.startswith("float") and f.scope == "all"),
+                 "vx_hat_h2_mps", "vz_hat_h2_mps", "std_scale", "vx_pred", "vz_pred")  # fmt: skip
 
 
 def test_python_dataclasses_agree_with_the_cpp_tables_field_by_field():
