@@ -70,8 +70,9 @@ class GuidanceConfig:
     """The guidance starts after this long [s]."""
     force_ramp_s: float = 1.0
     """The reference force rises and falls over this long [s]."""
-    stop_trigger_m: float = 0.8
-    """A stop (or the goal) is commanded when the walker is this far from it along the path [m]."""
+    stop_trigger_m: float = 1.6
+    """A stop (or the goal) is commanded when the walker is this far from it along the path: about the
+    distance a walker at its preferred speed covers while the force fades and its pace follows [m]."""
     goal_radius_m: float = 0.3
     """The goal is reached within this distance [m]."""
     after_goal_s: float = 3.0

@@ -14,7 +14,16 @@ from .paths import BUILTIN_WALKS, GuidePath, builtin_walk
 from .simulation import GuidanceConfig, GuidanceRun, simulate
 from .sources import SOURCE_NAMES, check_sources
 
-__all__ = ["GuidanceStudy", "run_study", "TABLE_COLUMNS", "table_rows", "table_csv", "table_markdown", "runs_csv"]
+__all__ = [
+    "GuidanceStudy",
+    "run_study",
+    "TABLE_COLUMNS",
+    "table_rows",
+    "table_csv",
+    "table_markdown",
+    "runs_csv",
+    "target_checks",
+]
 
 TABLE_COLUMNS: tuple[tuple[str, str, int], ...] = (
     ("lag_s", "lag (s)", 3),
@@ -133,3 +142,59 @@ def runs_csv(study: GuidanceStudy) -> str:
         cells += [repr(float(m[k])) for k in METRIC_KEYS]
         out.append(",".join(c.replace(",", ";") for c in cells))
     return "\n".join(out) + "\n"
+
+
+def target_checks(study: GuidanceStudy) -> list[tuple[str, bool | None, str]]:
+    """The targets of docs/guidance.md on this study: (target, met (None: not measurable here), the numbers)."""
+    rows = {r["source"]: r for r in table_rows(study)}
+    out: list[tuple[str, bool | None, str]] = []
+    yo, raw = rows.get("yoyogait"), rows.get("raw")
+    if yo is not None and raw is not None:
+        ratio = yo["force_osc_step_n"] / raw["force_osc_step_n"]
+        out.append(
+            (
+                "yoyogait's step-frequency force oscillation <= 1/3 of raw's",
+                bool(ratio <= 1.0 / 3.0),
+                f"{yo['force_osc_step_n']:.3f} N vs {raw['force_osc_step_n']:.3f} N: ratio {ratio:.2f}",
+            )
+        )
+        out.append(
+            (
+                "path error (RMS) no worse than raw's",
+                bool(yo["path_error_rms_m"] <= raw["path_error_rms_m"]),
+                f"{yo['path_error_rms_m']:.3f} m vs {raw['path_error_rms_m']:.3f} m",
+            )
+        )
+    lows = [r for name, r in rows.items() if name.startswith("lowpass-")]
+    if yo is not None and lows:
+        peers = [r for r in lows if r["lag_s"] <= yo["lag_s"] + 1e-9]
+        if peers:
+            best = min(peers, key=lambda r: r["force_osc_step_n"])
+            met = bool(yo["force_osc_step_n"] < best["force_osc_step_n"])
+            text = (
+                f"best low-pass with lag <= {yo['lag_s']:.3f} s: {best['source']} ({best['force_osc_step_n']:.3f} N, "
+                f"lag {best['lag_s']:.3f} s) vs yoyogait {yo['force_osc_step_n']:.3f} N"
+            )
+        else:
+            best = min(lows, key=lambda r: r["force_osc_step_n"])
+            met = True
+            text = (
+                f"no low-pass has a lag <= yoyogait's {yo['lag_s']:.3f} s (shortest: "
+                f"{min(r['lag_s'] for r in lows):.3f} s); the best low-pass overall, {best['source']}: "
+                f"{best['force_osc_step_n']:.3f} N at lag {best['lag_s']:.3f} s vs yoyogait {yo['force_osc_step_n']:.3f} N"
+            )
+        out.append(("yoyogait beats the best low-pass at equal or lower lag", met, text))
+    pred = rows.get("yoyogait-predicted")
+    if yo is not None and pred is not None:
+        better_f = pred["force_osc_step_n"] < yo["force_osc_step_n"]
+        better_p = pred["path_error_rms_m"] < yo["path_error_rms_m"]
+        out.append(
+            (
+                f"with {study.config.latency_s:g} s latency, the prediction improves force oscillation or path error",
+                bool(better_f or better_p) if study.config.latency_s > 0 else None,
+                f"force {pred['force_osc_step_n']:.4f} vs {yo['force_osc_step_n']:.4f} N, path error "
+                f"{pred['path_error_rms_m']:.4f} vs {yo['path_error_rms_m']:.4f} m, lag {pred['lag_s']:.3f} vs "
+                f"{yo['lag_s']:.3f} s",
+            )
+        )
+    return out
