@@ -36,6 +36,8 @@ from .walker import GuidedWalker, HumanModel
 
 __all__ = ["GuidanceConfig", "GuidanceRun", "simulate", "cable_force"]
 
+_STALLED_MPS = 0.02
+
 
 @dataclass(frozen=True)
 class GuidanceConfig:
@@ -69,12 +71,12 @@ class GuidanceConfig:
     start_s: float = 1.0
     """The guidance starts after this long [s]."""
     force_ramp_s: float = 1.0
-    """The reference force rises and falls over this long [s]."""
+    """The reference force rises over this long at a start [s]."""
     stop_trigger_m: float = 1.6
-    """A stop (or the goal) is commanded when the walker is this far from it along the path: about the
-    distance a walker at its preferred speed covers while the force fades and its pace follows [m]."""
-    goal_radius_m: float = 0.3
-    """The goal is reached within this distance [m]."""
+    """A stop (or the goal) is commanded when the walker is this far from it along the path; from
+    there the reference force fades in proportion to the distance left [m]."""
+    goal_radius_m: float = 0.5
+    """The goal is reached within this distance of the guided point (about an arm's length) [m]."""
     after_goal_s: float = 3.0
     """The simulation runs this long after the goal is reached [s]."""
     max_duration_s: float = 120.0
@@ -223,11 +225,11 @@ def simulate(
     starts, stops, turns = [cfg.start_s], [], []
     s_h = 0.0
     mode = "guiding"  # guiding, stopping, goal
-    mode_t = cfg.start_s  # when the current mode began
     anchor = 0.0  # arc length the robot's reference holds at while stopping
     resume_at = math.inf
     force_on_t = cfg.start_s
     goal_s = math.nan
+    stalled_s = 0.0
     end_at = cfg.max_duration_s
     fx = fy = fz = 0.0
     for k in range(max_frames + 1):
@@ -244,10 +246,10 @@ def simulate(
         if mode == "guiding":
             if pending_stops and s_h >= pending_stops[0][0] - cfg.stop_trigger_m:
                 anchor, hold = pending_stops.pop(0)
-                mode, mode_t, resume_at = "stopping", t, t + 2.0 + hold
+                mode, resume_at = "stopping", t + 2.0 + hold
                 stops.append(t)
             elif s_h >= length - cfg.stop_trigger_m:
-                anchor, mode, mode_t = length, "goal", t
+                anchor, mode = length, "goal"
                 stops.append(t)
         elif mode == "stopping" and t >= resume_at:
             mode, force_on_t = "guiding", t
@@ -255,8 +257,8 @@ def simulate(
         if mode == "guiding":
             level = _ramp(t, force_on_t, cfg.force_ramp_s) * path.pace_at(s_h)
             ref_s = s_h + horiz
-        else:
-            level = (1.0 - _ramp(t, mode_t, cfg.force_ramp_s)) * path.pace_at(anchor - 1e-9)
+        else:  # the force fades as the walker nears the stop: its pace dies out there
+            level = min(max((anchor - s_h) / cfg.stop_trigger_m, 0.0), 1.0) * path.pace_at(anchor - 1e-9)
             ref_s = anchor + horiz
         px, py, ptx, pty = path.point(min(ref_s, length + horiz))
         f_ref = cfg.human.nominal_force_n * level
@@ -273,6 +275,12 @@ def simulate(
             if math.hypot(gx - ex, gy - ey) <= cfg.goal_radius_m:
                 goal_s = t
                 end_at = min(end_at, t + cfg.after_goal_s)
+            elif walker.speed_mps < _STALLED_MPS:  # stopped short of (or past) the goal: the walk is over
+                stalled_s += frame_dt
+                if stalled_s >= 1.0:
+                    end_at = min(end_at, t)
+            else:
+                stalled_s = 0.0
         cols["t"].append(t)
         cols["g"].append((gx, gy))
         cols["c"].append(walker.centre())

@@ -25,6 +25,9 @@ __all__ = [
     "target_checks",
 ]
 
+MIN_GAIN = 0.01
+"""A source improves on another when it reduces a metric by more than this fraction."""
+
 TABLE_COLUMNS: tuple[tuple[str, str, int], ...] = (
     ("lag_s", "lag (s)", 3),
     ("force_osc_step_n", "force osc. step+2x (N RMS)", 3),
@@ -185,12 +188,13 @@ def target_checks(study: GuidanceStudy) -> list[tuple[str, bool | None, str]]:
             )
         out.append(("yoyogait beats the best low-pass at equal or lower lag", met, text))
     pred = rows.get("yoyogait-predicted")
-    if yo is not None and pred is not None:
-        better_f = pred["force_osc_step_n"] < yo["force_osc_step_n"]
-        better_p = pred["path_error_rms_m"] < yo["path_error_rms_m"]
+    if yo is not None and pred is not None:  # an improvement is a reduction by more than MIN_GAIN
+        better_f = pred["force_osc_step_n"] < (1.0 - MIN_GAIN) * yo["force_osc_step_n"]
+        better_p = pred["path_error_rms_m"] < (1.0 - MIN_GAIN) * yo["path_error_rms_m"]
         out.append(
             (
-                f"with {study.config.latency_s:g} s latency, the prediction improves force oscillation or path error",
+                f"with {study.config.latency_s:g} s latency, the prediction improves force oscillation or path error "
+                f"(by more than {MIN_GAIN:.0%})",
                 bool(better_f or better_p) if study.config.latency_s > 0 else None,
                 f"force {pred['force_osc_step_n']:.4f} vs {yo['force_osc_step_n']:.4f} N, path error "
                 f"{pred['path_error_rms_m']:.4f} vs {yo['path_error_rms_m']:.4f} m, lag {pred['lag_s']:.3f} vs "
