@@ -54,8 +54,10 @@ def main(argv=None) -> int:
         again = table_csv(run_study(seed=args.seed, config=config))
         same = again == first_csv
         missed += not same
-        print(f"\n- deterministic (seed {args.seed}, latency {latencies[0]:g} s, the table twice): "
-              f"{'met: identical bytes' if same else 'MISSED: the tables differ'}")  # fmt: skip
+        print(
+            f"\n- deterministic (seed {args.seed}, latency {latencies[0]:g} s, the table twice): "
+            f"{'met: identical bytes' if same else 'MISSED: the tables differ'}"
+        )
     print(f"\n{missed} target check(s) missed")
     return 0
 

@@ -104,8 +104,7 @@ def force_figure(runs: list[GuidanceRun], title: str, path: Path) -> None:
     if np.isfinite(f_step):
         for k in (0.5, 1, 2):
             bottom.axvline(k * f_step, color="0.5", ls="--", lw=0.8)
-            bottom.text(k * f_step, 1.0, f" {k:g}x step", transform=bottom.get_xaxis_transform(), fontsize=7,
-                        va="top")  # fmt: skip
+            bottom.text(k * f_step, 1.0, f" {k:g}x step", transform=bottom.get_xaxis_transform(), fontsize=7, va="top")
     bottom.set_xlim(0, 8)
     bottom.set_xlabel("frequency (Hz)")
     bottom.set_ylabel("horizontal force, amplitude\nspectral density (N/sqrt(Hz))")
@@ -122,10 +121,22 @@ def velocity_figure(runs: list[GuidanceRun], title: str, path: Path) -> None:
     for r in _chosen(runs):
         if r.source == "truth":
             continue
-        ax.plot(r.time_s, np.linalg.norm(r.source_v_mps, axis=1), color=_COLOURS.get(r.source), lw=0.8,
-                alpha=0.5 if r.source == "raw" else 1.0, label=f"{r.source} (as the controller saw it)")  # fmt: skip
-    ax.plot(truth.time_s, np.linalg.norm(truth.intent_v_mps, axis=1), color="black", lw=1.4, ls="--",
-            label=f"intended ({truth.source} run)")  # fmt: skip
+        ax.plot(
+            r.time_s,
+            np.linalg.norm(r.source_v_mps, axis=1),
+            color=_COLOURS.get(r.source),
+            lw=0.8,
+            alpha=0.5 if r.source == "raw" else 1.0,
+            label=f"{r.source} (as the controller saw it)",
+        )
+    ax.plot(
+        truth.time_s,
+        np.linalg.norm(truth.intent_v_mps, axis=1),
+        color="black",
+        lw=1.4,
+        ls="--",
+        label=f"intended ({truth.source} run)",
+    )
     ax.set_xlabel("time (s)")
     ax.set_ylabel("horizontal speed (m/s)")
     ax.grid(alpha=0.3)

@@ -65,7 +65,8 @@ def _write(study: GuidanceStudy, folder: Path, draw: bool) -> None:
         f"- walkers: {', '.join(study.walkers)}",
         f"- seed {study.seed}; latency {cfg.latency_s:g} s (a delay line on the human velocity; `truth` undelayed)",
         f"- robot: M_A {cfg.robot_mass_kg:g} kg, B_A {cfg.robot_damping_ns_per_m:g} N s/m, "
-        f"K_H {cfg.position_gain_n_per_m:g} N/m, speed limit {cfg.max_speed_mps:g} m/s; cable {cfg.cable_rest_length_m:g} m, "
+        f"K_H {cfg.position_gain_n_per_m:g} N/m, speed limit {cfg.max_speed_mps:g} m/s; "
+        f"cable {cfg.cable_rest_length_m:g} m, "
         f"k_c {cfg.cable_stiffness_n_per_m:g} N/m, arm damping {cfg.cable_damping_ns_per_m:g} N s/m",
         f"- human: nominal force {cfg.human.nominal_force_n:g} N, time constant {cfg.human.time_constant_s:g} s; "
         f"physics step {cfg.physics_dt_s * 1000:g} ms (semi-implicit Euler), motion capture and controller "

@@ -110,13 +110,10 @@ class _LowPass(VelocitySource):
         b, a = signal.butter(2, cutoff_hz, fs=rate_hz)
         self._b = [float(v) for v in b]
         self._a = [float(v) for v in a]
-        self._z = [[0.0, 0.0], [0.0, 0.0]]
-        self._started = False
+        self._z = [[0.0, 0.0], [0.0, 0.0]]  # starts at rest, as the walker does
 
     def update(self, t_s, handle_m, intent_v):
         v = self._raw.update(t_s, handle_m, intent_v)
-        if not self._started:  # the filter starts at rest, as the walker does
-            self._started = True
         b0, b1, b2 = self._b
         _, a1, a2 = self._a
         out = []

@@ -184,7 +184,8 @@ def target_checks(study: GuidanceStudy) -> list[tuple[str, bool | None, str]]:
             text = (
                 f"no low-pass has a lag <= yoyogait's {yo['lag_s']:.3f} s (shortest: "
                 f"{min(r['lag_s'] for r in lows):.3f} s); the best low-pass overall, {best['source']}: "
-                f"{best['force_osc_step_n']:.3f} N at lag {best['lag_s']:.3f} s vs yoyogait {yo['force_osc_step_n']:.3f} N"
+                f"{best['force_osc_step_n']:.3f} N at lag {best['lag_s']:.3f} s "
+                f"vs yoyogait {yo['force_osc_step_n']:.3f} N"
             )
         out.append(("yoyogait beats the best low-pass at equal or lower lag", met, text))
     pred = rows.get("yoyogait-predicted")

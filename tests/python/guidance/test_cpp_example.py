@@ -42,8 +42,18 @@ def controller(tmp_path_factory) -> Path:
     build, prefix, example = BUILD / "guidance-install", tmp / "prefix", tmp / "example"
     _run([cmake, "-S", ROOT, "-B", build, *_generator(), f"-DCMAKE_INSTALL_PREFIX={prefix}"])
     _run([cmake, "--install", build])
-    _run([cmake, "-S", ROOT / "examples" / "guidance", "-B", example, *_generator(), f"-DCMAKE_PREFIX_PATH={prefix}",
-          "-DCMAKE_BUILD_TYPE=Release"])  # fmt: skip
+    _run(
+        [
+            cmake,
+            "-S",
+            ROOT / "examples" / "guidance",
+            "-B",
+            example,
+            *_generator(),
+            f"-DCMAKE_PREFIX_PATH={prefix}",
+            "-DCMAKE_BUILD_TYPE=Release",
+        ]
+    )
     _run([cmake, "--build", example])
     return next(example.rglob("guide_controller"))
 
