@@ -154,7 +154,7 @@ class GuidanceRun:
     force_n: np.ndarray  # n x 3, on the hand
     slack: np.ndarray  # n, bool
     source_v_mps: np.ndarray  # n x 2: what the controller used
-    intent_v_mps: np.ndarray  # n x 2
+    intent_v_mps: np.ndarray  # n x 2: of the guided point (the handle without its oscillation)
     theta_rad: np.ndarray
     cadence_hz: np.ndarray
     reference_force_n: np.ndarray  # |f_c^r|
@@ -262,7 +262,7 @@ def simulate(
             ref_s = anchor + horiz
         px, py, ptx, pty = path.point(min(ref_s, length + horiz))
         f_ref = cfg.human.nominal_force_n * level
-        intent = (walker.vx, walker.vy)
+        intent = walker.guided_velocity()
         svx, svy = feedback.update(t, measured, intent)
         ux = kh * (px - rx) + f_ref * ptx + ba * svx
         uy = kh * (py - ry) + f_ref * pty + ba * svy

@@ -17,7 +17,8 @@ later frame.  The sources compared (:data:`SOURCE_NAMES`):
 * ``yoyogait-predicted``: the same, with the walking speed predicted ``latency_s`` ahead by the
   estimator's forecast (:meth:`OnlineEstimator.predict`), so that after the latency it describes the
   present;
-* ``truth``: the walker's true intended velocity, undelayed (the bound; no real sensor has it).
+* ``truth``: the true intended velocity of the handle (the walker's intent plus the hand offset
+  turning with the body, no oscillation), undelayed: the bound; no real sensor has it.
 
 :class:`Delayed` puts the sensing and actuation latency in front of every source but ``truth``: a
 delay line of ``round(latency_s * rate_hz)`` frames.

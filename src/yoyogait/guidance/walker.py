@@ -18,7 +18,8 @@ Gait on the intent (the synthetic lab's walker, :mod:`yoyogait.synthetic`):
 * the centre of mass: the intent position plus the Yoyo model's forward oscillation (eq. 1, with
   the lab's phase offset pi and second harmonic), vertical oscillation (eq. 2), and sideways sway
   at stride frequency; amplitudes scale with ``v / v_pref`` (a standing person does not sway);
-* the heading: the direction of ``v_I`` (held below 0.05 m/s);
+* the heading: it follows the direction of ``v_I`` with a 0.2 s time constant, turning at most
+  3 rad/s (a person turning on the spot), held below 0.05 m/s;
 * the hand that holds the handle: the lab's wrist, in front of and beside the body, rotating with
   the heading, with its small arm swing.  The arm is rigid: the hand carries the whole trunk
   oscillation to the cable (docs/guidance.md, sec. 5: what is not modelled).
@@ -38,6 +39,10 @@ __all__ = ["HumanModel", "GuidedWalker", "PHASE_OFFSET_RAD"]
 PHASE_OFFSET_RAD = math.pi
 """Offset of the forward oscillation, as in the synthetic lab's realistic walks."""
 _HEADING_MIN_SPEED_MPS = 0.05
+_TURN_TAU_S = 0.2
+"""The heading follows the walking direction with this time constant [s] ..."""
+_MAX_TURN_RATE_RAD_S = 3.0
+"""... and at most this fast (a quarter turn on the spot in about half a second) [rad/s]."""
 _MAX_PACE_RATIO = 2.0
 _MAX_AMPLITUDE_RATIO = 1.5
 
@@ -83,6 +88,7 @@ class GuidedWalker:
         self.heading = float(heading_rad)
         self.theta = float(theta_rad)
         self.cadence_hz = 0.0
+        self.turn_rate_rad_s = 0.0
 
     @property
     def speed_mps(self) -> float:
@@ -97,8 +103,12 @@ class GuidedWalker:
         self.x += self.vx * dt_s
         self.y += self.vy * dt_s
         v = self.speed_mps
-        if v > _HEADING_MIN_SPEED_MPS:
-            self.heading = math.atan2(self.vy, self.vx)
+        if v > _HEADING_MIN_SPEED_MPS:  # the body turns towards the walking direction, at a human rate
+            error = math.remainder(math.atan2(self.vy, self.vx) - self.heading, 2.0 * math.pi)
+            self.turn_rate_rad_s = min(max(error / _TURN_TAU_S, -_MAX_TURN_RATE_RAD_S), _MAX_TURN_RATE_RAD_S)
+            self.heading += self.turn_rate_rad_s * dt_s
+        else:
+            self.turn_rate_rad_s = 0.0
         self.cadence_hz = self.subject.step_frequency_hz * math.sqrt(min(v / self.v_pref, _MAX_PACE_RATIO))
         self.theta += 2.0 * math.pi * self.cadence_hz * dt_s
 
@@ -137,3 +147,12 @@ class GuidedWalker:
         c, sn = math.cos(self.heading), math.sin(self.heading)
         ox, oy = s.hand_offset_m[0], s.hand_offset_m[1]
         return self.x + ox * c - oy * sn, self.y + ox * sn + oy * c
+
+    def guided_velocity(self) -> tuple[float, float]:
+        """The velocity of the guided point: the intended velocity plus the hand offset turning with the
+        body, without the oscillation [m/s]; what a perfect oscillation-free estimate of the handle gives."""
+        s = self.subject
+        c, sn = math.cos(self.heading), math.sin(self.heading)
+        ox, oy = s.hand_offset_m[0], s.hand_offset_m[1]
+        w = self.turn_rate_rad_s
+        return self.vx - w * (ox * sn + oy * c), self.vy + w * (ox * c - oy * sn)
