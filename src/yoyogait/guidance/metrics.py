@@ -15,7 +15,8 @@
   tension within 3 s after each start and each commanded stop, and within 1.5 s of each corner.
 * ``slack_s``: time the cable was slack after it first became taut.
 * ``lag_s``: the delay that best aligns the source's velocity with the intended one (least squares
-  over shifts of 0-1.5 s); NaN for ``none``.
+  over shifts of 0-1.5 s), both low-passed at 0.5 Hz without phase shift first, so that the step
+  oscillation and the noise do not count: the lag of the walking velocity's changes; NaN for ``none``.
 * ``source_osc_mps``: RMS of the source's velocity at the step frequency and its harmonic.
 """
 
@@ -50,6 +51,7 @@ WALKING_SPEED_MPS = 0.3
 """Above this intended speed a sample counts as walking (for the oscillation metrics)."""
 _DEMOD_CUTOFF_HZ = 0.3
 _MAX_LAG_S = 1.5
+_LAG_CUTOFF_HZ = 0.5
 
 
 def harmonic_rms(time_s, values, theta_rad, harmonics, mask=None) -> float:
@@ -78,6 +80,11 @@ def harmonic_rms(time_s, values, theta_rad, harmonics, mask=None) -> float:
 
 def _lag_s(t, source_v, intent_v, mask) -> float:
     dt = float(np.median(np.diff(t)))
+    if len(t) < 30:
+        return math.nan
+    sos = signal.butter(4, _LAG_CUTOFF_HZ, fs=1.0 / dt, output="sos")
+    source_v = signal.sosfiltfilt(sos, source_v, axis=0)  # zero-phase: no shift of its own
+    intent_v = signal.sosfiltfilt(sos, intent_v, axis=0)
     best, best_err = math.nan, math.inf
     n = len(t)
     for shift in range(0, int(round(_MAX_LAG_S / dt)) + 1):
