@@ -61,21 +61,28 @@ def _chosen(runs: list[GuidanceRun]) -> list[GuidanceRun]:
 
 
 def paths_figure(runs: list[GuidanceRun], title: str, path: Path) -> None:
-    """The path, the walker's guided point per source, and the robot's track (yoyogait's, else the first)."""
-    fig = _figure(8.0, 5.5)
-    ax = fig.add_subplot(111)
+    """Plan view: the path, the walker's guided point per source and the robot's track (yoyogait's, else
+    the first); below it, each source's distance from the path over time."""
+    fig = _figure(8.0, 8.0)
+    plan, error = fig.subplots(2, 1, gridspec_kw=dict(height_ratios=[1.6, 1.0], hspace=0.3))
     p = runs[0].path
-    ax.plot(p.xy_m[:, 0], p.xy_m[:, 1], "o-", color="0.75", lw=6, alpha=0.6, label="path", zorder=1)
+    plan.plot(p.xy_m[:, 0], p.xy_m[:, 1], "o-", color="0.75", lw=6, alpha=0.6, label="path", zorder=1)
     for r in _chosen(runs):
-        ax.plot(r.guided_m[:, 0], r.guided_m[:, 1], color=_COLOURS.get(r.source), lw=1.1, label=f"walker, {r.source}")
+        colour = _COLOURS.get(r.source)
+        plan.plot(r.guided_m[:, 0], r.guided_m[:, 1], color=colour, lw=1.1, label=f"walker, {r.source}")
+        error.plot(r.time_s, 100.0 * p.distance(r.guided_m, extend_ends=True), color=colour, lw=0.9, label=r.source)
     robot = next((r for r in runs if r.source == "yoyogait"), runs[0])
-    ax.plot(robot.robot_m[:, 0], robot.robot_m[:, 1], ":", color="tab:green", lw=1.2, label=f"robot, {robot.source}")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
-    ax.set_title(title, fontsize=9)
+    plan.plot(robot.robot_m[:, 0], robot.robot_m[:, 1], ":", color="tab:green", lw=1.2, label=f"robot, {robot.source}")
+    plan.set_aspect("equal", adjustable="datalim")
+    plan.set_xlabel("x (m)")
+    plan.set_ylabel("y (m)")
+    plan.grid(alpha=0.3)
+    plan.legend(fontsize=7, loc="best")
+    plan.set_title(title, fontsize=9)
+    error.set_xlabel("time (s)")
+    error.set_ylabel("walker's distance from\nthe path, sideways (cm)")
+    error.grid(alpha=0.3)
+    error.legend(fontsize=7, ncol=5, loc="upper left")
     _mark(fig)
     _save(fig, path)
 

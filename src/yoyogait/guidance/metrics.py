@@ -9,7 +9,10 @@
 * ``robot_accel_rms_mps2``, ``robot_jerk_rms_mps3``: of the robot's horizontal motion, by
   differences of its velocity at the frame rate, over the guided part.
 * ``path_error_rms_m``, ``path_error_max_m``: the distance of the walker's guided point (its
-  hand's mean position) from the path.
+  hand's mean position) from the path, sideways (the path's ends extended straight: going past
+  the goal is the overshoot, not a path error).
+* ``overshoot_m``: the furthest the guided point went past a stop or the goal, along the path's
+  direction there, before the guidance went on (or the walk ended).
 * ``time_to_goal_s``: when it came within the goal radius of the last waypoint (NaN: never).
 * ``force_start_peak_n``, ``force_stop_peak_n``, ``force_turn_peak_n``: the largest cable
   tension within 3 s after each start and each commanded stop, and within 1.5 s of each corner.
@@ -38,6 +41,7 @@ METRIC_KEYS: tuple[str, ...] = (
     "robot_jerk_rms_mps3",
     "path_error_rms_m",
     "path_error_max_m",
+    "overshoot_m",
     "time_to_goal_s",
     "force_start_peak_n",
     "force_stop_peak_n",
@@ -105,6 +109,24 @@ def _peak(t, tension, events, before_s, after_s) -> float:
     return float(max(peaks)) if peaks else math.nan
 
 
+def _overshoot_m(run: GuidanceRun) -> float:
+    """The furthest past each stop and the goal the guided point went before the next start (or the end)."""
+    path = run.path
+    cum = path.cumulative_m
+    points = [(float(s_stop), i) for i, s_stop in enumerate(cum) if 0 < i < len(cum) - 1 and path.stop_s[i] > 0]
+    points.append((float(cum[-1]), len(cum) - 1))
+    worst = 0.0
+    for trigger_s, (_, i) in zip(run.stops_s, points):
+        later = [s for s in run.starts_s if s > trigger_s]
+        until = later[0] if later else math.inf
+        window = (run.time_s >= trigger_s) & (run.time_s <= until)
+        d = path.xy_m[i] - path.xy_m[i - 1]
+        along = (run.guided_m[window] - path.xy_m[i]) @ (d / np.hypot(*d))
+        if along.size:
+            worst = max(worst, float(along.max()))
+    return worst
+
+
 def run_metrics(run: GuidanceRun) -> dict[str, float]:
     """The metrics of one guided walk (the keys of :data:`METRIC_KEYS`)."""
     t = run.time_s
@@ -120,9 +142,10 @@ def run_metrics(run: GuidanceRun) -> dict[str, float]:
     jerk = np.diff(acc, axis=0) / dt
     out["robot_accel_rms_mps2"] = float(np.sqrt(np.mean(np.sum(acc[guided[1:]] ** 2, axis=1))))
     out["robot_jerk_rms_mps3"] = float(np.sqrt(np.mean(np.sum(jerk[guided[2:]] ** 2, axis=1))))
-    err = run.path.distance(run.guided_m)
+    err = run.path.distance(run.guided_m, extend_ends=True)
     out["path_error_rms_m"] = float(np.sqrt(np.mean(err[guided] ** 2)))
     out["path_error_max_m"] = float(err[guided].max())
+    out["overshoot_m"] = _overshoot_m(run)
     out["time_to_goal_s"] = float(run.goal_s - cfg.start_s) if math.isfinite(run.goal_s) else math.nan
     tension = run.tension_n
     out["force_start_peak_n"] = _peak(t, tension, run.starts_s, 0.0, 3.0)

@@ -121,12 +121,17 @@ class GuidePath:
                 best_s, best_d = s, dist
         return best_s
 
-    def distance(self, xy) -> np.ndarray:
-        """Distance of each point (m x 2) to the polyline [m]."""
+    def distance(self, xy, *, extend_ends: bool = False) -> np.ndarray:
+        """Distance of each point (m x 2) to the polyline [m]; ``extend_ends``: the first and last
+        segments continue straight beyond the ends (the distance sideways, not along)."""
         p = np.atleast_2d(np.asarray(xy, dtype=float))
         a = self.xy_m[:-1][None]
         d = np.diff(self.xy_m, axis=0)[None]
-        u = np.clip(np.sum((p[:, None] - a) * d, axis=2) / np.sum(d * d, axis=2), 0.0, 1.0)
+        lo = np.zeros(d.shape[1])
+        hi = np.ones(d.shape[1])
+        if extend_ends:
+            lo[0], hi[-1] = -np.inf, np.inf
+        u = np.clip(np.sum((p[:, None] - a) * d, axis=2) / np.sum(d * d, axis=2), lo, hi)
         near = a + u[..., None] * d
         return np.min(np.hypot(*(p[:, None] - near).transpose(2, 0, 1)), axis=1)
 

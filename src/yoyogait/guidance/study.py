@@ -37,6 +37,7 @@ TABLE_COLUMNS: tuple[tuple[str, str, int], ...] = (
     ("robot_jerk_rms_mps3", "robot jerk (m/s^3 RMS)", 1),
     ("path_error_rms_m", "path err. RMS (m)", 3),
     ("path_error_max_m", "path err. max (m)", 3),
+    ("overshoot_m", "overshoot (m)", 2),
     ("time_to_goal_s", "time to goal (s)", 2),
     ("force_start_peak_n", "start peak (N)", 2),
     ("force_stop_peak_n", "stop peak (N)", 2),
