@@ -39,7 +39,7 @@ def test_the_lag_is_the_delay_of_the_slow_part():
 
 
 def test_the_path_error_is_sideways_beyond_the_goal():
-    """Past the last waypoint on the path's extension the error is zero with the ends extended; beside it, the offset."""
+    """Past the goal on the extended path the error is zero (ends extended); beside the path it is the offset."""
     path = GuidePath("l", np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]]), np.ones(3), np.zeros(3))
     points = np.array([[4.0, 4.0], [4.2, 4.0], [2.0, -0.3]])
     assert np.allclose(path.distance(points, extend_ends=True), [0.0, 0.2, 0.3])
