@@ -81,7 +81,13 @@ def command(path_file, sources, seed, latency_s, out, force, no_figures):
             f"Simulating {len(names)} sources x {n_paths} walks x 3 walkers (SYNTHETIC, latency {latency_s:g} s)",
             err=True,
         )
-        study = run_study(paths, sources=names, seed=seed, config=config)
+        first = names[0]
+
+        def progress(what: str) -> None:  # one line per walk and walker
+            if what.endswith(f" / {first}"):
+                click.echo(f"  {what[: -len(first) - 3]}", err=True)
+
+        study = run_study(paths, sources=names, seed=seed, config=config, progress=progress)
         click.echo("\nTethered guidance, SYNTHETIC: mean over the walks per source\n")
         click.echo(table_markdown(study))
         click.echo("")
