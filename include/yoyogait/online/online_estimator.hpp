@@ -18,9 +18,11 @@
 #include "yoyogait/estimator.hpp"
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/heading.hpp"
 #include "yoyogait/online/lowpass.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
+#include "yoyogait/online/settings.hpp"
 
 namespace yoyogait {
 
@@ -40,6 +42,7 @@ class OnlineEstimator {
         centre_(n_points, config_.centre_blend_tau_s, config_.centre_forget_s),
         diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
               config_.initial_accel_std_mps2),
+        heading_(online::heading_settings(config_)),
         aa_(config_.antialias_hz) {
     ha_ = up_ == 0 ? 1 : 0;
     hb_ = up_ == 2 ? 1 : 2;
@@ -55,12 +58,7 @@ class OnlineEstimator {
     out_ = OnlineEstimate{};
     have_time_ = false;
     have_seen_ = false;
-    heading_lp_ = {0.0, 0.0};
-    heading_unit_ = {1.0, 0.0};
-    heading_known_ = false;
-    lp_dir_ = {1.0, 0.0};
-    lp_dir_known_ = false;
-    turn_rate_rad_s_ = 0.0;
+    heading_.reset();
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     fed_ = false;
     tick_age_s_ = 0.0;
@@ -69,7 +67,6 @@ class OnlineEstimator {
     latency_s_ = 0.0;
     latency_dt_s_ = -1.0;
     latency_t_s_ = 0.0;
-    alpha_dt_s_ = -1.0;
     aa_started_ = false;
     aa_delay_s_ = 0.0;
   }
@@ -137,38 +134,9 @@ class OnlineEstimator {
     o.vh_b_mps = vb;
     o.vz_mps = v[static_cast<std::size_t>(up_)];
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
-    if (settled && !restart) {
-      // Heading: the horizontal velocity low-passed over about a stride, so that the sway cancels.
-      // A first-order low-pass of a vector turning at w lags it by atan(w tau): the turn rate of the
-      // low-passed direction (itself low-passed) turns the heading forward by that much.
-      if (gap_s != alpha_dt_s_) {
-        alpha_dt_s_ = gap_s;
-        alpha_ = 1.0 - std::exp(-gap_s / config_.heading_tau_s);
-      }
-      heading_lp_[0] += alpha_ * (va - heading_lp_[0]);
-      heading_lp_[1] += alpha_ * (vb - heading_lp_[1]);
-      const double s = std::sqrt(heading_lp_[0] * heading_lp_[0] + heading_lp_[1] * heading_lp_[1]);
-      if (s >= config_.heading_min_speed_mps && s > 0.0) {
-        const double ua = heading_lp_[0] / s, ub = heading_lp_[1] / s;
-        if (lp_dir_known_) {
-          const double sin_turn = lp_dir_[0] * ub - lp_dir_[1] * ua;  // sin of the turn since the last frame
-          turn_rate_rad_s_ += alpha_ * (sin_turn / gap_s - turn_rate_rad_s_);
-          // No walker turns faster than this; it also keeps frames microseconds apart harmless.
-          if (!(std::fabs(turn_rate_rad_s_) <= 10.0)) turn_rate_rad_s_ = turn_rate_rad_s_ > 0.0 ? 10.0 : -10.0;
-        }
-        lp_dir_ = {ua, ub};
-        lp_dir_known_ = true;
-        const double k = turn_rate_rad_s_ * config_.heading_tau_s;  // tan of the lag
-        const double cs = 1.0 / std::sqrt(1.0 + k * k), sn = k * cs;
-        heading_unit_ = {ua * cs - ub * sn, ua * sn + ub * cs};
-        heading_known_ = true;
-      } else {
-        lp_dir_known_ = false;
-        turn_rate_rad_s_ = 0.0;
-      }
-    }
-    o.heading_rad = std::atan2(heading_unit_[1], heading_unit_[0]);
-    o.vx_mps = heading_known_ ? va * heading_unit_[0] + vb * heading_unit_[1] : std::sqrt(va * va + vb * vb);
+    if (settled && !restart) heading_.update(va, vb, gap_s);
+    o.heading_rad = heading_.heading_rad();
+    o.vx_mps = heading_.forward_mps(va, vb);
 
     if (settled && !restart) {
       // Decimation: a Butterworth low-pass (antialias_hz; 0: none), then the mean over the interval.
@@ -280,8 +248,8 @@ class OnlineEstimator {
     o.speed_std_mps = e.speed_std_mps;
     o.walking = fed_ && e.walking;
     o.estimator_status = e.status;
-    o.walk_a_mps = e.speed_mps * heading_unit_[0];
-    o.walk_b_mps = e.speed_mps * heading_unit_[1];
+    o.walk_a_mps = e.speed_mps * heading_.unit()[0];
+    o.walk_b_mps = e.speed_mps * heading_.unit()[1];
     if (!fed_) {
       // No estimate yet (the front-end settles, the first interval fills): the measured velocity
       // is the best there is; zero would tell a controller that the walker stands.
@@ -329,6 +297,7 @@ class OnlineEstimator {
   Estimator estimator_;
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
+  online::HeadingTracker heading_;
   online::Lowpass2 aa_;
   bool aa_started_ = false;
   double aa_delay_s_ = 0.0;
@@ -336,12 +305,8 @@ class OnlineEstimator {
   OnlineEstimate out_{};
   std::array<online::Vec3, online::kMaxPoints> pos_{};
   std::array<bool, online::kMaxPoints> vis_{};
-  bool have_time_ = false, have_seen_ = false, heading_known_ = false, fed_ = false;
+  bool have_time_ = false, have_seen_ = false, fed_ = false;
   double t_last_s_ = 0.0, t_seen_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0;
-  std::array<double, 2> heading_lp_{}, heading_unit_{1.0, 0.0}, lp_dir_{1.0, 0.0};
-  bool lp_dir_known_ = false;
-  double turn_rate_rad_s_ = 0.0;
-  double alpha_dt_s_ = -1.0, alpha_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0;
   double t_first_s_ = 0.0;    ///< time of the interval's first frame
   double sum_age_s2_ = 0.0;   ///< sum over the interval's frames of (t - t_first) times the frame's interval
