@@ -17,9 +17,9 @@
 
 #include "yoyogait/estimator.hpp"
 #include "yoyogait/online/centre.hpp"
+#include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
 #include "yoyogait/online/heading.hpp"
-#include "yoyogait/online/lowpass.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/online/settings.hpp"
@@ -43,7 +43,7 @@ class OnlineEstimator {
         diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
               config_.initial_accel_std_mps2),
         heading_(online::heading_settings(config_)),
-        aa_(config_.antialias_hz) {
+        decimator_(online::decimator_settings(config_)) {
     ha_ = up_ == 0 ? 1 : 0;
     hb_ = up_ == 2 ? 1 : 2;
     reset();
@@ -59,7 +59,7 @@ class OnlineEstimator {
     have_time_ = false;
     have_seen_ = false;
     heading_.reset();
-    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+    decimator_.restart();
     fed_ = false;
     tick_age_s_ = 0.0;
     phase_ = 0.0;
@@ -67,7 +67,6 @@ class OnlineEstimator {
     latency_s_ = 0.0;
     latency_dt_s_ = -1.0;
     latency_t_s_ = 0.0;
-    aa_started_ = false;
     aa_delay_s_ = 0.0;
   }
 
@@ -138,41 +137,22 @@ class OnlineEstimator {
     o.heading_rad = heading_.heading_rad();
     o.vx_mps = heading_.forward_mps(va, vb);
 
-    if (settled && !restart) {
-      // Decimation: a Butterworth low-pass (antialias_hz; 0: none), then the mean over the interval.
-      std::array<double, 2> v_in{o.vx_mps, o.vz_mps};
-      if (config_.antialias_hz > 0.0) {
-        if (!aa_started_) {
-          aa_.start(v_in);
-          aa_started_ = true;
-        }
-        v_in = aa_.step(v_in, gap_s);
+    if (settled && !restart && decimator_.push(t_s, o.vx_mps, o.vz_mps, gap_s)) {
+      const online::Decimator::Mean& m = decimator_.mean();
+      const double dt_s = fed_ ? t_s - t_tick_s_ : config_.estimator.sample_time_s;
+      est_ = estimator_.step(m.vx_mps, m.vz_mps, dt_s);
+      fed_ = true;
+      o.estimator_fed = true;
+      t_tick_s_ = t_s;
+      tick_age_s_ = m.age_s;
+      // The delay changes only with the frame interval and the (converging) gain: evaluated when
+      // the interval changes, else once a second.
+      if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
+        latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
+        latency_dt_s_ = gap_s;
+        latency_t_s_ = t_s;
       }
-      if (span_s_ == 0.0) t_first_s_ = t_s;
-      sum_vx_ += v_in[0] * gap_s;
-      sum_vz_ += v_in[1] * gap_s;
-      sum_age_s2_ += (t_s - t_first_s_) * gap_s;
-      span_s_ += gap_s;
-      const double T = config_.estimator.sample_time_s;
-      if (span_s_ + 0.5 * gap_s >= T * (1.0 - 1e-9)) {
-        const double dt_s = fed_ ? t_s - t_tick_s_ : T;
-        est_ = estimator_.step(sum_vx_ / span_s_, sum_vz_ / span_s_, dt_s);
-        fed_ = true;
-        o.estimator_fed = true;
-        t_tick_s_ = t_s;
-        // The mean's weights are the frames' intervals, so it describes the velocity at the
-        // weighted mean of the frames' times (the frame time itself when one frame fills it).
-        tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
-        sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
-        // The delay changes only with the frame interval and the (converging) gain: evaluated when
-        // the interval changes, else once a second.
-        if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
-          latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
-          latency_dt_s_ = gap_s;
-          latency_t_s_ = t_s;
-        }
-        aa_delay_s_ = config_.antialias_hz > 0.0 ? aa_.delay_s(config_.latency_f_hz) : 0.0;
-      }
+      aa_delay_s_ = decimator_.antialias_delay_s(config_.latency_f_hz);
     }
     o.input_latency_s = latency_s_;
     carry_estimate(t_s);
@@ -232,8 +212,7 @@ class OnlineEstimator {
   void start_front_end(double t_s, const std::array<double, 3>& centre_m) noexcept {
     diff_.start(centre_m);
     start_t_s_ = t_s;
-    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
-    aa_started_ = false;
+    decimator_.restart();
   }
 
   // The estimator's last estimate carried to t_s: its prediction over the time since its sample,
@@ -298,8 +277,7 @@ class OnlineEstimator {
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
   online::HeadingTracker heading_;
-  online::Lowpass2 aa_;
-  bool aa_started_ = false;
+  online::Decimator decimator_;
   double aa_delay_s_ = 0.0;
   Estimate est_{};
   OnlineEstimate out_{};
@@ -307,9 +285,6 @@ class OnlineEstimator {
   std::array<bool, online::kMaxPoints> vis_{};
   bool have_time_ = false, have_seen_ = false, fed_ = false;
   double t_last_s_ = 0.0, t_seen_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0;
-  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0;
-  double t_first_s_ = 0.0;    ///< time of the interval's first frame
-  double sum_age_s2_ = 0.0;   ///< sum over the interval's frames of (t - t_first) times the frame's interval
   double tick_age_s_ = 0.0;   ///< last sample: its time - the weighted mean time of its frames
   double carry_h_s_ = 0.0;  ///< the horizon of the last carry_estimate: last frame's time - the state's time
   double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;

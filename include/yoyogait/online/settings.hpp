@@ -3,6 +3,7 @@
 /// OnlineEstimator's constructor builds its parts from).
 #pragma once
 
+#include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/heading.hpp"
 #include "yoyogait/online/online_config.hpp"
 
@@ -13,6 +14,14 @@ inline HeadingTracker::Settings heading_settings(const OnlineConfig& c) noexcept
   HeadingTracker::Settings s;
   s.tau_s = c.heading_tau_s;
   s.min_speed_mps = c.heading_min_speed_mps;
+  return s;
+}
+
+/// The decimator's settings (the estimator's sample_time_s, antialias_hz).
+inline Decimator::Settings decimator_settings(const OnlineConfig& c) noexcept {
+  Decimator::Settings s;
+  s.sample_time_s = c.estimator.sample_time_s;
+  s.antialias_hz = c.antialias_hz;
   return s;
 }
 
