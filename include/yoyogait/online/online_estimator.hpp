@@ -20,6 +20,7 @@
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
 #include "yoyogait/online/heading.hpp"
+#include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/online/settings.hpp"
@@ -43,7 +44,8 @@ class OnlineEstimator {
         diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
               config_.initial_accel_std_mps2),
         heading_(online::heading_settings(config_)),
-        decimator_(online::decimator_settings(config_)) {
+        decimator_(online::decimator_settings(config_)),
+        latency_(online::latency_settings(config_)) {
     ha_ = up_ == 0 ? 1 : 0;
     hb_ = up_ == 2 ? 1 : 2;
     reset();
@@ -60,14 +62,8 @@ class OnlineEstimator {
     have_seen_ = false;
     heading_.reset();
     decimator_.restart();
-    fed_ = false;
-    tick_age_s_ = 0.0;
+    latency_.reset();
     phase_ = 0.0;
-    carry_h_s_ = 0.0;
-    latency_s_ = 0.0;
-    latency_dt_s_ = -1.0;
-    latency_t_s_ = 0.0;
-    aa_delay_s_ = 0.0;
   }
 
   /// One frame: t_s [s], positions_xyz: n_points x 3 coordinates (x, y, z of each point, in the
@@ -139,22 +135,11 @@ class OnlineEstimator {
 
     if (settled && !restart && decimator_.push(t_s, o.vx_mps, o.vz_mps, gap_s)) {
       const online::Decimator::Mean& m = decimator_.mean();
-      const double dt_s = fed_ ? t_s - t_tick_s_ : config_.estimator.sample_time_s;
-      est_ = estimator_.step(m.vx_mps, m.vz_mps, dt_s);
-      fed_ = true;
+      est_ = estimator_.step(m.vx_mps, m.vz_mps, latency_.sample_dt_s(t_s, config_.estimator.sample_time_s));
       o.estimator_fed = true;
-      t_tick_s_ = t_s;
-      tick_age_s_ = m.age_s;
-      // The delay changes only with the frame interval and the (converging) gain: evaluated when
-      // the interval changes, else once a second.
-      if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
-        latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
-        latency_dt_s_ = gap_s;
-        latency_t_s_ = t_s;
-      }
-      aa_delay_s_ = decimator_.antialias_delay_s(config_.latency_f_hz);
+      latency_.sampled(t_s, gap_s, m.age_s, decimator_.antialias_delay_s(config_.latency_f_hz), diff_);
     }
-    o.input_latency_s = latency_s_;
+    o.input_latency_s = latency_.input_latency_s();
     carry_estimate(t_s);
     return o;
   }
@@ -176,12 +161,12 @@ class OnlineEstimator {
       p.vx_mps = p.vz_mps = 0.0;
       return p;
     }
-    if (!fed_) {
+    if (!latency_.fed()) {
       p.vx_mps = out_.vx_hat_mps;
       p.vz_mps = out_.vz_hat_mps;
       return p;
     }
-    const GaitFilter::Forecast f = estimator_.forecast(carry_h_s_ + horizon_s, true);
+    const GaitFilter::Forecast f = estimator_.forecast(latency_.horizon_s() + horizon_s, true);
     p.vx_mps = f.vx_mps;
     p.vz_mps = f.vz_mps;
     p.vx_std_mps = f.vx_std_mps;
@@ -225,23 +210,21 @@ class OnlineEstimator {
     o.step_frequency_std_hz = e.step_frequency_std_hz;
     o.speed_mps = e.speed_mps;
     o.speed_std_mps = e.speed_std_mps;
-    o.walking = fed_ && e.walking;
+    o.walking = latency_.fed() && e.walking;
     o.estimator_status = e.status;
     o.walk_a_mps = e.speed_mps * heading_.unit()[0];
     o.walk_b_mps = e.speed_mps * heading_.unit()[1];
-    if (!fed_) {
+    const double h_s = latency_.carry_to(t_s);
+    if (!latency_.fed()) {
       // No estimate yet (the front-end settles, the first interval fills): the measured velocity
       // is the best there is; zero would tell a controller that the walker stands.
       o.vx_hat_mps = o.vx_mps;
       o.vz_hat_mps = o.vz_mps;
       o.estimate_age_s = 0.0;
       o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
-      carry_h_s_ = 0.0;
       return;
     }
-    o.estimate_age_s = t_s - t_tick_s_;
-    const double h_s = o.estimate_age_s + tick_age_s_ + aa_delay_s_ + latency_s_;
-    carry_h_s_ = h_s;
+    o.estimate_age_s = latency_.sample_age_s(t_s);
     const GaitFilter::Forecast f = estimator_.forecast(h_s, false);
     o.vx_hat_mps = f.vx_mps;
     o.vz_hat_mps = f.vz_mps;
@@ -278,16 +261,14 @@ class OnlineEstimator {
   online::KalmanDifferentiator diff_;
   online::HeadingTracker heading_;
   online::Decimator decimator_;
-  double aa_delay_s_ = 0.0;
+  online::Latency latency_;
   Estimate est_{};
   OnlineEstimate out_{};
   std::array<online::Vec3, online::kMaxPoints> pos_{};
   std::array<bool, online::kMaxPoints> vis_{};
-  bool have_time_ = false, have_seen_ = false, fed_ = false;
-  double t_last_s_ = 0.0, t_seen_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0;
-  double tick_age_s_ = 0.0;   ///< last sample: its time - the weighted mean time of its frames
-  double carry_h_s_ = 0.0;  ///< the horizon of the last carry_estimate: last frame's time - the state's time
-  double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;
+  bool have_time_ = false, have_seen_ = false;
+  double t_last_s_ = 0.0, t_seen_s_ = 0.0, start_t_s_ = 0.0;
+  double phase_ = 0.0;
 };
 
 }  // namespace yoyogait

@@ -5,6 +5,7 @@
 
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/heading.hpp"
+#include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
 
 namespace yoyogait::online {
@@ -22,6 +23,13 @@ inline Decimator::Settings decimator_settings(const OnlineConfig& c) noexcept {
   Decimator::Settings s;
   s.sample_time_s = c.estimator.sample_time_s;
   s.antialias_hz = c.antialias_hz;
+  return s;
+}
+
+/// The latency bookkeeping's settings (latency_f_hz).
+inline Latency::Settings latency_settings(const OnlineConfig& c) noexcept {
+  Latency::Settings s;
+  s.f_hz = c.latency_f_hz;
   return s;
 }
 
