@@ -89,7 +89,7 @@ class GaitFilter {
 
   /// config must pass EstimatorConfig::validate() (the Estimator checks it); the gait filter reads
   /// its section, config.gait_filter, and the shared fields.
-  explicit GaitFilter(const EstimatorConfig& config) noexcept : GaitFilter(config, config.gait_filter) {}
+  explicit GaitFilter(const EstimatorConfig& config) noexcept : GaitFilter(config, gait::filter_settings(config)) {}
 
   /// Back to the state before the first sample.
   void reset() noexcept {
@@ -219,26 +219,20 @@ class GaitFilter {
  private:
   using Ekf = gait::Ekf;
 
-  GaitFilter(const EstimatorConfig& config, const GaitFilterConfig& g) noexcept
+  GaitFilter(const EstimatorConfig& config, const gait::FilterSettings& s) noexcept
       : cfg_(config),
-        model_(gait::member_model(g, config.max_abs_velocity_mps)),
-        factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
-                  g.bank_forget_s, g.radii_tau_s, g.cadence_change_tau_s, g.cadence_change_noise_tau_s},
-                 {g.meas_vx_density_m2_per_s, g.meas_vz_density_m2_per_s, config.sample_time_s}),
-        detector_({g.walk_tau_s, g.walk_speed_on_mps, g.walk_speed_off_mps, g.walk_vz_rms_on_mps, g.walk_vz_rms_off_mps}),
-        gate_(g.gate_sigma, config.samples_in(g.gate_max_consecutive_s)),
-        scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
-        radii_(g.initial_R_m, g.initial_r_m),
-        watchdog_(kTwoPi * g.f_min_hz, kTwoPi * g.f_max_hz, g.bound_watchdog_s),
-        cadence_(g.cadence_change_adapt, g.cadence_change_tau_s, g.cadence_change_horizon_s,
-                 kTwoPi * g.cadence_change_max_std_hz, g.cadence_change_phase_rad, g.cadence_change_sigma,
-                 g.cadence_change_min_amp_mps, g.cadence_change_noise_tau_s),
-        nominal_dt_(config.sample_time_s),
-        speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
-        bank_(gait::bank_settings(g)),
-        spectral_({g.spectral_init, g.spectral_init_s, config.samples_in(g.spectral_buffer_s), g.spectral_grid_step_hz, g.f_min_hz,
-                   g.f_max_hz, g.meas_vx_density_m2_per_s / config.sample_time_s,
-                   g.meas_vz_density_m2_per_s / config.sample_time_s}) {
+        model_(s.model),
+        factors_(s.time_constants, s.measurement_noise),
+        detector_(s.walking),
+        gate_(s.gate),
+        scale_(s.std_scale),
+        radii_(s.radii),
+        watchdog_(s.watchdog),
+        cadence_(s.cadence_change),
+        nominal_dt_(s.nominal_dt_s),
+        speed_floor2_(s.speed_std_floor2),
+        bank_(s.bank),
+        spectral_(s.spectral) {
     reset();
   }
 
