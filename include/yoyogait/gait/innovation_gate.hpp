@@ -17,7 +17,8 @@ class InnovationGate {
   };
 
   InnovationGate() noexcept = default;
-  explicit InnovationGate(const Settings& s) noexcept : sigma2_(s.sigma * s.sigma), max_consecutive_(s.max_consecutive) {}
+  explicit InnovationGate(const Settings& s) noexcept
+      : sigma2_(s.sigma * s.sigma), max_consecutive_(s.max_consecutive) {}
 
   void reset() noexcept { n_rejects_ = 0; }
 

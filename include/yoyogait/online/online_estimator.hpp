@@ -167,7 +167,8 @@ class OnlineEstimator {
   /// longer than max_gap_s, or at the first frame). False when no centre could be formed.
   bool track_centre(double t_s, double gap_s, bool restart) noexcept {
     if (restart) centre_.reset();
-    const online::CausalCentre::Result c = centre_.update(frame_.positions_m(), frame_.visible(), restart ? 0.0 : gap_s);
+    const online::CausalCentre::Result c =
+        centre_.update(frame_.positions_m(), frame_.visible(), restart ? 0.0 : gap_s);
     if (!c.ok) return false;  // cannot happen with a point seen; kept so that no unset centre is ever used
     out_.status = (restart && have_seen_) ? OnlineStatus::kGapRestart : OnlineStatus::kUsed;
     if (restart) {
