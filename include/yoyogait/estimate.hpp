@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "yoyogait/gait/state.hpp"
-#include "yoyogait/heuristics.hpp"
-#include "yoyogait/state.hpp"
+#include "yoyogait/paper/heuristics.hpp"
+#include "yoyogait/paper/state.hpp"
 
 namespace yoyogait {
 

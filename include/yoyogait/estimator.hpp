@@ -1,6 +1,6 @@
 /// @file estimator.hpp
 /// @brief The online gait estimator: one API over the default gait filter (gait/gait_filter.hpp)
-/// and the paper's estimator (paper_estimator.hpp), chosen by EstimatorConfig::algorithm.
+/// and the paper's estimator (paper/paper_estimator.hpp), chosen by EstimatorConfig::algorithm.
 #pragma once
 
 #include <cstddef>
@@ -11,8 +11,8 @@
 #include "yoyogait/estimate.hpp"
 #include "yoyogait/gait/gait_filter.hpp"
 #include "yoyogait/math.hpp"
-#include "yoyogait/paper_estimator.hpp"
-#include "yoyogait/state.hpp"
+#include "yoyogait/paper/paper_estimator.hpp"
+#include "yoyogait/paper/state.hpp"
 
 namespace yoyogait {
 
@@ -109,11 +109,11 @@ class Estimator {
   Matrix4 covariance() const noexcept {
     if (is_paper_) return paper_.covariance().dense();
     const GaitMatrix G = gait_.covariance();
-    const std::size_t idx[kStateDim] = {gait::kX1, gait::kX2, gait::kW, gait::kA0};
-    const double scale[kStateDim] = {1.0, 1.0, config_.sample_time_s, 1.0};
+    const std::size_t idx[paper::kStateDim] = {gait::kX1, gait::kX2, gait::kW, gait::kA0};
+    const double scale[paper::kStateDim] = {1.0, 1.0, config_.sample_time_s, 1.0};
     Matrix4 P{};
-    for (std::size_t i = 0; i < kStateDim; ++i)
-      for (std::size_t j = 0; j < kStateDim; ++j) P[i][j] = scale[i] * scale[j] * G[idx[i]][idx[j]];
+    for (std::size_t i = 0; i < paper::kStateDim; ++i)
+      for (std::size_t j = 0; j < paper::kStateDim; ++j) P[i][j] = scale[i] * scale[j] * G[idx[i]][idx[j]];
     return P;
   }
   /// gait: the state x (gait::Index) of the active EKF. paper: zeros.
@@ -173,7 +173,7 @@ class Estimator {
 
   EstimatorConfig config_;
   GaitFilter gait_;
-  PaperEstimator paper_;
+  paper::PaperEstimator paper_;
   bool is_paper_ = false;
   double inv_T_ = 25.0;
   std::size_t samples_ = 0;
