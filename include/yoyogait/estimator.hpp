@@ -9,6 +9,7 @@
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimate.hpp"
+#include "yoyogait/forecast.hpp"
 #include "yoyogait/gait/gait_filter.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/paper/paper_estimator.hpp"
@@ -76,12 +77,12 @@ class Estimator {
     return Velocity{p.vx_mps, p.vz_mps};
   }
 
-  /// The model's forecast horizon_s [s] after the last sample, rates included, with standard
-  /// deviations when with_std (GaitFilter::forecast). paper: predict_ahead's velocities, the phase
+  /// The model's forecast horizon_s [s] after the last sample (yoyogait::Forecast), rates included,
+  /// with standard deviations when with_std. gait: GaitFilter::forecast. paper: predict_ahead's velocities, the phase
   /// advance w h, the stds NaN (the paper's filter has no rates to propagate).
-  GaitFilter::Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
+  Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
     if (!is_paper_) return gait_.forecast(horizon_s, with_std);
-    GaitFilter::Forecast f;
+    Forecast f;
     const Velocity v = predict_ahead(horizon_s);
     const State x = paper_.state();
     f.vx_mps = v.vx_mps;

@@ -6,6 +6,7 @@
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimate.hpp"
 #include "yoyogait/estimator.hpp"
+#include "yoyogait/forecast.hpp"
 #include "yoyogait/gait/gait_filter.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/paper/ekf.hpp"

@@ -26,6 +26,7 @@
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimate.hpp"
+#include "yoyogait/forecast.hpp"
 #include "yoyogait/gait/bound_watchdog.hpp"
 #include "yoyogait/gait/cadence_change.hpp"
 #include "yoyogait/gait/decay_factors.hpp"
@@ -177,19 +178,8 @@ class GaitFilter {
     return turned(x[kW] * h_s + 0.5 * x[kDW] * h_s * h_s, x[kA0], harmonics);
   }
 
-  /// The model's forecast h_s [s] after the last sample, rates included (docs/online.md sec. 5).
-  struct Forecast {
-    double vx_mps = 0.0;          ///< A0(h) + X1(h) (+ second harmonic); standing: A0(h)
-    double vz_mps = 0.0;          ///< Z1(h) (+ second harmonic); standing: 0
-    double vx_std_mps = 0.0;  ///< sqrt(lambda (tr(P_XX) / 2 + P_A0A0)) propagated to h (0 unless asked)
-    double vz_std_mps = 0.0;  ///< sqrt(lambda tr(P_ZZ) / 2) propagated to h (0 unless asked)
-    double phase_advance_rad = 0.0;  ///< the phasors' turn over h: the integral of w
-    double omega_rad_s = 0.0;     ///< w(h)
-    double omega_rate_rad_s2 = 0.0;  ///< dw(h)
-    double speed_mps = 0.0;       ///< A0(h)
-  };
-
-  /// The mean of the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
+  /// The model's forecast (yoyogait::Forecast, rates included; docs/online.md sec. 5): the mean of
+  /// the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
   /// exp(-t / tau) (accel_tau_s, omega_rate_tau_s), so A0(h) = A0 + dA0 tau_a (1 - e^{-h/tau_a}),
   /// w(h) = w + dw tau_b (1 - e^{-h/tau_b}) and the phasors turn by the integral of w(t). Second
   /// harmonics at the turned phasors unless the bank is running. with_std: the covariance is

@@ -110,7 +110,7 @@ class OnlineEstimator {
       p.vz_mps = out_.vz_hat_mps;
       return p;
     }
-    const GaitFilter::Forecast f = estimator_.forecast(latency_.horizon_s() + horizon_s, true);
+    const Forecast f = estimator_.forecast(latency_.horizon_s() + horizon_s, true);
     p.vx_mps = f.vx_mps;
     p.vz_mps = f.vz_mps;
     p.vx_std_mps = f.vx_std_mps;
@@ -236,7 +236,7 @@ class OnlineEstimator {
       return;
     }
     o.estimate_age_s = latency_.sample_age_s(t_s);
-    const GaitFilter::Forecast f = estimator_.forecast(h_s, false);
+    const Forecast f = estimator_.forecast(h_s, false);
     o.vx_hat_mps = f.vx_mps;
     o.vz_hat_mps = f.vz_mps;
     phase_.update(e.walking, e.gait_state[gait::kZ1], e.gait_state[gait::kZ2], f.phase_advance_rad, f.omega_rad_s,
