@@ -1,4 +1,4 @@
-// The default estimator (gait_filter.hpp): transition and Jacobian, the structured covariance
+// The default estimator (gait/gait_filter.hpp): transition and Jacobian, the structured covariance
 // propagation, convergence with the real-data phase relation, standing, gaps, outliers, bad input.
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "yoyogait/estimator.hpp"
-#include "yoyogait/gait_filter.hpp"
+#include "yoyogait/gait/gait_filter.hpp"
 
 using namespace yoyogait;
 using namespace yoyogait::gait;

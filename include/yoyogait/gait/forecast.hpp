@@ -1,7 +1,7 @@
 /// @file gait/forecast.hpp
 /// @brief GaitFilter::forecast, a yoyogait::Forecast: the mean of the filter's own model h_s ahead,
 /// rates included, and the covariance propagated by its prediction (docs/online.md sec. 5).
-/// Included by gait_filter.hpp.
+/// Included by gait/gait_filter.hpp.
 #pragma once
 
 #include <array>
