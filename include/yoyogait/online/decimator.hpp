@@ -1,7 +1,7 @@
 /// @file online/decimator.hpp
 /// @brief From the frame rate to the estimator's sample time: the forward and vertical velocity,
 /// optionally low-passed (online/lowpass.hpp), averaged over each interval of sample_time_s, with
-/// the age of that mean (docs/online.md, "Decimation").
+/// the age of that mean (docs/online.md sec. 1, "Feeding the estimator").
 ///
 /// The mean's weights are the frames' intervals, so it describes the velocity at the weighted mean
 /// of the frames' times; its age is the interval's last frame time minus that mean time (the frame

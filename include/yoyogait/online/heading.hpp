@@ -1,6 +1,7 @@
 /// @file online/heading.hpp
 /// @brief The walking heading, frame by frame: the horizontal velocity low-passed over about a
-/// stride, turned forward by the low-pass's lag in a turn (docs/online.md, "Heading").
+/// stride, turned forward by the low-pass's lag in a turn (docs/online.md sec. 1, "Heading,
+/// forward and vertical velocity").
 ///
 /// A first-order low-pass of a vector turning at w lags it by atan(w tau). The turn rate of the
 /// low-passed direction (itself low-passed with the same gain) gives that lag, and the heading is

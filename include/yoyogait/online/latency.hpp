@@ -1,6 +1,7 @@
 /// @file online/latency.hpp
 /// @brief How far the estimator's last sample lies behind the frame time: the bookkeeping by which
-/// OnlineEstimator carries each estimate to its frame (docs/online.md, "Latency").
+/// OnlineEstimator carries each estimate to its frame (docs/online.md sec. 1, "Feeding the
+/// estimator").
 ///
 /// A sample fed at t_tick describes the velocity some time before t_tick: the age of its interval
 /// mean (online/decimator.hpp), the anti-aliasing low-pass's delay and the differentiator's delay
