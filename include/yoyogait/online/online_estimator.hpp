@@ -42,9 +42,8 @@ class OnlineEstimator {
         frame_(n_points, length_unit_m, config_.max_abs_position_m),
         axes_(up_axis),
         estimator_(config_.estimator),
-        centre_(n_points, config_.centre_blend_tau_s, config_.centre_forget_s),
-        diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
-              config_.initial_accel_std_mps2),
+        centre_(n_points, online::centre_settings(config_)),
+        diff_(online::differentiator_settings(config_)),
         heading_(online::heading_settings(config_)),
         decimator_(online::decimator_settings(config_)),
         latency_(online::latency_settings(config_)) {
