@@ -326,7 +326,7 @@ class GaitFilter {
       updated_ = false;
       return outcome;
     }
-    if (!started_) dt = start(vx, vz, ch.use_z);
+    if (!started_) dt = start_filter(vx, vz, ch.use_z);
     t_now_s_ += dt;
     const double dt_walk = dt;  // the detector runs over the gap too
     if (dt > cfg_.gait_filter.max_gap_s) dt = bridge_gap();
@@ -360,7 +360,7 @@ class GaitFilter {
 
   /// The first sample with a usable v_x: the detector's low-passes and the bank start at it (its
   /// best member is also the one EKF: defined from the start). Returns its time step, 0 (dt unused).
-  double start(double vx, double vz, bool use_z) noexcept {
+  double start_filter(double vx, double vz, bool use_z) noexcept {
     started_ = true;
     detector_.start(vx, vz, use_z);
     start_acquisition(vx, false, 0.0);
@@ -394,7 +394,7 @@ class GaitFilter {
   /// the one EKF, followed while walking by the cadence-change hook. Returns whether the gate
   /// rejected a channel. (Inlined: the steady state's step is most of advance.)
   YOYOGAIT_ALWAYS_INLINE bool filter_step(double vx, double vz, const Channels& ch, bool walking, double dt,
-                   const gait::DecayFactors::Values& fc) noexcept {
+                                          const gait::DecayFactors::Values& fc) noexcept {
     if (acquiring_) return bank_.step(model_, vx, vz, ch.use_x, ch.use_z, walking, dt, fc, gate_, scale_);
     model_.predict(main_, main_h_.data(), dt, fc, walking);
     const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
