@@ -305,57 +305,42 @@ class GaitFilter {
 
   // ------------------------------------------------------------------------------------ one step
 
-  /// What a sample's channels allow: use = finite and within max_abs_velocity_mps (a channel out
-  /// of range is dropped like a non-finite one: a corrupt 1e200 would overflow P).
-  struct Channels {
-    bool finite_x = false, finite_z = false, use_x = false, use_z = false;
-    /// Before the filter has seen the sample: kNonFinite, kOutOfRange or kOk.
-    Outcome outcome() const noexcept {
-      return !(finite_x && finite_z) ? Outcome::kNonFinite : (use_x && use_z) ? Outcome::kOk : Outcome::kOutOfRange;
-    }
-  };
-
   /// One sample dt [s] after the previous one, in the order of sec. 2: the channels screened, the
   /// first sample or a long gap handled, the walking detector, the EKF step (the bank's while
   /// acquiring), the gate's release, the acquisition, the watchdog, the outputs, the finiteness check.
   Outcome advance(double vx, double vz, double dt) noexcept {
     using namespace gait;
-    const Channels ch = screen(vx, vz);
-    Outcome outcome = ch.outcome();
-    if (!started_ && !ch.use_x) {
+    // The channels used: finite and within max_abs_velocity_mps (a channel out of range is dropped
+    // like a non-finite one: a corrupt 1e200 would overflow P).
+    const bool fin_x = std::isfinite(vx), fin_z = std::isfinite(vz);
+    const bool use_x = fin_x && std::fabs(vx) <= cfg_.max_abs_velocity_mps;
+    const bool use_z = fin_z && std::fabs(vz) <= cfg_.max_abs_velocity_mps;
+    Outcome outcome = !(fin_x && fin_z) ? Outcome::kNonFinite : (use_x && use_z) ? Outcome::kOk : Outcome::kOutOfRange;
+    if (!started_ && !use_x) {
       updated_ = false;
       return outcome;
     }
-    if (!started_) dt = start_filter(vx, vz, ch.use_z);
+    if (!started_) dt = start_filter(vx, vz, use_z);
     t_now_s_ += dt;
     const double dt_walk = dt;  // the detector runs over the gap too
     if (dt > cfg_.gait_filter.max_gap_s) dt = bridge_gap();
     const DecayFactors::Values& fc = factors_.at(dt);
-    const bool walking = detect_walking(vx, vz, ch, dt_walk, dt, fc);
-    const bool rejected = filter_step(vx, vz, ch, walking, dt, fc);
+    const bool walking = detect_walking(vx, vz, use_x, use_z, dt_walk, dt, fc);
+    const bool rejected = filter_step(vx, vz, use_x, use_z, walking, dt, fc);
     updated_ = true;
     // A non-finite or out-of-range channel says more about the sample than the gate.
     if (rejected && outcome == Outcome::kOk) outcome = Outcome::kOutlier;
     if (gate_.after_step(rejected)) release_gate();
-    if (acquiring_) acquire(vx, vz, ch, walking, dt, fc);
+    if (acquiring_) acquire(vx, vz, use_x && use_z, walking, dt, fc);
     if (walking && !acquiring_ && watchdog_.update(main_.x[kW], dt)) reacquire();  // a failed lock
     radii_updated_ = false;
-    if (walking) walking_outputs(active(), fc.radii_gain);
-    if (!state_finite()) {
+    Ekf& act = active();
+    if (walking) walking_outputs(act, fc.radii_gain);
+    if (!finite(act)) {
       recover();
       outcome = Outcome::kNumerical;
     }
     return outcome;
-  }
-
-  /// Which channels of (vx, vz) the step may use.
-  Channels screen(double vx, double vz) const noexcept {
-    Channels ch;
-    ch.finite_x = std::isfinite(vx);
-    ch.finite_z = std::isfinite(vz);
-    ch.use_x = ch.finite_x && std::fabs(vx) <= cfg_.max_abs_velocity_mps;
-    ch.use_z = ch.finite_z && std::fabs(vz) <= cfg_.max_abs_velocity_mps;
-    return ch;
   }
 
   /// The first sample with a usable v_x: the detector's low-passes and the bank start at it (its
@@ -379,13 +364,13 @@ class GaitFilter {
   /// Sec. 2.4: the walking detector over dt_walk (the sample's own interval, also over a gap);
   /// walking (re)starting re-opens the acquisition (bias from this sample, one member at the
   /// frozen frequency), stopping freezes the oscillator. Returns whether walking.
-  bool detect_walking(double vx, double vz, const Channels& ch, double dt_walk, double dt,
+  bool detect_walking(double vx, double vz, bool use_x, bool use_z, double dt_walk, double dt,
                       const gait::DecayFactors::Values& fc) noexcept {
     const bool was_walking = detector_.walking();
-    detector_.update(vx, vz, ch.use_x, ch.use_z, dt_walk == dt ? fc.walk_gain : detector_.gain(dt_walk));
+    detector_.update(vx, vz, use_x, use_z, dt_walk == dt ? fc.walk_gain : detector_.gain(dt_walk));
     const bool walking = detector_.walking();
     if (walking && !was_walking)
-      start_acquisition(ch.use_x ? vx : active().x[gait::kA0], radii_.have_estimate(), last_w_ / kTwoPi);
+      start_acquisition(use_x ? vx : active().x[gait::kA0], radii_.have_estimate(), last_w_ / kTwoPi);
     if (was_walking && !walking) stop_walking();
     return walking;
   }
@@ -393,13 +378,13 @@ class GaitFilter {
   /// Sec. 2.1-2.2, 2.5, 2.8: prediction and updates of every bank member while acquiring, else of
   /// the one EKF, followed while walking by the cadence-change hook. Returns whether the gate
   /// rejected a channel. (Inlined: the steady state's step is most of advance.)
-  YOYOGAIT_ALWAYS_INLINE bool filter_step(double vx, double vz, const Channels& ch, bool walking, double dt,
+  YOYOGAIT_ALWAYS_INLINE bool filter_step(double vx, double vz, bool use_x, bool use_z, bool walking, double dt,
                                           const gait::DecayFactors::Values& fc) noexcept {
-    if (acquiring_) return bank_.step(model_, vx, vz, ch.use_x, ch.use_z, walking, dt, fc, gate_, scale_);
+    if (acquiring_) return bank_.step(model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
     model_.predict(main_, main_h_.data(), dt, fc, walking);
     const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
     const bool rejected =
-        model_.update<false>(main_, main_h_.data(), vx, vz, ch.use_x, ch.use_z, walking, gate_, scale_, fc);
+        model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_, fc);
     if (walking) cadence_.after_update(model_, main_, prior, fc, rejected);  // sec. 2.8: cadence changes
     return rejected;
   }
@@ -419,14 +404,14 @@ class GaitFilter {
   void reacquire() noexcept { start_acquisition(main_.x[gait::kA0], false, 0.0); }
 
   /// Sec. 2.3, while the bank runs: the likelihoods' memory, the walking time, the spectral buffer
-  /// and its fit (which seeds a member), the best member, and the collapse to one EKF once the
-  /// bank has walked bank_window_s.
-  void acquire(double vx, double vz, const Channels& ch, bool walking, double dt,
+  /// and its fit (which seeds a member; both_used: both channels of the sample are used), the
+  /// best member, and the collapse to one EKF once the bank has walked bank_window_s.
+  void acquire(double vx, double vz, bool both_used, bool walking, double dt,
                const gait::DecayFactors::Values& fc) noexcept {
     bank_.forget(fc.forget);
     if (walking) {
       bank_.add_walk_time(dt);
-      if (ch.finite_x && ch.finite_z && ch.use_x && ch.use_z) spectral_.push(t_now_s_, vx, vz);
+      if (both_used) spectral_.push(t_now_s_, vx, vz);
       gait::SpectralInit::Fit fit;
       if (spectral_.due(bank_.walk_time_s()) && spectral_.fit(fit)) bank_.seed(model_, fit);
     }
@@ -434,13 +419,13 @@ class GaitFilter {
     if (bank_.walk_time_s() >= cfg_.gait_filter.bank_window_s) collapse();
   }
 
-  /// Whether the active EKF and the outputs are finite. Never false with in-range samples; it keeps
-  /// the state finite whatever comes in: a finite state and diagonal mean a finite covariance
+  /// Whether the active EKF act and the outputs are finite. Never false with in-range samples; it
+  /// keeps the state finite whatever comes in: a finite state and diagonal mean a finite covariance
   /// (|P_ij| <= sqrt(P_ii P_jj)).
-  bool state_finite() const noexcept {
+  bool finite(const Ekf& act) const noexcept {
     using namespace gait;
-    const GaitState& xa = active().x;
-    const GaitMatrix& Pa = active().P;
+    const GaitState& xa = act.x;
+    const GaitMatrix& Pa = act.P;
     const double check = ((xa[kX1] + xa[kX2]) + (xa[kZ1] + xa[kZ2])) + ((xa[kW] + xa[kA0]) + (xa[kDA0] + xa[kDW])) +
                          ((Pa[kX1][kX1] + Pa[kX2][kX2]) + (Pa[kZ1][kZ1] + Pa[kZ2][kZ2])) +
                          ((Pa[kW][kW] + Pa[kA0][kA0]) + (Pa[kDA0][kDA0] + Pa[kDW][kDW])) +
