@@ -25,7 +25,7 @@ inline constexpr std::size_t kMaxSpectralGrid = 10000;
 
 /// Which estimator EstimatorConfig describes.
 enum class Algorithm : std::uint8_t {
-  kPaper = 0,       ///< the paper's 4-state EKF and heuristics, exactly as published (paper_estimator.hpp)
+  kPaper = 0,       ///< the paper's 4-state EKF and heuristics, exactly as published (paper/paper_estimator.hpp)
   kGaitFilter = 1,  ///< the default: the dual-phasor gait filter (gait/gait_filter.hpp, docs/default_estimator.md)
 };
 

@@ -1,6 +1,6 @@
 /// @file covariance_guard.hpp
 /// @brief Keeping a filter's covariance a covariance: a positive-definiteness test, the nearest
-/// positive definite matrix, and variance bounds. Used by both estimators (ekf.hpp, gait_filter.hpp).
+/// positive definite matrix, and variance bounds. Used by both estimators (paper/ekf.hpp, gait/member.hpp).
 ///
 /// The EKF covariance update P - K S K^T is positive semi-definite in exact arithmetic, but in
 /// floating point it subtracts two nearly equal matrices when the update removes most of a large

@@ -7,9 +7,9 @@
 #include <limits>
 
 #include "yoyogait/gait/state.hpp"
+#include "yoyogait/paper/heuristics.hpp"
+#include "yoyogait/paper/state.hpp"
 #include "yoyogait/record.hpp"
-#include "yoyogait/heuristics.hpp"
-#include "yoyogait/state.hpp"
 
 namespace yoyogait {
 
@@ -121,7 +121,7 @@ struct Estimate {
 static_assert(sizeof(Estimate) <= 256, "keep Estimate within 256 bytes (see the comment above amp_z_mps)");
 
 /// Predicted velocities [m/s].
-using Velocity = Reconstruction;
+using Velocity = paper::Reconstruction;
 
 /// Diagnostics of a step, as FilterPy exposes them: the innovation of each channel (measurement
 /// minus predicted measurement) and the normalised innovation squared, NIS = nu^T S^-1 nu, which

@@ -1,6 +1,6 @@
 /// @file estimator.hpp
 /// @brief The online gait estimator: one API over the default gait filter (gait/gait_filter.hpp)
-/// and the paper's estimator (paper_estimator.hpp), chosen by EstimatorConfig::algorithm.
+/// and the paper's estimator (paper/paper_estimator.hpp), chosen by EstimatorConfig::algorithm.
 #pragma once
 
 #include <cstddef>
@@ -9,10 +9,11 @@
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimate.hpp"
+#include "yoyogait/forecast.hpp"
 #include "yoyogait/gait/gait_filter.hpp"
 #include "yoyogait/math.hpp"
-#include "yoyogait/paper_estimator.hpp"
-#include "yoyogait/state.hpp"
+#include "yoyogait/paper/paper_estimator.hpp"
+#include "yoyogait/paper/state.hpp"
 
 namespace yoyogait {
 
@@ -76,12 +77,12 @@ class Estimator {
     return Velocity{p.vx_mps, p.vz_mps};
   }
 
-  /// The model's forecast horizon_s [s] after the last sample, rates included, with standard
-  /// deviations when with_std (GaitFilter::forecast). paper: predict_ahead's velocities, the phase
+  /// The model's forecast horizon_s [s] after the last sample (yoyogait::Forecast), rates included,
+  /// with standard deviations when with_std. gait: GaitFilter::forecast. paper: predict_ahead's velocities, the phase
   /// advance w h, the stds NaN (the paper's filter has no rates to propagate).
-  GaitFilter::Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
+  Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
     if (!is_paper_) return gait_.forecast(horizon_s, with_std);
-    GaitFilter::Forecast f;
+    Forecast f;
     const Velocity v = predict_ahead(horizon_s);
     const State x = paper_.state();
     f.vx_mps = v.vx_mps;
@@ -109,11 +110,11 @@ class Estimator {
   Matrix4 covariance() const noexcept {
     if (is_paper_) return paper_.covariance().dense();
     const GaitMatrix G = gait_.covariance();
-    const std::size_t idx[kStateDim] = {gait::kX1, gait::kX2, gait::kW, gait::kA0};
-    const double scale[kStateDim] = {1.0, 1.0, config_.sample_time_s, 1.0};
+    const std::size_t idx[paper::kStateDim] = {gait::kX1, gait::kX2, gait::kW, gait::kA0};
+    const double scale[paper::kStateDim] = {1.0, 1.0, config_.sample_time_s, 1.0};
     Matrix4 P{};
-    for (std::size_t i = 0; i < kStateDim; ++i)
-      for (std::size_t j = 0; j < kStateDim; ++j) P[i][j] = scale[i] * scale[j] * G[idx[i]][idx[j]];
+    for (std::size_t i = 0; i < paper::kStateDim; ++i)
+      for (std::size_t j = 0; j < paper::kStateDim; ++j) P[i][j] = scale[i] * scale[j] * G[idx[i]][idx[j]];
     return P;
   }
   /// gait: the state x (gait::Index) of the active EKF. paper: zeros.
@@ -173,7 +174,7 @@ class Estimator {
 
   EstimatorConfig config_;
   GaitFilter gait_;
-  PaperEstimator paper_;
+  paper::PaperEstimator paper_;
   bool is_paper_ = false;
   double inv_T_ = 25.0;
   std::size_t samples_ = 0;

@@ -4,12 +4,13 @@
 #pragma once
 
 #include "yoyogait/config.hpp"
-#include "yoyogait/ekf.hpp"
 #include "yoyogait/estimate.hpp"
 #include "yoyogait/estimator.hpp"
+#include "yoyogait/forecast.hpp"
 #include "yoyogait/gait/gait_filter.hpp"
-#include "yoyogait/heuristics.hpp"
 #include "yoyogait/math.hpp"
-#include "yoyogait/paper_estimator.hpp"
-#include "yoyogait/state.hpp"
+#include "yoyogait/paper/ekf.hpp"
+#include "yoyogait/paper/heuristics.hpp"
+#include "yoyogait/paper/paper_estimator.hpp"
+#include "yoyogait/paper/state.hpp"
 #include "yoyogait/yoyo_model.hpp"

@@ -156,7 +156,7 @@ constexpr FieldLayout kEstimateLayout[] = {
     YOYOGAIT_ESTIMATE_FIELDS(YOYO_LAYOUT)
 #undef YOYO_LAYOUT
 };
-constexpr std::size_t kStateCols = yoyogait::kStateDim, kGaitStateCols = yoyogait::gait::kDim;
+constexpr std::size_t kStateCols = yoyogait::paper::kStateDim, kGaitStateCols = yoyogait::gait::kDim;
 // Number of double fields of a scope before field f (or in all, f = kEstimateFieldCount).
 constexpr std::size_t doubles_before(std::size_t f, yoyogait::FieldScope scope) {
   std::size_t n = 0;
@@ -287,7 +287,7 @@ nb::dict run_impl(yoyogait::Estimator& est, const InArray& vx, const InArray& vz
 // loop stays as it is.
 template <bool kGait>
 nb::object covariances(const yoyogait::Estimator& est, const InArray& vx, const InArray& vz, const double* pdt) {
-  constexpr std::size_t k = kGait ? yoyogait::gait::kDim : yoyogait::kStateDim;
+  constexpr std::size_t k = kGait ? yoyogait::gait::kDim : yoyogait::paper::kStateDim;
   const std::size_t n = vx.shape(0);
   auto out = owned<double>(n, k * k);
   const double* px = vx.data();
@@ -619,9 +619,10 @@ NB_MODULE(_core, m) {
 
   m.def("yoyo_trajectory", &yoyo_trajectory, "R_m"_a, "r_m"_a, "z0_m"_a, "time_s"_a, "step_frequency_hz"_a,
         "phase_rad"_a);
-  m.def("transition", [](std::array<double, 4> x) { return yoyogait::transition(yoyogait::State{x}).x; });
-  m.def("transition_jacobian",
-        [](std::array<double, 4> x) { return matrix(yoyogait::transition_jacobian(yoyogait::State{x})); });
+  m.def("transition", [](std::array<double, 4> x) { return yoyogait::paper::transition(yoyogait::paper::State{x}).x; });
+  m.def("transition_jacobian", [](std::array<double, 4> x) {
+    return matrix(yoyogait::paper::transition_jacobian(yoyogait::paper::State{x}));
+  });
   m.def("gait_transition", [](const yoyogait::GaitState& x, double dt_s, double accel_decay, double rate_decay) {
     return yoyogait::gait_transition(x, dt_s, accel_decay, rate_decay);
   }, "x"_a, "dt_s"_a, "accel_decay"_a, "omega_rate_decay"_a);

@@ -10,10 +10,11 @@
 #include <vector>
 
 #include "yoyogait/covariance_guard.hpp"
-#include "yoyogait/ekf.hpp"
+#include "yoyogait/paper/ekf.hpp"
 #include "yoyogait/math.hpp"
 
 using namespace yoyogait;
+using namespace yoyogait::paper;
 
 namespace {
 

@@ -34,6 +34,7 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 #endif
 
 using namespace yoyogait;
+using namespace yoyogait::paper;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The default estimator (gait_filter.hpp): transition and Jacobian, the structured covariance
+// The default estimator (gait/gait_filter.hpp): transition and Jacobian, the structured covariance
 // propagation, convergence with the real-data phase relation, standing, gaps, outliers, bad input.
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "yoyogait/estimator.hpp"
-#include "yoyogait/gait_filter.hpp"
+#include "yoyogait/gait/gait_filter.hpp"
 
 using namespace yoyogait;
 using namespace yoyogait::gait;
@@ -422,13 +422,13 @@ TEST(GaitEstimator, PaperEstimateInTheGaitForm) {
   Estimate e;
   for (int i = 0; i < 200; ++i) e = est.step(1.2 + 0.1 * std::cos(0.45 * i), -0.1 * std::sin(0.45 * i));
   const State& x = e.state;
-  EXPECT_EQ(e.gait_state[kX1], x[kCos]);
-  EXPECT_EQ(e.gait_state[kZ1], -x[kSin]);
+  EXPECT_EQ(e.gait_state[kX1], x[paper::kCos]);
+  EXPECT_EQ(e.gait_state[kZ1], -x[paper::kSin]);
   EXPECT_EQ(e.gait_state[kW], e.omega_rad_s);
   EXPECT_EQ(e.gait_state[kA0], e.A0_mps);
   EXPECT_NEAR(e.amp_z_mps(), e.A1_mps, 1e-15);
   EXPECT_NEAR(std::fabs(e.phase_x_rel_z_rad()), kPi / 2, 1e-12);
-  EXPECT_EQ(e.phase_x_rel_z_rad() < 0, x[kOmega] >= 0);
+  EXPECT_EQ(e.phase_x_rel_z_rad() < 0, x[paper::kOmega] >= 0);
   EXPECT_EQ(e.omega_rate_rad_s2(), 0.0);
 }
 

@@ -144,7 +144,10 @@ TEST(OnlineEstimator, GaitPhaseFollowsTheVerticalOscillation) {
 
 // The centre does not jump when a marker drops out or returns, even when the body has turned meanwhile.
 TEST(CausalCentre, NoJumpWhenMarkersDropOutOrReturn) {
-  online::CausalCentre centre(3, 0.3, 2.0);
+  online::CausalCentre::Settings settings;
+  settings.blend_tau_s = 0.3;
+  settings.forget_s = 2.0;
+  online::CausalCentre centre(3, settings);
   const double dt = 0.01, speed = 1.0, yaw_rate = 0.5;  // turning at 0.5 rad/s
   online::Vec3 pos[3];
   bool vis[3];

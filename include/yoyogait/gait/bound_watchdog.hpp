@@ -9,13 +9,19 @@ namespace yoyogait::gait {
 /// Fires once the time exceeds limit_s (the filter then restarts the acquisition).
 class BoundWatchdog {
  public:
+  struct Settings {
+    double w_min_rad_s = 0.0;  ///< the frequency bounds [rad/s]
+    double w_max_rad_s = 0.0;
+    double limit_s = 1.0;      ///< walking time near a bound before it fires [s]
+  };
+
   BoundWatchdog() noexcept = default;
-  BoundWatchdog(double w_min, double w_max, double limit_s) noexcept
-      : near_min_(1.05 * w_min),
-        near_max_(0.95 * w_max),
-        inside_min_(1.15 * w_min),
-        inside_max_(0.85 * w_max),
-        limit_s_(limit_s) {}
+  explicit BoundWatchdog(const Settings& s) noexcept
+      : near_min_(1.05 * s.w_min_rad_s),
+        near_max_(0.95 * s.w_max_rad_s),
+        inside_min_(1.15 * s.w_min_rad_s),
+        inside_max_(0.85 * s.w_max_rad_s),
+        limit_s_(s.limit_s) {}
 
   void reset() noexcept { t_at_bound_s_ = 0.0; }
 

@@ -36,17 +36,28 @@ struct PriorPhasors {
 /// state keeps its noise model.
 class CadenceChangeDetector {
  public:
+  /// The cadence_change_* settings, the frequency in rad/s.
+  struct Settings {
+    bool on = true;                ///< cadence_change_adapt
+    double tau_s = 0.1;            ///< the lag must last this long; low-pass of the evidence [s]
+    double horizon_s = 0.4;        ///< the lag beyond the limit is a frequency error over this [s]
+    double max_std_rad_s = 0.0;    ///< the largest frequency std it opens [rad/s]
+    double phase_rad = 0.0;        ///< the floor of the limit [rad]
+    double sigma = 0.0;            ///< the limit in RMS of the walker's own phase noise [1]
+    double min_amp_mps = 0.0;      ///< a sample is evidence only with |Z| above this [m/s]
+    double learn_s = 2.0;          ///< noise_tau: the phase noise's low-pass; nothing detected before [s]
+  };
+
   CadenceChangeDetector() noexcept = default;
-  CadenceChangeDetector(bool on, double tau_s, double horizon_s, double max_std_rad_s, double phase_rad, double sigma,
-                        double min_amp_mps, double learn_s) noexcept
-      : on_(on),
-        tau_s_(tau_s),
-        inv_horizon_s_(1.0 / horizon_s),
-        max_std_rad_s_(max_std_rad_s),
-        floor2_(phase_rad * phase_rad),
-        sigma2_(sigma * sigma),
-        min_amp2_(min_amp_mps * min_amp_mps),
-        learn_s_(learn_s) {}
+  explicit CadenceChangeDetector(const Settings& s) noexcept
+      : on_(s.on),
+        tau_s_(s.tau_s),
+        inv_horizon_s_(1.0 / s.horizon_s),
+        max_std_rad_s_(s.max_std_rad_s),
+        floor2_(s.phase_rad * s.phase_rad),
+        sigma2_(s.sigma * s.sigma),
+        min_amp2_(s.min_amp_mps * s.min_amp_mps),
+        learn_s_(s.learn_s) {}
 
   /// A new acquisition (and the state before the first walk): the estimate starts again, and so
   /// does the noise level, from the floor: a converging filter's lag is no change of cadence.

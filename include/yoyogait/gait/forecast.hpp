@@ -1,16 +1,18 @@
 /// @file gait/forecast.hpp
-/// @brief GaitFilter::forecast: the mean of the filter's own model h_s ahead, rates included, and
-/// the covariance propagated by its prediction (docs/online.md sec. 5). Included by gait_filter.hpp.
+/// @brief GaitFilter::forecast, a yoyogait::Forecast: the mean of the filter's own model h_s ahead,
+/// rates included, and the covariance propagated by its prediction (docs/online.md sec. 5).
+/// Included by gait/gait_filter.hpp.
 #pragma once
 
 #include <array>
 #include <cmath>
 
+#include "yoyogait/forecast.hpp"
 #include "yoyogait/gait/gait_filter.hpp"
 
 namespace yoyogait {
 
-inline GaitFilter::Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
+inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
   using namespace gait;
   const Ekf& f = active();
   const GaitState& x = f.x;

@@ -9,16 +9,13 @@
 ///   Q = q_phasor dt I(X, Z) + q_phase dt g g^T + diag(q_omega, q_rate(dw_lp), q_speed, q_accel) dt,
 ///   g = [-X2, X1, -Z2, Z1, 0, 0, 0, 0]                                  (sec. 2.2; gait/member.hpp)
 ///
-/// This class composes the parts, each in its own header: the EKF kernels (gait/ekf.hpp), one EKF
-/// with its noise model, gate and harmonics (gait/member.hpp, gait/harmonic.hpp), the start-up
-/// bank of EKFs with a log-prior (gait/hypothesis_bank.hpp) and its spectral initialisation
-/// (gait/spectral_init.hpp, sec. 2.3), the walking/standing detector (gait/walking_detector.hpp,
-/// sec. 2.4), the innovation gate (gait/innovation_gate.hpp) and the actual time step everywhere
-/// (gait/decay_factors.hpp, sec. 2.5), the bound watchdog, the R/r low-pass and the NIS-scaled
-/// standard deviations (gait/bound_watchdog.hpp, gait/radii.hpp, gait/std_scale.hpp, sec. 2.6), the
-/// cadence-change detector (gait/cadence_change.hpp, sec. 2.8).
-/// step() makes no heap allocation and cannot throw; everything lives in fixed arrays. The steady
-/// state (walking, one EKF, the same dt as before) runs no exp, log, bank or spectral code.
+/// This class composes the parts, each in its own header and built from its settings
+/// (gait/settings.hpp): the EKF kernels (gait/ekf.hpp), one EKF with its noise model, gate and
+/// harmonics (gait/member.hpp, gait/harmonic.hpp), the start-up bank (gait/hypothesis_bank.hpp) and
+/// its spectral initialisation (gait/spectral_init.hpp, sec. 2.3), the walking detector (sec. 2.4),
+/// the innovation gate and the dt-dependent factors (sec. 2.5), the bound watchdog, the radii and the
+/// std scale (sec. 2.6), the cadence-change detector (sec. 2.8). step() makes no heap allocation and
+/// cannot throw. The steady state (walking, one EKF, the same dt) runs no exp, log, bank or spectral code.
 #pragma once
 
 #include <array>
@@ -29,6 +26,7 @@
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimate.hpp"
+#include "yoyogait/forecast.hpp"
 #include "yoyogait/gait/bound_watchdog.hpp"
 #include "yoyogait/gait/cadence_change.hpp"
 #include "yoyogait/gait/decay_factors.hpp"
@@ -81,15 +79,14 @@ class GaitFilter {
 
   /// (v_x, v_z) predicted ahead [m/s].
   struct Prediction {
-    double vx_mps = 0.0;
-    double vz_mps = 0.0;
+    double vx_mps = 0.0, vz_mps = 0.0;
   };
 
   GaitFilter() noexcept : GaitFilter(EstimatorConfig{}) {}
 
   /// config must pass EstimatorConfig::validate() (the Estimator checks it); the gait filter reads
   /// its section, config.gait_filter, and the shared fields.
-  explicit GaitFilter(const EstimatorConfig& config) noexcept : GaitFilter(config, config.gait_filter) {}
+  explicit GaitFilter(const EstimatorConfig& config) noexcept : GaitFilter(config, gait::filter_settings(config)) {}
 
   /// Back to the state before the first sample.
   void reset() noexcept {
@@ -181,19 +178,8 @@ class GaitFilter {
     return turned(x[kW] * h_s + 0.5 * x[kDW] * h_s * h_s, x[kA0], harmonics);
   }
 
-  /// The model's forecast h_s [s] after the last sample, rates included (docs/online.md sec. 5).
-  struct Forecast {
-    double vx_mps = 0.0;          ///< A0(h) + X1(h) (+ second harmonic); standing: A0(h)
-    double vz_mps = 0.0;          ///< Z1(h) (+ second harmonic); standing: 0
-    double vx_std_mps = 0.0;  ///< sqrt(lambda (tr(P_XX) / 2 + P_A0A0)) propagated to h (0 unless asked)
-    double vz_std_mps = 0.0;  ///< sqrt(lambda tr(P_ZZ) / 2) propagated to h (0 unless asked)
-    double phase_advance_rad = 0.0;  ///< the phasors' turn over h: the integral of w
-    double omega_rad_s = 0.0;     ///< w(h)
-    double omega_rate_rad_s2 = 0.0;  ///< dw(h)
-    double speed_mps = 0.0;       ///< A0(h)
-  };
-
-  /// The mean of the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
+  /// The model's forecast (yoyogait::Forecast, rates included; docs/online.md sec. 5): the mean of
+  /// the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
   /// exp(-t / tau) (accel_tau_s, omega_rate_tau_s), so A0(h) = A0 + dA0 tau_a (1 - e^{-h/tau_a}),
   /// w(h) = w + dw tau_b (1 - e^{-h/tau_b}) and the phasors turn by the integral of w(t). Second
   /// harmonics at the turned phasors unless the bank is running. with_std: the covariance is
@@ -219,26 +205,20 @@ class GaitFilter {
  private:
   using Ekf = gait::Ekf;
 
-  GaitFilter(const EstimatorConfig& config, const GaitFilterConfig& g) noexcept
+  GaitFilter(const EstimatorConfig& config, const gait::FilterSettings& s) noexcept
       : cfg_(config),
-        model_(gait::member_model(g, config.max_abs_velocity_mps)),
-        factors_({g.accel_tau_s, g.omega_rate_tau_s, g.omega_rate_lp_tau_s, g.walk_tau_s, g.std_scale_tau_s,
-                  g.bank_forget_s, g.radii_tau_s, g.cadence_change_tau_s, g.cadence_change_noise_tau_s},
-                 {g.meas_vx_density_m2_per_s, g.meas_vz_density_m2_per_s, config.sample_time_s}),
-        detector_({g.walk_tau_s, g.walk_speed_on_mps, g.walk_speed_off_mps, g.walk_vz_rms_on_mps, g.walk_vz_rms_off_mps}),
-        gate_(g.gate_sigma, config.samples_in(g.gate_max_consecutive_s)),
-        scale_(g.std_scale_adapt, g.std_scale_min, g.std_scale_max),
-        radii_(g.initial_R_m, g.initial_r_m),
-        watchdog_(kTwoPi * g.f_min_hz, kTwoPi * g.f_max_hz, g.bound_watchdog_s),
-        cadence_(g.cadence_change_adapt, g.cadence_change_tau_s, g.cadence_change_horizon_s,
-                 kTwoPi * g.cadence_change_max_std_hz, g.cadence_change_phase_rad, g.cadence_change_sigma,
-                 g.cadence_change_min_amp_mps, g.cadence_change_noise_tau_s),
-        nominal_dt_(config.sample_time_s),
-        speed_floor2_(g.speed_std_floor_mps * g.speed_std_floor_mps),
-        bank_(gait::bank_settings(g)),
-        spectral_({g.spectral_init, g.spectral_init_s, config.samples_in(g.spectral_buffer_s), g.spectral_grid_step_hz, g.f_min_hz,
-                   g.f_max_hz, g.meas_vx_density_m2_per_s / config.sample_time_s,
-                   g.meas_vz_density_m2_per_s / config.sample_time_s}) {
+        model_(s.model),
+        factors_(s.time_constants, s.measurement_noise),
+        detector_(s.walking),
+        gate_(s.gate),
+        scale_(s.std_scale),
+        radii_(s.radii),
+        watchdog_(s.watchdog),
+        cadence_(s.cadence_change),
+        nominal_dt_(s.nominal_dt_s),
+        speed_floor2_(s.speed_std_floor2),
+        bank_(s.bank),
+        spectral_(s.spectral) {
     reset();
   }
 
@@ -325,96 +305,132 @@ class GaitFilter {
 
   // ------------------------------------------------------------------------------------ one step
 
+  /// One sample dt [s] after the previous one, in the order of sec. 2: the channels screened, the
+  /// first sample or a long gap handled, the walking detector, the EKF step (the bank's while
+  /// acquiring), the gate's release, the acquisition, the watchdog, the outputs, the finiteness check.
   Outcome advance(double vx, double vz, double dt) noexcept {
     using namespace gait;
+    // The channels used: finite and within max_abs_velocity_mps (a channel out of range is dropped
+    // like a non-finite one: a corrupt 1e200 would overflow P).
     const bool fin_x = std::isfinite(vx), fin_z = std::isfinite(vz);
-    // A channel out of range is dropped like a non-finite one (a corrupt 1e200 would overflow P).
     const bool use_x = fin_x && std::fabs(vx) <= cfg_.max_abs_velocity_mps;
     const bool use_z = fin_z && std::fabs(vz) <= cfg_.max_abs_velocity_mps;
     Outcome outcome = !(fin_x && fin_z) ? Outcome::kNonFinite : (use_x && use_z) ? Outcome::kOk : Outcome::kOutOfRange;
-    if (!started_) {
-      if (!use_x) {
-        updated_ = false;
-        return outcome;
-      }
-      started_ = true;
-      detector_.start(vx, vz, use_z);
-      start_acquisition(vx, false, 0.0);
-      collapse();  // the one EKF is defined from the start
-      acquiring_ = true;
-      dt = 0.0;
+    if (!started_ && !use_x) {
+      updated_ = false;
+      return outcome;
     }
+    if (!started_) dt = start_filter(vx, vz, use_z);
     t_now_s_ += dt;
-    const double dt_walk = dt;
-    if (dt > cfg_.gait_filter.max_gap_s) {
-      // Long gap: keep the speed, restart the acquisition around the last frequency; the fresh
-      // members are not propagated over the gap.
-      start_acquisition(active().x[kA0], radii_.have_estimate(), last_w_ / kTwoPi);
-      dt = 0.0;
-    }
+    const double dt_walk = dt;  // the detector runs over the gap too
+    if (dt > cfg_.gait_filter.max_gap_s) dt = bridge_gap();
     const DecayFactors::Values& fc = factors_.at(dt);
-    const bool was_walking = detector_.walking();
-    detector_.update(vx, vz, use_x, use_z, dt_walk == dt ? fc.walk_gain : detector_.gain(dt_walk));
-    const bool walking = detector_.walking();
-    if (walking && !was_walking) {
-      // Walking (re)starts: re-open the acquisition, bias from this sample, one member at the
-      // frozen frequency.
-      start_acquisition(use_x ? vx : active().x[kA0], radii_.have_estimate(), last_w_ / kTwoPi);
-    }
-    if (was_walking && !walking) stop_walking();
-
-    bool rejected = false;
-    if (acquiring_) {
-      rejected = bank_.step(model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
-    } else {
-      model_.predict(main_, main_h_.data(), dt, fc, walking);
-      const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
-      rejected = model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_, fc);
-      if (walking) cadence_.after_update(model_, main_, prior, fc, rejected);  // sec. 2.8: cadence changes
-    }
+    const bool walking = detect_walking(vx, vz, use_x, use_z, dt_walk, dt, fc);
+    const bool rejected = filter_step(vx, vz, use_x, use_z, walking, dt, fc);
     updated_ = true;
     // A non-finite or out-of-range channel says more about the sample than the gate.
     if (rejected && outcome == Outcome::kOk) outcome = Outcome::kOutlier;
-    if (gate_.after_step(rejected)) {
-      // Persistent disagreement was accepted: inflate P so that the filter follows again (up to the
-      // variance bounds, sec. 2.7; a non-negative diagonal increment keeps P positive definite).
-      model_.inflate(main_, kX1, model_.p0_phasor);
-      model_.inflate(main_, kX2, model_.p0_phasor);
-      model_.inflate(main_, kZ1, model_.p0_phasor);
-      model_.inflate(main_, kZ2, model_.p0_phasor);
-      model_.inflate(main_, kA0, model_.p0_speed);
-    }
-
-    if (acquiring_) {
-      bank_.forget(fc.forget);
-      if (walking) {
-        bank_.add_walk_time(dt);
-        if (fin_x && fin_z && use_x && use_z) spectral_.push(t_now_s_, vx, vz);
-        SpectralInit::Fit fit;
-        if (spectral_.due(bank_.walk_time_s()) && spectral_.fit(fit)) bank_.seed(model_, fit);
-      }
-      bank_.select_best();
-      if (bank_.walk_time_s() >= cfg_.gait_filter.bank_window_s) collapse();
-    }
-
-    // Watchdog: a frequency pinned at a bound is a failed lock: re-acquire.
-    if (walking && !acquiring_ && watchdog_.update(main_.x[kW], dt)) start_acquisition(main_.x[kA0], false, 0.0);
+    if (gate_.after_step(rejected)) release_gate();
+    if (acquiring_) acquire(vx, vz, use_x && use_z, walking, dt, fc);
+    if (walking && !acquiring_ && watchdog_.update(main_.x[kW], dt)) reacquire();  // a failed lock
     radii_updated_ = false;
     Ekf& act = active();
     if (walking) walking_outputs(act, fc.radii_gain);
-    // Never reached with in-range samples; keeps the state finite whatever comes in: a finite
-    // state and diagonal mean a finite covariance (|P_ij| <= sqrt(P_ii P_jj)).
+    if (!finite(act)) {
+      recover();
+      outcome = Outcome::kNumerical;
+    }
+    return outcome;
+  }
+
+  /// The first sample with a usable v_x: the detector's low-passes and the bank start at it (its
+  /// best member is also the one EKF: defined from the start). Returns its time step, 0 (dt unused).
+  double start_filter(double vx, double vz, bool use_z) noexcept {
+    started_ = true;
+    detector_.start(vx, vz, use_z);
+    start_acquisition(vx, false, 0.0);
+    collapse();
+    acquiring_ = true;
+    return 0.0;
+  }
+
+  /// A gap longer than max_gap_s: the acquisition restarts around the last frequency, with the
+  /// speed kept. Returns the time step of the fresh members, 0 (not propagated over the gap).
+  double bridge_gap() noexcept {
+    start_acquisition(active().x[gait::kA0], radii_.have_estimate(), last_w_ / kTwoPi);
+    return 0.0;
+  }
+
+  /// Sec. 2.4: the walking detector over dt_walk (the sample's own interval, also over a gap);
+  /// walking (re)starting re-opens the acquisition (bias from this sample, one member at the
+  /// frozen frequency), stopping freezes the oscillator. Returns whether walking.
+  bool detect_walking(double vx, double vz, bool use_x, bool use_z, double dt_walk, double dt,
+                      const gait::DecayFactors::Values& fc) noexcept {
+    const bool was_walking = detector_.walking();
+    detector_.update(vx, vz, use_x, use_z, dt_walk == dt ? fc.walk_gain : detector_.gain(dt_walk));
+    const bool walking = detector_.walking();
+    if (walking && !was_walking)
+      start_acquisition(use_x ? vx : active().x[gait::kA0], radii_.have_estimate(), last_w_ / kTwoPi);
+    if (was_walking && !walking) stop_walking();
+    return walking;
+  }
+
+  /// Sec. 2.1-2.2, 2.5, 2.8: prediction and updates of every bank member while acquiring, else of
+  /// the one EKF, followed while walking by the cadence-change hook. Returns whether the gate
+  /// rejected a channel. (Inlined: the steady state's step is most of advance.)
+  YOYOGAIT_ALWAYS_INLINE bool filter_step(double vx, double vz, bool use_x, bool use_z, bool walking, double dt,
+                                          const gait::DecayFactors::Values& fc) noexcept {
+    if (acquiring_) return bank_.step(model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
+    model_.predict(main_, main_h_.data(), dt, fc, walking);
+    const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
+    const bool rejected =
+        model_.update<false>(main_, main_h_.data(), vx, vz, use_x, use_z, walking, gate_, scale_, fc);
+    if (walking) cadence_.after_update(model_, main_, prior, fc, rejected);  // sec. 2.8: cadence changes
+    return rejected;
+  }
+
+  /// Sec. 2.5: a persistent disagreement was accepted: inflate P so that the filter follows again
+  /// (up to the variance bounds, sec. 2.7; a non-negative diagonal increment keeps P positive definite).
+  void release_gate() noexcept {
+    using namespace gait;
+    model_.inflate(main_, kX1, model_.p0_phasor);
+    model_.inflate(main_, kX2, model_.p0_phasor);
+    model_.inflate(main_, kZ1, model_.p0_phasor);
+    model_.inflate(main_, kZ2, model_.p0_phasor);
+    model_.inflate(main_, kA0, model_.p0_speed);
+  }
+
+  /// Sec. 2.3: a frequency pinned at a bound (the watchdog) is a failed lock: the acquisition restarts.
+  void reacquire() noexcept { start_acquisition(main_.x[gait::kA0], false, 0.0); }
+
+  /// Sec. 2.3, while the bank runs: the likelihoods' memory, the walking time, the spectral buffer
+  /// and its fit (which seeds a member; both_used: both channels of the sample are used), the
+  /// best member, and the collapse to one EKF once the bank has walked bank_window_s.
+  void acquire(double vx, double vz, bool both_used, bool walking, double dt,
+               const gait::DecayFactors::Values& fc) noexcept {
+    bank_.forget(fc.forget);
+    if (walking) {
+      bank_.add_walk_time(dt);
+      if (both_used) spectral_.push(t_now_s_, vx, vz);
+      gait::SpectralInit::Fit fit;
+      if (spectral_.due(bank_.walk_time_s()) && spectral_.fit(fit)) bank_.seed(model_, fit);
+    }
+    bank_.select_best();
+    if (bank_.walk_time_s() >= cfg_.gait_filter.bank_window_s) collapse();
+  }
+
+  /// Whether the active EKF act and the outputs are finite. Never false with in-range samples; it
+  /// keeps the state finite whatever comes in: a finite state and diagonal mean a finite covariance
+  /// (|P_ij| <= sqrt(P_ii P_jj)).
+  bool finite(const Ekf& act) const noexcept {
+    using namespace gait;
     const GaitState& xa = act.x;
     const GaitMatrix& Pa = act.P;
     const double check = ((xa[kX1] + xa[kX2]) + (xa[kZ1] + xa[kZ2])) + ((xa[kW] + xa[kA0]) + (xa[kDA0] + xa[kDW])) +
                          ((Pa[kX1][kX1] + Pa[kX2][kX2]) + (Pa[kZ1][kZ1] + Pa[kZ2][kZ2])) +
                          ((Pa[kW][kW] + Pa[kA0][kA0]) + (Pa[kDA0][kDA0] + Pa[kDW][kDW])) +
                          (radii_.R_m() + radii_.r_m() + scale_.value());
-    if (!std::isfinite(check)) {
-      recover();
-      outcome = Outcome::kNumerical;
-    }
-    return outcome;
+    return std::isfinite(check);
   }
 
   /// After a non-finite result: restart from the last finite speed and frequency.

@@ -11,9 +11,14 @@ namespace yoyogait::gait {
 /// inflates its covariance so that it follows again.
 class InnovationGate {
  public:
+  struct Settings {
+    double sigma = 5.0;                ///< a channel with nu^2 > sigma^2 S is rejected [1]
+    std::size_t max_consecutive = 6;   ///< after this many steps with a rejection the gate opens once
+  };
+
   InnovationGate() noexcept = default;
-  InnovationGate(double sigma, std::size_t max_consecutive) noexcept
-      : sigma2_(sigma * sigma), max_consecutive_(max_consecutive) {}
+  explicit InnovationGate(const Settings& s) noexcept
+      : sigma2_(s.sigma * s.sigma), max_consecutive_(s.max_consecutive) {}
 
   void reset() noexcept { n_rejects_ = 0; }
 

@@ -10,8 +10,13 @@ namespace yoyogait::gait {
 /// walking values, then a first-order low-pass.
 class RadiiSmoother {
  public:
+  struct Settings {
+    double initial_R_m = 0.12;  ///< R until the first walk [m]
+    double initial_r_m = 0.02;  ///< r until the first walk [m]
+  };
+
   RadiiSmoother() noexcept = default;
-  RadiiSmoother(double initial_R_m, double initial_r_m) noexcept : R0_(initial_R_m), r0_(initial_r_m) { reset(); }
+  explicit RadiiSmoother(const Settings& s) noexcept : R0_(s.initial_R_m), r0_(s.initial_r_m) { reset(); }
 
   void reset() noexcept {
     R_m_ = R0_;

@@ -1,13 +1,22 @@
 /// @file gait/settings.hpp
-/// @brief The gait filter's parts configured from GaitFilterConfig: the EKF members' model and the
-/// start-up bank's settings (the configuration in SI units turned into what each step uses).
+/// @brief The gait filter's parts configured from EstimatorConfig and its GaitFilterConfig, setting
+/// by setting: the configuration in SI units turned into what each part's step uses
+/// (FilterSettings, which GaitFilter's constructor builds its parts from).
 #pragma once
 
 #include <limits>
 
 #include "yoyogait/config.hpp"
+#include "yoyogait/gait/bound_watchdog.hpp"
+#include "yoyogait/gait/cadence_change.hpp"
+#include "yoyogait/gait/decay_factors.hpp"
 #include "yoyogait/gait/hypothesis_bank.hpp"
+#include "yoyogait/gait/innovation_gate.hpp"
 #include "yoyogait/gait/member.hpp"
+#include "yoyogait/gait/radii.hpp"
+#include "yoyogait/gait/spectral_init.hpp"
+#include "yoyogait/gait/std_scale.hpp"
+#include "yoyogait/gait/walking_detector.hpp"
 #include "yoyogait/math.hpp"
 
 namespace yoyogait::gait {
@@ -60,6 +69,143 @@ inline HypothesisBank::Settings bank_settings(const GaitFilterConfig& c) noexcep
   const double sw = kTwoPi * c.spectral_f_std_hz;
   s.seed_f_var = sw * sw;
   s.seed_phasor_var = c.spectral_phasor_std_mps * c.spectral_phasor_std_mps;
+  return s;
+}
+
+/// The time constants of the dt-dependent factors (sec. 2.5).
+inline DecayFactors::TimeConstants time_constants(const GaitFilterConfig& c) noexcept {
+  DecayFactors::TimeConstants t;
+  t.accel_tau_s = c.accel_tau_s;
+  t.omega_rate_tau_s = c.omega_rate_tau_s;
+  t.omega_rate_lp_tau_s = c.omega_rate_lp_tau_s;
+  t.walk_tau_s = c.walk_tau_s;
+  t.std_scale_tau_s = c.std_scale_tau_s;
+  t.bank_forget_s = c.bank_forget_s;
+  t.radii_tau_s = c.radii_tau_s;
+  t.cadence_change_tau_s = c.cadence_change_tau_s;
+  t.cadence_change_noise_tau_s = c.cadence_change_noise_tau_s;
+  return t;
+}
+
+/// The measurement noise densities and the nominal interval (sec. 2.2).
+inline DecayFactors::MeasurementNoise measurement_noise(const GaitFilterConfig& c, double sample_time_s) noexcept {
+  DecayFactors::MeasurementNoise m;
+  m.vx_density = c.meas_vx_density_m2_per_s;
+  m.vz_density = c.meas_vz_density_m2_per_s;
+  m.nominal_dt_s = sample_time_s;
+  return m;
+}
+
+/// The walking/standing detector's thresholds (sec. 2.4).
+inline WalkingDetector::Thresholds walking_thresholds(const GaitFilterConfig& c) noexcept {
+  WalkingDetector::Thresholds t;
+  t.tau_s = c.walk_tau_s;
+  t.speed_on_mps = c.walk_speed_on_mps;
+  t.speed_off_mps = c.walk_speed_off_mps;
+  t.vz_rms_on_mps = c.walk_vz_rms_on_mps;
+  t.vz_rms_off_mps = c.walk_vz_rms_off_mps;
+  return t;
+}
+
+/// The innovation gate (sec. 2.5): its release counted in samples of the configuration.
+inline InnovationGate::Settings gate_settings(const EstimatorConfig& config) noexcept {
+  const GaitFilterConfig& c = config.gait_filter;
+  InnovationGate::Settings s;
+  s.sigma = c.gate_sigma;
+  s.max_consecutive = config.samples_in(c.gate_max_consecutive_s);
+  return s;
+}
+
+/// The NIS scale of the reported standard deviations (sec. 2.6).
+inline StdScale::Settings std_scale_settings(const GaitFilterConfig& c) noexcept {
+  StdScale::Settings s;
+  s.adapt = c.std_scale_adapt;
+  s.min_scale = c.std_scale_min;
+  s.max_scale = c.std_scale_max;
+  return s;
+}
+
+/// The radii's initial values (sec. 2.6).
+inline RadiiSmoother::Settings radii_settings(const GaitFilterConfig& c) noexcept {
+  RadiiSmoother::Settings s;
+  s.initial_R_m = c.initial_R_m;
+  s.initial_r_m = c.initial_r_m;
+  return s;
+}
+
+/// The frequency bounds' watchdog (sec. 2.3).
+inline BoundWatchdog::Settings watchdog_settings(const GaitFilterConfig& c) noexcept {
+  BoundWatchdog::Settings s;
+  s.w_min_rad_s = kTwoPi * c.f_min_hz;
+  s.w_max_rad_s = kTwoPi * c.f_max_hz;
+  s.limit_s = c.bound_watchdog_s;
+  return s;
+}
+
+/// The cadence-change detector (sec. 2.8).
+inline CadenceChangeDetector::Settings cadence_change_settings(const GaitFilterConfig& c) noexcept {
+  CadenceChangeDetector::Settings s;
+  s.on = c.cadence_change_adapt;
+  s.tau_s = c.cadence_change_tau_s;
+  s.horizon_s = c.cadence_change_horizon_s;
+  s.max_std_rad_s = kTwoPi * c.cadence_change_max_std_hz;
+  s.phase_rad = c.cadence_change_phase_rad;
+  s.sigma = c.cadence_change_sigma;
+  s.min_amp_mps = c.cadence_change_min_amp_mps;
+  s.learn_s = c.cadence_change_noise_tau_s;
+  return s;
+}
+
+/// The spectral initialisation (sec. 2.3): its buffer in samples, the fits weighted by the
+/// measurement variances at the nominal interval.
+inline SpectralInit::Settings spectral_settings(const EstimatorConfig& config) noexcept {
+  const GaitFilterConfig& c = config.gait_filter;
+  SpectralInit::Settings s;
+  s.enabled = c.spectral_init;
+  s.after_s = c.spectral_init_s;
+  s.buffer_samples = config.samples_in(c.spectral_buffer_s);
+  s.grid_step_hz = c.spectral_grid_step_hz;
+  s.f_min_hz = c.f_min_hz;
+  s.f_max_hz = c.f_max_hz;
+  s.r_vx = c.meas_vx_density_m2_per_s / config.sample_time_s;
+  s.r_vz = c.meas_vz_density_m2_per_s / config.sample_time_s;
+  return s;
+}
+
+/// Every part of the gait filter, configured.
+struct FilterSettings {
+  MemberModel model;                              ///< the EKFs' noise, initial covariance, bounds
+  DecayFactors::TimeConstants time_constants;     ///< of the dt-dependent factors
+  DecayFactors::MeasurementNoise measurement_noise;
+  WalkingDetector::Thresholds walking;
+  InnovationGate::Settings gate;
+  StdScale::Settings std_scale;
+  RadiiSmoother::Settings radii;
+  BoundWatchdog::Settings watchdog;
+  CadenceChangeDetector::Settings cadence_change;
+  HypothesisBank::Settings bank;
+  SpectralInit::Settings spectral;
+  double nominal_dt_s = 0.04;        ///< sample_time_s [s]
+  double speed_std_floor2 = 0.0;     ///< speed_std_floor_mps^2 [(m/s)^2]
+};
+
+/// The gait filter's parts from config (which must pass EstimatorConfig::validate()).
+inline FilterSettings filter_settings(const EstimatorConfig& config) noexcept {
+  const GaitFilterConfig& c = config.gait_filter;
+  FilterSettings s;
+  s.model = member_model(c, config.max_abs_velocity_mps);
+  s.time_constants = time_constants(c);
+  s.measurement_noise = measurement_noise(c, config.sample_time_s);
+  s.walking = walking_thresholds(c);
+  s.gate = gate_settings(config);
+  s.std_scale = std_scale_settings(c);
+  s.radii = radii_settings(c);
+  s.watchdog = watchdog_settings(c);
+  s.cadence_change = cadence_change_settings(c);
+  s.bank = bank_settings(c);
+  s.spectral = spectral_settings(config);
+  s.nominal_dt_s = config.sample_time_s;
+  s.speed_std_floor2 = c.speed_std_floor_mps * c.speed_std_floor_mps;
   return s;
 }
 

@@ -12,9 +12,14 @@ namespace yoyogait::gait {
 /// [min, max]. Not adapting: lambda = 1.
 class StdScale {
  public:
+  struct Settings {
+    bool adapt = true;       ///< false: lambda = 1
+    double min_scale = 0.05;  ///< lambda's range [1]
+    double max_scale = 4.0;
+  };
+
   StdScale() noexcept = default;
-  StdScale(bool adapt, double min_scale, double max_scale) noexcept
-      : adapt_(adapt), min_(min_scale), max_(max_scale) {}
+  explicit StdScale(const Settings& s) noexcept : adapt_(s.adapt), min_(s.min_scale), max_(s.max_scale) {}
 
   void reset() noexcept { lambda_ = 1.0; }
   bool adapts() const noexcept { return adapt_; }

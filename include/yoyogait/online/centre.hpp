@@ -36,10 +36,15 @@ class CausalCentre {
     std::uint8_t visible_points = 0;  ///< markers used on this frame
   };
 
+  struct Settings {
+    double blend_tau_s = 0.3;  ///< a step of the centre when the set changes is blended out over this [s]
+    double forget_s = 2.0;     ///< a marker unseen this long leaves the set (its offset would go stale) [s]
+  };
+
   CausalCentre() noexcept = default;
-  /// forget_s: a marker unseen this long leaves the set (its offset would go stale as the body turns).
-  CausalCentre(std::size_t n_points, double blend_tau_s, double forget_s) noexcept
-      : n_(n_points > kMaxPoints ? kMaxPoints : n_points), blend_tau_s_(blend_tau_s), forget_s_(forget_s) {
+  /// n_points: at most kMaxPoints.
+  CausalCentre(std::size_t n_points, const Settings& s) noexcept
+      : n_(n_points > kMaxPoints ? kMaxPoints : n_points), blend_tau_s_(s.blend_tau_s), forget_s_(s.forget_s) {
     reset();
   }
 

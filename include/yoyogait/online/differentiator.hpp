@@ -19,13 +19,19 @@ class KalmanDifferentiator {
   enum Index { kP = 0, kV = 1, kA = 2 };
   using Axis = std::array<double, 3>;  // [p, v, a] of one axis
 
+  struct Settings {
+    double q_jerk_m2_per_s5 = 1000.0;  ///< white-jerk noise density [m^2/s^5]
+    double meas_std_m = 0.001;         ///< noise of the measured position [m]
+    double v0_std_mps = 1.0;           ///< initial std of the velocity after a start [m/s]
+    double a0_std_mps2 = 10.0;         ///< ... of the acceleration [m/s^2]
+  };
+
   KalmanDifferentiator() noexcept = default;
-  /// q_jerk_m2_per_s5: white-jerk noise density; meas_std_m: position noise; initial std of v and a.
-  KalmanDifferentiator(double q_jerk_m2_per_s5, double meas_std_m, double v0_std_mps, double a0_std_mps2) noexcept
-      : q_(q_jerk_m2_per_s5),
-        r2_(meas_std_m * meas_std_m),
-        v0_var_(v0_std_mps * v0_std_mps),
-        a0_var_(a0_std_mps2 * a0_std_mps2) {}
+  explicit KalmanDifferentiator(const Settings& s) noexcept
+      : q_(s.q_jerk_m2_per_s5),
+        r2_(s.meas_std_m * s.meas_std_m),
+        v0_var_(s.v0_std_mps * s.v0_std_mps),
+        a0_var_(s.a0_std_mps2 * s.a0_std_mps2) {}
 
   /// Starts at position p_m at rest (velocity and acceleration unknown).
   void start(const std::array<double, 3>& p_m) noexcept {

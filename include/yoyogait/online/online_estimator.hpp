@@ -2,25 +2,31 @@
 /// @brief OnlineEstimator: motion-capture frames in, gait estimates out, one frame at a time,
 /// nothing taken from the future (docs/online.md).
 ///
-/// Per frame: the centre of the chosen points (CausalCentre), its velocity (KalmanDifferentiator),
-/// the heading (low-passed horizontal velocity), forward (along the heading) and vertical velocity;
-/// every EstimatorConfig::sample_time_s the mean velocity over that interval feeds the gait
-/// Estimator, whose estimate is carried to each frame's time by its own prediction.
+/// Per frame, each step a part of its own: the points read (online/frame.hpp), their centre
+/// (online/centre.hpp), its velocity (online/differentiator.hpp), the heading and the forward
+/// velocity along it (online/heading.hpp); every EstimatorConfig::sample_time_s the mean velocity
+/// over that interval (online/decimator.hpp) feeds the gait Estimator, whose estimate is carried to
+/// each frame's time by its own forecast over the delays behind it (online/latency.hpp), with the
+/// gait phase (online/gait_phase.hpp).
 #pragma once
 
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <stdexcept>
 
 #include "yoyogait/estimator.hpp"
 #include "yoyogait/online/centre.hpp"
+#include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
-#include "yoyogait/online/lowpass.hpp"
+#include "yoyogait/online/frame.hpp"
+#include "yoyogait/online/gait_phase.hpp"
+#include "yoyogait/online/heading.hpp"
+#include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
+#include "yoyogait/online/settings.hpp"
 
 namespace yoyogait {
 
@@ -33,16 +39,14 @@ class OnlineEstimator {
   OnlineEstimator(std::size_t n_points, int up_axis, double length_unit_m = 1.0,
                   const OnlineConfig& config = OnlineConfig{})
       : config_(checked(config, n_points, up_axis, length_unit_m)),
-        n_(n_points),
-        up_(up_axis),
-        unit_(length_unit_m),
+        frame_(n_points, length_unit_m, config_.max_abs_position_m),
+        axes_(up_axis),
         estimator_(config_.estimator),
-        centre_(n_points, config_.centre_blend_tau_s, config_.centre_forget_s),
-        diff_(config_.q_jerk_m2_per_s5, config_.meas_position_std_m, config_.initial_velocity_std_mps,
-              config_.initial_accel_std_mps2),
-        aa_(config_.antialias_hz) {
-    ha_ = up_ == 0 ? 1 : 0;
-    hb_ = up_ == 2 ? 1 : 2;
+        centre_(n_points, online::centre_settings(config_)),
+        diff_(online::differentiator_settings(config_)),
+        heading_(online::heading_settings(config_)),
+        decimator_(online::decimator_settings(config_)),
+        latency_(online::latency_settings(config_)) {
     reset();
   }
 
@@ -51,27 +55,14 @@ class OnlineEstimator {
     estimator_.reset();
     centre_.reset();
     diff_.stop();
+    heading_.reset();
+    decimator_.restart();
+    latency_.reset();
+    phase_.reset();
     est_ = Estimate{};
     out_ = OnlineEstimate{};
     have_time_ = false;
     have_seen_ = false;
-    heading_lp_ = {0.0, 0.0};
-    heading_unit_ = {1.0, 0.0};
-    heading_known_ = false;
-    lp_dir_ = {1.0, 0.0};
-    lp_dir_known_ = false;
-    turn_rate_rad_s_ = 0.0;
-    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
-    fed_ = false;
-    tick_age_s_ = 0.0;
-    phase_ = 0.0;
-    carry_h_s_ = 0.0;
-    latency_s_ = 0.0;
-    latency_dt_s_ = -1.0;
-    latency_t_s_ = 0.0;
-    alpha_dt_s_ = -1.0;
-    aa_started_ = false;
-    aa_delay_s_ = 0.0;
   }
 
   /// One frame: t_s [s], positions_xyz: n_points x 3 coordinates (x, y, z of each point, in the
@@ -79,134 +70,19 @@ class OnlineEstimator {
   OnlineEstimate update(double t_s, const double* positions_xyz) noexcept {
     OnlineEstimate& o = out_;
     o.estimator_fed = false;
-    if (!std::isfinite(t_s)) {
-      o.status = OnlineStatus::kNonFinite;
-      return o;
-    }
-    if (have_time_ && !(t_s > t_last_s_)) {
-      o.status = OnlineStatus::kTimeNotIncreasing;
-      return o;
-    }
-    have_time_ = true;
-    t_last_s_ = t_s;
-    o.t_s = t_s;
-
-    std::size_t n_seen = 0, n_bad = 0;
-    for (std::size_t j = 0; j < n_; ++j) {
-      bool ok = true, any_value = false;
-      for (int a = 0; a < 3; ++a) {
-        const double v = positions_xyz[3 * j + static_cast<std::size_t>(a)] * unit_;
-        if (!std::isnan(v)) any_value = true;
-        if (!(std::fabs(v) <= config_.max_abs_position_m)) ok = false;  // NaN, infinite or absurd
-        pos_[j][static_cast<std::size_t>(a)] = v;
-      }
-      vis_[j] = ok;
-      n_seen += ok;
-      n_bad += (!ok && any_value);
-    }
-    o.points_seen = static_cast<std::uint8_t>(n_seen);
-    if (n_seen == 0) {
-      o.status = n_bad ? OnlineStatus::kNonFinite : OnlineStatus::kAllMissing;
-      carry_estimate(t_s);
-      return o;
-    }
-
+    if (!accept_time(t_s)) return o;
+    const online::PointFrame::Count seen = frame_.read(positions_xyz);
+    o.points_seen = static_cast<std::uint8_t>(seen.seen);
+    if (seen.seen == 0) return carried(t_s, seen.bad ? OnlineStatus::kNonFinite : OnlineStatus::kAllMissing);
     const double gap_s = have_seen_ ? t_s - t_seen_s_ : 0.0;
     const bool restart = !diff_.started() || gap_s > config_.max_gap_s;
-    if (restart) centre_.reset();
-    const online::CausalCentre::Result c = centre_.update(pos_.data(), vis_.data(), restart ? 0.0 : gap_s);
-    if (!c.ok) {  // cannot happen with a point seen; kept so that no unset centre is ever used
-      o.status = OnlineStatus::kAllMissing;
-      carry_estimate(t_s);
-      return o;
-    }
-    o.status = (restart && have_seen_) ? OnlineStatus::kGapRestart : OnlineStatus::kUsed;
-    if (restart) {
-      start_front_end(t_s, c.centre_m);
-    } else {
-      diff_.predict(gap_s);
-      diff_.update(c.centre_m);
-      if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
-    }
-    have_seen_ = true;
-    t_seen_s_ = t_s;
-
-    const std::array<double, 3> v = diff_.velocity_mps();
-    const double va = v[static_cast<std::size_t>(ha_)], vb = v[static_cast<std::size_t>(hb_)];
-    o.vh_a_mps = va;
-    o.vh_b_mps = vb;
-    o.vz_mps = v[static_cast<std::size_t>(up_)];
-    const bool settled = t_s - start_t_s_ >= config_.settle_s;
-    if (settled && !restart) {
-      // Heading: the horizontal velocity low-passed over about a stride, so that the sway cancels.
-      // A first-order low-pass of a vector turning at w lags it by atan(w tau): the turn rate of the
-      // low-passed direction (itself low-passed) turns the heading forward by that much.
-      if (gap_s != alpha_dt_s_) {
-        alpha_dt_s_ = gap_s;
-        alpha_ = 1.0 - std::exp(-gap_s / config_.heading_tau_s);
-      }
-      heading_lp_[0] += alpha_ * (va - heading_lp_[0]);
-      heading_lp_[1] += alpha_ * (vb - heading_lp_[1]);
-      const double s = std::sqrt(heading_lp_[0] * heading_lp_[0] + heading_lp_[1] * heading_lp_[1]);
-      if (s >= config_.heading_min_speed_mps && s > 0.0) {
-        const double ua = heading_lp_[0] / s, ub = heading_lp_[1] / s;
-        if (lp_dir_known_) {
-          const double sin_turn = lp_dir_[0] * ub - lp_dir_[1] * ua;  // sin of the turn since the last frame
-          turn_rate_rad_s_ += alpha_ * (sin_turn / gap_s - turn_rate_rad_s_);
-          // No walker turns faster than this; it also keeps frames microseconds apart harmless.
-          if (!(std::fabs(turn_rate_rad_s_) <= 10.0)) turn_rate_rad_s_ = turn_rate_rad_s_ > 0.0 ? 10.0 : -10.0;
-        }
-        lp_dir_ = {ua, ub};
-        lp_dir_known_ = true;
-        const double k = turn_rate_rad_s_ * config_.heading_tau_s;  // tan of the lag
-        const double cs = 1.0 / std::sqrt(1.0 + k * k), sn = k * cs;
-        heading_unit_ = {ua * cs - ub * sn, ua * sn + ub * cs};
-        heading_known_ = true;
-      } else {
-        lp_dir_known_ = false;
-        turn_rate_rad_s_ = 0.0;
-      }
-    }
-    o.heading_rad = std::atan2(heading_unit_[1], heading_unit_[0]);
-    o.vx_mps = heading_known_ ? va * heading_unit_[0] + vb * heading_unit_[1] : std::sqrt(va * va + vb * vb);
-
-    if (settled && !restart) {
-      // Decimation: a Butterworth low-pass (antialias_hz; 0: none), then the mean over the interval.
-      std::array<double, 2> v_in{o.vx_mps, o.vz_mps};
-      if (config_.antialias_hz > 0.0) {
-        if (!aa_started_) {
-          aa_.start(v_in);
-          aa_started_ = true;
-        }
-        v_in = aa_.step(v_in, gap_s);
-      }
-      if (span_s_ == 0.0) t_first_s_ = t_s;
-      sum_vx_ += v_in[0] * gap_s;
-      sum_vz_ += v_in[1] * gap_s;
-      sum_age_s2_ += (t_s - t_first_s_) * gap_s;
-      span_s_ += gap_s;
-      const double T = config_.estimator.sample_time_s;
-      if (span_s_ + 0.5 * gap_s >= T * (1.0 - 1e-9)) {
-        const double dt_s = fed_ ? t_s - t_tick_s_ : T;
-        est_ = estimator_.step(sum_vx_ / span_s_, sum_vz_ / span_s_, dt_s);
-        fed_ = true;
-        o.estimator_fed = true;
-        t_tick_s_ = t_s;
-        // The mean's weights are the frames' intervals, so it describes the velocity at the
-        // weighted mean of the frames' times (the frame time itself when one frame fills it).
-        tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
-        sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
-        // The delay changes only with the frame interval and the (converging) gain: evaluated when
-        // the interval changes, else once a second.
-        if (std::fabs(gap_s - latency_dt_s_) > 1e-6 * gap_s || t_s - latency_t_s_ >= 1.0) {
-          latency_s_ = diff_.delay_s(config_.latency_f_hz, gap_s);
-          latency_dt_s_ = gap_s;
-          latency_t_s_ = t_s;
-        }
-        aa_delay_s_ = config_.antialias_hz > 0.0 ? aa_.delay_s(config_.latency_f_hz) : 0.0;
-      }
-    }
-    o.input_latency_s = latency_s_;
+    if (!track_centre(t_s, gap_s, restart)) return carried(t_s, OnlineStatus::kAllMissing);
+    // The heading and the estimator take a frame only once the differentiator has settled, and
+    // never the frame that restarted it (it has no velocity yet).
+    const bool settled = !restart && t_s - start_t_s_ >= config_.settle_s;
+    velocities(gap_s, settled);
+    if (settled && decimator_.push(t_s, o.vx_mps, o.vz_mps, gap_s)) feed(t_s, gap_s);
+    o.input_latency_s = latency_.input_latency_s();
     carry_estimate(t_s);
     return o;
   }
@@ -228,12 +104,12 @@ class OnlineEstimator {
       p.vx_mps = p.vz_mps = 0.0;
       return p;
     }
-    if (!fed_) {
+    if (!latency_.fed()) {
       p.vx_mps = out_.vx_hat_mps;
       p.vz_mps = out_.vz_hat_mps;
       return p;
     }
-    const GaitFilter::Forecast f = estimator_.forecast(carry_h_s_ + horizon_s, true);
+    const Forecast f = estimator_.forecast(latency_.horizon_s() + horizon_s, true);
     p.vx_mps = f.vx_mps;
     p.vz_mps = f.vz_mps;
     p.vx_std_mps = f.vx_std_mps;
@@ -246,9 +122,9 @@ class OnlineEstimator {
   /// The estimator's last estimate (at its last sample, estimate_age_s ago).
   const Estimate& estimate() const noexcept { return est_; }
   const Estimator& estimator() const noexcept { return estimator_; }
-  std::size_t points() const noexcept { return n_; }
-  int up_axis() const noexcept { return up_; }
-  double length_unit_m() const noexcept { return unit_; }
+  std::size_t points() const noexcept { return frame_.size(); }
+  int up_axis() const noexcept { return static_cast<int>(axes_.up); }
+  double length_unit_m() const noexcept { return frame_.length_unit_m(); }
   /// The last estimate returned by update().
   const OnlineEstimate& last() const noexcept { return out_; }
 
@@ -261,16 +137,81 @@ class OnlineEstimator {
     return c;
   }
 
+  /// A finite timestamp after the last accepted one is accepted; else the frame is ignored (its
+  /// status set, nothing else changed).
+  bool accept_time(double t_s) noexcept {
+    OnlineEstimate& o = out_;
+    if (!std::isfinite(t_s)) {
+      o.status = OnlineStatus::kNonFinite;
+      return false;
+    }
+    if (have_time_ && !(t_s > t_last_s_)) {
+      o.status = OnlineStatus::kTimeNotIncreasing;
+      return false;
+    }
+    have_time_ = true;
+    t_last_s_ = t_s;
+    o.t_s = t_s;
+    return true;
+  }
+
+  /// A frame without a usable centre: the estimate carried to t_s, with the status.
+  const OnlineEstimate& carried(double t_s, OnlineStatus status) noexcept {
+    out_.status = status;
+    carry_estimate(t_s);
+    return out_;
+  }
+
+  /// The centre of the points seen, and the differentiator's step to it (a restart after a gap
+  /// longer than max_gap_s, or at the first frame). False when no centre could be formed.
+  bool track_centre(double t_s, double gap_s, bool restart) noexcept {
+    if (restart) centre_.reset();
+    const online::CausalCentre::Result c =
+        centre_.update(frame_.positions_m(), frame_.visible(), restart ? 0.0 : gap_s);
+    if (!c.ok) return false;  // cannot happen with a point seen; kept so that no unset centre is ever used
+    out_.status = (restart && have_seen_) ? OnlineStatus::kGapRestart : OnlineStatus::kUsed;
+    if (restart) {
+      start_front_end(t_s, c.centre_m);
+    } else {
+      diff_.predict(gap_s);
+      diff_.update(c.centre_m);
+      if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
+    }
+    have_seen_ = true;
+    t_seen_s_ = t_s;
+    return true;
+  }
+
   void start_front_end(double t_s, const std::array<double, 3>& centre_m) noexcept {
     diff_.start(centre_m);
     start_t_s_ = t_s;
-    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
-    aa_started_ = false;
+    decimator_.restart();
   }
 
-  // The estimator's last estimate carried to t_s: its prediction over the time since its sample,
-  // plus the age of the averaged frames at that sample and the differentiator's delay (the sample
-  // described the velocity that long before it was taken).
+  /// The differentiator's velocity on the axes; the heading (updated once settled) and the
+  /// forward velocity along it.
+  void velocities(double gap_s, bool settled) noexcept {
+    OnlineEstimate& o = out_;
+    const std::array<double, 3> v = diff_.velocity_mps();
+    const double va = v[axes_.a], vb = v[axes_.b];
+    o.vh_a_mps = va;
+    o.vh_b_mps = vb;
+    o.vz_mps = v[axes_.up];
+    if (settled) heading_.update(va, vb, gap_s);
+    o.heading_rad = heading_.heading_rad();
+    o.vx_mps = heading_.forward_mps(va, vb);
+  }
+
+  /// The interval just completed feeds the estimator (its time step: since its last sample).
+  void feed(double t_s, double gap_s) noexcept {
+    const online::Decimator::Mean& m = decimator_.mean();
+    est_ = estimator_.step(m.vx_mps, m.vz_mps, latency_.sample_dt_s(t_s, config_.estimator.sample_time_s));
+    out_.estimator_fed = true;
+    latency_.sampled(t_s, gap_s, m.age_s, decimator_.antialias_delay_s(config_.latency_f_hz), diff_);
+  }
+
+  /// The estimator's last estimate carried to t_s: its forecast over the time since its sample plus
+  /// the delays behind that sample (online/latency.hpp), and the gait phase at t_s.
   void carry_estimate(double t_s) noexcept {
     OnlineEstimate& o = out_;
     const Estimate& e = est_;
@@ -278,76 +219,47 @@ class OnlineEstimator {
     o.step_frequency_std_hz = e.step_frequency_std_hz;
     o.speed_mps = e.speed_mps;
     o.speed_std_mps = e.speed_std_mps;
-    o.walking = fed_ && e.walking;
+    o.walking = latency_.fed() && e.walking;
     o.estimator_status = e.status;
-    o.walk_a_mps = e.speed_mps * heading_unit_[0];
-    o.walk_b_mps = e.speed_mps * heading_unit_[1];
-    if (!fed_) {
+    o.walk_a_mps = e.speed_mps * heading_.unit()[0];
+    o.walk_b_mps = e.speed_mps * heading_.unit()[1];
+    const double h_s = latency_.carry_to(t_s);
+    if (!latency_.fed()) {
       // No estimate yet (the front-end settles, the first interval fills): the measured velocity
       // is the best there is; zero would tell a controller that the walker stands.
       o.vx_hat_mps = o.vx_mps;
       o.vz_hat_mps = o.vz_mps;
       o.estimate_age_s = 0.0;
-      o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
-      carry_h_s_ = 0.0;
+      phase_.hold();
+      o.next_step_in_s = phase_.next_step_in_s();
       return;
     }
-    o.estimate_age_s = t_s - t_tick_s_;
-    const double h_s = o.estimate_age_s + tick_age_s_ + aa_delay_s_ + latency_s_;
-    carry_h_s_ = h_s;
-    const GaitFilter::Forecast f = estimator_.forecast(h_s, false);
+    o.estimate_age_s = latency_.sample_age_s(t_s);
+    const Forecast f = estimator_.forecast(h_s, false);
     o.vx_hat_mps = f.vx_mps;
     o.vz_hat_mps = f.vz_mps;
-    const GaitState& x = e.gait_state;
-    const double z1 = x[gait::kZ1], z2 = x[gait::kZ2];
-    constexpr double two_pi = 6.283185307179586476925286766559;
-    const bool phased = e.walking && z1 * z1 + z2 * z2 > 1e-12;
-    if (phased) {
-      const double th = std::atan2(z2, z1) + f.phase_advance_rad;
-      double ph = th / two_pi;
-      ph -= std::floor(ph);
-      if (ph >= 1.0) ph = 0.0;
-      phase_ = ph;
-    }
-    if (phased && f.omega_rad_s > 0.0) {
-      // The turn to the next phase 0.75, at the present w and its rate: w t + dw t^2 / 2 = turn.
-      double left = 0.75 - phase_;
-      left -= std::floor(left);
-      if (left >= 1.0) left = 0.0;
-      const double turn = two_pi * left, w = f.omega_rad_s, disc = w * w + 2.0 * f.omega_rate_rad_s2 * turn;
-      o.next_step_in_s = disc > 0.0 ? 2.0 * turn / (w + std::sqrt(disc)) : turn / w;
-    } else {
-      o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
-    }
-    o.gait_phase = phase_;
+    phase_.update(e.walking, e.gait_state[gait::kZ1], e.gait_state[gait::kZ2], f.phase_advance_rad, f.omega_rad_s,
+                  f.omega_rate_rad_s2);
+    o.next_step_in_s = phase_.next_step_in_s();
+    o.gait_phase = phase_.phase();
   }
 
   OnlineConfig config_;
-  std::size_t n_ = 1;
-  int up_ = 2, ha_ = 0, hb_ = 1;
-  double unit_ = 1.0;
+  online::PointFrame frame_;
+  online::Axes axes_;
   Estimator estimator_;
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
-  online::Lowpass2 aa_;
-  bool aa_started_ = false;
-  double aa_delay_s_ = 0.0;
+  online::HeadingTracker heading_;
+  online::Decimator decimator_;
+  online::Latency latency_;
+  online::GaitPhase phase_;
   Estimate est_{};
   OnlineEstimate out_{};
-  std::array<online::Vec3, online::kMaxPoints> pos_{};
-  std::array<bool, online::kMaxPoints> vis_{};
-  bool have_time_ = false, have_seen_ = false, heading_known_ = false, fed_ = false;
-  double t_last_s_ = 0.0, t_seen_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0;
-  std::array<double, 2> heading_lp_{}, heading_unit_{1.0, 0.0}, lp_dir_{1.0, 0.0};
-  bool lp_dir_known_ = false;
-  double turn_rate_rad_s_ = 0.0;
-  double alpha_dt_s_ = -1.0, alpha_ = 0.0;
-  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0;
-  double t_first_s_ = 0.0;    ///< time of the interval's first frame
-  double sum_age_s2_ = 0.0;   ///< sum over the interval's frames of (t - t_first) times the frame's interval
-  double tick_age_s_ = 0.0;   ///< last sample: its time - the weighted mean time of its frames
-  double carry_h_s_ = 0.0;  ///< the horizon of the last carry_estimate: last frame's time - the state's time
-  double phase_ = 0.0, latency_s_ = 0.0, latency_dt_s_ = -1.0, latency_t_s_ = 0.0;
+  bool have_time_ = false, have_seen_ = false;
+  double t_last_s_ = 0.0;   ///< the last accepted frame [s]
+  double t_seen_s_ = 0.0;   ///< the last frame with a point seen [s]
+  double start_t_s_ = 0.0;  ///< the differentiator's last (re)start [s]
 };
 
 }  // namespace yoyogait

@@ -1,7 +1,7 @@
-/// @file paper_estimator.hpp
+/// @file paper/paper_estimator.hpp
 /// @brief The paper's estimator, exactly as published (Sec. III and IV-B): the 4-state EKF
-/// (eq. 5-9, ekf.hpp), the heuristic filter of R_hat, r_hat (eq. 11-12) and the reconstruction
-/// (eq. 13-14, heuristics.hpp). docs/paper_estimator.md.
+/// (eq. 5-9, paper/ekf.hpp), the heuristic filter of R_hat, r_hat (eq. 11-12) and the reconstruction
+/// (eq. 13-14, paper/heuristics.hpp). docs/paper_estimator.md.
 #pragma once
 
 #include <array>
@@ -10,13 +10,13 @@
 #include <limits>
 
 #include "yoyogait/config.hpp"
-#include "yoyogait/ekf.hpp"
+#include "yoyogait/paper/ekf.hpp"
 #include "yoyogait/estimate.hpp"
-#include "yoyogait/heuristics.hpp"
+#include "yoyogait/paper/heuristics.hpp"
 #include "yoyogait/math.hpp"
-#include "yoyogait/state.hpp"
+#include "yoyogait/paper/state.hpp"
 
-namespace yoyogait {
+namespace yoyogait::paper {
 
 /// The paper's estimator. Use it through yoyogait::Estimator (EstimatorConfig::paper()); this
 /// class is public for tests and for embedding. step() does no heap allocation and cannot throw.
@@ -262,4 +262,4 @@ class PaperEstimator {
   Measurement z_;  // the last sample, for innovation()
 };
 
-}  // namespace yoyogait
+}  // namespace yoyogait::paper

@@ -1,4 +1,4 @@
-/// @file ekf.hpp
+/// @file paper/ekf.hpp
 /// @brief The paper's sinusoid EKF (Sec. III): transition eq. 6, its Jacobian, measurement eq. 9.
 ///
 /// The prediction and update are the textbook EKF equations that the paper refers to:
@@ -24,9 +24,9 @@
 
 #include "yoyogait/covariance_guard.hpp"
 #include "yoyogait/math.hpp"
-#include "yoyogait/state.hpp"
+#include "yoyogait/paper/state.hpp"
 
-namespace yoyogait {
+namespace yoyogait::paper {
 
 /// Measured velocities [m/s].
 struct Measurement {
@@ -225,7 +225,7 @@ inline bool within_variance_bounds(const SymMatrix4& P, const std::array<double,
 }
 
 #ifdef YOYOGAIT_HAVE_SSE2
-namespace detail {
+namespace simd {
 
 // The same step on pairs of doubles (SSE2), for the storage pairs of SymMatrix4 and State
 // ([x1, x2], [w, A0]). Each entry is computed by the same operations in the same order as in
@@ -374,13 +374,13 @@ inline bool positive_definite_sse2(const SymMatrix4& P) noexcept {
   return a00 > 0.0 && det_a > 0.0 && m00 > 0.0 && det_m > 0.0 && det_m <= std::numeric_limits<double>::max();
 }
 
-}  // namespace detail
+}  // namespace simd
 #endif
 
 /// positive_definite_scalar(); with SSE2 the same arithmetic on pairs, identical results.
 inline bool positive_definite(const SymMatrix4& P) noexcept {
 #ifdef YOYOGAIT_HAVE_SSE2
-  return detail::positive_definite_sse2(P);
+  return simd::positive_definite_sse2(P);
 #else
   return positive_definite_scalar(P);
 #endif
@@ -391,7 +391,7 @@ inline bool positive_definite(const SymMatrix4& P) noexcept {
 inline bool predict(const State& x, const SymMatrix4& P, const std::array<double, kStateDim>& q,
                     const std::array<double, kStateDim>& max_variance, State& x_pred, SymMatrix4& P_pred) noexcept {
 #ifdef YOYOGAIT_HAVE_SSE2
-  return detail::predict_sse2(x, P, q, max_variance, x_pred, P_pred);
+  return simd::predict_sse2(x, P, q, max_variance, x_pred, P_pred);
 #else
   return predict_scalar(x, P, q, max_variance, x_pred, P_pred);
 #endif
@@ -407,7 +407,7 @@ inline void predict(const State& x, const SymMatrix4& P, const std::array<double
 inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2, double v_vz_mps2,
                    State& x_post, SymMatrix4& P_post) noexcept {
 #ifdef YOYOGAIT_HAVE_SSE2
-  return detail::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, x_post, P_post);
+  return simd::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, x_post, P_post);
 #else
   return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, x_post, P_post);
 #endif
@@ -418,7 +418,7 @@ inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, do
 inline bool update(const State& x, const SymMatrix4& P, const Measurement& z, double v_vx_mps2, double v_vz_mps2,
                    double cert_scale, State& x_post, SymMatrix4& P_post, bool& certified) noexcept {
 #ifdef YOYOGAIT_HAVE_SSE2
-  return detail::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, cert_scale, x_post, P_post, certified);
+  return simd::update_sse2(x, P, z, v_vx_mps2, v_vz_mps2, cert_scale, x_post, P_post, certified);
 #else
   return update_scalar(x, P, z, v_vx_mps2, v_vz_mps2, cert_scale, x_post, P_post, certified);
 #endif
@@ -493,4 +493,4 @@ inline bool update(State& x, Matrix4& P, const Measurement& z, double v_vx_mps2,
   return true;
 }
 
-}  // namespace yoyogait
+}  // namespace yoyogait::paper

@@ -1,4 +1,4 @@
-/// @file heuristics.hpp
+/// @file paper/heuristics.hpp
 /// @brief The heuristic filter of R_hat and r_hat (eq. 11-12) and the reconstruction (eq. 13-14).
 #pragma once
 
@@ -7,9 +7,9 @@
 #include <cstddef>
 
 #include "yoyogait/config.hpp"
-#include "yoyogait/state.hpp"
+#include "yoyogait/paper/state.hpp"
 
-namespace yoyogait {
+namespace yoyogait::paper {
 
 /// Eq. 11-12: R_hat(k) and r_hat(k) start at R_hat(0), r_hat(0); for k > n, while x3 > mu_w and
 /// x4 > mu_A0, each becomes the mean of its previous n values and the new x4/x3 (resp. A1/x3);
@@ -98,4 +98,4 @@ inline Reconstruction reconstruct(double R_hat, double r_hat, double x1, double 
   return Reconstruction{R_hat * x3 + scale * x1, -scale * x2};
 }
 
-}  // namespace yoyogait
+}  // namespace yoyogait::paper

@@ -1,11 +1,11 @@
-/// @file state.hpp
+/// @file paper/state.hpp
 /// @brief The filter state of the paper (eq. 5) with named entries, and its covariance.
 #pragma once
 
 #include <array>
 #include <cstddef>
 
-namespace yoyogait {
+namespace yoyogait::paper {
 
 /// Index of each entry of the state x = [A1 cos(w k + phi), A1 sin(w k + phi), w, A0] (eq. 5).
 enum StateIndex : std::size_t {
@@ -40,7 +40,7 @@ using Matrix4 = std::array<std::array<double, kStateDim>, kStateDim>;
 /// A symmetric 4x4 matrix, the covariance P, stored as its 10 distinct entries.
 /// (i, j) and (j, i) name the same entry, so the two halves cannot drift apart.
 ///
-/// The entries are stored as five pairs that the SSE2 filter step (ekf.hpp) loads whole:
+/// The entries are stored as five pairs that the SSE2 filter step (paper/ekf.hpp) loads whole:
 /// [P(0,0), P(1,1)], [P(0,1), P(2,3)], [P(0,2), P(1,2)], [P(0,3), P(1,3)], [P(2,2), P(3,3)]
 /// (indices as StateIndex: x1, x2, w, A0).
 class SymMatrix4 {
@@ -93,4 +93,11 @@ constexpr Matrix4 diagonal(const std::array<double, kStateDim>& d) noexcept {
   return m;
 }
 
+}  // namespace yoyogait::paper
+
+namespace yoyogait {
+/// The facade reports the state in the paper's form for both algorithms (Estimate::state,
+/// Estimator::state() and covariance(): [X1, X2, w T, A0] of the gait filter): the two names at the root.
+using paper::Matrix4;
+using paper::State;
 }  // namespace yoyogait

@@ -1,0 +1,62 @@
+/// @file online/gait_phase.hpp
+/// @brief The phase within the current step and the time to the next step, from the estimator's
+/// vertical phasor carried to the frame's time (OnlineEstimate::gait_phase, next_step_in_s).
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "yoyogait/math.hpp"
+
+namespace yoyogait::online {
+
+/// gait_phase in [0, 1): the angle of the vertical phasor Z, v_z ~ |Z| cos(2 pi gait_phase), held
+/// while standing; the next step: the next time the phase reaches 0.75 (the pelvis low point).
+class GaitPhase {
+ public:
+  /// The phase at which a step is counted (the pelvis low point, about the double support).
+  static constexpr double kStepPhase = 0.75;
+
+  void reset() noexcept {
+    phase_ = 0.0;
+    next_step_in_s_ = std::numeric_limits<double>::quiet_NaN();
+  }
+
+  /// No estimate to carry: the phase held, no next step.
+  void hold() noexcept { next_step_in_s_ = std::numeric_limits<double>::quiet_NaN(); }
+
+  /// The estimate (walking, vertical phasor z1, z2 at its sample) carried over a turn of
+  /// phase_advance_rad, to where the step angular frequency is omega_rad_s with rate omega_rate_rad_s2.
+  void update(bool walking, double z1, double z2, double phase_advance_rad, double omega_rad_s,
+              double omega_rate_rad_s2) noexcept {
+    const bool phased = walking && z1 * z1 + z2 * z2 > 1e-12;
+    if (phased) {
+      const double th = std::atan2(z2, z1) + phase_advance_rad;
+      double ph = th / kTwoPi;
+      ph -= std::floor(ph);
+      if (ph >= 1.0) ph = 0.0;
+      phase_ = ph;
+    }
+    if (phased && omega_rad_s > 0.0) {
+      // The turn to the next step phase, at the present w and its rate: w t + dw t^2 / 2 = turn.
+      double left = kStepPhase - phase_;
+      left -= std::floor(left);
+      if (left >= 1.0) left = 0.0;
+      const double turn = kTwoPi * left, w = omega_rad_s, disc = w * w + 2.0 * omega_rate_rad_s2 * turn;
+      next_step_in_s_ = disc > 0.0 ? 2.0 * turn / (w + std::sqrt(disc)) : turn / w;
+    } else {
+      next_step_in_s_ = std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+
+  /// The phase in [0, 1) (0 before the first walking estimate).
+  double phase() const noexcept { return phase_; }
+  /// Time to the next step [s]; NaN while not walking.
+  double next_step_in_s() const noexcept { return next_step_in_s_; }
+
+ private:
+  double phase_ = 0.0;
+  double next_step_in_s_ = std::numeric_limits<double>::quiet_NaN();
+};
+
+}  // namespace yoyogait::online

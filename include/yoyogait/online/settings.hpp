@@ -1,0 +1,57 @@
+/// @file online/settings.hpp
+/// @brief The online front-end's parts configured from OnlineConfig, setting by setting (what
+/// OnlineEstimator's constructor builds its parts from).
+#pragma once
+
+#include "yoyogait/online/centre.hpp"
+#include "yoyogait/online/decimator.hpp"
+#include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/heading.hpp"
+#include "yoyogait/online/latency.hpp"
+#include "yoyogait/online/online_config.hpp"
+
+namespace yoyogait::online {
+
+/// The centre's settings (centre_blend_tau_s, centre_forget_s).
+inline CausalCentre::Settings centre_settings(const OnlineConfig& c) noexcept {
+  CausalCentre::Settings s;
+  s.blend_tau_s = c.centre_blend_tau_s;
+  s.forget_s = c.centre_forget_s;
+  return s;
+}
+
+/// The differentiator's settings (q_jerk_m2_per_s5, meas_position_std_m, initial_velocity_std_mps,
+/// initial_accel_std_mps2).
+inline KalmanDifferentiator::Settings differentiator_settings(const OnlineConfig& c) noexcept {
+  KalmanDifferentiator::Settings s;
+  s.q_jerk_m2_per_s5 = c.q_jerk_m2_per_s5;
+  s.meas_std_m = c.meas_position_std_m;
+  s.v0_std_mps = c.initial_velocity_std_mps;
+  s.a0_std_mps2 = c.initial_accel_std_mps2;
+  return s;
+}
+
+/// The heading tracker's settings (heading_tau_s, heading_min_speed_mps).
+inline HeadingTracker::Settings heading_settings(const OnlineConfig& c) noexcept {
+  HeadingTracker::Settings s;
+  s.tau_s = c.heading_tau_s;
+  s.min_speed_mps = c.heading_min_speed_mps;
+  return s;
+}
+
+/// The decimator's settings (the estimator's sample_time_s, antialias_hz).
+inline Decimator::Settings decimator_settings(const OnlineConfig& c) noexcept {
+  Decimator::Settings s;
+  s.sample_time_s = c.estimator.sample_time_s;
+  s.antialias_hz = c.antialias_hz;
+  return s;
+}
+
+/// The latency bookkeeping's settings (latency_f_hz).
+inline Latency::Settings latency_settings(const OnlineConfig& c) noexcept {
+  Latency::Settings s;
+  s.f_hz = c.latency_f_hz;
+  return s;
+}
+
+}  // namespace yoyogait::online
