@@ -8,8 +8,8 @@ import click
 import numpy as np
 
 from .. import io
-from .._files import atomic_file, atomic_files
-from ..errors import InputError, OutputError, about_file
+from .._files import atomic_file, atomic_files, check_distinct, check_output_file
+from ..errors import InputError, about_file
 from ..estimators.config import EstimatorConfig
 from ..estimators.online import OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
@@ -105,9 +105,11 @@ def command(
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
     fig = None if figure == "none" else Path(figure or f"{stem}.estimate.png")
+    inputs = (file, config_file)
+    check_distinct((("--out", out), ("--figure", fig)))
     for option, target in (("--out", out), ("--figure", fig)):
-        if target is not None and target.exists() and not force:
-            raise OutputError(f"{option} {target}: exists; use --force to overwrite it")
+        if target is not None:
+            check_output_file(target, option, force, inputs)
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
     with about_file(file):
         recording = io.read(file, **overrides)
@@ -175,8 +177,7 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
         raise InputError("--online writes no figure; leave out --figure")
     stem = Path(file).name
     out = Path(out or f"{stem}.online.csv")
-    if out.exists() and not force:
-        raise OutputError(f"--out {out}: exists; use --force to overwrite it")
+    check_output_file(out, "--out", force, inputs=(file,))
     overrides = {k: v for k, v in (("up_axis", up_axis), ("length_unit_m", length_unit_m), ("rate_hz", rate_hz)) if v}
     with about_file(file):
         recording = io.read(file, **overrides)

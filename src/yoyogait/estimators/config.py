@@ -335,22 +335,14 @@ class EstimatorConfig:
     def from_file(cls, path) -> EstimatorConfig:
         """A configuration from a TOML file (as :meth:`save` writes; fields left out keep their
         defaults). InputError naming the file and the field for anything unusable."""
+        from .. import _reading  # regular files under 1 MiB, nested at most 64 deep; one-line errors
+
         path = Path(path)
-        try:
-            with open(path, "rb") as fh:
-                values = tomllib.load(fh)
-        except FileNotFoundError:
-            raise InputError(f"{path}: no such file") from None
-        except IsADirectoryError:
-            raise InputError(f"{path}: is a folder, not a configuration file") from None
-        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-            raise InputError(f"{path}: not a valid TOML file: {exc}") from None
-        except OSError as exc:
-            raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from None
+        values = _reading.read_toml(path, _reading.CONFIG_MAX_BYTES, "configuration file")
         try:
             return cls.from_dict(values)
         except InputError as exc:
-            raise InputError(f"{path}: {exc}") from None
+            raise InputError(_reading.one_line(f"{path}: {exc}")) from None
 
     def save(self, path, *, force: bool = False) -> None:
         """Write the configuration as TOML (every field); an existing file only with ``force``."""
