@@ -150,7 +150,7 @@ def check_output_file(path, option: str = "--out", force: bool = False, inputs: 
         raise OutputError(f"{option} {path}: exists; use --force to overwrite it")
 
 
-def check_distinct(outputs: Iterable[tuple[str, object]]) -> None:
+def check_distinct(outputs: Iterable[tuple[str, str | os.PathLike | None]]) -> None:
     """OutputError when two outputs of one command, (option, path) pairs, name the same file."""
     seen: list[tuple[str, Path]] = []
     for option, path in outputs:

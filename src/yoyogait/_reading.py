@@ -11,17 +11,22 @@ line of at most :data:`LINE_MAX` characters: values in it are shortened (:func:`
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import re
 import reprlib
 import stat
+import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ._files import kind_of
 from .errors import InputError
+
+tomllib = importlib.import_module("tomllib" if sys.version_info >= (3, 11) else "tomli")
 
 __all__ = [
     "CONFIG_MAX_BYTES",
@@ -135,8 +140,6 @@ def _check_stat(path: Path, st: os.stat_result, max_bytes: int, what: str) -> No
     if stat.S_ISDIR(st.st_mode):
         raise InputError(f"{path}: is a folder, not a {what}")
     if not stat.S_ISREG(st.st_mode):
-        from ._files import kind_of
-
         raise InputError(f"{path}: is {kind_of(st.st_mode)}, not a regular file; a {what} is read only from one")
     if st.st_size > max_bytes:
         raise InputError(
@@ -198,10 +201,6 @@ def _too_deep(path: Path) -> InputError:
 
 def read_toml(path, max_bytes: int = CONFIG_MAX_BYTES, what: str = "configuration file") -> dict:
     """The TOML document of ``path``, read bounded (:func:`read_bounded`) and depth-checked."""
-    import importlib
-    import sys
-
-    tomllib = importlib.import_module("tomllib" if sys.version_info >= (3, 11) else "tomli")
     path = Path(path)
     data = read_bounded(path, max_bytes, what)
     code = _TOML_SKIP.sub(b"", data)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import functools
+import os
 from pathlib import Path
 
 import click
@@ -153,6 +154,11 @@ def run_evaluation(
         raise InputError(f"--jobs must be at least 1, not {jobs}")
     if ship_files and not scheduler:
         raise InputError("--ship-files goes with --scheduler")
+    if dataset not in (None, "synthetic") and os.path.lexists(out) and os.path.lexists(dataset):
+        if os.path.samefile(out, dataset) or Path(dataset).absolute().parent.samefile(out):
+            raise InputError(
+                f"--out {out}: holds the data set {dataset}; give another folder (refused even with --force)"
+            )
     expected = ev.report.REPORT_NAMES
     check_output_folder(out, force, "--out", expected)
     with output_lock(out):

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 import tomli_w
 
-from .. import _core
+from .. import _core, _reading
 from .._files import atomic_file
 from ..errors import InputError
 
@@ -335,8 +335,6 @@ class EstimatorConfig:
     def from_file(cls, path) -> EstimatorConfig:
         """A configuration from a TOML file (as :meth:`save` writes; fields left out keep their
         defaults). InputError naming the file and the field for anything unusable."""
-        from .. import _reading  # regular files under 1 MiB, nested at most 64 deep; one-line errors
-
         path = Path(path)
         values = _reading.read_toml(path, _reading.CONFIG_MAX_BYTES, "configuration file")
         try:

@@ -105,8 +105,10 @@ def write_report(
     Written into a temporary folder beside it and moved into place at the end, so an
     interrupted run leaves no half-written report.  ``out_dir`` may be new or empty; a
     report yoyogait wrote there before is replaced only with ``force``, and then only the
-    files it lists in its marker (``.yoyogait-report``): the user's other files stay.  A
-    non-empty folder without the marker is refused.
+    files it lists in its marker (``.yoyogait-report``) that are still what it wrote (their
+    SHA-256): the user's other files stay, and one at a name the report needs, or a link inside
+    the folder, is refused before anything changes (:func:`yoyogait._files.install_folder`).  A
+    non-empty folder without the marker is refused.  ``option`` names ``out`` in the messages.
     """
     mode = figure_mode(figures, len(evaluation.items))
     out = Path(out_dir)
@@ -142,9 +144,9 @@ def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int
             md.append(f"- and {len(ev.failures) - LISTED_MAX} more")
         md.append("")
         with open(folder / "not_evaluated.csv", "w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh)
-            w.writerow(["recording", "problem"])
-            w.writerows(ev.failures)
+            problems = csv.writer(fh)
+            problems.writerow(["recording", "problem"])
+            problems.writerows(ev.failures)
     md += ["## Summary", "", summary_markdown(ev), ""]
     for est in ev.estimators:
         md += [

@@ -325,3 +325,16 @@ def test_input_error_and_output_error_are_both_one_line(tmp_path):
     with pytest.raises((InputError, OutputError)) as info:
         _files.check_output_file(node, "--out", force=True)
     assert "\n" not in str(info.value) and ".tmp." not in str(info.value)
+
+
+def test_evaluate_out_holding_the_data_set_is_refused(walks, tmp_path, capsys):
+    """evaluate --out naming the data set's own folder (or the folder of its manifest) is refused, also with
+    --force, before anything is evaluated."""
+    data = tmp_path / "data"
+    data.mkdir()
+    (data / "walk.trc").write_bytes((walks / "walk.trc").read_bytes())
+    (data / "manifest.json").write_text('{"recordings": [{"path": "walk.trc"}]}')
+    for dataset in (data, data / "manifest.json"):
+        assert main(["evaluate", str(dataset), "--out", str(data), "--force", "--no-figures"]) == 2
+        assert "data set" in one_error(capsys)
+    assert sorted(p.name for p in data.iterdir()) == ["manifest.json", "walk.trc"]
