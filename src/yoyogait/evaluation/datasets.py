@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import json
 import math
 import os
 import tempfile
@@ -86,26 +85,30 @@ def manifest_items(path) -> tuple[list[Item], list[tuple[str, str]]]:
         raise InputError(f"manifest {path} has no list 'recordings'")
     found: list[tuple[int, str, Path, dict]] = []  # (index, path as given, file, item fields)
     missing: list[tuple[str, str]] = []
+    folder = str(path.parent)
     first_of: dict[tuple, int] = {}  # (file, settings) -> the entry evaluated
     repeats: dict[int, list[int]] = {}
     missing_at: dict[int, int] = {}  # entry -> its index in missing
+    order: list[int] = []  # the entry of each problem
     for n, entry in enumerate(entries):
-        name, problem, fields = _entry(n, entry, path)
+        name, problem, fields = _entry(n, entry, path, folder)
         if problem is not None:
             missing.append((name, problem))
+            order.append(n)
             continue
         assert fields is not None
         file = fields.pop("file")
-        key = (os.path.realpath(file), json.dumps(fields, sort_keys=True, default=str))
+        key = (os.path.normpath(file), repr(sorted(fields.items())))
         if key in first_of:
             repeats.setdefault(first_of[key], []).append(n)
             continue
         first_of[key] = n
-        if not file.is_file():
+        if not os.path.isfile(file):
             missing_at[n] = len(missing)
-            missing.append((name, f"file not found: {_reading.clip(str(file), 200)}"))
+            missing.append((name, f"file not found: {_reading.clip(file, 200)}"))
+            order.append(n)
             continue
-        found.append((n, entry["path"], file, fields))
+        found.append((n, entry["path"], Path(file), fields))
     for n, again in repeats.items():  # one line for an entry and all its repeats
         listed = ", ".join(str(k) for k in again[:5]) + (f" and {len(again) - 5} more" if len(again) > 5 else "")
         also = f"listed again as entr{'y' if len(again) == 1 else 'ies'} {listed}"
@@ -114,6 +117,8 @@ def manifest_items(path) -> tuple[list[Item], list[tuple[str, str]]]:
             missing[missing_at[n]] = (name, f"{message} ({also})")
         else:
             missing.append((f"entry {n} ({_reading.clip(entries[n]['path'], 120)})", f"{also}: evaluated once"))
+            order.append(n)
+    missing = [problem for _, problem in sorted(zip(order, missing), key=lambda pair: pair[0])]  # by entry
     names = _unique_names([(n, given, file) for n, given, file, _ in found])
     items = []
     for (_, given, file, fields), name in zip(found, names):
@@ -155,7 +160,7 @@ def _unique_names(files: list[tuple[int, str, Path]]) -> list[str]:
 _AXES = ("x", "y", "z")
 
 
-def _entry(n: int, entry, manifest: Path) -> tuple[str, str | None, dict | None]:
+def _entry(n: int, entry, manifest: Path, folder: str) -> tuple[str, str | None, dict | None]:
     """(name, problem, fields) of manifest entry ``n``: a problem names the entry and the field."""
     if not isinstance(entry, dict):
         return f"entry {n}", f"must be an object with a 'path', not {_reading.shorten(entry)} (in {manifest})", None
@@ -187,7 +192,7 @@ def _entry(n: int, entry, manifest: Path) -> tuple[str, str | None, dict | None]
     if walk is not None and not isinstance(walk, str):
         return bad("walk", "a text")
     fields = {
-        "file": manifest.parent / given,
+        "file": os.path.join(folder, given),
         "length_unit_m": unit,
         "up_axis": axis or None,
         "pelvis": pelvis,
