@@ -64,7 +64,7 @@ def _umask() -> int:
 
 def give_default_mode(path: Path) -> None:
     """The permissions a plainly created file or folder would have (mkstemp/mkdtemp make them private)."""
-    os.chmod(path, (0o777 if path.is_dir() else 0o666) & ~_umask(), follow_symlinks=False)
+    os.chmod(path, (0o777 if path.is_dir() else 0o666) & ~_umask())
 
 
 def why(exc: BaseException, *hide: Path) -> str:

@@ -56,7 +56,10 @@ def foot_contacts(recording, feet, up_axis):
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
 @belt_speed_option
-@force_option("Overwrite the --out and --figure files if they exist.")
+@force_option(
+    "Overwrite the --out and --figure files if they exist (a link is replaced itself; never a device, "
+    "FIFO, socket or an input: docs/files.md)."
+)
 @click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
 @click.pass_context
 def command(
