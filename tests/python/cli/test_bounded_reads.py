@@ -73,7 +73,7 @@ def test_a_deeply_nested_configuration_is_one_line(walk, tmp_path, kind):
     the depth limit, at once."""
     cfg = tmp_path / "deep.toml"
     cfg.write_text(deep_toml(kind, 100_000))
-    proc = run_cli("estimate", str(walk), "--config", str(cfg), "--out", str(tmp_path / "o.csv"))
+    proc = run_cli("estimate", str(walk), "--config", str(cfg), "--out", str(tmp_path / "o.csv"), "--figure", "none")
     line = check_one_line(proc, str(cfg))
     assert "nested" in line and "Traceback" not in proc.stderr
     assert not (tmp_path / "o.csv").exists()
@@ -85,7 +85,9 @@ def test_a_configuration_that_is_not_a_regular_file_is_refused_at_once(walk, tmp
     one line naming the file, within seconds (nothing read from it, nothing waited for)."""
     node = make_special(tmp_path / f"cfg.{kind}", kind)
     t0 = time.monotonic()
-    proc = run_cli("estimate", str(walk), "--config", str(node), "--out", str(tmp_path / "o.csv"), timeout_s=30)
+    proc = run_cli(
+        "estimate", str(walk), "--config", str(node), "--out", str(tmp_path / "o.csv"), "--figure", "none", timeout_s=30
+    )
     assert time.monotonic() - t0 < 30
     line = check_one_line(proc, str(node))
     assert "not a regular file" in line
@@ -98,7 +100,7 @@ def test_a_configuration_over_the_size_limit_is_refused_at_once(walk, tmp_path):
     with open(cfg, "wb") as fh:
         fh.truncate(100_000_000)
     t0 = time.monotonic()
-    proc = run_cli("estimate", str(walk), "--config", str(cfg), "--out", str(tmp_path / "o.csv"))
+    proc = run_cli("estimate", str(walk), "--config", str(cfg), "--out", str(tmp_path / "o.csv"), "--figure", "none")
     assert time.monotonic() - t0 < 30
     line = check_one_line(proc, str(cfg))
     assert "1 MiB" in line
@@ -109,7 +111,7 @@ def test_a_long_value_gives_a_short_error_line(walk, tmp_path):
     field and is one line of bounded length, the value shortened."""
     cfg = tmp_path / "long.toml"
     cfg.write_text("[gait_filter]\ngate_sigma = [" + ", ".join("1" for _ in range(100_000)) + "]\n")
-    proc = run_cli("estimate", str(walk), "--config", str(cfg), "--out", str(tmp_path / "o.csv"))
+    proc = run_cli("estimate", str(walk), "--config", str(cfg), "--out", str(tmp_path / "o.csv"), "--figure", "none")
     check_one_line(proc, str(cfg), "gate_sigma")
 
 
