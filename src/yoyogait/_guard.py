@@ -19,9 +19,11 @@ lock when its process dies, however it dies, so a stale lock file never blocks a
 from __future__ import annotations
 
 import contextlib
+import errno
 import fcntl
 import os
 import signal
+import stat
 import sys
 import threading
 from collections.abc import Iterator
@@ -155,7 +157,7 @@ def output_lock(out) -> Iterator[Path]:
     fd = -1
     try:
         while True:
-            fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o666)
+            fd = _open_lock(lock, out)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
@@ -188,6 +190,23 @@ def output_lock(out) -> Iterator[Path]:
     else:
         with signals_deferred():
             _release(lock, fd)
+
+
+def _open_lock(lock: Path, out: Path) -> int:
+    """The lock file opened for writing, never through a link nor onto a device, FIFO or socket."""
+    flags = os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_NOCTTY
+    try:
+        fd = os.open(lock, flags, 0o666)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise InputError(
+                f"{out}: its lock file {lock} is a symbolic link; yoyogait does not follow it (remove the link)"
+            ) from None
+        raise InputError(f"{out}: cannot open its lock file {lock}: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise InputError(f"{out}: its lock file {lock} is not a regular file; remove it")
+    return fd
 
 
 def _release(lock: Path, fd: int) -> None:

@@ -1,11 +1,16 @@
-"""Small recordings and files the tests of several stages build: a stepping walk, TRC files."""
+"""Small recordings and files the tests of several stages build: a stepping walk, TRC files, special files
+(device nodes, FIFOs, sockets)."""
 
 from __future__ import annotations
 
+import os
+import socket
+import stat
 from pathlib import Path
 
 import ezc3d
 import numpy as np
+import pytest
 
 from yoyogait.io import Recording
 
@@ -115,3 +120,35 @@ def write_walk_c3d(path, **walk):
     c["data"]["points"] = data
     c.write(str(path))
     return path
+
+
+def make_special(path: Path, kind: str) -> Path:
+    """A special file of ``kind`` at ``path``: 'null' and 'zero' (character devices like /dev/null and
+    /dev/zero, made here with mknod), 'fifo', 'socket'; skips when this machine does not let the test
+    make it."""
+    if kind in ("null", "zero", "urandom"):
+        minor = {"null": 3, "zero": 5, "urandom": 9}[kind]
+        try:
+            os.mknod(path, 0o666 | stat.S_IFCHR, os.makedev(1, minor))
+        except PermissionError:
+            pytest.skip(f"making a device node needs CAP_MKNOD (root); cannot make {kind} here")
+    elif kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "socket":
+        s = socket.socket(socket.AF_UNIX)
+        try:
+            s.bind(str(path))
+        except OSError as exc:  # a path too long for a socket address
+            pytest.skip(f"cannot bind a UNIX socket at {path}: {exc}")
+        finally:
+            s.close()
+    else:
+        raise ValueError(kind)
+    return path
+
+
+def identity(path: Path) -> tuple:
+    """What must not change about a path: its type, inode and (for a regular file) content."""
+    st = os.lstat(path)
+    content = path.read_bytes() if stat.S_ISREG(st.st_mode) else None
+    return stat.S_IFMT(st.st_mode), st.st_ino, st.st_rdev, content

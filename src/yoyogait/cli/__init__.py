@@ -17,6 +17,7 @@ import warnings
 import click
 
 from .._guard import Interrupted, handle_interrupts, interrupted_by
+from .._reading import one_line
 from ..errors import YoyogaitError
 from . import (
     config_cmd,
@@ -102,7 +103,8 @@ def _run(argv) -> int:
 
 
 def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
+    """The message on one line, at most 2000 characters whatever it quotes."""
+    text = one_line(str(exc), 2000)
     return text or type(exc).__name__
 
 

@@ -8,9 +8,9 @@ import click
 import numpy as np
 
 from .. import io
-from .._files import atomic_files
+from .._files import atomic_files, check_distinct, check_output_file
 from .._sample_time import RESAMPLE_RATE_HZ
-from ..errors import InputError, OutputError, about_file
+from ..errors import InputError, about_file
 from ..estimators.config import EstimatorConfig, OnlineConfig
 from ..estimators.online import OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
@@ -58,7 +58,10 @@ def foot_contacts(recording, feet, up_axis):
     help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
 )
 @belt_speed_option
-@force_option("Overwrite the --out and --figure files if they exist.")
+@force_option(
+    "Overwrite the --out and --figure files if they exist (a link is replaced itself; never a device, "
+    "FIFO, socket or an input: docs/files.md)."
+)
 @click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
 @click.pass_context
 def command(
@@ -96,8 +99,7 @@ def command(
     if online:
         if belt_speed_mps is not None:
             raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")
-        config = OnlineConfig.from_file(config_file) if config_file is not None else None
-        return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config)
+        return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file)
     run = estimators()[preset]
     resample_hz = RESAMPLE_RATE_HZ
     if config_file is not None:
@@ -110,9 +112,11 @@ def command(
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
     fig = None if figure == "none" else Path(figure or f"{stem}.estimate.png")
+    inputs = (file, config_file)
+    check_distinct((("--out", out), ("--figure", fig)))
     for option, target in (("--out", out), ("--figure", fig)):
-        if target is not None and target.exists() and not force:
-            raise OutputError(f"{option} {target}: exists; use --force to overwrite it")
+        if target is not None:
+            check_output_file(target, option, force, inputs)
     overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     with about_file(file):
         recording = io.read(file, **overrides)
@@ -152,7 +156,7 @@ def command(
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))
 
 
-def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config=None):
+def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file=None):
     """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator (ONLINE_CSV_COLUMNS;
     status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite)."""
     if preset != "default":
@@ -161,8 +165,8 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
         raise InputError("--online writes no figure; leave out --figure")
     stem = Path(file).name
     out = Path(out or f"{stem}.online.csv")
-    if out.exists() and not force:
-        raise OutputError(f"--out {out}: exists; use --force to overwrite it")
+    check_output_file(out, "--out", force, inputs=(file, config_file))
+    config = OnlineConfig.from_file(config_file) if config_file is not None else None
     overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     with about_file(file):
         recording = io.read(file, **overrides)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import functools
+import os
 from pathlib import Path
 
 import click
@@ -13,6 +14,7 @@ from .. import evaluation as ev
 from .. import io
 from .._files import check_output_folder
 from .._guard import output_lock
+from .._reading import one_line
 from ..errors import InputError
 from ..estimators.config import OnlineConfig
 from ..estimators.registry import config_estimators
@@ -76,6 +78,8 @@ def _evaluate_and_write(
 ):  # fmt: skip
     """The evaluation of :func:`run_evaluation`, its printout, and then its report."""
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
+    if not items and problems:
+        raise InputError(f"no recording could be evaluated ({len(problems)}): " + first_few(problems))
     if online:  # the online estimator and the oscillator; the synthetic lab gains its cadence-step walks
         names, items = ev.ONLINE_ESTIMATORS, items + (ev.step_walk_items(seed=seed) if synthetic else [])
     if overrides:
@@ -106,7 +110,7 @@ def _evaluate_and_write(
             executor=executor,
         )
     if not result.items:
-        raise InputError("no recording could be evaluated: " + "; ".join(f"{n}: {m}" for n, m in result.failures))
+        raise InputError(f"no recording could be evaluated ({len(result.failures)}): " + first_few(result.failures))
     click.echo(f"\n{label}\n")
     click.echo(ev.summary_markdown(result))
     for name in names:
@@ -160,19 +164,45 @@ def run_evaluation(
         raise InputError(f"--jobs must be at least 1, not {jobs}")
     if ship_files and not scheduler:
         raise InputError("--ship-files goes with --scheduler")
-    check_output_folder(out, force)
+    if dataset not in (None, "synthetic") and os.path.lexists(out) and os.path.lexists(dataset):
+        if os.path.samefile(out, dataset) or Path(dataset).absolute().parent.samefile(out):
+            raise InputError(
+                f"--out {out}: holds the data set {dataset}; give another folder (refused even with --force)"
+            )
+    expected = ev.report.REPORT_NAMES
+    check_output_folder(out, force, "--out", expected)
     with output_lock(out):
-        check_output_folder(out, force)  # again: a run that just finished may have written it
+        check_output_folder(out, force, "--out", expected)  # again: a run that just finished may have written it
         result = _evaluate_and_write(
             dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online,
             online_config,
         )  # fmt: skip
     click.echo(f"\nReport: {out / 'index.md'}")
-    for name, message in result.failures:
-        click.echo(f"yoyogait: not evaluated: {name}: {message}", err=True)
-    for name, message in result.figure_failures:
-        click.echo(f"yoyogait: figure not drawn: {name}: {message}", err=True)
+    echo_problems("not evaluated", result.failures, out / "not_evaluated.csv")
+    echo_problems("figure not drawn", result.figure_failures, out / "index.md")
     return result
+
+
+PROBLEMS_SHOWN = 20
+"""At most this many problems of one kind are printed (the report lists them all)."""
+
+
+def first_few(problems, n: int = 3) -> str:
+    """The first ``n`` problems on one line, and how many more."""
+    text = "; ".join(f"{name}: {message}" for name, message in problems[:n])
+    return text + (f"; and {len(problems) - n} more" if len(problems) > n else "")
+
+
+def echo_problems(what: str, problems, where: Path | None = None) -> None:
+    """One stderr line per problem, the first :data:`PROBLEMS_SHOWN`, then their count and where all are."""
+    for name, message in problems[:PROBLEMS_SHOWN]:
+        click.echo(f"yoyogait: {what}: {one_line(f'{name}: {message}')}", err=True)
+    if len(problems) > PROBLEMS_SHOWN:
+        rest = len(problems) - PROBLEMS_SHOWN
+        click.echo(
+            f"yoyogait: {what}: {rest} more ({len(problems)} in all" + (f"; every one in {where})" if where else ")"),
+            err=True,
+        )
 
 
 REPORT_FORCE_HELP = (

@@ -7,9 +7,18 @@ from pathlib import Path
 import click
 
 from .. import evaluation as ev
-from .._files import atomic_file
+from .._files import atomic_file, check_distinct, check_output_file
 from ..errors import InputError
 from ..evaluation import tuning
+from .evaluate_cmd import echo_problems
+
+
+def _inputs(dataset) -> list[Path]:
+    """The files tuning reads that an output must not replace: a manifest (given, or in the folder)."""
+    if dataset in (None, "synthetic"):
+        return []
+    path = Path(dataset)
+    return [path / "manifest.json"] if path.is_dir() else [path]
 
 
 @click.command("tune")
@@ -52,15 +61,16 @@ def command(dataset, out, trials, seed, storage, weights, no_cv, jobs, force):
     configuration tuned on all of them is written to --out as TOML. Needs yoyogait[tune].
     """
     out = Path(out)
-    if out.exists() and not force:
-        raise InputError(f"--out {out}: exists; use --force to replace it")
+    check_distinct((("--out", out), ("--storage", storage)))
+    check_output_file(out, "--out", force, inputs=_inputs(dataset))
+    if storage is not None and Path(storage).exists() and not Path(storage).is_file():
+        raise InputError(f"--storage {storage}: not a regular file (an SQLite file of the studies)")
     w = tuning.parse_weights(weights)
     jobs = ev.default_jobs() if jobs is None else jobs
     if jobs < 1:
         raise InputError(f"--jobs must be at least 1, not {jobs}")
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
-    for name, message in problems:
-        click.echo(f"yoyogait: skipped: {name}: {message}", err=True)
+    echo_problems("skipped", problems)
     label = "SYNTHETIC data" if synthetic else str(dataset)
     click.echo(
         f"Tuning the default estimator on {len(items)} recordings ({label}), {trials} trials per study", err=True

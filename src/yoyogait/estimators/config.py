@@ -16,9 +16,7 @@ per section. docs/configuration.md lists every field with its range (generated f
 from __future__ import annotations
 
 import dataclasses
-import importlib
 import math
-import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -27,12 +25,9 @@ from typing import Any
 import numpy as np
 import tomli_w
 
-from .. import _core
+from .. import _core, _reading
 from .._files import atomic_file
 from ..errors import InputError
-
-# The standard library reads TOML from Python 3.11 on; tomli (the same module) before.
-tomllib = importlib.import_module("tomllib" if sys.version_info >= (3, 11) else "tomli")
 
 __all__ = [
     "ALGORITHMS",
@@ -293,7 +288,7 @@ class _ConfigFile:
         try:
             return cls.from_dict(values)  # type: ignore[attr-defined]
         except InputError as exc:
-            raise InputError(f"{path}: {exc}") from None
+            raise InputError(_reading.one_line(f"{path}: {exc}")) from None
 
 
 @dataclass
@@ -426,17 +421,8 @@ def _reject_unknown(values: Mapping, known: set, section: str) -> None:
 
 
 def _read_toml(path: Path) -> dict:
-    try:
-        with open(path, "rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a folder, not a configuration file") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: not a valid TOML file: {exc}") from None
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    """A configuration file's TOML, read bounded (yoyogait._reading: a regular file within its limits)."""
+    return _reading.read_toml(path, _reading.CONFIG_MAX_BYTES, "configuration file")
 
 
 @dataclass

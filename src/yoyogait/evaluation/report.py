@@ -23,7 +23,7 @@ from . import figures as plots
 from . import metrics
 from .parallel import TaskFailure, run_tasks
 from .running import Evaluation
-from .tables import summary_markdown, table_one_csv, table_one_markdown
+from .tables import md_code, md_text, summary_markdown, table_one_csv, table_one_markdown
 
 __all__ = ["write_report", "FIGURE_MODES", "SUMMARY_ABOVE", "figure_mode", "RANK_KEY"]
 
@@ -57,9 +57,31 @@ def figure_mode(figures, n_recordings: int) -> str:
     return figures
 
 
+REPORT_NAMES = ("index.md", "recordings.csv", "figures/")
+"""Names every report may write (checked before an evaluation starts: a conflict is known at once)."""
+
+LISTED_MAX = 50
+"""At most this many recordings that could not be evaluated are listed in index.md (all of them are in
+``not_evaluated.csv``)."""
+
+
 def _slug(text: str) -> str:
     keep = "".join(c if c.isalnum() or c in "-_." else "_" for c in text)
-    return keep.strip("_") or "recording"
+    return keep.strip("_.")[:120] or "recording"
+
+
+def _stems(ev: Evaluation) -> dict[int, str]:
+    """A file stem per recording (by id), unique in the report even when two names slug alike."""
+    out: dict[int, str] = {}
+    used: set[str] = set()
+    for r in ev.items:
+        base = stem = _slug(r.item.name)
+        k = 2
+        while stem.lower() in used:
+            stem, k = f"{base}-{k}", k + 1
+        used.add(stem.lower())
+        out[id(r)] = stem
+    return out
 
 
 def write_report(
@@ -70,6 +92,7 @@ def write_report(
     figures: bool | str | None = None,
     progress: bool = False,
     jobs: int = 1,
+    option: str = "--out",
 ) -> Path:
     """Write tables, CSVs, figures and an index into ``out_dir``.
 
@@ -82,12 +105,14 @@ def write_report(
     Written into a temporary folder beside it and moved into place at the end, so an
     interrupted run leaves no half-written report.  ``out_dir`` may be new or empty; a
     report yoyogait wrote there before is replaced only with ``force``, and then only the
-    files it lists in its marker (``.yoyogait-report``): the user's other files stay.  A
-    non-empty folder without the marker is refused.
+    files it lists in its marker (``.yoyogait-report``) that are still what it wrote (their
+    SHA-256): the user's other files stay, and one at a name the report needs, or a link inside
+    the folder, is refused before anything changes (:func:`yoyogait._files.install_folder`).  A
+    non-empty folder without the marker is refused.  ``option`` names ``out`` in the messages.
     """
     mode = figure_mode(figures, len(evaluation.items))
     out = Path(out_dir)
-    check_output_folder(out, force)
+    check_output_folder(out, force, option, REPORT_NAMES)
     parent = out.resolve().parent
     try:
         parent.mkdir(parents=True, exist_ok=True)
@@ -96,7 +121,7 @@ def write_report(
         raise OutputError(f"cannot write the report {out}: {why(exc)}") from None
     try:
         _write(evaluation, tmp, mode=mode, progress=progress, jobs=jobs)
-        install_folder(tmp, out)
+        install_folder(tmp, out, option)
     except OutputError:
         raise
     except OSError as exc:
@@ -109,15 +134,23 @@ def write_report(
 
 def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int) -> None:
     label = "SYNTHETIC data (yoyogait's Yoyo-model gait lab)" if ev.synthetic else f"data set {ev.dataset}"
-    md = [f"# {getattr(ev, 'title', 'yoyogait evaluation')}: {label}", ""]
+    md = [f"# {md_text(getattr(ev, 'title', 'yoyogait evaluation'))}: {md_text(label)}", ""]
     md += list(getattr(ev, "preamble", []))
-    md += [f"Recordings evaluated: {len(ev.items)}; estimators: {', '.join(ev.estimators)}.", ""]
+    md += [f"Recordings evaluated: {len(ev.items)}; estimators: {', '.join(map(md_text, ev.estimators))}.", ""]
     if ev.failures:
-        md += ["Not evaluated:", ""] + [f"- `{n}`: {m}" for n, m in ev.failures] + [""]
+        md += [f"Not evaluated: {len(ev.failures)} (every one in [not\\_evaluated.csv](not_evaluated.csv))", ""]
+        md += [f"- {md_code(n)}: {md_text(m)}" for n, m in ev.failures[:LISTED_MAX]]
+        if len(ev.failures) > LISTED_MAX:
+            md.append(f"- and {len(ev.failures) - LISTED_MAX} more")
+        md.append("")
+        with open(folder / "not_evaluated.csv", "w", newline="", encoding="utf-8") as fh:
+            problems = csv.writer(fh)
+            problems.writerow(["recording", "problem"])
+            problems.writerows(ev.failures)
     md += ["## Summary", "", summary_markdown(ev), ""]
     for est in ev.estimators:
         md += [
-            f"## Table I, estimator `{est}`",
+            f"## Table I, estimator {md_code(est)}",
             "",
             "Mean (± standard deviation) of the squared error of the reconstructed velocity "
             "(eq. 13-14) against the measured one over the walking part, in 10^-2 (m/s)^2.",
@@ -125,8 +158,8 @@ def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int
             table_one_markdown(ev, est),
             "",
         ]
-        (folder / f"table1_{est}.md").write_text(table_one_markdown(ev, est) + "\n")
-        (folder / f"table1_{est}.csv").write_text(table_one_csv(ev, est))
+        (folder / f"table1_{_slug(est)}.md").write_text(table_one_markdown(ev, est) + "\n")
+        (folder / f"table1_{_slug(est)}.csv").write_text(table_one_csv(ev, est))
     rows = ev.rows()
     keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(
         getattr(ev, "metric_keys", metrics.METRIC_KEYS)
@@ -141,7 +174,7 @@ def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int
     (folder / "index.md").write_text("\n".join(md) + "\n")
 
 
-def _recording_task(r, est: str, figdir: Path) -> tuple:
+def _recording_task(r, est: str, figdir: Path, stem: str) -> tuple:
     """What drawing one recording's figures for one estimator needs, and nothing more (it is sent
     to a worker process)."""
     vel = r.velocities
@@ -156,7 +189,7 @@ def _recording_task(r, est: str, figdir: Path) -> tuple:
         "reference_step_frequency_hz": None if truth is not None else r.reference_step_frequency_hz,
         "title": f"{r.item.name} [{est}]",
         "synthetic": r.item.synthetic,
-        "stem": str(figdir / _slug(f"{r.item.name}_{est}")),
+        "stem": str(figdir / f"{stem}_{_slug(est)}"),
     }
     return ("recording", spec)
 
@@ -237,10 +270,13 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
     tasks: list[tuple] = []
     lines: list[str] = []
     label = "SYNTHETIC data" if ev.synthetic else "recordings"
+    stems = _stems(ev)
 
     def links(r, est: str) -> str:
-        stem = _slug(f"{r.item.name}_{est}")
-        return f"[{est}: parameters](figures/{stem}_parameters.png), [velocities](figures/{stem}_velocities.png)"
+        stem = f"{stems[id(r)]}_{_slug(est)}"
+        return (
+            f"[{md_text(est)}: parameters](figures/{stem}_parameters.png), [velocities](figures/{stem}_velocities.png)"
+        )
 
     if mode == "summary":
         values = {
@@ -268,21 +304,24 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
         for est in ev.estimators:
             pair = _best_and_worst(ev, est)
             if pair is None:
-                lines.append(f"- `{est}`: no recording with a finite v_x error")
+                lines.append(f"- {md_code(est)}: no recording with a finite v_x error")
                 continue
             for which, i in zip(("best", "worst"), pair):
                 r = ev.items[i]
                 value = r.metrics[est][RANK_KEY]
-                tasks.append(_recording_task(r, est, figdir))
-                lines.append(f"- `{est}`, {which}: `{r.item.name}` ({r.item.subject}, {value:.3g}): " + links(r, est))
+                tasks.append(_recording_task(r, est, figdir, stems[id(r)]))
+                lines.append(
+                    f"- {md_code(est)}, {which}: {md_code(r.item.name)} ({md_text(r.item.subject)}, {value:.3g}): "
+                    + links(r, est)
+                )
                 if pair[0] == pair[1]:
                     break
     else:
         for r in ev.items:
             for est in ev.estimators:
-                tasks.append(_recording_task(r, est, figdir))
+                tasks.append(_recording_task(r, est, figdir, stems[id(r)]))
             lines.append(
-                f"- `{r.item.name}` ({r.item.subject}, {r.item.walk}): "
+                f"- {md_code(r.item.name)} ({md_text(r.item.subject)}, {md_text(r.item.walk)}): "
                 + "; ".join(links(r, est) for est in ev.estimators)
             )
     plots.load_matplotlib()  # here, not in each worker process
@@ -300,5 +339,5 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
             seconds += outcome
     ev.figure_failures, ev.figure_time_s = failed, seconds
     if failed:
-        lines += ["", "Figures not drawn:", ""] + [f"- {n}: {m}" for n, m in failed]
+        lines += ["", "Figures not drawn:", ""] + [f"- {md_text(n)}: {md_text(m)}" for n, m in failed]
     return lines

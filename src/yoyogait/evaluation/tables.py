@@ -10,7 +10,61 @@ import numpy as np
 
 from .running import Evaluation
 
-__all__ = ["table_one", "table_one_markdown", "table_one_csv", "summary_markdown", "SUMMARY_KEYS"]
+__all__ = [
+    "table_one",
+    "table_one_markdown",
+    "table_one_csv",
+    "summary_markdown",
+    "SUMMARY_KEYS",
+    "md_text",
+    "md_code",
+]
+
+_MD_PUNCT = set("\\`*[]<>|!&~#")
+
+
+def _printable(text: str) -> str:
+    """One line: line breaks and other control characters become spaces."""
+    return "".join(" " if (ord(c) < 32 or 0x7F <= ord(c) < 0xA0 or c in "\u2028\u2029") else c for c in str(text))
+
+
+def md_text(text) -> str:
+    """``text`` (a name from a file, a folder or a manifest) as Markdown that renders as that text: every
+    character that could start a link, an image, HTML, emphasis, code or a table cell is escaped, on one
+    line; an underscore inside a word (``sample_10``) is left as it is (it cannot start emphasis)."""
+    t = _printable(text)
+    out = []
+    for k, c in enumerate(t):
+        if c in _MD_PUNCT:
+            out.append("\\" + c)
+        elif c == "_" and not (0 < k < len(t) - 1 and t[k - 1].isalnum() and t[k + 1].isalnum()):
+            out.append("\\_")
+        else:
+            out.append(c)
+    return "".join(out)
+
+
+def md_code(text) -> str:
+    """``text`` as a Markdown code span that shows it verbatim, whatever backticks it holds (the fence is
+    longer than any run of backticks inside), on one line."""
+    t = _printable(text)
+    longest = max((len(run) for run in _runs(t)), default=0)
+    fence = "`" * (longest + 1)
+    pad = " " if t.startswith("`") or t.endswith("`") or (t.startswith(" ") and t.endswith(" ") and t.strip()) else ""
+    return f"{fence}{pad}{t}{pad}{fence}"
+
+
+def _runs(text: str) -> list[str]:
+    runs, current = [], ""
+    for c in text:
+        if c == "`":
+            current += c
+        elif current:
+            runs.append(current)
+            current = ""
+    if current:
+        runs.append(current)
+    return runs
 
 
 def _pool(stats) -> tuple[float, float]:
@@ -69,10 +123,10 @@ def _num(v: float) -> str:
 
 def table_one_markdown(evaluation: Evaluation, estimator: str) -> str:
     subjects, rows = table_one(evaluation, estimator)
-    head = "| walk type & component | " + " | ".join(subjects) + " |"
+    head = "| walk type & component | " + " | ".join(md_text(s) for s in subjects) + " |"
     lines = [head, "|---|" + "---:|" * len(subjects)]
     for walk, comp, cells in rows:
-        label = f"{walk}: v_x error" if comp == "vx" else "  v_z error"
+        label = f"{md_text(walk)}: v_x error" if comp == "vx" else "  v_z error"
         lines.append(f"| {label} | " + " | ".join(_cell(c) for c in cells) + " |")
     return "\n".join(lines)
 
@@ -105,7 +159,7 @@ SUMMARY_KEYS = (
 def summary_markdown(evaluation: Evaluation) -> str:
     """Median over recordings of the main metrics, one column per estimator."""
     lines = [
-        "| median over recordings | " + " | ".join(evaluation.estimators) + " |",
+        "| median over recordings | " + " | ".join(md_text(e) for e in evaluation.estimators) + " |",
         "|---|" + "---:|" * len(evaluation.estimators),
     ]
     for key, label in SUMMARY_KEYS:

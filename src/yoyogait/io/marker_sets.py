@@ -22,6 +22,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 
+from .. import _reading
 from ..errors import InputError
 
 __all__ = [
@@ -120,12 +121,10 @@ def _knowledge(files: tuple) -> MarkerKnowledge:
 
 
 def _read_table(path) -> dict:
-    try:
-        table = json.loads(open(path, encoding="utf-8").read())
-    except OSError as exc:
-        raise InputError(f"marker-set file {path} (${MARKER_SETS_ENV}): cannot read ({exc.strerror})") from None
-    except json.JSONDecodeError as exc:
-        raise InputError(f"marker-set file {path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    try:  # a regular file of at most 16 MiB, nested at most 64 deep
+        table = _reading.read_json(path, 16 * 2**20, "marker-set file")
+    except InputError as exc:
+        raise InputError(f"marker-set file (${MARKER_SETS_ENV}) {exc}") from None
     if not isinstance(table, dict) or not set(table) & {"sets", "generic", "strip"}:
         raise InputError(f"marker-set file {path}: expected an object with 'sets' (see docs/input.md)")
     for kinds in (spec.get("feet", {}) for spec in table.get("sets", {}).values()):

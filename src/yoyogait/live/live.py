@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -33,6 +34,7 @@ from typing import Any, TextIO
 
 import numpy as np
 
+from .._files import check_output_file, commit, give_default_mode, temporary_beside
 from ..errors import InputError
 from ..estimators.online import ONLINE_ESTIMATE_FIELDS, OnlineConfig, OnlineEstimator, column_of
 from ..io.recording import Recording
@@ -191,10 +193,10 @@ class CsvRecord:
             raise InputError(f"no estimate channel {', '.join(unknown)}; channels: {', '.join(ESTIMATE_COLUMNS)}")
         self._index = [ESTIMATE_COLUMNS.index(c) for c in columns]
         self._formats = list(formats) if formats is not None else ["%r"] * len(columns)
-        if self.path.exists() and not force:
-            raise InputError(f"{self.path} exists; use --force to overwrite it")
-        self._tmp = self.path.with_name(f".{self.path.name}.partial")
-        self._file: TextIO | None = self._tmp.open("w", encoding="utf-8")
+        check_output_file(self.path, "--record", force)
+        self._absent = not os.path.lexists(self.path)
+        fd, self._tmp = temporary_beside(self.path)  # a new name: never a link's target
+        self._file: TextIO | None = os.fdopen(fd, "w", encoding="utf-8")
         self._file.write(",".join(columns) + "\n")
         self.rows = 0
 
@@ -208,7 +210,12 @@ class CsvRecord:
         if self._file is not None:
             self._file.close()
             self._file = None
-            self._tmp.replace(self.path)
+            try:
+                give_default_mode(self._tmp)
+                commit(self._tmp, self.path, self._absent)
+            except BaseException:
+                self._tmp.unlink(missing_ok=True)
+                raise
 
     def discard(self) -> None:
         if self._file is not None:

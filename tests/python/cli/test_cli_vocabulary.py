@@ -13,7 +13,7 @@ from click.testing import CliRunner
 from builders import write_trc
 from yoyogait import evaluation as ev
 from yoyogait import synthetic
-from yoyogait._files import MARKER
+from yoyogait._files import MARKER, written_files
 from yoyogait.cli import _register, cli, main
 from yoyogait.cli.evaluate_cmd import with_overrides
 from yoyogait.cli.options import ESTIMATOR_NAMES, cli_message
@@ -188,7 +188,7 @@ def test_force_replaces_only_what_yoyogait_wrote(small_evaluation, tmp_path):
     """--force replaces the files listed in .yoyogait-report and removes the old report's others; the user's stay."""
     out = tmp_path / "report"
     ev.write_report(small_evaluation, out, figures=True)
-    listed = (out / MARKER).read_text().split()
+    listed = written_files(out)
     assert "index.md" in listed and any(name.startswith("figures/") for name in listed)
     (out / "notes.md").write_text("mine")
     (out / "figures" / "my_plot.png").write_text("mine too")
@@ -196,9 +196,7 @@ def test_force_replaces_only_what_yoyogait_wrote(small_evaluation, tmp_path):
     assert (out / "notes.md").read_text() == "mine"
     assert (out / "figures" / "my_plot.png").read_text() == "mine too"
     assert list((out / "figures").iterdir()) == [out / "figures" / "my_plot.png"]
-    assert (out / MARKER).read_text().split() == sorted(
-        p.name for p in out.iterdir() if p.name not in ("notes.md", "figures", MARKER)
-    )
+    assert written_files(out) == sorted(p.name for p in out.iterdir() if p.name not in ("notes.md", "figures", MARKER))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
 
 

@@ -159,4 +159,5 @@ def test_manifest_feet_as_a_list_or_by_side(tmp_path):
     items, problems = manifest_items(tmp_path / "manifest.json")
     assert items[0].feet == ["LHEE", "RHEE", "LTOE", "RTOE"]
     assert items[1].feet == {"left": ["LHEE", "LTOE"], "right": ["RHEE"]}
-    assert problems == [("a.csv", '\'feet\' must be a list of names or {"left": [...], "right": [...]}')]
+    assert len(problems) == 1 and problems[0][0] == "entry 2 (a.csv)"
+    assert problems[0][1].startswith('\'feet\' must be a list of names or {"left": [...], "right": [...]}')
