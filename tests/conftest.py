@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # and the builders of small recordings and files (tests/python/builders.py).
 sys.path.insert(0, str(ROOT / "tests" / "python" / "reference"))
 sys.path.insert(0, str(ROOT / "tests" / "python"))
-DATASETS = Path(os.environ.get("YOYOGAIT_DATASETS", ROOT.parent / "shared" / "datasets"))
+from shared_data import DATASETS  # noqa: E402 (after the path is set)
 
 
 def _require_datasets() -> Path:

@@ -36,6 +36,7 @@ import errno
 import hashlib
 import os
 import re
+import shutil
 import stat
 import tempfile
 from collections.abc import Callable, Iterable, Iterator
@@ -356,6 +357,31 @@ def check_output_folder(out: Path, force: bool, option: str = "--out", expected:
                 ) from None
     finally:
         os.close(fd)
+
+
+def write_folder(out, write, *, force: bool, option: str = "--out", expected: Iterable[str] = ()) -> Path:
+    """A folder of outputs written whole or not at all: checked (:func:`check_output_folder`), filled
+    by ``write(tmp)`` in a temporary folder beside it, then installed (:func:`install_folder`); the
+    temporary folder is removed whatever happens. Returns ``out``."""
+    out = Path(out)
+    check_output_folder(out, force, option, expected)
+    parent = out.resolve().parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
+    except OSError as exc:
+        raise OutputError(f"cannot write the report {out}: {why(exc)}") from None
+    try:
+        write(tmp)
+        install_folder(tmp, out, option)
+    except OutputError:
+        raise
+    except OSError as exc:
+        raise OutputError(f"cannot write the report {out}: {why(exc, tmp)}") from None
+    finally:
+        with signals_deferred():  # a second signal does not cut the clean-up short
+            shutil.rmtree(tmp, ignore_errors=True)
+    return out
 
 
 def install_folder(tmp: Path, out: Path, option: str = "--out") -> None:

@@ -8,17 +8,14 @@ import csv
 import gc
 import math
 import os
-import shutil
-import tempfile
 import threading
 import time
 from pathlib import Path
 
 import numpy as np
 
-from .._files import check_output_folder, install_folder, why
-from .._guard import signals_deferred
-from ..errors import InputError, OutputError
+from .._files import write_folder
+from ..errors import InputError
 from . import figures as plots
 from . import metrics
 from .parallel import TaskFailure, run_tasks
@@ -111,25 +108,13 @@ def write_report(
     non-empty folder without the marker is refused.  ``option`` names ``out`` in the messages.
     """
     mode = figure_mode(figures, len(evaluation.items))
-    out = Path(out_dir)
-    check_output_folder(out, force, option, REPORT_NAMES)
-    parent = out.resolve().parent
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
-    except OSError as exc:
-        raise OutputError(f"cannot write the report {out}: {why(exc)}") from None
-    try:
-        _write(evaluation, tmp, mode=mode, progress=progress, jobs=jobs)
-        install_folder(tmp, out, option)
-    except OutputError:
-        raise
-    except OSError as exc:
-        raise OutputError(f"cannot write the report {out}: {why(exc, tmp)}") from None
-    finally:
-        with signals_deferred():  # a second signal does not cut the clean-up short
-            shutil.rmtree(tmp, ignore_errors=True)
-    return out
+    return write_folder(
+        out_dir,
+        lambda tmp: _write(evaluation, tmp, mode=mode, progress=progress, jobs=jobs),
+        force=force,
+        option=option,
+        expected=REPORT_NAMES,
+    )
 
 
 def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int) -> None:

@@ -8,13 +8,9 @@ yoyogait wrote before is replaced only with ``force``, and then only the files i
 from __future__ import annotations
 
 import re
-import shutil
-import tempfile
 from pathlib import Path
 
-from .._files import check_output_folder, install_folder, why
-from .._guard import signals_deferred
-from ..errors import OutputError
+from .._files import write_folder
 from . import figures
 from .study import GuidanceStudy, runs_csv, table_csv, table_markdown, target_checks
 
@@ -27,25 +23,7 @@ def _slug(text: str) -> str:
 
 def write_guidance_report(study: GuidanceStudy, out_dir, *, force: bool = False, draw: bool = True) -> Path:
     """table.csv, table.md, runs.csv, figures/ and report.md into ``out_dir`` (SYNTHETIC)."""
-    out = Path(out_dir)
-    check_output_folder(out, force)
-    parent = out.resolve().parent
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
-    except OSError as exc:
-        raise OutputError(f"cannot write the report {out}: {why(exc)}") from None
-    try:
-        _write(study, tmp, draw)
-        install_folder(tmp, out)
-    except OutputError:
-        raise
-    except OSError as exc:
-        raise OutputError(f"cannot write the report {out}: {why(exc, tmp)}") from None
-    finally:
-        with signals_deferred():
-            shutil.rmtree(tmp, ignore_errors=True)
-    return out
+    return write_folder(out_dir, lambda tmp: _write(study, tmp, draw), force=force)
 
 
 def _write(study: GuidanceStudy, folder: Path, draw: bool) -> None:
