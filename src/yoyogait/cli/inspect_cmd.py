@@ -49,6 +49,14 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         up_axis_from = "the velocity columns: vz is vertical"
     else:
         up_axis_from = points.resolve_up_axis(rec, up_axis)[1]
+    evidence = None
+    if rec.positions_m.shape[1]:
+        try:
+            ev = rec.metadata.get("up_axis_evidence") or points.up_axis_evidence(rec)
+        except InputError:
+            ev = None
+        if ev is not None:
+            evidence = {"axis": ev.axis, "scores": ev.scores, "decisive": ev.decisive, "summary": ev.summary()}
     report: dict = {
         "file": rec.source,
         "format": rec.format,
@@ -59,6 +67,7 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         "points": list(rec.point_names),
         "up_axis": velocities.up_axis,
         "up_axis_from": up_axis_from,
+        "up_axis_evidence": evidence,
         "point": velocities.point,
         "pelvis": None,
         "hand": None,
@@ -171,6 +180,8 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_sp
         ("points", f"{len(names)}: {', '.join(shown)}" if names else "none (ready velocities)"),
         ("up axis", f"{report['up_axis']} ({report['up_axis_from']})"),
     ]
+    if report["up_axis_evidence"] is not None:
+        lines.append(("body says", report["up_axis_evidence"]["summary"]))
     if names:
         lines.append(("pelvis", report["pelvis"] or "none found"))
     if report["point"] != report["pelvis"]:

@@ -35,6 +35,7 @@ import inspect
 import numpy as np
 
 from ..errors import InputError
+from .body import check_declared_up_axis
 from .plausibility import check_plausible
 from .recording import AXES, Recording, check_coordinates, check_rate, check_readable, check_time
 
@@ -140,6 +141,7 @@ def read(
     elif rec.up_axis is not None:
         rec.metadata.setdefault("up_axis_from", "file")
     validate(rec)
+    check_declared_up_axis(rec)
     if plausibility:
         check_plausible(rec)
     return rec

@@ -156,7 +156,7 @@ def _marker_table(path, pos, names, *, time_s=True, rate=100.0):
 
 
 def test_marker_table_reads_time_markers_and_declares_y_up(tmp_path):
-    """Fukuchi-style table: names without the X/Y/Z suffix, mm to m, rate from Time, gaps NaN."""
+    """Fukuchi-style table: names without the X/Y/Z suffix, mm to m, rate from Time, gaps NaN, y up."""
     pos, _ = _walk_mm()
     names = ("R.ASIS", "L.ASIS", "R.PSIS", "L.Heel", "R.Heel")
     pos[20, 1] = np.nan
@@ -165,6 +165,7 @@ def test_marker_table_reads_time_markers_and_declares_y_up(tmp_path):
     assert rec.rate_hz == pytest.approx(100.0) and rec.n_frames == len(pos)
     assert rec.point("R.ASIS")[7] == pytest.approx(pos[7, 0, [0, 2, 1]] / 1000.0, abs=1e-6)
     assert np.isnan(rec.point("L.ASIS")[20]).all()
+    assert rec.up_axis == "y" and "laboratory frame" in rec.metadata["up_axis_from"]
 
 
 def test_marker_table_counting_frames_needs_the_rate(tmp_path):
@@ -203,11 +204,12 @@ def _clip(path, *, loop="none", seconds=4.0, rate=30.0, speed=1.0, step_hz=1.8):
 
 
 def test_deepmimic_clip_is_the_root_in_metres_timed_by_durations(tmp_path):
-    """A clip reads as one 'root' point in metres, timed by the frame durations."""
+    """A clip reads as one 'root' point in metres, timed by the frame durations, y up (the convention)."""
     rec = yio.read(_clip(tmp_path / "walk.json"))
     assert rec.format == "deepmimic" and rec.point_names == ["root"]
     assert rec.rate_hz == pytest.approx(30.0) and rec.duration_s == pytest.approx(4.0)
     assert rec.point("root")[30] == pytest.approx([1.0, 0.85 + 0.02 * np.cos(2 * np.pi * 1.8), 0.0], abs=0.011)
+    assert rec.up_axis == "y"
 
 
 def test_deepmimic_wrapping_clip_is_played_on(tmp_path):
