@@ -104,13 +104,18 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         report["foot_points"] = events.foot_groups_of(rec, feet)
         report["feet"] = {side: group[0] for side, group in report["foot_points"].items()}
     report["walking_from"] = "pelvis speed" if rec.velocities is None else "the given speed"
-    if report["feet"] and report["pelvis"]:
-        ev = events.detect_gait_events(rec, feet=feet, up_axis=velocities.up_axis)
+    report["reference"] = None
+    ev = None
+    if report["pelvis"] and (report["feet"] or rec.metadata.get("events")):
+        ev = events.reference_events(rec, feet, up_axis=velocities.up_axis)
+    if ev is not None:
         report["steps"] = int(len(ev.step_start_s))
         if len(ev.step_start_s):
             report["events_step_frequency_hz"] = ev.mean_step_frequency_hz
         if len(ev.contacts_s):
-            report["walking_from"] = "foot contacts"
+            report["walking_from"] = "foot contacts" if ev.origin == "foot contacts" else "the file's gait events"
+        q = events.reference_quality(ev, velocities.time_s, velocities.vz, velocities.rate_hz)
+        report["reference"] = {**q.as_row(), "summary": q.summary()}
 
     walking = velocities.walking & velocities.finite
     if walking.any():
@@ -209,8 +214,11 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_sp
         else f" ({report.get('dft_note', '')})"
     )
     if report["events_step_frequency_hz"] is not None:
-        step += f"; foot contacts: {report['events_step_frequency_hz']:.2f} Hz over {report['steps']} steps"
+        origin = (report["reference"] or {}).get("reference_origin", "foot contacts")
+        step += f"; {origin}: {report['events_step_frequency_hz']:.2f} Hz over {report['steps']} steps"
     lines.append(("step frequency", step))
+    if report["reference"] is not None:
+        lines.append(("reference", report["reference"]["summary"]))
     if report["dft"]:
         d = report["dft"]
         lines.append(

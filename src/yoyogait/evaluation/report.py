@@ -28,6 +28,18 @@ from .tables import summary_markdown, table_one_csv, table_one_markdown
 __all__ = ["write_report", "FIGURE_MODES", "SUMMARY_ABOVE", "figure_mode", "RANK_KEY"]
 
 FIGURE_MODES = ("all", "summary", "none")
+#: The reference's columns of recordings.csv (:meth:`~yoyogait.pipeline.events.ReferenceQuality.as_row`).
+REFERENCE_COLUMNS = (
+    "reference_origin",
+    "reference_trusted",
+    "reference_steps",
+    "reference_cadence_hz",
+    "reference_left_right_hz",
+    "reference_dft_hz",
+    "reference_dft_disagreement_hz",
+    "reference_dropped_contacts",
+    "reference_reason",
+)
 """Which figures a report has: every recording's, the cross-recording ones with the worst and best
 recordings only, or none."""
 
@@ -131,6 +143,8 @@ def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int
     keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(
         getattr(ev, "metric_keys", metrics.METRIC_KEYS)
     )
+    if rows and "reference_trusted" in rows[0]:
+        keys += [k for k in REFERENCE_COLUMNS if any(k in row for row in rows)]
     with open(folder / "recordings.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()

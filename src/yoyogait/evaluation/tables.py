@@ -10,7 +10,16 @@ import numpy as np
 
 from .running import Evaluation
 
-__all__ = ["table_one", "table_one_markdown", "table_one_csv", "summary_markdown", "SUMMARY_KEYS"]
+__all__ = [
+    "table_one",
+    "table_one_markdown",
+    "table_one_csv",
+    "summary_markdown",
+    "SUMMARY_KEYS",
+    "REFERENCE_KEYS",
+    "reference_counts",
+    "trusted",
+]
 
 
 def _pool(stats) -> tuple[float, float]:
@@ -102,16 +111,51 @@ SUMMARY_KEYS = (
 )
 
 
+#: The metrics that depend on the reference: reported over the trusted references too.
+REFERENCE_KEYS = ("f_err_median_hz", "speed_err_median_mps")
+
+
+def trusted(item) -> bool:
+    """True when an item's reference can be trusted (the synthetic truth always is)."""
+    return item.item.truth is not None or bool(item.reference_quality.trusted)
+
+
+def reference_counts(evaluation: Evaluation) -> tuple[int, int]:
+    """(recordings with a trusted reference, recordings)."""
+    return sum(trusted(r) for r in evaluation.items), len(evaluation.items)
+
+
 def summary_markdown(evaluation: Evaluation) -> str:
-    """Median over recordings of the main metrics, one column per estimator."""
+    """Median over recordings of the main metrics, one column per estimator.
+
+    The metrics against the reference (:data:`REFERENCE_KEYS`) are given over every recording and
+    over those whose reference is trusted (:class:`~yoyogait.pipeline.events.ReferenceQuality`); the
+    line under the table counts them and names those left out.
+    """
     lines = [
         "| median over recordings | " + " | ".join(evaluation.estimators) + " |",
         "|---|" + "---:|" * len(evaluation.estimators),
     ]
+    n_trusted, n_all = reference_counts(evaluation)
     for key, label in SUMMARY_KEYS:
-        vals = []
-        for est in evaluation.estimators:
-            v = np.array([r.metrics[est].get(key, np.nan) for r in evaluation.items], dtype=float)
-            vals.append(f"{np.nanmedian(v):.3g}" if np.isfinite(v).any() else "n/a")
-        lines.append(f"| {label} | " + " | ".join(vals) + " |")
+        rows = [(label, evaluation.items)]
+        if key in REFERENCE_KEYS and n_trusted < n_all:
+            rows = [
+                (f"{label}, all {n_all} references", evaluation.items),
+                (f"{label}, {n_trusted} trusted references", [r for r in evaluation.items if trusted(r)]),
+            ]
+        for text, items in rows:
+            vals = []
+            for est in evaluation.estimators:
+                v = np.array([r.metrics[est].get(key, np.nan) for r in items], dtype=float)
+                vals.append(f"{np.nanmedian(v):.3g}" if np.isfinite(v).any() else "n/a")
+            lines.append(f"| {text} | " + " | ".join(vals) + " |")
+    if n_trusted < n_all:
+        left = [r for r in evaluation.items if not trusted(r)]
+        lines += [
+            "",
+            f"References trusted on {n_trusted} of {n_all} recordings; not trusted: "
+            + "; ".join(f"`{r.item.name}` ({r.reference_quality.reason})" for r in left)
+            + ".",
+        ]
     return "\n".join(lines)

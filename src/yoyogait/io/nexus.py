@@ -49,7 +49,7 @@ import numpy as np
 
 from ..errors import InputError
 from .marker_sets import pelvis_names
-from .recording import Recording, number_row, read_text
+from .recording import Recording, gait_event, number_row, read_text
 from .recording import length_unit_m as unit_of
 
 __all__ = ["read_nexus_csv", "is_nexus_csv", "SECTIONS", "nexus_sections"]
@@ -65,9 +65,6 @@ SECTIONS = (
     "Gait Cycle Parameters",
     "Subjects",
 )
-#: Nexus event names that are a foot contact (a heel strike) and a foot off.
-FOOT_STRIKE = ("foot strike", "heel strike")
-FOOT_OFF = ("foot off", "toe off")
 _MAGNITUDE = re.compile(r"^\|.*\|$")
 
 
@@ -257,7 +254,8 @@ def _events(rows, span: tuple[int, int], p, subject: str | None) -> list[tuple[s
         t = _float(r[i_time])
         if t is None or not np.isfinite(t):
             continue
-        out.append((r[i_side].strip().lower(), r[i_name].strip().lower(), t))
+        side, kind = gait_event(r[i_name].strip(), r[i_side].strip())
+        out.append((side, kind, t))
     return sorted(out, key=lambda e: e[2])
 
 
