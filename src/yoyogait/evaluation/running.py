@@ -21,6 +21,7 @@ from ..pipeline.signals import moving_mean
 from ..pipeline.velocities import gait_velocities
 from . import metrics
 from .datasets import Item
+from .figures import recording_conditions
 from .parallel import TaskFailure, run_tasks, split_outcomes
 
 __all__ = [
@@ -53,6 +54,7 @@ class ItemResult:
     walking: np.ndarray
     dft_step_frequency_hz: float
     reference_quality: events.ReferenceQuality = events.NO_REFERENCE  # real data: how far the reference holds
+    conditions: tuple = ()  # "treadmill", "markerless": named in the figures' titles
     results: dict = field(default_factory=dict)  # estimator -> result
     metrics: dict = field(default_factory=dict)  # estimator -> metric dict
     timings_s: dict = field(default_factory=dict)  # stage (STAGES) -> wall time spent on it [s]
@@ -165,7 +167,10 @@ def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE
     t1 = clock()
     timings["events"] = t1 - t0
     dft = metrics.dft_step_frequency_hz(t[walking], vel.vz[walking]) if walking.sum() > 10 else float("nan")
-    out = ItemResult(item, vel, f_ref, speed_ref, walking, dft, reference_quality=quality, timings_s=timings)
+    conditions = recording_conditions(recording, vel)
+    out = ItemResult(
+        item, vel, f_ref, speed_ref, walking, dft, reference_quality=quality, conditions=conditions, timings_s=timings
+    )
     runners = estimators(configs)
     t0 = clock()
     timings["metrics"] += t0 - t1

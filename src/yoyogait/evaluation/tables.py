@@ -142,7 +142,10 @@ def summary_markdown(evaluation: Evaluation) -> str:
         if key in REFERENCE_KEYS and n_trusted < n_all:
             rows = [
                 (f"{label}, all {n_all} references", evaluation.items),
-                (f"{label}, {n_trusted} trusted references", [r for r in evaluation.items if trusted(r)]),
+                (
+                    f"{label}, {n_trusted} trusted reference{'s' if n_trusted != 1 else ''}",
+                    [r for r in evaluation.items if trusted(r)],
+                ),
             ]
         for text, items in rows:
             vals = []

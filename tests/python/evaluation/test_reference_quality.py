@@ -53,7 +53,7 @@ def test_untrusted_references_are_flagged_and_counted(evaluation):
     text = ev.summary_markdown(evaluation)
     n_trusted = len(rows) - len(left)
     assert f"References trusted on {n_trusted} of {len(rows)} recordings" in text
-    assert f"{n_trusted} trusted references" in text
+    assert f"{n_trusted} trusted reference" in text
 
 
 def _runs(t, mask):
