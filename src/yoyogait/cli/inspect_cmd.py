@@ -139,6 +139,12 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
             "end_s": check.end_s,
             "summary": check.summary(),
         }
+    # Cadence as clinicians give it, beside the Hz values (which stay as they are).
+    for hz, per_min in (
+        ("step_frequency_hz", "step_frequency_steps_per_min"),
+        ("events_step_frequency_hz", "events_cadence_steps_per_min"),
+    ):
+        report[per_min] = None if report[hz] is None else 60.0 * float(report[hz])
     return report
 
 
@@ -209,13 +215,16 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_sp
     lines.append(("mean speed", speed + (" while walking" if report["mean_speed_mps"] is not None else "")))
     step = _fmt(report["step_frequency_hz"], "Hz")
     step += (
-        " (DFT of the vertical velocity)"
+        f" = {report['step_frequency_steps_per_min']:.0f} steps/min (DFT of the vertical velocity)"
         if report["step_frequency_hz"] is not None
         else f" ({report.get('dft_note', '')})"
     )
     if report["events_step_frequency_hz"] is not None:
         origin = (report["reference"] or {}).get("reference_origin", "foot contacts")
-        step += f"; {origin}: {report['events_step_frequency_hz']:.2f} Hz over {report['steps']} steps"
+        step += (
+            f"; {origin}: {report['events_step_frequency_hz']:.2f} Hz = "
+            f"{report['events_cadence_steps_per_min']:.0f} steps/min over {report['steps']} steps"
+        )
     lines.append(("step frequency", step))
     if report["reference"] is not None:
         lines.append(("reference", report["reference"]["summary"]))

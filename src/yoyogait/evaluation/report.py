@@ -34,6 +34,7 @@ REFERENCE_COLUMNS = (
     "reference_trusted",
     "reference_steps",
     "reference_cadence_hz",
+    "reference_cadence_steps_per_min",
     "reference_left_right_hz",
     "reference_dft_hz",
     "reference_dft_disagreement_hz",
@@ -143,6 +144,8 @@ def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int
     keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(
         getattr(ev, "metric_keys", metrics.METRIC_KEYS)
     )
+    if rows and "cadence_steps_per_min" in rows[0]:
+        keys.append("cadence_steps_per_min")  # the step frequency as clinicians give it; the Hz columns stay
     if rows and "reference_trusted" in rows[0]:
         keys += [k for k in REFERENCE_COLUMNS if any(k in row for row in rows)]
     with open(folder / "recordings.csv", "w", newline="") as fh:

@@ -77,11 +77,13 @@ class Evaluation:
         out = []
         for r in self.items:
             for est in self.estimators:
-                reference = (
+                reference: dict[str, Any] = (
                     {"reference_origin": "synthetic truth", "reference_trusted": True}
                     if r.item.truth is not None
                     else r.reference_quality.as_row()
                 )
+                if r.item.truth is None:
+                    reference["reference_cadence_steps_per_min"] = 60.0 * r.reference_quality.cadence_hz
                 out.append(
                     {
                         "recording": r.item.name,
@@ -90,10 +92,26 @@ class Evaluation:
                         "estimator": est,
                         "synthetic": r.item.synthetic,
                         **r.metrics[est],
+                        "cadence_steps_per_min": _cadence_steps_per_min(r, est),
                         **reference,
                     }
                 )
         return out
+
+
+def _cadence_steps_per_min(r: ItemResult, est: str) -> float:
+    """The estimator's cadence as clinicians give it: 60 x the median |step frequency| while walking
+    (steps/min; NaN without an estimate there)."""
+    result = r.results.get(est)
+    f = getattr(result, "step_frequency_hz", None)
+    if f is None:
+        return float("nan")
+    f = np.abs(np.asarray(f, dtype=float))
+    walk = np.asarray(r.walking, dtype=bool)
+    if f.shape != walk.shape:
+        return float("nan")
+    f = f[walk & np.isfinite(f)]
+    return 60.0 * float(np.median(f)) if f.size else float("nan")
 
 
 def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndarray:
