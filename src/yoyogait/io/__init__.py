@@ -13,7 +13,7 @@ its first line:
 ``.csv``       Vicon Nexus (a section title: ``Trajectories``)  :func:`yoyogait.io.nexus.read_nexus_csv`
 ``.csv``       OptiTrack Motive (first line ``Format Version``) :func:`yoyogait.io.motive.read_motive_csv`
 ``.csv``       anything else, in the layout of docs/input.md    :func:`yoyogait.io.csv.read_csv`
-``.txt``       marker table (``Time``, ``R.ASISX``, ... tabs)   :func:`yoyogait.io.marker_table.read_marker_table`
+``.txt``       marker table (``Time``, ``R.ASISX``, ...)         :func:`yoyogait.io.marker_table.read_marker_table`
 ``.txt/.json`` DeepMimic motion clip (``"Frames"``)             :func:`yoyogait.io.deepmimic.read_deepmimic`
 =============  ===============================================  =============================================
 
@@ -72,7 +72,7 @@ NOT_READ = {
     ".fbx": "FBX animation: export it as BVH",
     ".json": "JSON that is not a DeepMimic motion clip (a body-tracking export or a manifest?): "
     "export positions to a CSV (docs/input.md)",
-    ".txt": "a text file that is neither a marker table (Time, NameX, NameY, NameZ columns, tab-separated) "
+    ".txt": "a text file that is neither a marker table (Time, then NameX, NameY, NameZ columns) "
     "nor a DeepMimic motion clip",
     ".xlsx": "a spreadsheet: save it as CSV",
 }

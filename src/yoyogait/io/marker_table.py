@@ -1,16 +1,23 @@
-"""Marker tables: tab-separated text with a ``Time`` column and three columns per marker.
+"""Marker tables: text with a ``Time`` column and three columns per marker.
 
 The layout of the public walking and running data sets of Fukuchi et al.
 (2018, overground and treadmill walking, files ``WBDS01walkT01mkr.txt``;
-2017, running, ``RBDS001runT25markers.txt``), exported from Cortex::
+2017, running, ``RBDS001runT25markers.txt``) and of their lab's teaching
+data, exported from Cortex::
 
     Time    R.ASISX  R.ASISY  R.ASISZ  L.ASISX  ...    <- one header line: the marker name + X, Y or Z
     0.00    1234.56  789.01   234.56   ...             <- time in seconds, positions in mm
     0.01    1235.67  790.12   235.67   ...             <- an empty cell or NaN is a gap
 
-The length unit is millimetres (the data sets' documentation; the
-plausibility check of :func:`yoyogait.io.read` names ``--length-unit-m``
-when the body's size says otherwise).  The data sets' laboratory frame has
+Tabs or commas; the suffix in either case, after ``_`` or ``.`` or not
+(``R.ASISX``, ``FHx``, ``COG_X``).  Columns that are not a marker's X, Y
+and Z (force-plate channels ``Fx``, ``COPx``, ``My`` beside the markers)
+are left out and listed in ``metadata["columns_left_out"]``.
+
+The file states no unit: millimetres, the data sets' unit, unless the
+body's size says metres or centimetres (a body about a metre across reads
+1000 in mm, 1 in m: ``metadata["length_unit_from"]`` says which was
+taken; ``--length-unit-m`` overrides).  The data sets' laboratory frame has
 Y vertical (X forward, Z to the right), which the reader declares as the
 file's up axis; the body's geometry is checked against it
 (:func:`yoyogait.io.body.check_declared_up_axis`).  A ``Time`` column that
@@ -18,6 +25,9 @@ counts frames (1, 2, 3 ...) needs the rate: ``--rate-hz``.
 """
 
 from __future__ import annotations
+
+import re
+import warnings
 
 import numpy as np
 
@@ -30,50 +40,73 @@ __all__ = ["read_marker_table", "is_marker_table"]
 CONVENTION_UP_AXIS = "y"
 
 
-def _split(line: str) -> list[str]:
-    return [c.strip() for c in line.rstrip("\r\n").split("\t")]
+_SUFFIX = re.compile(r"^(?P<name>.+?)[_.]?(?P<axis>[XYZxyz])$")
+#: Force-plate channels that come in X, Y, Z triples too, but are not positions.
+_NOT_POSITIONS = re.compile(r"^(f|cop|m|t|force|moment|grf)\d*$", re.IGNORECASE)
+_TIME = ("time", "time (s)", "time(s)", "time_s", "t", "frame")
 
 
-def _markers(header: list[str]) -> list[tuple[str, int]] | None:
-    """(marker name, column of X) for a header ``Time, aX, aY, aZ, bX, ...``; None if it is not one."""
-    if not header or header[0].lower() not in ("time", "time (s)", "frame"):
+def _split(line: str, sep: str) -> list[str]:
+    return [c.strip() for c in line.rstrip("\r\n").split(sep)]
+
+
+def _separator(first: str) -> str | None:
+    return "\t" if "\t" in first else "," if "," in first else None
+
+
+def _markers(header: list[str]) -> tuple[list[tuple[str, int]], list[str]] | None:
+    """(marker name, column of X) for a header ``Time, aX, aY, aZ, bX, ...`` and the columns left out;
+    None if it is not one (no Time first, or not a single marker)."""
+    if not header or header[0].lower() not in _TIME:
         return None
-    cells = [c for c in header[1:]]
+    cells = list(header[1:])
     while cells and not cells[-1]:
-        cells.pop()  # a trailing tab
-    if len(cells) < 3 or len(cells) % 3:
-        return None
-    out = []
-    for k in range(0, len(cells), 3):
-        x, y, z = cells[k : k + 3]
-        name = x[:-1]
-        if not name or (x[-1:].upper(), y[-1:].upper(), z[-1:].upper()) != ("X", "Y", "Z"):
-            return None
-        if y[:-1] != name or z[:-1] != name:
-            return None
-        out.append((name, 1 + k))
-    return out
+        cells.pop()  # a trailing separator
+    out: list[tuple[str, int]] = []
+    left: list[str] = []
+    k = 0
+    while k < len(cells):
+        triple = [_SUFFIX.match(c) for c in cells[k : k + 3]]
+        if (
+            len(triple) == 3
+            and all(triple)
+            and len({m.group("name") for m in triple if m}) == 1
+            and "".join(m.group("axis").lower() for m in triple if m) == "xyz"
+        ):
+            name = triple[0].group("name") if triple[0] else ""
+            if _NOT_POSITIONS.match(name):
+                left.append(name)
+            else:
+                out.append((name, 1 + k))
+            k += 3
+        else:
+            left.append(cells[k])
+            k += 1
+    return (out, left) if out else None
 
 
 def is_marker_table(head: str) -> bool:
-    """True if a text file starts with a tab-separated ``Time, NameX, NameY, NameZ, ...`` header."""
+    """True if a text file starts with a ``Time, NameX, NameY, NameZ, ...`` header (tabs or commas)."""
     first = head.lstrip("\ufeff").split("\n", 1)[0]
-    return "\t" in first and _markers(_split(first)) is not None
+    sep = _separator(first)
+    return sep is not None and _markers(_split(first, sep)) is not None
 
 
 def read_marker_table(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
     """Read a tab-separated marker table (Fukuchi et al. data sets' layout)."""
     p, text = read_text(path, encoding="utf-8-sig")
     lines = text.splitlines()
-    header = _split(lines[0]) if lines else []
-    markers = _markers(header)
-    if markers is None:
+    sep = _separator(lines[0]) if lines else None
+    header = _split(lines[0], sep) if sep else []
+    found = _markers(header)
+    if found is None or sep is None:
         raise InputError(f"{p}: line 1 is not a marker-table header (Time, then NameX, NameY, NameZ per marker)")
+    markers, left_out = found
     data, numbers = [], []
     for i, line in enumerate(lines[1:], start=2):
         if not line.strip():
             continue
-        cells = _split(line)
+        cells = _split(line, sep)
         cells = cells + [""] * (len(header) - len(cells))
         cells = ["" if c.lower() == "nan" else c for c in cells[: len(header)]]
         data.append(number_row(cells, p, i))
@@ -99,15 +132,18 @@ def read_marker_table(path, *, length_unit_m: float | None = None, rate_hz: floa
             raise InputError(f"{p}: the Time column does not increase")
         rate = check_rate(1.0 / float(np.median(step)), p, "rate from the Time column")
         time_s = time - time[0]
+    cols = [c + k for _, c in markers for k in range(3)]
+    raw = table[:, cols].reshape(len(data), len(markers), 3)
     if length_unit_m is not None:
         scale_m, metadata["length_unit_from"] = float(length_unit_m), "override"
     else:
-        scale_m, metadata["length_unit_from"] = 0.001, "mm (the marker tables' unit)"
+        scale_m, metadata["length_unit_from"] = _unit_from_size(raw)
     metadata["length_unit_m"] = scale_m
+    if left_out:
+        metadata["columns_left_out"] = left_out
     metadata["up_axis_declared"] = CONVENTION_UP_AXIS
     metadata["up_axis_declared_by"] = "the marker tables' laboratory frame (Y vertical)"
-    cols = [c + k for _, c in markers for k in range(3)]
-    positions = table[:, cols].reshape(len(data), len(markers), 3) * scale_m
+    positions = raw * scale_m
     return Recording(
         positions_m=positions,
         point_names=[n for n, _ in markers],
@@ -117,3 +153,22 @@ def read_marker_table(path, *, length_unit_m: float | None = None, rate_hz: floa
         source=str(p),
         metadata=metadata,
     )
+
+
+def _unit_from_size(raw: np.ndarray) -> tuple[float, str]:
+    """Metres per file unit from the body's size: mm (the data sets' unit) unless the points span about
+    a metre as metres or centimetres would have it."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        if raw.shape[1] > 1:
+            extent = np.nanmax(np.nanmax(raw, axis=1) - np.nanmin(raw, axis=1), axis=1)
+        else:  # one point: how far it goes over the recording
+            extent = np.atleast_1d(np.nanmax(np.nanmax(raw[:, 0], axis=0) - np.nanmin(raw[:, 0], axis=0)))
+        size = float(np.nanmedian(extent))
+    if not np.isfinite(size) or size <= 0:
+        return 0.001, "mm (the marker tables' unit)"
+    best = min((1.0, 0.01, 0.001), key=lambda u: abs(np.log(size * u / 1.0)))
+    if best == 0.001:
+        return 0.001, "mm (the marker tables' unit)"
+    name = "m" if best == 1.0 else "cm"
+    return best, f"{name} (no unit in the file; the points span {size:.3g}, a body's size in {name})"

@@ -177,6 +177,24 @@ def test_marker_table_counting_frames_needs_the_rate(tmp_path):
     assert yio.read(path, rate_hz=100.0).duration_s == pytest.approx((len(pos) - 1) / 100.0)
 
 
+def test_marker_table_with_commas_metres_and_force_columns(tmp_path):
+    """Commas, '_X' suffixes, metres (told by the body's size) and force-plate columns beside the markers
+    (left out and listed) read like the Fukuchi layout."""
+    pos, _ = _walk_mm()
+    names = ("R.ASIS", "L.ASIS", "R.PSIS", "L.Heel", "R.Heel")
+    header = ["Time"] + [f"{n}_{a}" for n in names for a in "XYZ"] + ["Fx", "Fy", "Fz", "COPx", "COPy", "COPz", "My"]
+    lines = [",".join(header)]
+    for f, frame in enumerate(pos / 1000.0):
+        values = ",".join(f"{v:.5f}" for v in frame[:, [0, 2, 1]].ravel())
+        lines.append(f"{f / 100:.2f},{values},0,0,0,300,0,-203,0")
+    path = tmp_path / "postureData.txt"
+    path.write_text("\n".join(lines) + "\n")
+    rec = yio.read(path)
+    assert rec.point_names == list(names) and rec.metadata["length_unit_m"] == 1.0
+    assert rec.metadata["columns_left_out"] == ["F", "COP", "My"]
+    assert rec.point("L.Heel")[40] == pytest.approx(pos[40, 3, [0, 2, 1]] / 1000.0, abs=1e-5)
+
+
 def test_other_text_files_are_not_taken(tmp_path):
     """A .txt that is neither a marker table nor a clip (a licence, a readme) is refused in one line naming both."""
     path = tmp_path / "LICENSE.txt"
