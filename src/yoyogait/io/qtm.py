@@ -53,6 +53,12 @@ def read_qtm_tsv(path, *, length_unit_m: float | None = None, rate_hz: float | N
         if "BODY_NAMES" in header or header.get("DATA_INCLUDED", [""])[0].upper() == "6D":
             raise InputError(f"{p}: QTM 6DOF TSV export (rigid bodies, no markers); export the 3D data instead")
         if "NO_OF_FRAMES" in header:
+            included = " ".join(header.get("DATA_INCLUDED", [])).strip()
+            if included and included.upper() != "3D":
+                raise InputError(
+                    f"{p}: QTM TSV export of {included} data (DATA_INCLUDED {included}), no marker positions; "
+                    "export the 3D data instead"
+                )
             raise InputError(f"{p}: QTM TSV export without a MARKER_NAMES line (skeleton or analog data?)")
         raise InputError(f"{p}: not a QTM TSV export (it must start with NO_OF_FRAMES ... MARKER_NAMES lines)")
     names = [n for n in header["MARKER_NAMES"] if n]

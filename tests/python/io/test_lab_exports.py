@@ -244,3 +244,14 @@ def test_deepmimic_bad_frame_is_named(tmp_path):
     path.write_text(json.dumps({"Loop": "none", "Frames": [[0.03, 0, 0.8, 0], ["x"]]}))
     with pytest.raises(InputError, match="DeepMimic frame 2 must start with a duration"):
         yio.read(path)
+
+
+def test_qtm_angle_export_is_refused_saying_what_it_holds(tmp_path):
+    """A QTM TSV of computed angles (DATA_INCLUDED Angle) is refused in one line naming the data it holds."""
+    path = tmp_path / "left_q1.tsv"
+    lines = ["NO_OF_FRAMES\t3", "NO_OF_DATA_TYPES\t1", "FREQUENCY\t100", "TIME_STAMP\t2026-01-20, 10:25:12"]
+    lines += ["DATA_INCLUDED\tAngle", "DATA_TYPES\tleft_q1_XY", "", "Frame\tTime\tleft_q1_XY\t"]
+    lines += [f"{k + 1}\t{k / 100:.5f}\t79.30{k}" for k in range(3)]
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"QTM TSV export of Angle data \(DATA_INCLUDED Angle\), no marker positions"):
+        yio.read(path)
