@@ -75,9 +75,13 @@ def _motive_csv(path, pos, names, rate=100):
 
 
 def test_qualisys_tsv_feet_low_head_high_is_z_up(tmp_path, capsys):
-    """Feet at z 0.02-0.12 m and head markers at z 1.4-1.6 m: z, with the feet and the head named as evidence."""
+    """Feet at z 0.02-0.12 m and head markers at z 1.4-1.6 m, and a static reference marker 2.5 m to the side (the
+    lowest point along y, steady, which made the pelvis look 2.6 m 'above' it along y): z, with the feet and the head
+    named as evidence."""
     pos, _ = _person("z")
-    names = [n.replace("LFHD", "HeadL").replace("RFHD", "HeadR") for n in NAMES]
+    wall = np.broadcast_to(np.array([1.0, -2.5, 0.8]), (len(pos), 3))[:, None, :]
+    pos = np.concatenate([pos, wall], axis=1)
+    names = [n.replace("LFHD", "HeadL").replace("RFHD", "HeadR") for n in NAMES] + ["WallRef"]
     path = _qtm_tsv(tmp_path / "walk.tsv", pos, names)
     rec = yio.read(path)
     assert 0.0 < np.nanmin(rec.point("LHEE")[:, 2]) and np.nanmax(rec.point("LTOE")[:, 2]) < 0.15
