@@ -137,3 +137,33 @@ def test_heel_markers_come_first_and_malleoli_are_feet():
     """Heel before ankle before toe, whatever the order of the file; 'l mall' and 'R.Heel.Bottom' are feet."""
     groups = find_foot_groups(["LTOE", "LMT5", "LHEE", "l mall", "RTOE", "R.Heel.Bottom"])
     assert groups == {"left": ["LHEE", "l mall", "LTOE", "LMT5"], "right": ["R.Heel.Bottom", "RTOE"]}
+
+
+def test_c3d_event_group_is_the_reference(tmp_path):
+    """A C3D whose EVENT group holds Vicon foot strikes (minutes, seconds; contexts Left/Right) and Motion
+    Analysis-style ones (context 'RHS') gives them as the reference, on the recording's clock."""
+    import ezc3d
+
+    rec, contacts = _walk(step_hz=1.8, walk_s=5.0)
+    c = ezc3d.c3d()
+    data = np.ones((4, len(rec.point_names), rec.n_frames))
+    data[:3] = np.transpose(np.nan_to_num(rec.positions_m * 1000.0), (2, 1, 0))
+    c["parameters"]["POINT"]["RATE"]["value"] = [rec.rate_hz]
+    c["parameters"]["POINT"]["LABELS"]["value"] = rec.point_names
+    c.add_parameter("POINT", "UNITS", ["mm"])
+    c["data"]["points"] = data
+    n = len(contacts)
+    labels = ["Foot Strike" if k % 2 == 0 else "" for k in range(n)]
+    sides = ["Left" if k % 2 == 0 else "RHS" for k in range(n)]
+    c.add_parameter("EVENT", "USED", [n])
+    c.add_parameter("EVENT", "LABELS", labels)
+    c.add_parameter("EVENT", "CONTEXTS", sides)
+    c.add_parameter("EVENT", "TIMES", np.array([[0.0] * n, list(contacts)]))
+    path = tmp_path / "walk.c3d"
+    c.write(str(path))
+    read = yio.read(path)
+    strikes = [(side, t) for side, kind, t in read.metadata["events"] if kind == "foot strike"]
+    assert [s for s, _ in strikes] == ["left" if k % 2 == 0 else "right" for k in range(n)]
+    assert [t for _, t in strikes] == pytest.approx(contacts, abs=1e-4)
+    ev = events.reference_events(read)
+    assert ev.origin == "file events" and len(ev.step_start_s) == n - 1
