@@ -36,8 +36,9 @@ evaluation uses the foot strikes as its reference when they are there.
 With the markers of several people (``Anna:LASI``, ``Ben:LASI``: subjects
 with pelvis markers), one is read: ``subject=``, else the first named;
 ``metadata["subjects"]`` lists them all.  Objects (a subject without pelvis
-markers, such as a box) stay beside the person.  Nexus states no up axis (Vicon
-labs are Z up, but the file does not say so), so it is detected.
+markers, such as a box) stay beside the person.  Nexus states no up axis; Vicon
+labs are Z up, which is used unless the body clearly says another axis
+(:func:`yoyogait.io.body.check_declared_up_axis`).
 """
 
 from __future__ import annotations
@@ -159,6 +160,7 @@ def read_nexus_csv(
     else:
         scale_m, metadata["length_unit_from"] = 0.001, "mm (no units line; the Nexus default)"
     metadata["length_unit_m"] = scale_m
+    metadata["up_axis_declared"], metadata["up_axis_declared_by"] = "z", "the Vicon convention (Z up)"
 
     data, line_numbers = [], []
     width = max(len(axes_row), max(c for _, c in columns) + 3)

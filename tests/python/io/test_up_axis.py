@@ -90,7 +90,7 @@ def test_qualisys_tsv_feet_low_head_high_is_z_up(tmp_path, capsys):
     assert any(c.startswith("feet") for c in ev.cues) and any(c.startswith("head") for c in ev.cues)
     assert main(["inspect", str(path)]) == 0
     out = capsys.readouterr().out
-    assert "up axis         z (detected)" in out and "body says       z (clear: " in out
+    assert "up axis         z (the Qualisys convention (Z up))" in out and "body says       z (clear: " in out
 
 
 @pytest.mark.parametrize("up", ["x", "y", "z"])
