@@ -39,6 +39,7 @@ REFERENCE_COLUMNS = (
     "reference_dft_hz",
     "reference_dft_disagreement_hz",
     "reference_dropped_contacts",
+    "reference_gaps",
     "reference_reason",
 )
 """Which figures a report has: every recording's, the cross-recording ones with the worst and best

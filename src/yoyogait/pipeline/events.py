@@ -171,7 +171,9 @@ class ReferenceQuality:
     ``left_right_hz``: |left - right| step frequency from each foot's strides (NaN with one foot);
     ``dft_hz``: the step frequency by the DFT of the vertical velocity over that stretch
     (:func:`yoyogait.pipeline.spectral.step_frequency`); ``dft_disagreement_hz``: |cadence - DFT|;
-    ``dropped_contacts``: doubled contacts left out. ``trusted`` when there are at least
+    ``dropped_contacts``: doubled contacts left out; ``gaps``: breaks in the steps shorter than three
+    steps, where the walk went on but the contacts there make no step (the reference is NaN there, so
+    those stretches are left out of every score). ``trusted`` when there are at least
     :data:`MIN_TRUSTED_STEPS` steps, the feet agree within :data:`MAX_LEFT_RIGHT_HZ` and the DFT
     within :data:`MAX_DFT_DISAGREEMENT_HZ`; ``reason`` says which failed ("" when trusted).
     """
@@ -185,13 +187,15 @@ class ReferenceQuality:
     dropped_contacts: int
     trusted: bool
     reason: str
+    gaps: int = 0
 
     def summary(self) -> str:
         """One line: trusted or not (why), with the numbers behind it."""
         lr = "" if not np.isfinite(self.left_right_hz) else f", left-right {self.left_right_hz:.3f} Hz"
         dft = "" if not np.isfinite(self.dft_hz) else f", DFT {self.dft_hz:.2f} Hz"
         head = "trusted" if self.trusted else f"not trusted ({self.reason})"
-        return f"{head}: {self.origin}, {self.steps} steps, {self.cadence_hz:.2f} Hz{lr}{dft}"
+        gaps = f", {self.gaps} gap{'s' if self.gaps != 1 else ''} left out" if self.gaps else ""
+        return f"{head}: {self.origin}, {self.steps} steps, {self.cadence_hz:.2f} Hz{lr}{dft}{gaps}"
 
     def as_row(self) -> dict:
         """The columns of recordings.csv."""
@@ -204,6 +208,7 @@ class ReferenceQuality:
             "reference_dft_hz": self.dft_hz,
             "reference_dft_disagreement_hz": self.dft_disagreement_hz,
             "reference_dropped_contacts": self.dropped_contacts,
+            "reference_gaps": self.gaps,
             "reference_reason": self.reason,
         }
 
@@ -417,8 +422,28 @@ def reference_quality(ev: GaitEvents | None, time_s, vz_mps, rate_hz: float) -> 
     elif disagreement > MAX_DFT_DISAGREEMENT_HZ:
         reasons.append(f"cadence {cadence:.2f} Hz, DFT of the vertical velocity {dft:.2f} Hz")
     return ReferenceQuality(
-        ev.origin, steps, cadence, lr, dft, disagreement, ev.dropped_contacts, not reasons, "; ".join(reasons)
+        ev.origin,
+        steps,
+        cadence,
+        lr,
+        dft,
+        disagreement,
+        ev.dropped_contacts,
+        not reasons,
+        "; ".join(reasons),
+        gaps=_gaps(ev),
     )
+
+
+def _gaps(ev: GaitEvents) -> int:
+    """Breaks in the steps shorter than three typical steps: the walk went on but no step could be made of
+    the contacts there (a missed pair, a misplaced contact)."""
+    starts, ends = np.asarray(ev.step_start_s, dtype=float), np.asarray(ev.step_end_s, dtype=float)
+    if len(starts) < 2:
+        return 0
+    typical = float(np.median(ends - starts))
+    pause = starts[1:] - ends[:-1]
+    return int(np.sum((pause > 1e-9) & (pause < 3.0 * typical)))
 
 
 def walking_mask(

@@ -55,6 +55,19 @@ def test_a_doubled_contact_is_dropped():
     assert np.nanmax(np.abs(f - 1.8)) < 0.05
 
 
+def test_a_break_in_the_steps_is_left_out_and_counted():
+    """Strikes 0.8 s late from the sixth on (a hesitation or two misplaced contacts): the interval is no step, the
+    reference is NaN there and the break is counted as a gap."""
+    rec, contacts = _walk(step_hz=1.8, walk_s=6.0)
+    late = np.where(np.arange(len(contacts)) >= 6, contacts + 0.8, contacts)
+    late = late[late < rec.time_s[-1]]
+    ev = events.file_gait_events(_with_events(rec, late))
+    q = _quality(rec, ev)
+    f = ev.step_frequency_at(rec.time_s)
+    assert q.gaps == 1 and "1 gap left out" in q.summary()
+    assert np.all(np.isnan(f[(rec.time_s > late[5] + 0.05) & (rec.time_s < late[6] - 0.05)]))
+
+
 def test_detected_contacts_survive_a_marker_gap():
     """A heel marker lost over one contact: the contacts of the foot markers still give 1.8 Hz throughout."""
     rec, contacts = _walk(step_hz=1.8, walk_s=6.0)
