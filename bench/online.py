@@ -95,7 +95,7 @@ def evaluate(item, config=None, decimate_to_hz=None):
         tr = item.truth.at(t)
         f_ref, walking = tr.step_frequency_hz, np.asarray(tr.walking, dtype=bool)
     else:
-        f_ref, _, walking = real_reference(rec, vel, item)
+        f_ref, _, walking, _ = real_reference(rec, vel, item)
     walking = walking & np.isfinite(vel.vx) & np.isfinite(vel.vz)
     if not walking.any():
         return None

@@ -15,7 +15,6 @@ from ..estimators.config import EstimatorConfig, OnlineConfig
 from ..estimators.online import OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
-from ..evaluation import metrics
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
 from .options import (
@@ -30,14 +29,23 @@ from .options import (
 
 
 def foot_contacts(recording, feet, up_axis):
-    """Contact times [s] from the feet (given or found by name); None when there are none."""
-    if recording.velocities is not None or (feet is None and not events.feet_of(recording)):
+    """Contact times [s] from the file's gait events or the feet (given or found by name); None when there are
+    none."""
+    ev = reference_events(recording, feet, up_axis)
+    return ev.contacts_s if ev is not None and len(ev.contacts_s) >= 2 else None
+
+
+def reference_events(recording, feet, up_axis):
+    """The gait events of the reference (:func:`yoyogait.pipeline.events.reference_events`); None without
+    any."""
+    if recording.velocities is not None:
+        return None
+    if feet is None and not events.feet_of(recording) and not recording.metadata.get("events"):
         return None
     try:
-        ev = events.detect_gait_events(recording, feet=feet, up_axis=up_axis)
+        return events.reference_events(recording, feet, up_axis=up_axis)
     except InputError:
         return None
-    return ev.contacts_s if len(ev.contacts_s) >= 2 else None
 
 
 @click.command("estimate")
@@ -125,7 +133,7 @@ def command(
             recording, point=point, rate_hz=resample_hz, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps
         )
         res = run(vel)
-        contacts = foot_contacts(recording, feet, vel.up_axis) if fig is not None else None
+        ev = reference_events(recording, feet, vel.up_axis) if fig is not None else None
     f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
     summary = (
         f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
@@ -133,17 +141,16 @@ def command(
     )
     writers = {out: lambda p: res.to_csv(p, velocities=vel)}
     if fig is not None:
-        cadence = (
-            metrics.step_frequency_from_contacts(contacts, vel.time_s, stride_average=True)
-            if contacts is not None
-            else None
-        )
+        cadence = ev.step_frequency_at(vel.time_s, stride_average=True) if ev is not None else None
+        quality = events.reference_quality(ev, vel.time_s, vel.vz, vel.rate_hz)
         synthetic = bool(recording.metadata.get("synthetic"))
         writers[fig] = lambda p: plots.estimate_figure(
             vel,
             res,
             reference_step_frequency_hz=cadence,
-            contacts_s=contacts,
+            contacts_s=ev.contacts_s if ev is not None else None,
+            reference_quality=quality,
+            conditions=plots.recording_conditions(recording, vel),
             title=f"{stem}: {vel.point} [{preset}]",
             synthetic=synthetic,
             path=p,

@@ -49,6 +49,14 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         up_axis_from = "the velocity columns: vz is vertical"
     else:
         up_axis_from = points.resolve_up_axis(rec, up_axis)[1]
+    evidence = None
+    if rec.positions_m.shape[1]:
+        try:
+            ev = rec.metadata.get("up_axis_evidence") or points.up_axis_evidence(rec)
+        except InputError:
+            ev = None
+        if ev is not None:
+            evidence = {"axis": ev.axis, "scores": ev.scores, "decisive": ev.decisive, "summary": ev.summary()}
     report: dict = {
         "file": rec.source,
         "format": rec.format,
@@ -59,6 +67,7 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         "points": list(rec.point_names),
         "up_axis": velocities.up_axis,
         "up_axis_from": up_axis_from,
+        "up_axis_evidence": evidence,
         "point": velocities.point,
         "pelvis": None,
         "hand": None,
@@ -95,13 +104,18 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         report["foot_points"] = events.foot_groups_of(rec, feet)
         report["feet"] = {side: group[0] for side, group in report["foot_points"].items()}
     report["walking_from"] = "pelvis speed" if rec.velocities is None else "the given speed"
-    if report["feet"] and report["pelvis"]:
-        ev = events.detect_gait_events(rec, feet=feet, up_axis=velocities.up_axis)
+    report["reference"] = None
+    ev = None
+    if report["pelvis"] and (report["feet"] or rec.metadata.get("events")):
+        ev = events.reference_events(rec, feet, up_axis=velocities.up_axis)
+    if ev is not None:
         report["steps"] = int(len(ev.step_start_s))
         if len(ev.step_start_s):
             report["events_step_frequency_hz"] = ev.mean_step_frequency_hz
         if len(ev.contacts_s):
-            report["walking_from"] = "foot contacts"
+            report["walking_from"] = "foot contacts" if ev.origin == "foot contacts" else "the file's gait events"
+        q = events.reference_quality(ev, velocities.time_s, velocities.vz, velocities.rate_hz)
+        report["reference"] = {**q.as_row(), "summary": q.summary()}
 
     walking = velocities.walking & velocities.finite
     if walking.any():
@@ -125,6 +139,12 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
             "end_s": check.end_s,
             "summary": check.summary(),
         }
+    # Cadence as clinicians give it, beside the Hz values (which stay as they are).
+    for hz, per_min in (
+        ("step_frequency_hz", "step_frequency_steps_per_min"),
+        ("events_step_frequency_hz", "events_cadence_steps_per_min"),
+    ):
+        report[per_min] = None if report[hz] is None else 60.0 * float(report[hz])
     return report
 
 
@@ -171,6 +191,8 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_sp
         ("points", f"{len(names)}: {', '.join(shown)}" if names else "none (ready velocities)"),
         ("up axis", f"{report['up_axis']} ({report['up_axis_from']})"),
     ]
+    if report["up_axis_evidence"] is not None:
+        lines.append(("body says", report["up_axis_evidence"]["summary"]))
     if names:
         lines.append(("pelvis", report["pelvis"] or "none found"))
     if report["point"] != report["pelvis"]:
@@ -193,13 +215,19 @@ def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_sp
     lines.append(("mean speed", speed + (" while walking" if report["mean_speed_mps"] is not None else "")))
     step = _fmt(report["step_frequency_hz"], "Hz")
     step += (
-        " (DFT of the vertical velocity)"
+        f" = {report['step_frequency_steps_per_min']:.0f} steps/min (DFT of the vertical velocity)"
         if report["step_frequency_hz"] is not None
         else f" ({report.get('dft_note', '')})"
     )
     if report["events_step_frequency_hz"] is not None:
-        step += f"; foot contacts: {report['events_step_frequency_hz']:.2f} Hz over {report['steps']} steps"
+        origin = (report["reference"] or {}).get("reference_origin", "foot contacts")
+        step += (
+            f"; {origin}: {report['events_step_frequency_hz']:.2f} Hz = "
+            f"{report['events_cadence_steps_per_min']:.0f} steps/min over {report['steps']} steps"
+        )
     lines.append(("step frequency", step))
+    if report["reference"] is not None:
+        lines.append(("reference", report["reference"]["summary"]))
     if report["dft"]:
         d = report["dft"]
         lines.append(

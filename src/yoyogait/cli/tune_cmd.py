@@ -57,8 +57,10 @@ def command(dataset, out, trials, seed, storage, weights, no_cv, jobs, force):
 
     The objective is the weighted mean of the recordings' median metrics, each relative to the
     default configuration's (1 = as good, lower is better). Leave-one-group-out cross-validation
-    (a group is a manifest folder) reports how tuning on the other groups does on each one; the
-    configuration tuned on all of them is written to --out as TOML. Needs yoyogait[tune].
+    (a group is a manifest folder) reports how tuning on the other groups does on each one; with one
+    group, a 5-fold split of the recordings does it instead. The configuration tuned on all of them
+    is written to --out as TOML; its objective is on the recordings it was tuned on. Needs
+    yoyogait[tune].
     """
     out = Path(out)
     check_distinct((("--out", out), ("--storage", storage)))
@@ -91,9 +93,13 @@ def command(dataset, out, trials, seed, storage, weights, no_cv, jobs, force):
     )
     text = tuning.config_toml(result)
     atomic_file(out, lambda p: p.write_text(text))
+    click.echo(f"cross-validation: {result.cross_validation}")
     for group, value, n in result.folds:
         click.echo(f"held out {group} ({n} recordings): objective {value:.4g} (tuned on the others)")
-    click.echo(f"best objective on all recordings: {result.best_objective:.4g} (default: 1)")
+    click.echo(
+        f"objective on the {result.n_training} training recordings (tuned on them, not held out): "
+        f"{result.best_objective:.4g} (default: 1)"
+    )
     for key, value in sorted(result.best_params.items()):
         click.echo(f"  {key} = {value:.4g}")
     click.echo(f"Configuration: {out}")

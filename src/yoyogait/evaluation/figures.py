@@ -39,6 +39,8 @@ __all__ = [
     "estimate_figure",
     "distribution_figure",
     "recording_title",
+    "recording_conditions",
+    "figure_title",
     "mark_synthetic",
 ]
 
@@ -57,6 +59,40 @@ def recording_title(recording, what: str = "") -> str:
             name = f"synthetic {name}"
         name = f"Synthetic data: {name}"
     return f"{what} - {name}" if what else name
+
+
+def recording_conditions(recording=None, velocities=None) -> tuple[str, ...]:
+    """The conditions a figure's title names: "treadmill" (the velocities' treadmill check found one)
+    and "markerless" (the recording says so in ``metadata["markerless"]``, or its points are
+    OpenCap's video keypoints, ``*_study``)."""
+    out = []
+    treadmill = getattr(velocities, "treadmill", None)
+    if treadmill is not None and getattr(treadmill, "detected", False):
+        out.append("treadmill")
+    meta = getattr(recording, "metadata", None) or {}
+    names = getattr(recording, "point_names", None) or []
+    if meta.get("markerless") or any(str(n).lower().endswith("_study") for n in names):
+        out.append("markerless")
+    return tuple(out)
+
+
+def figure_title(velocities=None, what: str = "", conditions=()) -> str:
+    """The title a figure gets from the API when none is given: the file, the point followed, the
+    conditions (:func:`recording_conditions`) and ``what`` (e.g. the estimator)."""
+    source = getattr(velocities, "source", "") or "recording"
+    name = Path(source).name if source else "recording"
+    point = getattr(velocities, "point", "")
+    conditions = tuple(conditions) or recording_conditions(None, velocities)
+    text = f"{name}: {point}" if point else name
+    if what:
+        text += f" [{what}]"
+    return _with_conditions(text, conditions)
+
+
+def _with_conditions(title: str, conditions) -> str:
+    """``title (treadmill, markerless)``, each condition once."""
+    new = [c for c in dict.fromkeys(conditions or ()) if c and c not in title]
+    return f"{title} ({', '.join(new)})" if new else title
 
 
 def _title(title: str, synthetic: bool) -> str:
@@ -143,6 +179,65 @@ def _shade_standing(ax, t, walking, label: bool = True) -> None:
             t[a], t[min(b, len(t) - 1)], color="0.88", lw=0, zorder=0, label="standing" if first and label else None
         )
         first = False
+
+
+def _split_standing(y, walking):
+    """(y while walking, y while standing), each NaN elsewhere and joined at the transitions."""
+    y = np.asarray(y, dtype=float)
+    if walking is None:
+        return y, None
+    walk = np.asarray(walking, dtype=bool)
+    if walk.shape != y.shape or walk.all():
+        return y, None
+    stand = ~walk
+    # each part reaches one sample into the other, so that the line does not break at a transition
+    walk_ext = walk | np.concatenate([walk[1:], [False]]) | np.concatenate([[False], walk[:-1]])
+    stand_ext = stand | np.concatenate([stand[1:], [False]]) | np.concatenate([[False], stand[:-1]])
+    return np.where(walk_ext, y, np.nan), np.where(stand_ext, y, np.nan)
+
+
+def _plot_estimate(ax, t, y, walking, *, color, lw=1.2, label=None, prior_label: bool = True) -> None:
+    """An estimate drawn as what it is: solid while walking, grey dashed while standing (where the
+    estimator holds its last walking values or its prior: no measurement of the gait there)."""
+    walk, stand = _split_standing(y, walking)
+    ax.plot(t, walk, color=color, lw=lw, label=label)
+    if stand is not None and np.isfinite(stand).any():
+        ax.plot(t, stand, color="0.55", lw=lw, ls="--", label="held while standing" if prior_label else None)
+
+
+def _reference_style(quality, truth: bool) -> tuple[str, dict]:
+    """The label and line style of a reference step frequency, by its quality."""
+    if truth:
+        return "truth", dict(color=_REF, lw=1.0, ls="--")
+    if quality is None:
+        return "reference (foot contacts)", dict(color=_REF, lw=1.0, ls="--")
+    origin = getattr(quality, "origin", "foot contacts")
+    if getattr(quality, "trusted", False):
+        return f"reference ({origin}, trusted)", dict(color=_REF, lw=1.0, ls="--")
+    return f"reference ({origin}), not trusted", dict(color="tab:brown", lw=1.0, ls=":", alpha=0.8)
+
+
+def _reference_note(ax, quality, f_ref) -> None:
+    """A note in the panel: why the reference is not trusted, or that there is none."""
+    has = f_ref is not None and np.isfinite(np.asarray(f_ref, dtype=float)).any()
+    if has and (quality is None or getattr(quality, "trusted", False)):
+        return
+    if not has:
+        why = getattr(quality, "reason", "") if quality is not None else ""
+        text = "no reference step frequency" + (f": {why}" if why else " (no foot contacts)")
+    else:
+        text = f"reference not trusted: {quality.reason}"
+    ax.text(
+        0.01,
+        0.04,
+        text,
+        transform=ax.transAxes,
+        fontsize="small",
+        color="tab:brown",
+        ha="left",
+        va="bottom",
+        bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="none", alpha=0.8),
+    )
 
 
 DPI = 100
@@ -278,6 +373,9 @@ def parameter_figure(
     reference_step_frequency_hz=None,
     true_R_m=None,
     true_r_m=None,
+    walking=None,
+    reference_quality=None,
+    conditions=(),
     title: str = "",
     synthetic: bool | None = None,
     path=None,
@@ -291,9 +389,16 @@ def parameter_figure(
     reference step frequency over time when known.  Middle: R and r (m),
     estimated and true.  Bottom: A0 and A1 (m/s).  ``truth`` (a
     :class:`~yoyogait.synthetic.SyntheticTruth`) supplies the references on
-    its own time grid and marks the figure synthetic.  Saved as PNG to
-    ``path`` when given.  ``into``: a figure an earlier call returned, drawn
-    again with these data (faster than a new one, see the module's notes).
+    its own time grid and marks the figure synthetic.  ``walking`` (on
+    ``time_s``) shades the standing periods, where the estimate is drawn grey
+    and dashed (held, not measured); the step frequency has its +-2 sigma
+    band (``result.step_frequency_std_hz``).  ``reference_quality`` (a
+    :class:`~yoyogait.pipeline.events.ReferenceQuality`) labels the
+    reference, draws an untrusted one dotted and says why; without a
+    reference on real data a note says so.  ``conditions`` ("treadmill",
+    "markerless") are named in the title.  Saved as PNG to ``path`` when
+    given.  ``into``: a figure an earlier call returned, drawn again with
+    these data (faster than a new one, see the module's notes).
     """
     t = np.asarray(time_s, dtype=float)
     f = _given(step_frequency_hz, result, "step_frequency_hz")
@@ -324,18 +429,38 @@ def parameter_figure(
     )
     ax_f, ax_R, ax_A = fig.axes
 
+    if walking is not None:
+        walking = np.asarray(walking, dtype=bool)
+        if walking.shape != t.shape:
+            raise InputError(f"walking has shape {walking.shape}, expected {t.shape} like time_s")
+        for ax in (ax_f, ax_R, ax_A):
+            _shade_standing(ax, t, walking, label=ax is ax_f)
     ax_f.axhline(0.0, color="0.3", lw=0.8)
+    f_std = getattr(result, "step_frequency_std_hz", None) if result is not None else None
+    if f is not None and f_std is not None:
+        f_std = np.asarray(f_std, dtype=float)
+        band = np.isfinite(f_std) & np.isfinite(f)
+        if f_std.shape == t.shape and band.any():
+            ax_f.fill_between(t, f - 2 * f_std, f + 2 * f_std, where=band, color=_EST, alpha=0.2, lw=0, label="±2σ")
     if f is not None:
-        ax_f.plot(t, f, color=_EST, lw=1.2, label="estimate f (signed)")
+        _plot_estimate(ax_f, t, f, walking, color=_EST, label="estimate f (signed)")
     if reference_step_frequency_hz is not None:
+        label, style = _reference_style(reference_quality, truth is not None)
         ax_f.plot(
-            t_ref,
-            np.broadcast_to(np.asarray(reference_step_frequency_hz, float), t_ref.shape),
-            color=_REF,
-            lw=1.0,
-            ls="--",
-            label="truth" if truth is not None else "reference (foot contacts)",
+            t_ref, np.broadcast_to(np.asarray(reference_step_frequency_hz, float), t_ref.shape), label=label, **style
         )
+    if truth is None and not synthetic:
+        _reference_note(ax_f, reference_quality, reference_step_frequency_hz)
+    if f is not None:  # the band of the first samples (P0) must not flatten the estimate
+        finite_f = f[np.isfinite(f)]
+        ref = np.asarray(reference_step_frequency_hz, float) if reference_step_frequency_hz is not None else None
+        if finite_f.size:
+            top = max(
+                0.5, float(np.max(finite_f)), float(np.nanmax(ref)) if ref is not None and np.isfinite(ref).any() else 0
+            )
+            bottom = min(0.0, float(np.min(finite_f)))
+            pad = 0.1 * (top - bottom)
+            ax_f.set_ylim(bottom - pad, top + pad)
     if dft_step_frequency_hz is not None and np.isfinite(dft_step_frequency_hz):
         ax_f.axhline(
             dft_step_frequency_hz,
@@ -346,9 +471,9 @@ def parameter_figure(
         )
 
     if R is not None:
-        ax_R.plot(t, R, color=_EST, lw=1.2, label="R est.")
+        _plot_estimate(ax_R, t, R, walking, color=_EST, label="R est.")
     if r is not None:
-        ax_R.plot(t, r, color=_EST2, lw=1.2, label="r est.")
+        _plot_estimate(ax_R, t, r, walking, color=_EST2, label="r est.", prior_label=False)
     if true_R_m is not None:
         ax_R.plot(
             t_ref,
@@ -375,7 +500,7 @@ def parameter_figure(
 
     for ax in (ax_f, ax_R, ax_A):
         _legend_above(ax)
-    fig.suptitle(_title(title, bool(synthetic)), y=0.985)
+    fig.suptitle(_title(_with_conditions(title, conditions), bool(synthetic)), y=0.985)
     return _finish(fig, path, bool(synthetic), new=new)
 
 
@@ -387,6 +512,8 @@ def velocity_figure(
     *,
     vx_hat_mps=None,
     vz_hat_mps=None,
+    walking=None,
+    conditions=(),
     title: str = "",
     synthetic: bool = False,
     path=None,
@@ -394,8 +521,12 @@ def velocity_figure(
 ) -> Figure:
     """Fig. 4: measured against reconstructed (eq. 13-14) v_x (top) and v_z (bottom), m/s.
 
-    Saved as PNG to ``path`` when given.  ``into``: a figure an earlier call returned, drawn again
-    with these data (faster than a new one, see the module's notes).
+    ``walking`` (on ``time_s``) shades the standing periods, where the reconstruction is drawn grey
+    and dashed; the reconstruction has a band of +-2 standard deviations of its residual against the
+    measurement while walking (the reconstruction's uncertainty as the data show it); ``conditions``
+    ("treadmill", "markerless") are named in the title.  Saved as PNG to ``path`` when given.
+    ``into``: a figure an earlier call returned, drawn again with these data (faster than a new
+    one, see the module's notes).
     """
     t = np.asarray(time_s, dtype=float)
     vx = np.asarray(measured_vx_mps, dtype=float)
@@ -408,12 +539,32 @@ def velocity_figure(
         into, "velocity", 5.5, ("forward $v_x$ (m/s)", "vertical $v_z$ (m/s)"), top=0.86, bottom=0.1, hspace=0.3
     )
     ax_x, ax_z = fig.axes
+    walk = None
+    if walking is not None:
+        walk = np.asarray(walking, dtype=bool)
+        if walk.shape != t.shape:
+            raise InputError(f"walking has shape {walk.shape}, expected {t.shape} like time_s")
     for ax, measured, estimate, name in ((ax_x, vx, vx_hat_mps, "v_x"), (ax_z, vz, vz_hat_mps, "v_z")):
+        _shade_standing(ax, t, walk, label=ax is ax_x)
         ax.plot(t, measured, color="0.45", lw=1.0, label=f"measured ${name}$")
         if estimate is not None:
-            ax.plot(t, estimate, color=_EST, lw=1.2, label=f"reconstructed ${name}$")
+            residual = measured - estimate
+            used = np.isfinite(residual) & (walk if walk is not None else True)
+            if used.sum() > 10:
+                sigma = float(np.std(residual[used]))
+                ax.fill_between(
+                    t,
+                    estimate - 2 * sigma,
+                    estimate + 2 * sigma,
+                    where=np.isfinite(estimate) & (walk if walk is not None else True),
+                    color=_EST,
+                    alpha=0.15,
+                    lw=0,
+                    label=f"±2σ of the residual ({sigma:.3f} m/s)",
+                )
+            _plot_estimate(ax, t, estimate, walk, color=_EST, label=f"reconstructed ${name}$", prior_label=ax is ax_x)
         _legend_above(ax)
-    fig.suptitle(_title(title, synthetic), y=0.985)
+    fig.suptitle(_title(_with_conditions(title, conditions), synthetic), y=0.985)
     return _finish(fig, path, synthetic, new=new)
 
 
@@ -424,7 +575,7 @@ def _zoom_window(t: np.ndarray, walking, span_s: float) -> tuple[float, float]:
     lo, hi = t[a], t[b - 1]
     mid = 0.5 * (lo + hi)
     start = max(t[0], min(mid - 0.5 * span_s, t[-1] - span_s))
-    return start, start + span_s
+    return start, min(start + span_s, t[-1])  # never past the end of a short recording
 
 
 def estimate_figure(
@@ -433,6 +584,8 @@ def estimate_figure(
     *,
     reference_step_frequency_hz=None,
     contacts_s=None,
+    reference_quality=None,
+    conditions=None,
     title: str = "",
     synthetic: bool = False,
     zoom_s: float = 5.0,
@@ -445,8 +598,13 @@ def estimate_figure(
     from foot contacts (``reference_step_frequency_hz`` on the velocity grid) when known; the
     speed with its +-2 sigma band against the measured forward velocity averaged over a stride.
     Standing periods (``velocities.walking`` False) are shaded.  Bottom: ``zoom_s`` seconds in
-    the middle of the longest walking stretch, where each step and the phase of the
-    reconstruction against the measurement show, foot contacts (``contacts_s``) marked.
+    the middle of the longest walking stretch (inside the recording), where each step and the phase
+    of the reconstruction against the measurement show, foot contacts (``contacts_s``) marked.
+    While standing the step frequency and the speed are drawn grey and dashed: the estimator holds
+    them there, nothing measures them.  ``reference_quality`` labels the reference (dotted and
+    named "not trusted" when it is not, a note when there is none).  Without ``title`` the figure
+    is titled from the velocities (:func:`figure_title`); ``conditions`` (default: from the
+    velocities' treadmill check) are named in it.
     """
     vel, res = velocities, result
     t = np.asarray(vel.time_s, dtype=float)
@@ -504,9 +662,12 @@ def estimate_figure(
     if band.any():
         ax_f.fill_between(t, f - 2 * f_std, f + 2 * f_std, where=band, color=_EST, alpha=0.25, lw=0, label="±2σ")
     ax_f.axhline(0.0, color="0.3", lw=0.8)
-    ax_f.plot(t, f, color=_EST, lw=1.2, label="estimate (signed)")
+    _plot_estimate(ax_f, t, f, walking, color=_EST, label="estimate (signed)")
     if f_ref is not None and np.isfinite(f_ref).any():
-        ax_f.plot(t, f_ref, color=_REF, lw=1.0, ls="--", label="foot-contact cadence")
+        label, style = _reference_style(reference_quality, False)
+        ax_f.plot(t, f_ref, label=label.replace("reference", "cadence", 1), **style)
+    if not synthetic:
+        _reference_note(ax_f, reference_quality, f_ref)
     ax_f.set_ylabel("step frequency (Hz)")
     finite_f = f[np.isfinite(f)]
     if finite_f.size:  # the band of the first samples (P0) must not flatten the estimate
@@ -531,7 +692,7 @@ def estimate_figure(
     f_typ = float(np.clip(np.median(known), 0.6, 3.0)) if known.size else 1.8
     mean_vx = moving_mean(vx, max(1, int(round(2.0 / f_typ * vel.rate_hz))))
     ax_s.plot(t, mean_vx, color="0.4", lw=1.0, label="measured $v_x$, stride mean")
-    ax_s.plot(t, speed, color=_EST2, lw=1.2, label="speed estimate")
+    _plot_estimate(ax_s, t, speed, walking, color=_EST2, label="speed estimate", prior_label=False)
     ax_s.set_ylabel("speed (m/s)")
     ax_s.set_xlabel("time (s)")
 
@@ -558,7 +719,9 @@ def estimate_figure(
         _legend_above(ax)
     _legend_above(zoom_z, ncol=2)
     _legend_above(zoom_x, ncol=2)
-    fig.suptitle(_title(title, synthetic), y=0.99)
+    if conditions is None:
+        conditions = recording_conditions(None, vel)
+    fig.suptitle(_title(_with_conditions(title or figure_title(vel), conditions), synthetic), y=0.99)
     return _finish(fig, path, synthetic)
 
 

@@ -229,7 +229,7 @@ def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float) -> _R
     else:
         walk_in = _interp(t, vel.time_s, np.asarray(vel.walking, dtype=float)) > 0.5
         shim = SimpleNamespace(time_s=t, walking=walk_in, vx=vx, vz=vz, rate_hz=rate_hz, up_axis=vel.up_axis)
-        f_ref, speed_ref, walking = real_reference(recording, shim, item)
+        f_ref, speed_ref, walking, _ = real_reference(recording, shim, item)
     if not walking.any():
         walking = np.isfinite(vx) & np.isfinite(vz)
     return _Refs(t, rate_hz, vx, vz, np.asarray(walking, dtype=bool), f_ref, speed_ref)

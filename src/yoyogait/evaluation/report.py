@@ -25,6 +25,20 @@ from .tables import md_code, md_text, summary_markdown, table_one_csv, table_one
 __all__ = ["write_report", "FIGURE_MODES", "SUMMARY_ABOVE", "figure_mode", "RANK_KEY"]
 
 FIGURE_MODES = ("all", "summary", "none")
+#: The reference's columns of recordings.csv (:meth:`~yoyogait.pipeline.events.ReferenceQuality.as_row`).
+REFERENCE_COLUMNS = (
+    "reference_origin",
+    "reference_trusted",
+    "reference_steps",
+    "reference_cadence_hz",
+    "reference_cadence_steps_per_min",
+    "reference_left_right_hz",
+    "reference_dft_hz",
+    "reference_dft_disagreement_hz",
+    "reference_dropped_contacts",
+    "reference_gaps",
+    "reference_reason",
+)
 """Which figures a report has: every recording's, the cross-recording ones with the worst and best
 recordings only, or none."""
 
@@ -149,6 +163,10 @@ def _write(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: int
     keys = ["recording", "subject", "walk", "estimator", "synthetic"] + list(
         getattr(ev, "metric_keys", metrics.METRIC_KEYS)
     )
+    if rows and "cadence_steps_per_min" in rows[0]:
+        keys.append("cadence_steps_per_min")  # the step frequency as clinicians give it; the Hz columns stay
+    if rows and "reference_trusted" in rows[0]:
+        keys += [k for k in REFERENCE_COLUMNS if any(k in row for row in rows)]
     with open(folder / "recordings.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
@@ -172,6 +190,9 @@ def _recording_task(r, est: str, figdir: Path, stem: str) -> tuple:
         "dft_step_frequency_hz": r.dft_step_frequency_hz,
         "truth": truth,
         "reference_step_frequency_hz": None if truth is not None else r.reference_step_frequency_hz,
+        "reference_quality": None if truth is not None else r.reference_quality,
+        "walking": r.walking,
+        "conditions": tuple(getattr(r, "conditions", ())),
         "title": f"{r.item.name} [{est}]",
         "synthetic": r.item.synthetic,
         "stem": str(figdir / f"{stem}_{_slug(est)}"),
@@ -203,6 +224,9 @@ def draw_figures(kind: str, spec: dict) -> float:
             truth=truth,
             reference_time_s=None if truth is not None else t,
             reference_step_frequency_hz=spec["reference_step_frequency_hz"],
+            walking=spec["walking"],
+            reference_quality=spec["reference_quality"],
+            conditions=spec["conditions"],
             title=spec["title"],
             synthetic=spec["synthetic"],
             path=spec["stem"] + "_parameters.png",
@@ -213,6 +237,8 @@ def draw_figures(kind: str, spec: dict) -> float:
             spec["vx"],
             spec["vz"],
             spec["result"],
+            walking=spec["walking"],
+            conditions=spec["conditions"],
             title=spec["title"],
             synthetic=spec["synthetic"],
             path=spec["stem"] + "_velocities.png",

@@ -22,6 +22,7 @@ from ..pipeline.signals import moving_mean
 from ..pipeline.velocities import gait_velocities
 from . import metrics
 from .datasets import Item
+from .figures import recording_conditions
 from .parallel import TaskFailure, run_tasks, split_outcomes
 
 __all__ = [
@@ -53,6 +54,8 @@ class ItemResult:
     reference_speed_mps: np.ndarray
     walking: np.ndarray
     dft_step_frequency_hz: float
+    reference_quality: events.ReferenceQuality = events.NO_REFERENCE  # real data: how far the reference holds
+    conditions: tuple = ()  # "treadmill", "markerless": named in the figures' titles
     results: dict = field(default_factory=dict)  # estimator -> result
     metrics: dict = field(default_factory=dict)  # estimator -> metric dict
     timings_s: dict = field(default_factory=dict)  # stage (STAGES) -> wall time spent on it [s]
@@ -75,6 +78,13 @@ class Evaluation:
         out = []
         for r in self.items:
             for est in self.estimators:
+                reference: dict[str, Any] = (
+                    {"reference_origin": "synthetic truth", "reference_trusted": True}
+                    if r.item.truth is not None
+                    else r.reference_quality.as_row()
+                )
+                if r.item.truth is None:
+                    reference["reference_cadence_steps_per_min"] = 60.0 * r.reference_quality.cadence_hz
                 out.append(
                     {
                         "recording": r.item.name,
@@ -83,9 +93,26 @@ class Evaluation:
                         "estimator": est,
                         "synthetic": r.item.synthetic,
                         **r.metrics[est],
+                        "cadence_steps_per_min": _cadence_steps_per_min(r, est),
+                        **reference,
                     }
                 )
         return out
+
+
+def _cadence_steps_per_min(r: ItemResult, est: str) -> float:
+    """The estimator's cadence as clinicians give it: 60 x the median |step frequency| while walking
+    (steps/min; NaN without an estimate there)."""
+    result = r.results.get(est)
+    f = getattr(result, "step_frequency_hz", None)
+    if f is None:
+        return float("nan")
+    f = np.abs(np.asarray(f, dtype=float))
+    walk = np.asarray(r.walking, dtype=bool)
+    if f.shape != walk.shape:
+        return float("nan")
+    f = f[walk & np.isfinite(f)]
+    return 60.0 * float(np.median(f)) if f.size else float("nan")
 
 
 def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndarray:
@@ -97,26 +124,28 @@ def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndar
 
 
 def real_reference(recording, vel, item: Item):
-    """(step frequency, stride-averaged speed, walking) on the velocity grid, from gait events.
+    """(step frequency, stride-averaged speed, walking, quality) on the velocity grid, from gait events.
 
-    The step frequency is the cadence from the foot contacts with left-right alternation averaged
-    out (:func:`yoyogait.metrics.step_frequency_from_contacts` with ``stride_average``).
-    The gait events ``vel`` holds serve when they were found from the same foot points (the events
-    depend on the item's ``feet`` only through them), else they are detected.
+    The events are the file's own where it holds enough foot strikes, else the foot contacts
+    (:func:`yoyogait.pipeline.events.reference_events`); the gait events ``vel`` holds serve when they
+    were found from the same foot points.  The step frequency is the cadence of the steps with
+    left-right alternation averaged out (:meth:`~yoyogait.pipeline.events.GaitEvents.step_frequency_at`
+    with ``stride_average``): a missed contact (a stride) or a doubled one does not halve or double it.
+    The quality (:func:`yoyogait.pipeline.events.reference_quality`) says whether it can be trusted.
     """
     t = vel.time_s
     walking = np.asarray(vel.walking, dtype=bool)
     f_ref = np.full(t.shape, np.nan)
-    try:
-        found = getattr(vel, "gait_events", None)
-        if found is not None and found.feet == events.feet_of(recording, item.feet):
-            ev = found
-        else:
-            ev = events.detect_gait_events(recording, feet=item.feet, up_axis=vel.up_axis)
-    except InputError:
-        ev = None
-    if ev is not None and len(ev.contacts_s) >= 2:
-        f_ref = metrics.step_frequency_from_contacts(ev.contacts_s, t, stride_average=True)
+    found = getattr(vel, "gait_events", None)
+    own = events.file_gait_events(recording)
+    usable = own is None or len(own.step_start_s) < events.MIN_TRUSTED_STEPS - 1
+    if usable and found is not None and len(found.step_start_s) and found.feet == events.feet_of(recording, item.feet):
+        ev = found
+    else:
+        ev = events.reference_events(recording, item.feet, up_axis=vel.up_axis)
+    quality = events.reference_quality(ev, t, vel.vz, vel.rate_hz)
+    if ev is not None and len(ev.step_start_s) >= 1:
+        f_ref = ev.step_frequency_at(t, stride_average=True)
         in_walk = np.zeros(t.shape, dtype=bool)
         for a, b in np.asarray(ev.walking_segments_s).reshape(-1, 2):
             in_walk |= (t >= a) & (t <= b)
@@ -125,7 +154,7 @@ def real_reference(recording, vel, item: Item):
     # Stride = two steps; 1.1 s is a stride at 1.8 Hz, used where no step frequency is known.
     f_typ = np.nanmedian(f_ref) if np.isfinite(f_ref).any() else 1.8
     speed = _stride_mean(vel.vx, vel.rate_hz, 2.0 / f_typ)
-    return f_ref, speed, walking
+    return f_ref, speed, walking, quality
 
 
 def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE_HZ, configs=None) -> ItemResult:
@@ -145,18 +174,22 @@ def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE
     t0 = clock()
     timings["velocities"] = t0 - t1
     t = vel.time_s
+    quality = events.NO_REFERENCE
     if item.truth is not None:
         tr = item.truth.at(t)
         f_ref, speed_ref = tr.step_frequency_hz, tr.speed_mps
         walking = np.asarray(tr.walking, dtype=bool) & np.isfinite(vel.vx) & np.isfinite(vel.vz)
     else:
-        f_ref, speed_ref, walking = real_reference(recording, vel, item)
+        f_ref, speed_ref, walking, quality = real_reference(recording, vel, item)
     if not walking.any():
         walking = np.isfinite(vel.vx) & np.isfinite(vel.vz)
     t1 = clock()
     timings["events"] = t1 - t0
     dft = metrics.dft_step_frequency_hz(t[walking], vel.vz[walking]) if walking.sum() > 10 else float("nan")
-    out = ItemResult(item, vel, f_ref, speed_ref, walking, dft, timings_s=timings)
+    conditions = recording_conditions(recording, vel)
+    out = ItemResult(
+        item, vel, f_ref, speed_ref, walking, dft, reference_quality=quality, conditions=conditions, timings_s=timings
+    )
     runners = estimators(configs)
     t0 = clock()
     timings["metrics"] += t0 - t1

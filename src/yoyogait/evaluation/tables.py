@@ -18,6 +18,9 @@ __all__ = [
     "SUMMARY_KEYS",
     "md_text",
     "md_code",
+    "REFERENCE_KEYS",
+    "reference_counts",
+    "trusted",
 ]
 
 _MD_PUNCT = set("\\`*[]<>|!&~#")
@@ -156,16 +159,54 @@ SUMMARY_KEYS = (
 )
 
 
+#: The metrics that depend on the reference: reported over the trusted references too.
+REFERENCE_KEYS = ("f_err_median_hz", "speed_err_median_mps")
+
+
+def trusted(item) -> bool:
+    """True when an item's reference can be trusted (the synthetic truth always is)."""
+    return item.item.truth is not None or bool(item.reference_quality.trusted)
+
+
+def reference_counts(evaluation: Evaluation) -> tuple[int, int]:
+    """(recordings with a trusted reference, recordings)."""
+    return sum(trusted(r) for r in evaluation.items), len(evaluation.items)
+
+
 def summary_markdown(evaluation: Evaluation) -> str:
-    """Median over recordings of the main metrics, one column per estimator."""
+    """Median over recordings of the main metrics, one column per estimator.
+
+    The metrics against the reference (:data:`REFERENCE_KEYS`) are given over every recording and
+    over those whose reference is trusted (:class:`~yoyogait.pipeline.events.ReferenceQuality`); the
+    line under the table counts them and names those left out.
+    """
     lines = [
         "| median over recordings | " + " | ".join(md_text(e) for e in evaluation.estimators) + " |",
         "|---|" + "---:|" * len(evaluation.estimators),
     ]
+    n_trusted, n_all = reference_counts(evaluation)
     for key, label in SUMMARY_KEYS:
-        vals = []
-        for est in evaluation.estimators:
-            v = np.array([r.metrics[est].get(key, np.nan) for r in evaluation.items], dtype=float)
-            vals.append(f"{np.nanmedian(v):.3g}" if np.isfinite(v).any() else "n/a")
-        lines.append(f"| {label} | " + " | ".join(vals) + " |")
+        rows = [(label, evaluation.items)]
+        if key in REFERENCE_KEYS and n_trusted < n_all:
+            rows = [
+                (f"{label}, all {n_all} references", evaluation.items),
+                (
+                    f"{label}, {n_trusted} trusted reference{'s' if n_trusted != 1 else ''}",
+                    [r for r in evaluation.items if trusted(r)],
+                ),
+            ]
+        for text, items in rows:
+            vals = []
+            for est in evaluation.estimators:
+                v = np.array([r.metrics[est].get(key, np.nan) for r in items], dtype=float)
+                vals.append(f"{np.nanmedian(v):.3g}" if np.isfinite(v).any() else "n/a")
+            lines.append(f"| {text} | " + " | ".join(vals) + " |")
+    if n_trusted < n_all:
+        left = [r for r in evaluation.items if not trusted(r)]
+        lines += [
+            "",
+            f"References trusted on {n_trusted} of {n_all} recordings; not trusted: "
+            + "; ".join(f"{md_code(r.item.name)} ({md_text(r.reference_quality.reason)})" for r in left)
+            + ".",
+        ]
     return "\n".join(lines)

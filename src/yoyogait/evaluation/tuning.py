@@ -6,9 +6,15 @@ same median for the default configuration: 1.0 is as good as the default, lower 
 
 Leave-one-group-out cross-validation (a group is a manifest folder, the subject column of Table I)
 measures how well tuned parameters carry over to a lab they were not tuned on: for each group, a
-study tunes on the other groups and its best configuration is scored on the held-out group. A
-final study on all groups gives the configuration written out. Studies are seeded (``seed``) and,
-with a storage file, resumable: a study that exists there continues up to ``n_trials``.
+study tunes on the other groups and its best configuration is scored on the held-out group. With a
+single group there is no other lab to hold out, so the recordings themselves are split into
+:data:`K_FOLDS` folds (seeded): each fold is scored with the configuration tuned on the others,
+which says how tuning carries over to recordings it did not see (from the same lab, so it is the
+weaker test; the result says which was done). With a single recording nothing can be held out and
+the result says so (``cross_validation``). A final study on all recordings gives the configuration
+written out; its objective is measured on the recordings it was tuned on, and is labelled so.
+Studies are seeded (``seed``) and, with a storage file, resumable: a study that exists there
+continues up to ``n_trials``.
 
 The velocities, references and walking parts are computed once per recording; a trial only runs
 the estimator and scores it.
@@ -42,7 +48,11 @@ __all__ = [
     "config_toml",
     "parse_weights",
     "SECTION",
+    "K_FOLDS",
 ]
+
+K_FOLDS = 5
+"""Folds of the k-fold cross-validation over recordings (fewer with fewer recordings)."""
 
 TUNE_EXTRA = "yoyogait[tune]"
 
@@ -82,9 +92,11 @@ class TuneResult:
     best_params: dict
     best_objective: float
     config: EstimatorConfig
-    folds: list = field(default_factory=list)  # (held-out group, objective there, tuned on the others)
+    folds: list = field(default_factory=list)  # (held-out group or fold, objective there, its recordings)
     weights: dict = field(default_factory=dict)
     n_trials: int = 0
+    cross_validation: str = ""  # what was held out: "leave-one-group-out", "k-fold over recordings", or why none
+    n_training: int = 0  # recordings the written configuration was tuned (and its objective measured) on
 
 
 def parse_weights(specs) -> dict[str, float]:
@@ -199,22 +211,46 @@ def tune(
         raise InputError(f"--trials must be at least 1, not {n_trials}")
     url = f"sqlite:///{Path(storage).resolve()}" if storage else None
     prepared = _prepared(items, jobs)
-    groups = sorted({r.item.subject for r in prepared})
+    splits, how = _splits(prepared, seed) if cross_validate else ([], "none: not asked for (--no-cv)")
     folds = []
-    if cross_validate and len(groups) > 1:
-        for g in groups:
-            train = [r for r in prepared if r.item.subject != g]
-            held = [r for r in prepared if r.item.subject == g]
-            study = _study(optuna, f"yoyogait-tune-without-{g}", url, seed)
-            best = _optimise(optuna, study, train, weights, n_trials, on_trial)
-            config = tuned_config(best.params)
-            baseline = _medians(_metrics_of(EstimatorConfig(), held), weights)
-            value = objective_of(_medians(_metrics_of(config, held), weights), baseline, weights)
-            folds.append((g, value, len(held)))
+    for name, train, held in splits:
+        study = _study(optuna, f"yoyogait-tune-without-{name}", url, seed)
+        best = _optimise(optuna, study, train, weights, n_trials, on_trial)
+        config = tuned_config(best.params)
+        baseline = _medians(_metrics_of(EstimatorConfig(), held), weights)
+        value = objective_of(_medians(_metrics_of(config, held), weights), baseline, weights)
+        folds.append((name, value, len(held)))
     study = _study(optuna, "yoyogait-tune-all", url, seed)
     best = _optimise(optuna, study, prepared, weights, n_trials, on_trial)
     config = tuned_config(best.params)
-    return TuneResult(dict(best.params), float(best.value), config, folds, weights, n_trials)
+    return TuneResult(
+        dict(best.params), float(best.value), config, folds, weights, n_trials, how, n_training=len(prepared)
+    )
+
+
+def _splits(prepared: list[ItemResult], seed: int) -> tuple[list, str]:
+    """(name, training recordings, held-out recordings) of each fold, and what kind of cross-validation."""
+    groups = sorted({r.item.subject for r in prepared})
+    if len(groups) > 1:
+        return [
+            (g, [r for r in prepared if r.item.subject != g], [r for r in prepared if r.item.subject == g])
+            for g in groups
+        ], "leave-one-group-out"
+    if len(prepared) < 2:
+        return [], f"none: one recording in one group ({groups[0]}), nothing to hold out"
+    k = min(K_FOLDS, len(prepared))
+    order = np.random.default_rng(seed).permutation(len(prepared))
+    out = []
+    for i in range(k):
+        held_idx = set(order[i::k].tolist())
+        out.append(
+            (
+                f"fold{i + 1}of{k}",
+                [r for j, r in enumerate(prepared) if j not in held_idx],
+                [r for j, r in enumerate(prepared) if j in held_idx],
+            )
+        )
+    return out, f"k-fold over recordings ({k} folds; one group, {groups[0]}: no other lab to hold out)"
 
 
 def tuned_config(params: dict) -> EstimatorConfig:
@@ -228,10 +264,12 @@ def config_toml(result: TuneResult) -> str:
     objective, weights and cross-validation."""
     lines = [
         "# yoyogait tune: the default estimator with the parameters below tuned.",
-        f"# objective (weighted median metrics relative to the default; lower is better): {result.best_objective:.4g}",
+        f"# objective on the {result.n_training} training recordings it was tuned on (not held out; weighted median "
+        f"metrics relative to the default, lower is better): {result.best_objective:.4g}",
         "# weights: " + ", ".join(f"{k}={w:g}" for k, w in result.weights.items()),
+        f"# cross-validation: {result.cross_validation}",
     ]
     for group, value, n in result.folds:
-        lines.append(f"# held-out group {group} ({n} recordings): objective {value:.4g} when tuned on the others")
+        lines.append(f"# held out {group} ({n} recordings): objective {value:.4g} when tuned on the others")
     lines += [f"# tuned ({SECTION}): " + ", ".join(sorted(result.best_params)), ""]
     return "\n".join(lines) + "\n" + tomli_w.dumps(result.config.to_dict())

@@ -10,10 +10,17 @@ its first line:
 ``.tsv``       Qualisys Track Manager 3D export                 :func:`yoyogait.io.qtm.read_qtm_tsv`
 ``.mvnx``      Xsens MVN                                        :func:`yoyogait.io.mvnx.read_mvnx`
 ``.mot/.sto``  OpenSim coordinates (pelvis_tx/ty/tz)            :func:`yoyogait.io.opensim.read_opensim`
-``.csv``       Vicon Nexus (first line ``Trajectories``)        :func:`yoyogait.io.nexus.read_nexus_csv`
+``.csv``       Vicon Nexus (a section title: ``Trajectories``)  :func:`yoyogait.io.nexus.read_nexus_csv`
 ``.csv``       OptiTrack Motive (first line ``Format Version``) :func:`yoyogait.io.motive.read_motive_csv`
 ``.csv``       anything else, in the layout of docs/input.md    :func:`yoyogait.io.csv.read_csv`
+``.txt``       marker table (``Time``, ``R.ASISX``, ...)         :func:`yoyogait.io.marker_table.read_marker_table`
+``.txt/.json`` DeepMimic motion clip (``"Frames"``)             :func:`yoyogait.io.deepmimic.read_deepmimic`
 =============  ===============================================  =============================================
+
+``.csv`` is told apart by its first line with content (Nexus exports may
+start with blank or comma-only lines).  ``.txt`` and ``.json`` are read
+only when their content is one of the layouts above (:data:`TEXT_DIALECTS`);
+any other ``.txt`` or ``.json`` is refused in one line saying what is read.
 
 Every reader returns positions in metres with NaN for a missing sample, never
 zero.  Bad input raises :class:`yoyogait.errors.InputError` with one sentence
@@ -28,6 +35,7 @@ import inspect
 import numpy as np
 
 from ..errors import InputError
+from .body import check_declared_up_axis
 from .plausibility import check_plausible
 from .recording import AXES, Recording, check_coordinates, check_rate, check_readable, check_time
 
@@ -49,11 +57,23 @@ CSV_DIALECTS = (
     ("nexus", "is_nexus_csv", "read_nexus_csv"),
     ("motive", "is_motive_csv", "read_motive_csv"),
 )
+#: Text files read by content, not extension: extension -> ((module, test, reader), ...); each test
+#: takes the file's first 4 kB.  A .txt or .json that none of them claims is refused.
+TEXT_DIALECTS = {
+    ".txt": (
+        ("deepmimic", "is_deepmimic", "read_deepmimic"),
+        ("marker_table", "is_marker_table", "read_marker_table"),
+    ),
+    ".json": (("deepmimic", "is_deepmimic", "read_deepmimic"),),
+}
 #: Files people have that are not motion capture yoyogait reads: extension -> what to do instead.
 NOT_READ = {
     ".npz": "AMASS/SMPL parameters: export the body's joint positions to a CSV (docs/input.md)",
     ".fbx": "FBX animation: export it as BVH",
-    ".json": "JSON (a body-tracking export or a manifest?): export positions to a CSV (docs/input.md)",
+    ".json": "JSON that is not a DeepMimic motion clip (a body-tracking export or a manifest?): "
+    "export positions to a CSV (docs/input.md)",
+    ".txt": "a text file that is neither a marker table (Time, then NameX, NameY, NameZ columns) "
+    "nor a DeepMimic motion clip",
     ".xlsx": "a spreadsheet: save it as CSV",
 }
 
@@ -87,7 +107,8 @@ def read(
     """
     p = check_readable(path)
     ext = p.suffix.lower()
-    if ext not in READERS:
+    text_reader = _text_dialect(p) if ext in TEXT_DIALECTS else None
+    if ext not in READERS and text_reader is None:
         hint = f" ({NOT_READ[ext]})" if ext in NOT_READ else ""
         raise InputError(
             f"{p}: unknown file type {p.suffix or '(no extension)'!r}{hint}; readable: {', '.join(sorted(READERS))}"
@@ -101,7 +122,10 @@ def read(
     if rate_hz is not None:
         check_rate(rate_hz, p, "rate_hz override")
 
-    module, function = READERS[ext] if ext != ".csv" else _csv_dialect(p)
+    if text_reader is not None:
+        module, function = text_reader
+    else:
+        module, function = READERS[ext] if ext != ".csv" else _csv_dialect(p)
     reader = getattr(importlib.import_module(f".{module}", __name__), function)
     kwargs = dict(length_unit_m=length_unit_m, rate_hz=rate_hz, **options)
     if up_axis is not None and "up_axis" in inspect.signature(reader).parameters:
@@ -117,22 +141,40 @@ def read(
     elif rec.up_axis is not None:
         rec.metadata.setdefault("up_axis_from", "file")
     validate(rec)
+    check_declared_up_axis(rec)
     if plausibility:
         check_plausible(rec)
     return rec
 
 
 def _csv_dialect(p) -> tuple[str, str]:
-    """(module, reader) for a CSV file: Nexus or Motive by their first line, else yoyogait's layout."""
+    """(module, reader) for a CSV file: Nexus or Motive by their first line with content, else yoyogait's layout."""
+    first = ""
     try:
         with open(p, encoding="utf-8-sig", errors="replace") as f:
-            first = f.readline()
+            for _, line in zip(range(50), f):
+                if line.strip().strip(",").strip():
+                    first = line
+                    break
     except OSError as exc:
         raise InputError(f"{p}: cannot read ({exc.strerror})") from None
     for module, test, function in CSV_DIALECTS:
         if getattr(importlib.import_module(f".{module}", __name__), test)(first):
             return module, function
     return READERS[".csv"]
+
+
+def _text_dialect(p) -> tuple[str, str] | None:
+    """(module, reader) for a .txt or .json file whose content one of :data:`TEXT_DIALECTS` claims, else None."""
+    try:
+        with open(p, encoding="utf-8-sig", errors="replace") as f:
+            head = f.read(4096)
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    for module, test, function in TEXT_DIALECTS[p.suffix.lower()]:
+        if getattr(importlib.import_module(f".{module}", __name__), test)(head):
+            return module, function
+    return None
 
 
 def validate(rec: Recording) -> Recording:
@@ -159,7 +201,8 @@ def validate(rec: Recording) -> Recording:
 
 def __getattr__(name: str):
     # read_c3d, read_trc, ... without importing every reader up front.
-    for module, function in [*READERS.values(), *((m, f) for m, _, f in CSV_DIALECTS)]:
+    dialects = [*CSV_DIALECTS, *(d for ds in TEXT_DIALECTS.values() for d in ds)]
+    for module, function in [*READERS.values(), *((m, f) for m, _, f in dialects)]:
         if name == function:
             return getattr(importlib.import_module(f".{module}", __name__), function)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

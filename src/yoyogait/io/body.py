@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .marker_sets import MARKER_SETS_ENV, SIDES, _roles, marker_knowledge, pelvis_names
+from .marker_sets import MARKER_SETS_ENV, SIDES, _roles, marker_knowledge, normalise_name, pelvis_names
 from .recording import AXES, Recording
 
 __all__ = [
@@ -29,6 +29,9 @@ __all__ = [
     "side_of",
     "robust_centre",
     "detect_up_axis",
+    "up_axis_evidence",
+    "UpAxisEvidence",
+    "check_declared_up_axis",
     "resolve_up_axis",
     "axis_index",
 ]
@@ -189,40 +192,196 @@ def axis_index(axis: str) -> int:
     return AXES.index(a)
 
 
-def detect_up_axis(rec: Recording) -> str:
-    """The axis along which the pelvis stands high above the lowest point, steadily.
+#: Pelvis height above the feet (the lowest points) of a standing or walking adult, metres.
+PELVIS_BAND_M = (0.7, 1.3)
+#: Step frequencies of walking and running (the band where the pelvis bounces), Hz.
+STEP_BAND_HZ = (1.0, 3.5)
+#: Head, neck and shoulder points (normalised names): above the pelvis when the person stands or sits.
+_HEAD = re.compile(
+    r"head|^[lr]?[fbt]hd$|^c7$|^t1$|^nose$|^[lr]?ear$|forehead|^vertex$|^clav|^ster|acro|shoulder|^[lr]sho$"
+)
 
-    For each axis, h(t) = pelvis(t) - lowest point(t) (lowest over all points
-    of the frame, i.e. the feet).  Along the up axis h is large (0.8-1.1 m)
-    and steady; along a horizontal axis it is small and swings with every
-    step.  The score is median(h) / (std(h) + 5% of the body's size), which
-    does not depend on the length unit.  With the pelvis alone (no point
-    below it) it falls back to the axis along which the pelvis moves least.
+
+@dataclass
+class UpAxisEvidence:
+    """What the body says about the up axis: one score per axis and the cues behind it.
+
+    ``scores`` adds, per axis, the cues that hold along it (each 0-2 points):
+    the pelvis stands 0.7-1.3 m above the lowest points (``pelvis_height_m``),
+    the feet lie 0.5 m or more below the pelvis and the head and shoulders
+    0.25 m or more above it (named foot points; head, neck, sternum,
+    clavicle and shoulder points), the pelvis height is steady (``steadiness``), and the pelvis
+    bounces at a step frequency without drifting (``bounce``: the share of
+    its velocity's power in :data:`STEP_BAND_HZ` at twice the lateral's
+    frequency, its position within 0.25 m).  ``axis`` is the best-scoring
+    axis; ``margin`` its lead over the next (below 1.5 the body does not
+    decide).  ``cues`` are the lines ``inspect`` prints.
     """
+
+    axis: str
+    scores: dict[str, float]
+    margin: float
+    cues: list[str]
+
+    @property
+    def decisive(self) -> bool:
+        return self.margin >= 1.5
+
+    def summary(self) -> str:
+        """One line: the axis, its lead, and the cues that hold along it."""
+        held = "; ".join(self.cues) if self.cues else "no cue beyond the pelvis's spread"
+        return f"{self.axis} ({'clear' if self.decisive else 'weak'}: {held})"
+
+
+def up_axis_evidence(rec: Recording) -> UpAxisEvidence:
+    """The up axis from a person's geometry, with the evidence (:class:`UpAxisEvidence`).
+
+    Works in metres (every reader's unit); the height cues need points below
+    the pelvis, the bounce cue needs a few steps.  Without any of them it
+    falls back to the axis along which the pelvis moves least.
+    """
+    pos = rec.positions_m
     try:
         choice = find_pelvis(rec.point_names)
         pelvis, _ = robust_centre(rec.points(choice.names))
+        prefixes = {n.rsplit(":", 1)[0] for n in choice.names if ":" in n}
+        if len(prefixes) == 1:  # the person's own points (Subject:Marker), not the objects beside them
+            prefix = prefixes.pop() + ":"
+            own = [i for i, n in enumerate(rec.point_names) if n.startswith(prefix)]
+            pos = pos[:, own, :]
     except InputError:
         with _quiet():
             pelvis = np.nanmean(rec.positions_m, axis=1)
-    pos = rec.positions_m
+    scores = dict.fromkeys(AXES, 0.0)
+    cues: dict[str, list[str]] = {a: [] for a in AXES}
     with _quiet():
         lowest = np.nanmin(pos, axis=1)  # frames x 3
-        extent = np.nanmax(pos, axis=1) - lowest
-        size = float(np.nanmedian(np.nanmax(extent, axis=1)))
         h = pelvis - lowest
         ok = np.all(np.isfinite(h), axis=1)
-    if ok.sum() >= 2 and np.isfinite(size) and size > 0:
-        h = h[ok]
-        median = np.median(h, axis=0)
-        if np.max(median) > 0.2 * size:  # some point lies well below the pelvis
-            score = median / (np.std(h, axis=0) + 0.05 * size)
-            return AXES[int(np.argmax(score))]
-    with _quiet():
-        spread = np.nanstd(pelvis, axis=0)
-    if not np.all(np.isfinite(spread)):
-        raise InputError(f"{rec.source or 'recording'}: cannot detect the up axis (no usable point); pass up_axis=")
-    return AXES[int(np.argmin(spread))]
+        extent = np.nanmax(pos, axis=1) - lowest
+        size = float(np.nanmedian(np.nanmax(extent, axis=1)))
+    if pos.shape[1] > 1 and ok.sum() >= 2 and np.isfinite(size) and size > 0:
+        median = np.median(h[ok], axis=0)
+        spread = np.std(h[ok], axis=0)
+        lo, hi = PELVIS_BAND_M
+        for k, a in enumerate(AXES):
+            if lo <= median[k] <= hi:
+                scores[a] += 2.0
+                cues[a].append(f"pelvis {median[k]:.2f} m above the lowest point")
+            elif 0.4 <= median[k] <= 1.6:
+                scores[a] += 1.0
+                cues[a].append(f"pelvis {median[k]:.2f} m above the lowest point")
+        steady = median / (spread + 0.05 * size)
+        best = int(np.argmax(steady))
+        if median[best] > 0.2 * size:
+            scores[AXES[best]] += 1.0
+            cues[AXES[best]].append("pelvis height steady")
+    for what, names, sign in (
+        ("feet", [n for g in find_foot_groups(rec.point_names).values() for n in g], -1.0),
+        ("head and shoulders", [n for n in rec.point_names if _HEAD.search(normalise_name(n))], 1.0),
+    ):
+        if not names:
+            continue
+        with _quiet():
+            rel = np.nanmedian(np.nanmean(rec.points(names), axis=1) - pelvis, axis=0) * sign
+        for k, a in enumerate(AXES):
+            if np.isfinite(rel[k]) and rel[k] > (0.5 if what == "feet" else 0.25):
+                scores[a] += 2.0 if what == "feet" else 1.5
+                where = "below" if what == "feet" else "above"
+                cues[a].append(f"{what} {rel[k]:.2f} m {where} the pelvis")
+    bounce = _bounce_axis(rec, pelvis)
+    if bounce is not None:
+        a, f_hz = bounce
+        scores[a] += 1.0
+        cues[a].append(f"pelvis bounces at {f_hz:.2f} Hz")
+    if max(scores.values()) == 0.0:
+        with _quiet():
+            spread_p = np.nanstd(pelvis, axis=0)
+        if not np.all(np.isfinite(spread_p)):
+            raise InputError(f"{rec.source or 'recording'}: cannot detect the up axis (no usable point); pass up_axis=")
+        a = AXES[int(np.argmin(spread_p))]
+        return UpAxisEvidence(a, scores, 0.0, ["the pelvis moves least along it"])
+    order = sorted(AXES, key=lambda a: -scores[a])
+    return UpAxisEvidence(order[0], scores, scores[order[0]] - scores[order[1]], cues[order[0]])
+
+
+def _bounce_axis(rec: Recording, pelvis: np.ndarray) -> tuple[str, float] | None:
+    """The axis along which the pelvis bounces at a step frequency without drifting, and that frequency."""
+    t = np.asarray(rec.time_s, dtype=float)
+    ok = np.all(np.isfinite(pelvis), axis=1)
+    if ok.sum() < 10 or t[-1] - t[0] < 2.0:
+        return None
+    rate = 50.0
+    grid = np.arange(t[0], t[-1], 1.0 / rate)
+    p = np.column_stack([np.interp(grid, t[ok], pelvis[ok, k]) for k in range(3)])
+    v = np.gradient(p, axis=0) * rate
+    n = len(grid)
+    freqs = np.fft.rfftfreq(8 * n, 1.0 / rate)
+    best: tuple[str, float, float] | None = None
+    peaks = {}
+    for k, a in enumerate(AXES):
+        x = v[:, k] - np.mean(v[:, k])
+        power = np.abs(np.fft.rfft(x * np.hanning(n), 8 * n)) ** 2
+        total = power[(freqs >= 0.3) & (freqs <= 6.0)].sum()
+        band = (freqs >= STEP_BAND_HZ[0]) & (freqs <= STEP_BAND_HZ[1])
+        if total <= 0 or not band.any():
+            continue
+        share = power[band].sum() / total
+        peaks[a] = float(freqs[band][np.argmax(power[band])])
+        excursion = float(np.percentile(p[:, k], 95) - np.percentile(p[:, k], 5))
+        if excursion <= 0.25 and share >= 0.5 and (best is None or share > best[2]):
+            best = (a, peaks[a], share)
+    return None if best is None else (best[0], best[1])
+
+
+def detect_up_axis(rec: Recording) -> str:
+    """The up axis from the body's geometry: the axis of :func:`up_axis_evidence`."""
+    return up_axis_evidence(rec).axis
+
+
+def check_declared_up_axis(rec: Recording) -> Recording:
+    """Set the up axis of a recording whose format declares one by convention, checked against the body.
+
+    ``metadata["up_axis_declared"]`` (a format's convention, e.g. Motive's Y
+    up) is used unless the body clearly says another axis; a file that
+    states its axis (``rec.up_axis``) keeps it.  Either way a disagreement
+    with clear evidence is one warning naming ``--up-axis``; the evidence
+    goes to ``metadata["up_axis_evidence"]``.
+    """
+    declared = rec.metadata.get("up_axis_declared")
+    stated = rec.up_axis
+    if rec.positions_m.shape[1] == 0 or (declared is None and stated is None):
+        return rec
+    if rec.metadata.get("up_axis_from") == "override":
+        return rec
+    try:
+        ev = up_axis_evidence(rec)
+    except InputError:
+        ev = None
+    if ev is not None:
+        rec.metadata["up_axis_evidence"] = ev
+    where = rec.source or "recording"
+    if stated is not None:
+        if ev is not None and ev.decisive and ev.axis != stated:
+            warnings.warn(
+                f"{where}: the file states up axis {stated}, the body says {ev.summary()}; "
+                f"pass --up-axis {ev.axis} if the body is right",
+                stacklevel=2,
+            )
+        return rec
+    by = rec.metadata.get("up_axis_declared_by", "the format's convention")
+    if ev is not None and ev.decisive and ev.axis != declared:
+        rec.up_axis = ev.axis
+        rec.metadata["up_axis_from"] = f"detected; {by} says {declared}"
+        warnings.warn(
+            f"{where}: {by} says up axis {declared}, the body says {ev.summary()}; using {ev.axis}, "
+            f"pass --up-axis {declared} if the convention holds",
+            stacklevel=2,
+        )
+    else:
+        rec.up_axis = declared
+        rec.metadata["up_axis_from"] = by
+    return rec
 
 
 def resolve_up_axis(rec: Recording, up_axis: str | None = None) -> tuple[str, str]:

@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, all_xyz, check_coordinates, check_rate, check_readable, uniform_time
+from .recording import Recording, all_xyz, check_coordinates, check_rate, check_readable, gait_event, uniform_time
 from .recording import length_unit_m as unit_of
 
 __all__ = ["read_c3d"]
@@ -125,6 +125,9 @@ def read_c3d(
     first_frame = int(c["header"]["points"]["first_frame"])
     metadata.update(first_frame=first_frame, file_rate_hz=file_rate)
 
+    events = _events(c["parameters"].get("EVENT", {}), first_frame / rate)
+    if events:
+        metadata["events"] = events
     up_axis = None
     y_screen = _param(point_group, "Y_SCREEN")
     if y_screen:
@@ -253,7 +256,7 @@ def _decode_points(raw: bytes, start: int, n_frames: int, frame_bytes: int, n_po
 
 def _parse_parameters(ezc3d, head: bytes):
     """ezc3d's reading of a file that holds only ``head`` (the header and parameter blocks): what
-    :func:`read_c3d` uses of ``ezc3d.c3d(...)`` (the POINT group and the point header, converted as
+    :func:`read_c3d` uses of ``ezc3d.c3d(...)`` (the POINT and EVENT groups and the point header, converted as
     ezc3d's Python layer converts them), and ezc3d's header object.
 
     ezc3d reads from a path; an in-memory file (Linux) or else a temporary file holds the copy.
@@ -273,9 +276,10 @@ def _parse_parameters(ezc3d, head: bytes):
     header = parsed.header()
     parameters = parsed.parameters()
     groups = {}
-    if parameters.isGroup("POINT"):
-        group = parameters.group("POINT")
-        groups["POINT"] = {p.name(): {"value": _parameter_value(ezc3d, p)} for p in group.parameters()}
+    for name in ("POINT", "EVENT"):
+        if parameters.isGroup(name):
+            group = parameters.group(name)
+            groups[name] = {p.name(): {"value": _parameter_value(ezc3d, p)} for p in group.parameters()}
     points = {"frame_rate": header.frameRate(), "first_frame": header.firstFrame()}
     layout = {  # copied out: the header object lives inside `parsed`
         "points": header.nb3dPoints(),
@@ -386,6 +390,33 @@ def _unique(names: list[str]) -> list[str]:
         seen[n] = k
         out.append(n if k == 1 else f"{n}#{k}")
     return out
+
+
+def _events(group: dict, start_s: float) -> list[tuple[str, str, float]]:
+    """(side, kind, time_s) of the EVENT group's events (foot strikes and offs), on the recording's clock.
+
+    ``EVENT:TIMES`` holds minutes and seconds from the capture's first frame (frame 0), so a trial
+    whose points start at frame ``first_frame`` has its events ``first_frame / rate`` earlier.
+    """
+    try:
+        used = int((_param(group, "USED") or [0])[0])
+    except (TypeError, ValueError):
+        return []
+    times = group.get("TIMES", {}).get("value")
+    if used <= 0 or times is None:
+        return []
+    times = np.asarray(times, dtype=float)
+    if times.ndim != 2 or times.shape[0] < 2 or times.shape[1] < used:
+        return []
+    labels = [str(v) for v in (_param(group, "LABELS") or [])] + [""] * used
+    contexts = [str(v) for v in (_param(group, "CONTEXTS") or [])] + [""] * used
+    out = []
+    for i in range(used):
+        side, kind = gait_event(labels[i].strip(), contexts[i].strip())
+        t = 60.0 * times[0, i] + times[1, i] - start_s
+        if np.isfinite(t):
+            out.append((side, kind, float(t)))
+    return sorted(out, key=lambda e: e[2])
 
 
 def _param(group: dict, name: str):

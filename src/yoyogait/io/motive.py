@@ -16,7 +16,8 @@ becomes a point (named as in the Name row); rotations and marker errors are
 left out.  The length unit is the header's ``Length Units`` (Motive's
 default is metres).  An export with rotations only, or with no asset at all,
 is refused with a message that says so.  Motive's up axis is an export
-setting the file does not state (Y by default), so it is detected.
+setting the file does not state; Y up is Motive's convention, used unless the
+body clearly says another axis (:func:`yoyogait.io.body.check_declared_up_axis`).
 """
 
 from __future__ import annotations
@@ -97,6 +98,7 @@ def read_motive_csv(path, *, length_unit_m: float | None = None, rate_hz: float 
     else:
         scale_m, metadata["length_unit_from"] = 1.0, "metres (no Length Units in the header; the Motive default)"
     metadata["length_unit_m"] = scale_m
+    metadata["up_axis_declared"], metadata["up_axis_declared_by"] = "y", "the Motive convention (Y up)"
 
     data = []
     wanted = [0, 1] + [c + k for _, _, c in columns for k in range(3)]

@@ -99,7 +99,10 @@ def check_plausible(rec: Recording) -> Recording:
                 )
                 raise InputError(f"{where}: not the size of a person: {what} with {said}; {_fix(likely)}")
 
-    if height is not None and up is not None:
+    by_convention = rec.metadata.get("up_axis_declared") is not None and rec.metadata.get(
+        "up_axis_from"
+    ) == rec.metadata.get("up_axis_declared_by")
+    if height is not None and up is not None and not by_convention:  # a format's convention is a guess, not a fact
         h_up = height[up]
         if h_up < PELVIS_HEIGHT_M[0]:  # the pelvis near the floor along the stated axis, high along another
             others = {a: h for a, h in height.items() if a != up and 0.6 <= h <= 1.3 and h > 2 * h_up}

@@ -22,7 +22,8 @@ time comes from ``FREQUENCY``.  QTM writes a marker it did not see as
 0, 0, 0 (or leaves the cells empty): both become missing.  A 6DOF or
 skeleton TSV (``DATA_INCLUDED 6D``, ``BODY_NAMES``) holds rigid bodies, not
 markers, and is refused with a message that says so.  QTM's up axis is a
-project setting the file does not state (Z by default), so it is detected.
+project setting the file does not state; Z, QTM's default, is used unless the
+body clearly says another axis (:func:`yoyogait.io.body.check_declared_up_axis`).
 """
 
 from __future__ import annotations
@@ -53,6 +54,12 @@ def read_qtm_tsv(path, *, length_unit_m: float | None = None, rate_hz: float | N
         if "BODY_NAMES" in header or header.get("DATA_INCLUDED", [""])[0].upper() == "6D":
             raise InputError(f"{p}: QTM 6DOF TSV export (rigid bodies, no markers); export the 3D data instead")
         if "NO_OF_FRAMES" in header:
+            included = " ".join(header.get("DATA_INCLUDED", [])).strip()
+            if included and included.upper() != "3D":
+                raise InputError(
+                    f"{p}: QTM TSV export of {included} data (DATA_INCLUDED {included}), no marker positions; "
+                    "export the 3D data instead"
+                )
             raise InputError(f"{p}: QTM TSV export without a MARKER_NAMES line (skeleton or analog data?)")
         raise InputError(f"{p}: not a QTM TSV export (it must start with NO_OF_FRAMES ... MARKER_NAMES lines)")
     names = [n for n in header["MARKER_NAMES"] if n]
@@ -94,6 +101,7 @@ def read_qtm_tsv(path, *, length_unit_m: float | None = None, rate_hz: float | N
     else:
         scale_m, metadata["length_unit_from"] = 0.001, "mm (the unit of every QTM TSV export)"
     metadata["length_unit_m"] = scale_m
+    metadata["up_axis_declared"], metadata["up_axis_declared_by"] = "z", "the Qualisys convention (Z up)"
 
     positions = table[:, offset:].reshape(len(rows), len(names), 3)
     positions[np.all(positions == 0.0, axis=2)] = np.nan  # QTM's "not seen"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -273,3 +274,33 @@ def unique_names(names) -> list[str]:
         seen[n] = k
         out.append(n if k == 1 else f"{n}#{k}")
     return out
+
+
+def gait_event(label: str, context: str = "") -> tuple[str, str]:
+    """(side, kind) of a gait event as files name it: side "left", "right" or ""; kind "foot strike",
+    "foot off" or the label in lower case.
+
+    Vicon writes label "Foot Strike" with context "Left"; Motion Analysis writes context "LHS" (left
+    heel strike) or "RTO" (right toe off) with an empty label; others write "Left Foot Strike",
+    "RHS", "L_IC" (initial contact), "R FO".
+    """
+    text = f"{label} {context}".strip()
+    words = [w for w in re.split(r"[^A-Za-z]+|(?<=[a-z])(?=[A-Z])", text) if w]
+    low = [w.lower() for w in words]
+    side = ""
+    for w in low:
+        if w in ("left", "l") or (len(w) == 3 and w[0] == "l" and w[1:] in ("hs", "fs", "to", "fo", "ic")):
+            side = "left"
+            break
+        if w in ("right", "r") or (len(w) == 3 and w[0] == "r" and w[1:] in ("hs", "fs", "to", "fo", "ic")):
+            side = "right"
+            break
+    joined = " ".join(low)
+    tags = {w[-2:] if len(w) == 3 and w[0] in "lr" else w for w in low}
+    if "strike" in joined or "contact" in joined or tags & {"hs", "fs", "ic"}:
+        kind = "foot strike"
+    elif "off" in low or tags & {"to", "fo"} or "toe off" in joined:
+        kind = "foot off"
+    else:
+        kind = (label or context).strip().lower()
+    return side, kind

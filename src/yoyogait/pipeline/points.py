@@ -30,6 +30,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.body import (
     PointChoice,
+    UpAxisEvidence,
     axis_index,
     detect_up_axis,
     find_feet,
@@ -39,6 +40,7 @@ from ..io.body import (
     resolve_up_axis,
     robust_centre,
     side_of,
+    up_axis_evidence,
 )
 from ..io.marker_sets import (
     FOOT_KINDS,
@@ -71,6 +73,8 @@ __all__ = [
     "point_trajectory",
     "robust_centre",
     "detect_up_axis",
+    "up_axis_evidence",
+    "UpAxisEvidence",
     "resolve_up_axis",
     "axis_index",
 ]

@@ -21,7 +21,7 @@ def moving_mean(values: np.ndarray, n: int) -> np.ndarray:
     v = np.asarray(values, dtype=float)
     v2 = v.reshape(len(v), -1)
     ok = np.isfinite(v2)
-    kernel = np.ones(n)
+    kernel = np.ones(max(1, min(int(n), len(v))))  # a window longer than the series: 'same' would lengthen it
     sums = np.column_stack([np.convolve(np.where(ok[:, c], v2[:, c], 0.0), kernel, "same") for c in range(v2.shape[1])])
     counts = np.column_stack([np.convolve(ok[:, c].astype(float), kernel, "same") for c in range(v2.shape[1])])
     with np.errstate(invalid="ignore", divide="ignore"):

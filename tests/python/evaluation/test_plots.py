@@ -173,9 +173,13 @@ def test_estimate_figure_has_bands_standing_cadence_and_a_zoom(estimate_inputs, 
     ax_x, ax_z, ax_f, ax_s, zoom_x, zoom_z = fig.axes
     labels = {ax: [h for h in ax.get_legend_handles_labels()[1]] for ax in fig.axes}
     assert "reconstructed $v_x$" in labels[ax_x] and "standing" in labels[ax_x]
-    assert "±2σ" in labels[ax_f] and "±2σ" in labels[ax_s] and "foot-contact cadence" in labels[ax_f]
+    assert "±2σ" in labels[ax_f] and "±2σ" in labels[ax_s] and "cadence (foot contacts)" in labels[ax_f]
     lines = {line.get_label(): line for line in ax_f.get_lines()}
-    np.testing.assert_allclose(lines["estimate (signed)"].get_ydata(), res.step_frequency_hz)
+    drawn = np.asarray(lines["estimate (signed)"].get_ydata())
+    np.testing.assert_allclose(drawn[vel.walking], res.step_frequency_hz[vel.walking])
+    held = np.asarray(lines["held while standing"].get_ydata())  # standing: grey and dashed, as held
+    np.testing.assert_allclose(held[~vel.walking], res.step_frequency_hz[~vel.walking])
+    assert lines["held while standing"].get_linestyle() == "--"
     assert any(np.all(np.asarray(line.get_ydata()) == 0) for line in ax_f.get_lines())  # 0 Hz marked
     lo, hi = zoom_z.get_xlim()
     assert hi - lo == pytest.approx(5.0)
@@ -212,3 +216,65 @@ def test_a_figure_drawn_into_an_earlier_one_is_the_same_as_a_new_one(walk, fake_
         again = draw(into=first)
         assert again is first and not any("SYNTHETIC" in text for text in _texts(again))
         np.testing.assert_array_equal(_pixels(again), _pixels(draw()))
+
+
+def _all_texts(fig):
+    return [t.get_text() for t in fig.texts] + [t.get_text() for ax in fig.axes for t in ax.texts]
+
+
+def _short_real_walk(seconds=3.7):
+    """A short real-like walk (not marked synthetic) through the pipeline and the default estimator."""
+    from builders import stepping_walk
+    from yoyogait import GaitEstimator, gait_velocities
+
+    rec, contacts = stepping_walk(stand_before_s=0.5, walk_s=seconds - 1.0, stand_after_s=0.5)
+    vel = gait_velocities(rec)
+    return vel, GaitEstimator().run(vel.vx, vel.vz, time_s=vel.time_s), contacts[contacts > 0]
+
+
+def test_the_zoom_stays_inside_a_short_recording():
+    """On a 3.7 s recording the 5 s zoom shows the recording, never time past its end."""
+    vel, res, contacts = _short_real_walk(3.7)
+    fig = plots.estimate_figure(vel, res, contacts_s=contacts)
+    lo, hi = fig.axes[-1].get_xlim()
+    assert vel.time_s[0] <= lo and hi <= vel.time_s[-1] + 1e-9
+
+
+def test_a_missing_or_untrusted_reference_says_so():
+    """No reference: a note in the step frequency panel; an untrusted one: dotted, labelled and its reason given."""
+    from yoyogait.pipeline.events import ReferenceQuality
+
+    vel, res, _ = _short_real_walk(6.0)
+    fig = plots.parameter_figure(vel.time_s, res, walking=vel.walking, title="walk")
+    assert any(t.startswith("no reference step frequency") for t in _all_texts(fig))
+    bad = ReferenceQuality("foot contacts", 3, 1.5, float("nan"), 1.8, 0.3, 0, False, "3 steps, fewer than 4")
+    fig = plots.parameter_figure(
+        vel.time_s, res, reference_step_frequency_hz=np.full(vel.time_s.shape, 1.5), reference_quality=bad
+    )
+    line = lines_by_label(fig)["reference (foot contacts), not trusted"]
+    assert line.get_linestyle() == ":"
+    assert "reference not trusted: 3 steps, fewer than 4" in _all_texts(fig)
+
+
+def test_evaluate_figures_shade_standing_and_carry_bands():
+    """The parameter and velocity figures shade standing, draw the held estimate dashed and have +-2 sigma bands."""
+    vel, res, _ = _short_real_walk(6.0)
+    for fig in (
+        plots.parameter_figure(vel.time_s, res, walking=vel.walking),
+        plots.velocity_figure(vel.time_s, vel.vx, vel.vz, res, walking=vel.walking),
+    ):
+        labels = [label for ax in fig.axes for label in ax.get_legend_handles_labels()[1]]
+        assert "standing" in labels and "held while standing" in labels
+        assert any(label.startswith("±2σ") for label in labels)
+
+
+def test_titles_name_the_conditions_and_come_from_the_api():
+    """Treadmill and markerless are named in the title; without a title the figure is named after the file."""
+    vel, res, _ = _short_real_walk(6.0)
+    fig = plots.estimate_figure(vel, res, conditions=("treadmill", "markerless"))
+    assert suptitle(fig).endswith("(treadmill, markerless)") and suptitle(fig).startswith("synthetic: pelvis")
+    rec = SimpleNamespace(metadata={}, point_names=["r.ASIS_study", "L.ASIS_study"])
+    treadmill = SimpleNamespace(treadmill=SimpleNamespace(detected=True))
+    assert plots.recording_conditions(rec, treadmill) == ("treadmill", "markerless")
+    fig = plots.velocity_figure(vel.time_s, vel.vx, vel.vz, res, conditions=("treadmill",), title="walk 3")
+    assert suptitle(fig) == "walk 3 (treadmill)"

@@ -40,7 +40,8 @@ def test_tune_writes_a_loadable_configuration_with_one_fold_per_group(three_grou
     args = ["tune", str(three_groups), "--out", str(out), "--trials", "2", "--jobs", "1"]
     assert main(args) == 0
     text = capsys.readouterr().out
-    assert text.count("held out ") == 3
+    assert text.count("held out ") == 3 and "cross-validation: leave-one-group-out" in text
+    assert "objective on the 4 training recordings (tuned on them, not held out)" in text
     config = EstimatorConfig.from_file(out)
     config.validate()
     section = getattr(config, tuning.SECTION)
@@ -74,3 +75,33 @@ def test_objective_is_one_for_the_baseline_and_weights_are_checked():
     assert tuning.parse_weights(["f_err_median_hz=3"])["f_err_median_hz"] == 3.0
     with pytest.raises(ValueError, match="--weight"):
         tuning.parse_weights(["nonsense=1"])
+
+
+def _one_group(manifest, datasets_dir, tmp_path, paths):
+    chosen = [r for r in manifest["recordings"] if r["path"] in paths]
+    doc = {"recordings": [{**r, "path": str((datasets_dir / r["path"]).resolve())} for r in chosen]}
+    (tmp_path / "manifest.json").write_text(json.dumps(doc))
+    return tmp_path / "manifest.json"
+
+
+def test_one_group_is_cross_validated_over_its_recordings(manifest, datasets_dir, tmp_path, capsys):
+    """One folder of three recordings: a 3-fold split of the recordings, said so, each fold held out once."""
+    paths = [r["path"] for r in manifest["recordings"] if r["path"].startswith("bandai_namco_motion/")][:3]
+    path = _one_group(manifest, datasets_dir, tmp_path, paths)
+    out = tmp_path / "tuned.toml"
+    assert main(["tune", str(path), "--out", str(out), "--trials", "1", "--jobs", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "cross-validation: k-fold over recordings (3 folds; one group, bandai_namco_motion" in text
+    assert text.count("held out fold") == 3 and text.count("(1 recordings)") == 3
+    assert "# cross-validation: k-fold over recordings" in out.read_text()
+
+
+def test_one_recording_cannot_be_cross_validated_and_says_so(manifest, datasets_dir, tmp_path, capsys):
+    """One recording: no fold, one line saying why, and the objective labelled as on the training recording."""
+    path = _one_group(manifest, datasets_dir, tmp_path, ["c3d_org_samples/MAC_Walk1.c3d"])
+    out = tmp_path / "tuned.toml"
+    assert main(["tune", str(path), "--out", str(out), "--trials", "1", "--jobs", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "cross-validation: none: one recording in one group (c3d_org_samples), nothing to hold out" in text
+    assert "held out" not in text.replace("not held out", "")
+    assert "objective on the 1 training recordings (tuned on them, not held out)" in text
