@@ -64,7 +64,9 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
         if reading:
             load = item.load
             if not isinstance(load, functools.partial) or load.func is not io.read:
-                raise InputError("--up-axis, --length-unit-m and --rate-hz apply to files, not to the synthetic lab")
+                raise InputError(
+                    "--up-axis, --length-unit-m and --capture-rate-hz apply to files, not to the synthetic lab"
+                )
             changes["load"] = functools.partial(io.read, *load.args, **{**load.keywords, **reading})
         if point is not None or feet is not None:
             changes["load"] = functools.partial(_load_checked, changes.get("load", item.load), point, feet)

@@ -25,7 +25,8 @@ ESTIMATOR_NAMES = (*PRESETS, *BASELINES)
 OPTION_OF_ARGUMENT = {
     "length_unit_m": "--length-unit-m",
     "up_axis": "--up-axis",
-    "rate_hz": "--rate-hz",
+    "capture_rate_hz": "--capture-rate-hz",
+    "rate_hz": "--capture-rate-hz",
     "point": "--point",
     "feet": "--feet",
     "min_usable_s": None,
@@ -107,23 +108,25 @@ _INPUT_OPTIONS = (
         help="Metres per length unit of the file (default: the file's; BVH: inferred from the pelvis height).",
     ),
     click.option(
-        "--rate-hz",
+        "--capture-rate-hz",
+        "--rate-hz",  # the old name, kept as an alias
+        "rate_hz",
         type=_POSITIVE,
         metavar="HZ",
         default=None,
-        help="Sample rate of a file that has none [Hz].",
+        help="Capture rate of a file that has none [Hz] (--rate-hz: the old name).",
     ),
 )
 
 
 def read_overrides(*, up_axis=None, length_unit_m=None, rate_hz=None) -> dict:
     """What the input options given on the command line ask ``io.read`` for (the ones left out: none)."""
-    given = {"up_axis": up_axis, "length_unit_m": length_unit_m, "rate_hz": rate_hz}
+    given = {"up_axis": up_axis, "length_unit_m": length_unit_m, "capture_rate_hz": rate_hz}
     return {k: v for k, v in given.items() if v is not None}
 
 
 def input_options(f):
-    """--point, --feet, --up-axis, --length-unit-m, --rate-hz: how to read the recordings."""
+    """--point, --feet, --up-axis, --length-unit-m, --capture-rate-hz: how to read the recordings."""
     for decorator in reversed(_INPUT_OPTIONS):
         f = decorator(f)
     return f

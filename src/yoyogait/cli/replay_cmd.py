@@ -26,7 +26,15 @@ from .options import POSITIVE, read_overrides
     default=None,
     help="Metres per length unit of the file (default: the file's; BVH: inferred from the pelvis height).",
 )
-@click.option("--rate-hz", type=POSITIVE, metavar="HZ", default=None, help="Sample rate of a file that has none [Hz].")
+@click.option(
+    "--capture-rate-hz",
+    "--rate-hz",  # the old name, kept as an alias
+    "rate_hz",
+    type=POSITIVE,
+    metavar="HZ",
+    default=None,
+    help="Capture rate of a file that has none [Hz] (--rate-hz: the old name).",
+)
 @click.option(
     "--wait-for-consumer",
     "wait_s",

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import warnings
 
 import numpy as np
 
@@ -83,8 +84,9 @@ def read(
     *,
     length_unit_m: float | None = None,
     up_axis: str | None = None,
-    rate_hz: float | None = None,
+    capture_rate_hz: float | None = None,
     plausibility: bool = True,
+    rate_hz: float | None = None,
     **options,
 ) -> Recording:
     """Read a motion-capture file into a :class:`Recording`.
@@ -95,7 +97,9 @@ def read(
     * ``length_unit_m``: metres per file length unit (BVH has none; without it
       the BVH reader infers it from the standing pelvis height);
     * ``up_axis``: "x", "y" or "z" (else the file's own, else detected later);
-    * ``rate_hz``: the sample rate (a CSV without a time column needs it).
+    * ``capture_rate_hz``: the capture rate (a CSV without a time column needs it); ``rate_hz`` is its
+      old name, still taken with a DeprecationWarning (the rate the pipeline resamples to is
+      ``gait_velocities``' ``rate_hz``).
 
     With ``plausibility`` (the default) the result is checked against what a
     person is and does (:func:`yoyogait.io.plausibility.check_plausible`): a
@@ -117,10 +121,16 @@ def read(
         raise InputError(f"up_axis must be one of x, y, z, not {up_axis!r}")
     if length_unit_m is not None and not (np.isfinite(length_unit_m) and length_unit_m > 0):
         raise InputError(f"length_unit_m must be a positive number, not {length_unit_m!r}")
-    if rate_hz is not None and not (np.isfinite(rate_hz) and rate_hz > 0):
-        raise InputError(f"rate_hz must be a positive number, not {rate_hz!r}")
     if rate_hz is not None:
-        check_rate(rate_hz, p, "rate_hz override")
+        if capture_rate_hz is not None:
+            raise InputError("give capture_rate_hz (rate_hz is its old name), not both")
+        warnings.warn("io.read(rate_hz=...) is now capture_rate_hz=...", DeprecationWarning, stacklevel=2)
+        capture_rate_hz = rate_hz
+    rate_hz = capture_rate_hz  # the readers' own argument
+    if rate_hz is not None and not (np.isfinite(rate_hz) and rate_hz > 0):
+        raise InputError(f"capture_rate_hz must be a positive number, not {rate_hz!r}")
+    if rate_hz is not None:
+        check_rate(rate_hz, p, "capture_rate_hz override")
 
     if text_reader is not None:
         module, function = text_reader

@@ -104,7 +104,7 @@ def read_bvh(
 
     positions, names = _forward_kinematics(joints, motion)
     metadata: dict = {"format": "bvh", "root_joint": joints[0].name, "frame_time_s": frame_time}
-    rate = check_rate(rate_hz, p, "rate_hz override") if rate_hz is not None else 1.0 / frame_time
+    rate = check_rate(rate_hz, p, "capture_rate_hz override") if rate_hz is not None else 1.0 / frame_time
 
     rec = Recording(
         positions_m=positions,

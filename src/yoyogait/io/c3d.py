@@ -120,8 +120,8 @@ def read_c3d(
     file_rate = float(c["header"]["points"]["frame_rate"])
     rate = float(rate_hz) if rate_hz is not None else file_rate
     if not rate > 0:
-        raise InputError(f"{p}: the C3D file has no point rate; pass rate_hz=")
-    rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "point rate in the C3D header")
+        raise InputError(f"{p}: the C3D file has no point rate; pass capture_rate_hz=")
+    rate = check_rate(rate, p, "capture_rate_hz override" if rate_hz is not None else "point rate in the C3D header")
     first_frame = int(c["header"]["points"]["first_frame"])
     metadata.update(first_frame=first_frame, file_rate_hz=file_rate)
 

@@ -106,7 +106,7 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     file_rate = _setting_float(settings, "rate_hz", p)
     rate = float(rate_hz) if rate_hz is not None else file_rate
     if rate is not None:
-        rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "'# rate_hz'")
+        rate = check_rate(rate, p, "capture_rate_hz override" if rate_hz is not None else "'# rate_hz'")
     if time_col is not None and rate_hz is None:
         time_s = table[:, time_col]
         if not np.all(np.isfinite(time_s)):
@@ -115,7 +115,9 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     elif rate:
         time_s = uniform_time(len(rows), rate)
     else:
-        raise InputError(f"{p}: the CSV has no time column ({', '.join(TIME_COLUMNS)}) and no rate; pass rate_hz=")
+        raise InputError(
+            f"{p}: the CSV has no time column ({', '.join(TIME_COLUMNS)}) and no rate; pass capture_rate_hz="
+        )
 
     up_axis = settings.get("up_axis")
     if up_axis is not None and up_axis.lower() not in AXES:

@@ -79,7 +79,9 @@ def read_deepmimic(path, *, length_unit_m: float | None = None, rate_hz: float |
     else:
         if not np.all(np.isfinite(durations[:-1])) or np.any(durations[:-1] <= 0):
             bad = int(np.argmax(~(durations[:-1] > 0)))
-            raise InputError(f"{p}: DeepMimic frame {bad + 1} has a duration of {durations[bad]:g} s; pass --rate-hz")
+            raise InputError(
+                f"{p}: DeepMimic frame {bad + 1} has a duration of {durations[bad]:g} s; pass --capture-rate-hz"
+            )
         time_s = np.concatenate([[0.0], np.cumsum(durations[:-1])])
         rate = check_rate(1.0 / float(np.median(durations[:-1])) if len(rows) > 1 else 30.0, p, "frame rate")
     scale_m = float(length_unit_m) if length_unit_m is not None else 1.0

@@ -21,7 +21,7 @@ taken; ``--length-unit-m`` overrides).  The data sets' laboratory frame has
 Y vertical (X forward, Z to the right), which the reader declares as the
 file's up axis; the body's geometry is checked against it
 (:func:`yoyogait.io.body.check_declared_up_axis`).  A ``Time`` column that
-counts frames (1, 2, 3 ...) needs the rate: ``--rate-hz``.
+counts frames (1, 2, 3 ...) needs the rate: ``--capture-rate-hz``.
 """
 
 from __future__ import annotations
@@ -126,7 +126,9 @@ def read_marker_table(path, *, length_unit_m: float | None = None, rate_hz: floa
         rate = float(rate_hz)
         time_s = (time - time[0]) / rate if counts_frames else time - time[0]
     elif counts_frames:
-        raise InputError(f"{p}: the {header[0]} column counts frames (1, 2, 3 ...) and gives no rate; pass --rate-hz")
+        raise InputError(
+            f"{p}: the {header[0]} column counts frames (1, 2, 3 ...) and gives no rate; pass --capture-rate-hz"
+        )
     else:
         if len(step) == 0 or not np.all(step > 0):
             raise InputError(f"{p}: the Time column does not increase")

@@ -119,7 +119,7 @@ def read_motive_csv(path, *, length_unit_m: float | None = None, rate_hz: float 
     time_s = table[:, 1]
     if rate_hz is not None or not np.all(np.isfinite(time_s)):
         if not rate:
-            raise InputError(f"{p}: the Motive CSV has neither times nor a frame rate; pass --rate-hz")
+            raise InputError(f"{p}: the Motive CSV has neither times nor a frame rate; pass --capture-rate-hz")
         time_s = (table[:, 0] - table[0, 0]) / rate
     elif rate and np.max(np.abs(time_s - time_s[0] - (table[:, 0] - table[0, 0]) / rate)) <= 0.6e-3:
         # Motive prints times to the millisecond: at 360 Hz they step 3, 3, 2 ms; the frame numbers are exact.

@@ -70,7 +70,7 @@ def read_mvnx(path, *, length_unit_m: float | None = None, rate_hz: float | None
     t = np.asarray(times) / 1000.0
     if rate_hz is not None or not np.all(np.isfinite(t)):
         if not rate:
-            raise InputError(f"{p}: the MVNX file has neither frame times nor a frameRate; pass --rate-hz")
+            raise InputError(f"{p}: the MVNX file has neither frame times nor a frameRate; pass --capture-rate-hz")
         t = np.arange(len(positions)) / rate
     return Recording(
         positions_m=np.concatenate(points, axis=1) * scale_m,

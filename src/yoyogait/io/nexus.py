@@ -179,7 +179,8 @@ def read_nexus_csv(
     rate = float(rate_hz) if rate_hz is not None else file_rate
     if not rate or rate <= 0:
         raise InputError(
-            f"{p}: line {rate_line + 1}: the Nexus Trajectories section gives no rate after its title; pass --rate-hz"
+            f"{p}: line {rate_line + 1}: the Nexus Trajectories section gives no rate after its title; "
+            "pass --capture-rate-hz"
         )
     frames = table[:, 0]
     if not np.all(np.isfinite(frames)):

@@ -7,7 +7,7 @@ A wrong up axis puts the pelvis a few centimetres "above" the feet.  These
 checks run on every recording :func:`yoyogait.io.read` returns and turn such
 a file into one :class:`~yoyogait.errors.InputError` that names the likely
 cause and the option that fixes it (``--length-unit-m``, ``--up-axis``,
-``--rate-hz``).  What is merely unusual (a seated subject, a file with
+``--capture-rate-hz``).  What is merely unusual (a seated subject, a file with
 objects beside the person) passes: only a body whose size is off by a unit
 factor, or a pelvis that moves faster than anyone can, is refused.
 
@@ -124,9 +124,9 @@ def check_plausible(rec: Recording) -> Recording:
             f"{where}: faster than a person: the pelvis moves at a median {speed:.2f} m/s (people walk at 0.5-2 m/s) "
             f"with {said} at {rate}; "
             + (
-                f"{_fix(likely)}, or if the rate is wrong pass --rate-hz"
+                f"{_fix(likely)}, or if the rate is wrong pass --capture-rate-hz"
                 if likely != unit
-                else "the body's size is right, so is the rate? pass --rate-hz"
+                else "the body's size is right, so is the rate? pass --capture-rate-hz"
             )
         )
     rec.metadata["plausibility"] = {

@@ -114,7 +114,7 @@ def read_qtm_tsv(path, *, length_unit_m: float | None = None, rate_hz: float | N
     elif rate:
         time_s = uniform_time(len(rows), rate)
     else:
-        raise InputError(f"{p}: the QTM TSV has neither a Time column nor a FREQUENCY; pass --rate-hz")
+        raise InputError(f"{p}: the QTM TSV has neither a Time column nor a FREQUENCY; pass --capture-rate-hz")
     return Recording(
         positions_m=positions * scale_m,
         point_names=unique_names(names),

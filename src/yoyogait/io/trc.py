@@ -90,13 +90,13 @@ def read_trc(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     time_s = table[:, 1]
     if rate_hz is not None or not np.all(np.isfinite(time_s)):
         if not rate or rate <= 0:
-            raise InputError(f"{p}: the TRC file has neither times nor a DataRate; pass rate_hz=")
-        rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "DataRate")
+            raise InputError(f"{p}: the TRC file has neither times nor a DataRate; pass capture_rate_hz=")
+        rate = check_rate(rate, p, "capture_rate_hz override" if rate_hz is not None else "DataRate")
         time_s = uniform_time(len(rows), rate, 0.0 if not np.isfinite(time_s[0]) else time_s[0])
     else:
         check_time(time_s, p, line_numbers)
     if rate is not None and rate > 0:
-        rate = check_rate(rate, p, "rate_hz override" if rate_hz is not None else "DataRate")
+        rate = check_rate(rate, p, "capture_rate_hz override" if rate_hz is not None else "DataRate")
 
     positions = table[:, 2:].reshape(len(rows), len(names), 3) * scale_m
     check_coordinates(positions, names, p, line_numbers)

@@ -18,7 +18,7 @@ from yoyogait.cli import _register, cli, main
 from yoyogait.cli.evaluate_cmd import with_overrides
 from yoyogait.cli.options import ESTIMATOR_NAMES, cli_message
 
-INPUT_OPTIONS = ("--point", "--feet", "--up-axis", "--length-unit-m", "--rate-hz")
+INPUT_OPTIONS = ("--point", "--feet", "--up-axis", "--length-unit-m", "--capture-rate-hz")
 
 
 def run(capsys, *args):
@@ -47,7 +47,7 @@ def small_evaluation():
 
 @pytest.mark.parametrize("command", ["inspect", "estimate", "evaluate"])
 def test_every_command_that_reads_recordings_has_the_same_input_options(command):
-    """inspect, estimate and evaluate all list --point, --feet, --up-axis, --length-unit-m and --rate-hz."""
+    """inspect, estimate and evaluate all list --point, --feet, --up-axis, --length-unit-m and --capture-rate-hz."""
     _register()
     result = CliRunner().invoke(cli, [command, "--help"])
     assert result.exit_code == 0
@@ -69,8 +69,8 @@ def test_help_lists_the_choices_of_preset_and_estimators():
 def test_library_argument_names_become_option_names():
     """Messages naming a library argument name the option instead."""
     assert (
-        cli_message("x.csv: no time column and no rate; pass rate_hz=")
-        == "x.csv: no time column and no rate; use --rate-hz"
+        cli_message("x.csv: no time column and no rate; pass capture_rate_hz=")
+        == "x.csv: no time column and no rate; use --capture-rate-hz"
     )
     assert (
         cli_message("length_unit_m must be a positive number, not -1")
@@ -85,16 +85,17 @@ def test_library_argument_names_become_option_names():
 
 
 def test_a_missing_rate_names_the_option(tmp_path, capsys):
-    """A CSV without time or rate is one line telling to use --rate-hz; with it, the file reads."""
+    """A CSV without time or rate: one line naming --capture-rate-hz; with it (or old --rate-hz), it reads."""
     path = tmp_path / "walk.csv"
     rows = "".join(f"{0.01 * i},0,{0.9 + 0.02 * np.sin(i / 5)}\n" for i in range(500))
     path.write_text("PELVIS_x,PELVIS_y,PELVIS_z\n" + rows)
     code, out, err = run(capsys, "inspect", path)
     assert code == 2 and out == ""
     line = one_error_line(err)
-    assert "--rate-hz" in line and "rate_hz" not in line
-    code, out, _ = run(capsys, "inspect", path, "--rate-hz", 100)
-    assert code == 0 and "100 Hz" in out
+    assert "--capture-rate-hz" in line and "rate_hz" not in line
+    for option in ("--capture-rate-hz", "--rate-hz"):
+        code, out, _ = run(capsys, "inspect", path, option, 100)
+        assert code == 0 and "100 Hz" in out, option
 
 
 @pytest.mark.parametrize(
@@ -104,7 +105,7 @@ def test_a_missing_rate_names_the_option(tmp_path, capsys):
         (["inspect", "{tmp}"], "FILE"),
         (["estimate", "{walk}", "--out", "{tmp}"], "--out"),
         (["estimate", "{walk}", "--length-unit-m", "-1"], "--length-unit-m"),
-        (["inspect", "{walk}", "--rate-hz", "0"], "--rate-hz"),
+        (["inspect", "{walk}", "--capture-rate-hz", "0"], "--capture-rate-hz"),
         (["estimate", "{walk}", "--preset", "bogus"], "--preset"),
         (["estimate", "{walk}", "--up-axis", "q"], "--up-axis"),
         (["estimate", "{walk}", "--point", "NOPE"], "--point"),

@@ -353,7 +353,7 @@ def test_csv_without_time_needs_a_rate(tmp_path):
     path.write_text("P_x,P_y,P_z\n0,0,1\n0,0,1\n0,0,1\n")
     with pytest.raises(InputError, match="rate_hz"):
         yio.read(path)
-    assert np.allclose(yio.read(path, rate_hz=50).time_s, [0, 0.02, 0.04])
+    assert np.allclose(yio.read(path, capture_rate_hz=50).time_s, [0, 0.02, 0.04])
 
 
 @pytest.mark.parametrize(
@@ -394,10 +394,21 @@ def test_read_missing_empty_and_unknown_files(tmp_path):
 def test_read_picks_reader_by_extension_case_insensitively_and_applies_overrides(tmp_path):
     """read(): '.TRC' is a TRC; up_axis= and rate_hz= override the file's."""
     path = write_trc(tmp_path / "UPPER.TRC", np.ones((10, 1, 3)), ["A"], rate_hz=100.0)
-    rec = yio.read(path, up_axis="Y", rate_hz=50.0)
+    rec = yio.read(path, up_axis="Y", capture_rate_hz=50.0)
     assert rec.format == "trc" and rec.up_axis == "y" and rec.metadata["up_axis_from"] == "override"
     assert rec.time_s[1] == pytest.approx(0.02)
     with pytest.raises(InputError, match="up_axis"):
         yio.read(path, up_axis="w")
     with pytest.raises(InputError, match="does not take"):
         yio.read(path, colour="red")
+
+
+def test_read_takes_the_capture_rate_and_its_old_name_with_a_deprecation(tmp_path):
+    """read(capture_rate_hz=) sets the rate of a file without one; rate_hz= does too, with a DeprecationWarning."""
+    path = tmp_path / "walk.csv"
+    path.write_text("P_x,P_y,P_z\n" + "".join(f"{0.01 * i},0,{0.9 + 0.02 * np.sin(i / 5)}\n" for i in range(300)))
+    assert yio.read(path, capture_rate_hz=50.0).rate_hz == pytest.approx(50.0)
+    with pytest.warns(DeprecationWarning, match="capture_rate_hz"):
+        assert yio.read(path, rate_hz=50.0).rate_hz == pytest.approx(50.0)
+    with pytest.raises(InputError, match="not both"):
+        yio.read(path, rate_hz=50.0, capture_rate_hz=50.0)

@@ -169,12 +169,12 @@ def test_marker_table_reads_time_markers_and_declares_y_up(tmp_path):
 
 
 def test_marker_table_counting_frames_needs_the_rate(tmp_path):
-    """A Time column that counts frames is refused naming --rate-hz, and read with it."""
+    """A Time column that counts frames is refused naming --capture-rate-hz, and read with it."""
     pos, _ = _walk_mm()
     path = _marker_table(tmp_path / "frames.txt", pos, ("R.ASIS", "L.ASIS", "R.PSIS", "L.Heel", "R.Heel"), time_s=False)
-    with pytest.raises(InputError, match="counts frames .* pass --rate-hz"):
+    with pytest.raises(InputError, match="counts frames .* pass --capture-rate-hz"):
         yio.read(path)
-    assert yio.read(path, rate_hz=100.0).duration_s == pytest.approx((len(pos) - 1) / 100.0)
+    assert yio.read(path, capture_rate_hz=100.0).duration_s == pytest.approx((len(pos) - 1) / 100.0)
 
 
 def test_marker_table_with_commas_metres_and_force_columns(tmp_path):
