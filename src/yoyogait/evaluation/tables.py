@@ -15,6 +15,8 @@ __all__ = [
     "table_one_markdown",
     "table_one_csv",
     "summary_markdown",
+    "median_and_worst",
+    "median_and_worst_markdown",
     "SUMMARY_KEYS",
     "md_text",
     "md_code",
@@ -95,7 +97,7 @@ def table_one(evaluation: Evaluation, estimator: str):
                 ]
                 cells.append(
                     _pool(
-                        [(m["n_samples"], m[f"{comp}_sq_err_mean_1e-2"], m[f"{comp}_sq_err_std_1e-2"]) for m in group]
+                        [(m["samples_n"], m[f"{comp}_sq_err_mean_1e-2"], m[f"{comp}_sq_err_std_1e-2"]) for m in group]
                     )
                     if group
                     else None
@@ -156,16 +158,38 @@ SUMMARY_KEYS = (
 )
 
 
-def summary_markdown(evaluation: Evaluation) -> str:
-    """Median over recordings of the main metrics, one column per estimator."""
-    lines = [
-        "| median over recordings | " + " | ".join(md_text(e) for e in evaluation.estimators) + " |",
-        "|---|" + "---:|" * len(evaluation.estimators),
+def median_and_worst(evaluation: Evaluation, estimator: str, key: str, higher_is_better: bool = False):
+    """(median, worst value, worst recording's name, recordings with a value) of ``key`` over the
+    recordings of ``estimator``; the worst is the highest value (the lowest with ``higher_is_better``).
+    NaN values are left out; (nan, nan, "", 0) without any."""
+    pairs = [
+        (float(r.metrics[estimator].get(key, np.nan)), r.item.name) for r in evaluation.items if estimator in r.metrics
     ]
-    for key, label in SUMMARY_KEYS:
-        vals = []
+    pairs = [(v, n) for v, n in pairs if not math.isnan(v)]
+    if not pairs:
+        return float("nan"), float("nan"), "", 0
+    values = np.array([v for v, _ in pairs])
+    i = int(np.argmin(values) if higher_is_better else np.argmax(values))
+    return float(np.median(values)), float(values[i]), pairs[i][1], len(pairs)
+
+
+def median_and_worst_markdown(evaluation: Evaluation, keys, higher_is_better=frozenset()) -> str:
+    """A table of (column, label) rows: per estimator the median over recordings and the worst recording
+    (its value and name)."""
+    head = " | ".join(f"{md_text(e)}: median | {md_text(e)}: worst (recording)" for e in evaluation.estimators)
+    lines = [f"| over recordings | {head} |", "|---|" + "---:|---|" * len(evaluation.estimators)]
+    for key, label in keys:
+        cells = []
         for est in evaluation.estimators:
-            v = np.array([r.metrics[est].get(key, np.nan) for r in evaluation.items], dtype=float)
-            vals.append(f"{np.nanmedian(v):.3g}" if np.isfinite(v).any() else "n/a")
-        lines.append(f"| {label} | " + " | ".join(vals) + " |")
+            med, worst, name, n = median_and_worst(evaluation, est, key, key in higher_is_better)
+            if n == 0:
+                cells += ["n/a", "n/a"]
+            else:
+                cells += [f"{med:.3g} (n={n})", f"{worst:.3g} ({md_code(name)})"]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def summary_markdown(evaluation: Evaluation) -> str:
+    """Median over recordings of the main metrics and the worst recording, per estimator."""
+    return median_and_worst_markdown(evaluation, SUMMARY_KEYS)

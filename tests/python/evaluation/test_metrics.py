@@ -233,7 +233,7 @@ def test_evaluate_has_every_key_and_zero_error_for_a_perfect_estimate():
         "f_err_p90_hz",
         "speed_err_rms_mps",
         "R_err_median_abs_m",
-        "r_err_median_rel",
+        "r_err_median_rel_fraction",
         "pred1_vx_sq_err_mean_1e-2",
         "f_wrong_sign_fraction",
         "f_converge_time_s",
@@ -260,7 +260,7 @@ def test_evaluate_known_offsets():
     assert out["f_err_median_hz"] == pytest.approx(0.2)
     assert out["f_wrong_sign_fraction"] == 1.0
     assert out["f_converge_time_s"] == math.inf
-    assert out["R_err_median_rel"] == pytest.approx(0.1)
+    assert out["R_err_median_rel_fraction"] == pytest.approx(0.1)
     walking_speed = tr.speed_mps[tr.walking]
     assert out["speed_err_median_mps"] == pytest.approx(0.1 * np.median(walking_speed), rel=1e-6)
     assert math.isnan(out["pred1_vx_sq_err_mean_1e-2"])
@@ -273,4 +273,4 @@ def test_evaluate_without_references_leaves_nan():
     out = mt.evaluate(t, v, v, vx_hat_mps=v + 0.1, vz_hat_mps=v)
     assert out["vx_sq_err_mean_1e-2"] == pytest.approx(1.0)
     assert math.isnan(out["f_err_median_hz"]) and math.isnan(out["R_err_median_abs_m"])
-    assert out["n_samples"] == t.size
+    assert out["samples_n"] == t.size
