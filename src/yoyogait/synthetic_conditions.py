@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import re
 import zlib
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -628,7 +629,7 @@ def render(condition: str, subject: sy.SyntheticSubject = sy.SUBJECTS[0], *, see
         return markerless_walk(subject, rate_hz=30.0, seed=seed)
     if condition == "markerless-60hz":
         return markerless_walk(subject, rate_hz=60.0, seed=seed)
-    makers = {
+    makers: dict[str, Callable[..., sy.SyntheticWalk]] = {
         "treadmill": treadmill_walk,
         "stand-walk-stop": bouts_walk,
         "turns": turns_walk,
