@@ -493,9 +493,11 @@ SUMMARY_ONLINE_KEYS = (
     ("frontend_speed_max_mps", "front-end horizontal speed, highest while walking (m/s)"),
 )
 """The rows of the online summary: (column, label); the worst recording is the highest value except for
-the columns in :data:`HIGHER_IS_BETTER`."""
+the columns in :data:`HIGHER_IS_BETTER` (the lowest) and :data:`BY_MAGNITUDE` (the farthest from 0)."""
 
 HIGHER_IS_BETTER = frozenset(k for k in HONESTY_KEYS if "cover2std" in k or k.startswith("valid"))
+BY_MAGNITUDE = frozenset(("latency_vz_ms", "latency_vz_input_ms"))
+"""Signed columns whose worst recording is the one farthest from 0."""
 
 
 @dataclass
@@ -518,13 +520,17 @@ class OnlineEvaluation(Evaluation):
             "velocity at t + 0.2 s (the oscillator's: n/a). Honesty rows (online only): the share of walking time "
             "the estimate is within 2 reported standard deviations, and confidently wrong (error above 0.15 Hz "
             "or 0.15 m/s while valid and more than 2 std). Worst: the recording with the highest value (lowest for "
-            "shares within 2 std and valid). "
+            "shares within 2 std and valid, farthest from 0 for lags). "
             'Definitions: docs/online.md, section "Online evaluation".',
             "",
-            median_and_worst_markdown(self, SUMMARY_ONLINE_KEYS, HIGHER_IS_BETTER),
+            self.summary_table(),
             "",
         ]
         return lines
+
+    def summary_table(self) -> str:
+        """The median over recordings and the worst recording of :data:`SUMMARY_ONLINE_KEYS`, per estimator."""
+        return median_and_worst_markdown(self, SUMMARY_ONLINE_KEYS, HIGHER_IS_BETTER, BY_MAGNITUDE)
 
 
 def step_walk_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:

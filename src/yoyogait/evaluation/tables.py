@@ -158,10 +158,13 @@ SUMMARY_KEYS = (
 )
 
 
-def median_and_worst(evaluation: Evaluation, estimator: str, key: str, higher_is_better: bool = False):
+def median_and_worst(
+    evaluation: Evaluation, estimator: str, key: str, higher_is_better: bool = False, by_magnitude: bool = False
+):
     """(median, worst value, worst recording's name, recordings with a value) of ``key`` over the
-    recordings of ``estimator``; the worst is the highest value (the lowest with ``higher_is_better``).
-    NaN values are left out; (nan, nan, "", 0) without any."""
+    recordings of ``estimator``; the worst is the highest value (the lowest with ``higher_is_better``,
+    the farthest from 0 with ``by_magnitude``, e.g. a signed lag). NaN values are left out;
+    (nan, nan, "", 0) without any."""
     pairs = [
         (float(r.metrics[estimator].get(key, np.nan)), r.item.name) for r in evaluation.items if estimator in r.metrics
     ]
@@ -169,19 +172,25 @@ def median_and_worst(evaluation: Evaluation, estimator: str, key: str, higher_is
     if not pairs:
         return float("nan"), float("nan"), "", 0
     values = np.array([v for v, _ in pairs])
-    i = int(np.argmin(values) if higher_is_better else np.argmax(values))
+    if by_magnitude:
+        i = int(np.argmax(np.abs(values)))
+    else:
+        i = int(np.argmin(values) if higher_is_better else np.argmax(values))
     return float(np.median(values)), float(values[i]), pairs[i][1], len(pairs)
 
 
-def median_and_worst_markdown(evaluation: Evaluation, keys, higher_is_better=frozenset()) -> str:
+def median_and_worst_markdown(
+    evaluation: Evaluation, keys, higher_is_better=frozenset(), by_magnitude=frozenset()
+) -> str:
     """A table of (column, label) rows: per estimator the median over recordings and the worst recording
-    (its value and name)."""
+    (its value and name); ``higher_is_better`` and ``by_magnitude``: the columns whose worst is the lowest
+    value, or the farthest from 0."""
     head = " | ".join(f"{md_text(e)}: median | {md_text(e)}: worst (recording)" for e in evaluation.estimators)
     lines = [f"| over recordings | {head} |", "|---|" + "---:|---|" * len(evaluation.estimators)]
     for key, label in keys:
         cells = []
         for est in evaluation.estimators:
-            med, worst, name, n = median_and_worst(evaluation, est, key, key in higher_is_better)
+            med, worst, name, n = median_and_worst(evaluation, est, key, key in higher_is_better, key in by_magnitude)
             if n == 0:
                 cells += ["n/a", "n/a"]
             else:

@@ -97,7 +97,8 @@ def test_evaluate_online_through_the_cli_writes_the_named_columns(tmp_path, caps
         write_trc(data / f"{subject.name}.trc", walk.recording)
     out = tmp_path / "report"
     assert main(["evaluate", str(data), "--online", "--out", str(out)]) == 0
-    assert "online" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "online" in printed and "confidently wrong, share of walking" in printed
     with open(out / "recordings.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert [r["estimator"] for r in rows] == ["online", "oscillator"] * 2
@@ -180,5 +181,8 @@ def test_summary_names_the_worst_recording_beside_the_median(short_walks):
     assert name == short_walks.items[int(np.argmax(values))].item.name
     _, lowest, _, _ = median_and_worst(short_walks, "online", "valid_fraction", higher_is_better=True)
     assert lowest == min(r.metrics["online"]["valid_fraction"] for r in short_walks.items)
+    lags = [r.metrics["online"]["latency_vz_ms"] for r in short_walks.items]
+    _, farthest, _, _ = median_and_worst(short_walks, "online", "latency_vz_ms", by_magnitude=True)
+    assert farthest == lags[int(np.argmax(np.abs(lags)))]
     text = "\n".join(short_walks.preamble)
     assert "online: worst (recording)" in text and "confidently wrong" in text
