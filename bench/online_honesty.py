@@ -9,7 +9,8 @@ its first seconds included:
 * the shared manifest (``--datasets``, default ``$YOYOGAIT_DATASETS`` or ../shared/datasets), as recorded;
 * the SYNTHETIC renderings of :mod:`yoyogait.synthetic_conditions` (markerless capture at 30 and
   60 Hz, treadmill, stand-walk-stop bouts, tight turns, very slow walking; sit-to-stand, standing
-  sway, turning on the spot and shuffling, which are not walking), each for the three built-in subjects;
+  sway, turning on the spot and shuffling, which are not walking), each for the three built-in subjects,
+  and the standing sway with markerless noise at 30 Hz;
 * the shared recordings re-rendered as a markerless capture would give them (SYNTHETIC noise,
   :func:`~yoyogait.synthetic_conditions.markerless_noise`: 2 cm jitter, swaps, dropouts, every k-th
   frame towards 60 Hz), scored against the clean recording's references.
@@ -45,6 +46,7 @@ from yoyogait.evaluation.parallel import TaskFailure, run_tasks
 
 ROOT = Path(__file__).resolve().parents[1]
 MARKERLESS_RATE_HZ = 60.0
+STANDING_MARKERLESS = "SYNTHETIC standing-sway, markerless noise at 30 Hz"
 
 # (column, label, target, higher is better)
 HONESTY = (
@@ -176,6 +178,10 @@ def main():
                 treadmill_real.add(item.name)
     for walk in sc.condition_walks(seed=args.seed):
         tasks.append((f"SYNTHETIC {walk.walk_type}", synthetic_item(walk), None))
+        if walk.walk_type == "standing-sway":  # standing seen by a markerless camera at 30 Hz
+            rec = sc.markerless_noise(walk.recording, seed=args.seed, rate_hz=30.0)
+            noisy = dataclasses.replace(walk, recording=rec, truth=walk.truth.at(rec.time_s))
+            tasks.append((STANDING_MARKERLESS, synthetic_item(noisy), None))
     outcomes = run_tasks(task, tasks, jobs=args.jobs)
     by_group: dict[str, list] = {}
     for (group, item, _), out in zip(tasks, outcomes):
@@ -231,7 +237,8 @@ def main():
         "\n".join(
             simple_table(
                 "## Not walking: share of the time reported walking (target <= 0.05 on every recording)",
-                [(f"SYNTHETIC {c}", groups.get(f"SYNTHETIC {c}", [])) for c in sc.NOT_WALKING],
+                [(f"SYNTHETIC {c}", groups.get(f"SYNTHETIC {c}", [])) for c in sc.NOT_WALKING]
+                + [(STANDING_MARKERLESS, groups.get(STANDING_MARKERLESS, []))],
                 (
                     ("walking_share_all", "walking", 0.05, False),
                     ("valid_share_all", "valid", None, False),
