@@ -150,13 +150,18 @@ def markerless_noise(
     swaps_per_min: float = 4.0,
     dropouts_per_min: float = 6.0,
     frame_dropout_probability: float = 0.005,
+    slow_share: float = 0.5,
+    slow_tau_s: float = 0.1,
 ) -> Recording:
     """``recording`` as a markerless (video-based) capture would give it: SYNTHETIC noise, seeded.
 
     * ``rate_hz``: every k-th frame, k the integer nearest to the recording's rate / ``rate_hz``
       (never more frames than there are);
-    * jitter of standard deviation ``jitter_m`` per coordinate and point, half of its variance
-      white, half correlated over 0.1 s (keypoints of successive video frames are not independent);
+    * jitter of standard deviation ``jitter_m`` per coordinate and point: the share ``slow_share`` of
+      its variance correlated over ``slow_tau_s`` (keypoints of successive video frames are not
+      independent), the rest white from frame to frame. The defaults (half, 0.1 s) are raw
+      triangulated keypoints; a system that smooths its output (OpenCap) has its centimetres in
+      the slow part (``slow_share`` near 1, ``slow_tau_s`` 0.5 s or more);
     * label swaps: ``swaps_per_min`` times a minute on average a left/right pair of points
       (:func:`mirror_pairs`) exchange their tracks for 0.1-0.4 s;
     * dropouts: ``dropouts_per_min`` gaps of 0.1-0.5 s of one point, and each frame missing whole
@@ -170,6 +175,10 @@ def markerless_noise(
     for name, v in (("swaps_per_min", swaps_per_min), ("dropouts_per_min", dropouts_per_min)):
         if not (np.isfinite(v) and v >= 0):
             raise InputError(f"{name} must be >= 0, got {v}")
+    if not 0 <= slow_share <= 1:
+        raise InputError(f"slow_share must be in [0, 1], got {slow_share}")
+    if not (np.isfinite(slow_tau_s) and slow_tau_s > 0):
+        raise InputError(f"slow_tau_s must be > 0, got {slow_tau_s}")
     if not 0 <= frame_dropout_probability < 1:
         raise InputError(f"frame_dropout_probability must be in [0, 1), got {frame_dropout_probability}")
     t = np.asarray(recording.time_s, dtype=float)
@@ -188,8 +197,8 @@ def markerless_noise(
     rng = np.random.default_rng(np.random.SeedSequence([int(seed), zlib.crc32(recording.source.encode())]))
     if n > 1 and jitter_m > 0:
         white = rng.normal(0.0, 1.0, pos.shape)
-        slow = _correlated(rng, pos.shape, rate, 0.1)
-        pos = pos + jitter_m * np.sqrt(0.5) * (white + slow)
+        slow = _correlated(rng, pos.shape, rate, slow_tau_s)
+        pos = pos + jitter_m * (np.sqrt(1.0 - slow_share) * white + np.sqrt(slow_share) * slow)
     duration_min = (t[-1] - t[0]) / 60.0 if n > 1 else 0.0
     pairs = mirror_pairs(recording.point_names)
     n_swaps = int(rng.poisson(swaps_per_min * duration_min)) if pairs else 0
@@ -210,6 +219,8 @@ def markerless_noise(
         "synthetic_noise": "SYNTHETIC markerless-like noise (yoyogait.synthetic_conditions.markerless_noise)",
         "markerless_jitter_m": float(jitter_m),
         "markerless_seed": int(seed),
+        "markerless_slow_share": float(slow_share),
+        "markerless_slow_tau_s": float(slow_tau_s),
         "markerless_swaps_n": n_swaps,
         "markerless_dropouts_n": n_gaps,
         "markerless_frame_step": k,

@@ -43,6 +43,18 @@ def test_markerless_jitter_has_the_requested_standard_deviation(clean_walk):
     assert rec.metadata["markerless_jitter_m"] == 0.02 and "SYNTHETIC" in rec.source
 
 
+def test_markerless_slow_share_moves_the_jitter_from_frame_to_frame_into_slow_errors(clean_walk):
+    """With slow_share 1 the jitter keeps its size but changes little from one frame to the next; with 0 it is white."""
+    kw = dict(jitter_m=0.02, seed=1, swaps_per_min=0, dropouts_per_min=0, frame_dropout_probability=0)
+    steps = {}
+    for share in (0.0, 1.0):
+        rec = sc.markerless_noise(clean_walk.recording, slow_share=share, slow_tau_s=0.5, **kw)
+        err = rec.positions_m - clean_walk.recording.positions_m
+        assert np.std(err) == pytest.approx(0.02, rel=0.15)
+        steps[share] = np.std(np.diff(err, axis=0))
+    assert steps[0.0] == pytest.approx(0.02 * np.sqrt(2), rel=0.05) and steps[1.0] < 0.2 * steps[0.0]
+
+
 def test_markerless_noise_is_seeded_and_the_seed_matters(clean_walk):
     """The same seed gives the same rendering, another seed another one."""
     a = sc.markerless_noise(clean_walk.recording, seed=3)
