@@ -115,7 +115,7 @@ def synthetic_targets(e) -> list[str]:
         f_rel.append(float(np.nanmedian(rel)))
     worst = max(f_rel)
     rows.append(_row("step frequency within 1 % (median per walk)", f"{100 * worst:.2f} %", worst <= 0.01))
-    R = np.nanmax(_values(e, "default", "R_err_median_rel"))
+    R = np.nanmax(_values(e, "default", "R_err_median_rel_fraction"))
     rows.append(_row("R within 5 % (median per walk)", f"{100 * R:.2f} %", R <= 0.05))
     s = np.nanmax(_values(e, "default", "speed_err_median_mps"))
     rows.append(_row("stride-averaged speed within 0.03 m/s (median per walk)", f"{s:.4f} m/s", s <= 0.03))

@@ -66,6 +66,7 @@ __all__ = [
     "straight_path",
     "rectangle_path",
     "figure_eight_path",
+    "turns_path",
 ]
 
 WALK_TYPES: tuple[str, ...] = (
@@ -364,6 +365,24 @@ def figure_eight_path(centre_distance_m: float = 1.8, loop_radius_m: float = 1.0
     return _Path((0.0, 0.0), -alpha, pieces)
 
 
+def turns_path(leg_m: float = 4.0, radius_m: float = 0.35) -> _Path:
+    """Straight legs joined by tight turns: a left U-turn, a right quarter turn, a left quarter turn.
+
+    ``leg_m`` between turns, each turn on a circle of ``radius_m`` (0.35 m: a turn at walking pace
+    in a corridor). Starts at the origin heading +x.
+    """
+    k = 1.0 / radius_m
+    pieces = [
+        (leg_m, 0.0),
+        (np.pi * radius_m, k),
+        (leg_m, 0.0),
+        (0.5 * np.pi * radius_m, -k),
+        (leg_m, 0.0),
+        (0.5 * np.pi * radius_m, k),
+    ]
+    return _Path((0.0, 0.0), 0.0, pieces)
+
+
 def straight_path() -> _Path:
     """A straight line from the origin along +x."""
     return _Path((0.0, 0.0), 0.0, [(100.0, 0.0)])
@@ -531,6 +550,7 @@ def make_walk(
     start_standing_s: float = 1.0,
     ramp_s: float = 1.5,
     step_frequency_profile=None,
+    path: _Path | None = None,
 ) -> SyntheticWalk:
     """Generate one synthetic walk of ``subject`` (deterministic for a seed).
 
@@ -543,6 +563,7 @@ def make_walk(
     ``start_standing_s`` and reaches its pace within ``ramp_s``.
     ``step_frequency_profile``: a function of the frame times (s) giving the step frequency (Hz),
     replacing the walk type's profile (the walk type then only chooses the path).
+    ``path``: the path walked (e.g. :func:`turns_path`), replacing the walk type's.
     """
     if walk_type not in WALK_TYPES:
         raise InputError(f"unknown synthetic walk type {walk_type!r}; choose one of {', '.join(WALK_TYPES)}")
@@ -587,7 +608,7 @@ def make_walk(
         )
 
     s = s_of_theta(theta)
-    path = _path_for(walk_type)
+    path = _path_for(walk_type) if path is None else path
     path_xy, heading = path.at(s)
     left = np.stack([-np.sin(heading), np.cos(heading)], axis=-1)
 

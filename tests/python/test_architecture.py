@@ -72,6 +72,7 @@ STAGE_RANKS = {
     "": 0,
     "io": 1,
     "synthetic": 2,
+    "synthetic_conditions": 2.5,  # built on synthetic
     "pipeline": 3,
     "estimators": 4,
     "evaluation": 5,

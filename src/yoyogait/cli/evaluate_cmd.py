@@ -114,6 +114,8 @@ def _evaluate_and_write(
     if not result.items:
         raise InputError(f"no recording could be evaluated ({len(result.failures)}): " + first_few(result.failures))
     click.echo(f"\n{label}\n")
+    if online:  # the online columns, honesty included, median and worst recording
+        click.echo(result.summary_table() + "\n")
     click.echo(ev.summary_markdown(result))
     for name in names:
         click.echo(f"\nTable I, estimator '{name}': mean (± std) squared error, 1e-2 (m/s)^2\n")

@@ -41,6 +41,9 @@ __all__ = [
     "parameter_error",
     "dft_step_frequency_hz",
     "step_frequency_from_contacts",
+    "coverage_fraction",
+    "confidently_wrong_fraction",
+    "flag_fraction",
     "evaluate",
 ]
 
@@ -342,9 +345,78 @@ def step_frequency_from_contacts(
     return out
 
 
+COVERAGE_STDS = 2.0
+"""An estimate covers the reference when |error| <= this many of its standard deviations."""
+
+
+def _finite_or(value, n, name):
+    a = np.asarray(value, dtype=float)
+    if a.ndim == 0:
+        a = np.full(n, float(a))
+    if a.shape != (n,):
+        raise InputError(f"{name} has {a.shape[0] if a.ndim else 0} samples, expected {n}")
+    return a
+
+
+def coverage_fraction(estimate, std, reference, mask=None, *, stds: float = COVERAGE_STDS) -> float:
+    """Share of the samples in ``mask`` with a finite reference where |estimate - reference| <= ``stds``
+    standard deviations (the estimate's ``std``, same unit).
+
+    A missing estimate (NaN) is not covered unless its std is infinite (it then claims nothing);
+    a NaN std covers nothing. Frames are uniform in time, so this is a share of the time too. NaN
+    without a sample.
+    """
+    ref = _arr(reference, "reference")
+    n = ref.shape[0]
+    est = _finite_or(estimate, n, "estimate")
+    sd = _finite_or(std, n, "std")
+    keep = _mask(mask, n) & np.isfinite(ref)
+    if not keep.any():
+        return float("nan")
+    with np.errstate(invalid="ignore"):
+        err = np.abs(est - ref)
+        covered = np.where(np.isfinite(err), err <= stds * sd, np.isposinf(sd))
+    return float(np.mean(covered[keep]))
+
+
+def confidently_wrong_fraction(quantities, valid, mask=None, *, stds: float = COVERAGE_STDS) -> float:
+    """Share of the samples in ``mask`` (where any reference is finite) at which some estimate is
+    confidently wrong: flagged ``valid``, its error above the tolerance, and ``stds`` standard deviations
+    below the error.
+
+    ``quantities``: (estimate, std, reference, tolerance) per quantity (e.g. step frequency with 0.15 Hz,
+    speed with 0.15 m/s). A NaN std counts as 0 (a valid estimate without a spread claims to be exact);
+    a missing estimate is never wrong. NaN without a sample.
+    """
+    v = np.asarray(valid, dtype=bool)
+    n = v.shape[0]
+    m = _mask(mask, n)
+    known = np.zeros(n, dtype=bool)
+    wrong = np.zeros(n, dtype=bool)
+    for estimate, std, reference, tolerance in quantities:
+        ref = _finite_or(reference, n, "reference")
+        est = _finite_or(estimate, n, "estimate")
+        sd = np.nan_to_num(_finite_or(std, n, "std"), nan=0.0)
+        known |= np.isfinite(ref)
+        with np.errstate(invalid="ignore"):
+            err = np.abs(est - ref)
+            wrong |= np.isfinite(err) & (err > tolerance) & (err > stds * sd)
+    keep = m & known
+    if not keep.any():
+        return float("nan")
+    return float(np.mean((wrong & v)[keep]))
+
+
+def flag_fraction(flag, mask=None) -> float:
+    """Share of the samples in ``mask`` where ``flag`` is set (e.g. the estimate valid); NaN without a sample."""
+    f = np.asarray(flag, dtype=bool)
+    m = _mask(mask, f.shape[0])
+    return float(np.mean(f[m])) if m.any() else float("nan")
+
+
 _SQ_KEYS = ("sq_err_mean_1e-2", "sq_err_std_1e-2")
 METRIC_KEYS: tuple[str, ...] = (
-    "n_samples",
+    "samples_n",
     "walking_s",
     *(f"{c}_{k}" for c in ("vx", "vz") for k in _SQ_KEYS),
     "f_err_median_hz",
@@ -354,18 +426,18 @@ METRIC_KEYS: tuple[str, ...] = (
     "speed_err_median_mps",
     "speed_err_rms_mps",
     *(f"{p}_{c}_{k}" for p in ("pred1", "pred200ms") for c in ("vx", "vz") for k in _SQ_KEYS),
-    *(f"{p}_err_{k}" for p in ("R", "r") for k in ("median_abs_m", "rms_m", "median_rel")),
+    *(f"{p}_err_{k}" for p in ("R", "r") for k in ("median_abs_m", "rms_m", "median_rel_fraction")),
 )
 """Keys of :func:`evaluate`, always all present (NaN when not computable).
 
-``n_samples``: samples evaluated; ``walking_s``: walking time (s);
+``samples_n``: samples evaluated; ``walking_s``: walking time (s);
 ``vx_/vz_sq_err_mean/std_1e-2``: Table I metric, 10^-2 (m/s)^2;
 ``f_err_median_hz``, ``f_err_p90_hz``: |step frequency error| (Hz);
 ``f_wrong_sign_fraction``: share of walking samples with negative estimate;
 ``f_converge_time_s``: time to stay within the tolerance (s);
 ``speed_err_median_mps``, ``speed_err_rms_mps``: speed without oscillation (m/s);
 ``pred1_*``, ``pred200ms_*``: one-sample and 0.2 s-ahead prediction error,
-10^-2 (m/s)^2; ``R_err_*``, ``r_err_*``: Yoyo radii errors (m, and relative).
+10^-2 (m/s)^2; ``R_err_*``, ``r_err_*``: Yoyo radii errors (m, and relative: a fraction).
 """
 
 
@@ -441,7 +513,7 @@ def evaluate(
     walk = _mask(walking, n)
     vel_mask = walk if walking_only else None
     out: dict[str, float] = {key: float("nan") for key in METRIC_KEYS}
-    out["n_samples"] = float(n)
+    out["samples_n"] = float(n)
     dt = np.diff(t)
     out["walking_s"] = float(np.sum(dt[walk[:-1]])) if n > 1 else 0.0
 
@@ -476,5 +548,5 @@ def evaluate(
         pe = parameter_error(t, est, true, mask=walk, settle_s=settle_s)
         out[f"{name}_err_median_abs_m"] = pe.median_abs_m
         out[f"{name}_err_rms_m"] = pe.rms_m
-        out[f"{name}_err_median_rel"] = pe.median_rel
+        out[f"{name}_err_median_rel_fraction"] = pe.median_rel
     return out

@@ -36,6 +36,7 @@ from . import metrics
 from .datasets import Item, synthetic_item
 from .parallel import TaskFailure
 from .running import RATE_HZ, Evaluation, ItemResult, evaluate_items, outcome, real_reference
+from .tables import median_and_worst_markdown
 
 __all__ = [
     "ONLINE_ESTIMATORS",
@@ -50,6 +51,8 @@ __all__ = [
     "circular_std_pct",
     "phase_at",
     "settle_time_s",
+    "HONESTY_KEYS",
+    "validity",
 ]
 
 ONLINE_ESTIMATORS = ("online", "oscillator")
@@ -86,7 +89,20 @@ ONLINE_EXTRA_KEYS: tuple[str, ...] = (
     "cadence_step_time_s",
     "speed_step_time_s",
 )
-ONLINE_METRIC_KEYS: tuple[str, ...] = metrics.METRIC_KEYS + ONLINE_EXTRA_KEYS
+WRONG_F_HZ = 0.15
+WRONG_SPEED_MPS = 0.15
+"""Errors above these, flagged valid and above 2 standard deviations, are confidently wrong."""
+
+HONESTY_KEYS: tuple[str, ...] = tuple(
+    f"{name}{part}_fraction"
+    for name in ("f_cover2std", "speed_cover2std", "confidently_wrong", "valid")
+    for part in ("", "_first3s", "_after3s")
+) + ("frontend_speed_max_mps",)
+"""The honesty columns (online only; NaN for the oscillator, which reports no spread): per part of the
+walking time (whole, first 3 s, after them) the 2-std coverage of step frequency and speed, the share
+confidently wrong, the share valid; the front-end's highest horizontal speed while walking."""
+
+ONLINE_METRIC_KEYS: tuple[str, ...] = metrics.METRIC_KEYS + ONLINE_EXTRA_KEYS + HONESTY_KEYS
 """Columns of an online evaluation's ``recordings.csv``: every offline metric, then the online ones.
 
 ``f_err_median_hz`` is after the first 3 s of walking (as offline), ``f_err_first3s_median_hz``
@@ -94,7 +110,8 @@ within them, ``f_err_whole_median_hz`` over the whole walking part; ``latency_vz
 ``vz_hat_mps`` behind the offline v_z; ``latency_vz_input_ms``: the same for the front-end's v_z
 (online only); ``phase_at_contact_circstd_pct``: circular standard deviation of the gait phase at
 the foot contacts, % of a step; ``startup_time_s``, ``cadence_step_time_s``,
-``speed_step_time_s``: settling times on synthetic walks (inf: never, NaN: not defined).
+``speed_step_time_s``: settling times on synthetic walks (inf: never, NaN: not defined); then
+:data:`HONESTY_KEYS`.
 """
 
 
@@ -257,11 +274,17 @@ def _score(
     step_at_s: float | None,
     vz_input=None,
     pred200=None,
+    f_std=None,
+    speed_std=None,
+    valid=None,
+    frontend_speed=None,
 ) -> dict[str, float]:
     """Every column of :data:`ONLINE_METRIC_KEYS` for one estimator on one grid.
 
     ``pred200``: (vx_ref, vz_ref, vx_pred, vz_pred), per frame: the offline velocities at t + 0.2 s
-    and the prediction made at t for t + 0.2 s; scored where the walker walks at t + 0.2 s."""
+    and the prediction made at t for t + 0.2 s; scored where the walker walks at t + 0.2 s.
+    ``f_std``, ``speed_std``, ``valid`` (the reported spreads and validity) give the honesty columns,
+    ``frontend_speed`` (the front-end's horizontal speed) its maximum while walking."""
     t, walk = ref.t, ref.walking
     row = {k: float("nan") for k in ONLINE_METRIC_KEYS}
     row.update(
@@ -311,6 +334,12 @@ def _score(
     c = c[in_walk & (c >= t0 + FIRST_S)]
     ph = phase_at(t, phase, c)
     row["phase_contacts_n"] = float(np.isfinite(ph).sum())
+    if f_std is not None and speed_std is not None and valid is not None:
+        row.update(_honesty(ref, walk, first, after, f_hat, f_std, speed_hat, speed_std, valid))
+    if frontend_speed is not None:
+        fs = np.asarray(frontend_speed, dtype=float)[walk]
+        fs = fs[np.isfinite(fs)]
+        row["frontend_speed_max_mps"] = float(fs.max()) if fs.size else float("nan")
     row["phase_at_contact_circstd_pct"] = circular_std_pct(ph)
     if synthetic:
         f_err = np.abs(np.asarray(f_hat, dtype=float)) - ref.f_ref
@@ -334,6 +363,31 @@ def _score(
     return row
 
 
+def _honesty(ref: _Refs, walk, first, after, f_hat, f_std, speed_hat, speed_std, valid) -> dict[str, float]:
+    """The coverage, confidently-wrong and valid columns over the whole walking part and its two parts."""
+    f_abs = np.abs(np.asarray(f_hat, dtype=float))
+    quantities = (
+        (f_abs, f_std, ref.f_ref, WRONG_F_HZ),
+        (speed_hat, speed_std, ref.speed_ref, WRONG_SPEED_MPS),
+    )
+    out = {}
+    for part, mask in (("", walk), ("_first3s", first), ("_after3s", after)):
+        out[f"f_cover2std{part}_fraction"] = metrics.coverage_fraction(f_abs, f_std, ref.f_ref, mask)
+        out[f"speed_cover2std{part}_fraction"] = metrics.coverage_fraction(speed_hat, speed_std, ref.speed_ref, mask)
+        out[f"confidently_wrong{part}_fraction"] = metrics.confidently_wrong_fraction(quantities, valid, mask)
+        out[f"valid{part}_fraction"] = metrics.flag_fraction(valid, mask)
+    return out
+
+
+def validity(res) -> np.ndarray:
+    """The per-frame flag a controller gates on: the result's ``valid`` where it has one.
+
+    Until the online estimate reports ``valid``, ``walking`` stands in for it (the estimate is used
+    while it says the person walks); remove the fallback once every OnlineResult has ``valid``.
+    """
+    return np.asarray(res.valid if hasattr(res, "valid") else res.walking, dtype=bool)
+
+
 def _run_oscillator(vel) -> dict[str, np.ndarray]:
     """The adaptive oscillator over the offline velocities (NaN before its first sample); its phase in cycles."""
     o = oscillate(vel.time_s, vel.vx_signed, vel.vz)
@@ -345,13 +399,21 @@ def _run_oscillator(vel) -> dict[str, np.ndarray]:
     return out
 
 
-def evaluate_item_online(item: Item, config: OnlineConfig | None = None) -> ItemResult:
+def evaluate_item_online(item: Item, config: OnlineConfig | None = None, reference: Item | None = None) -> ItemResult:
     """Replay one item frame by frame through the online estimator (``config``: its settings, else the
     defaults) and score it, with the adaptive oscillator beside it (a top-level function: it runs in
-    worker processes too)."""
+    worker processes too).
+
+    ``reference``: the item whose recording gives the offline velocities, the gait events and the
+    walking reference (default: ``item`` itself), e.g. the clean recording of which ``item`` is a
+    noisier rendering on the same clock. The oscillator runs on those reference velocities.
+    """
     recording = item.load()
+    ref_item = item if reference is None else reference
+    ref_recording = recording if reference is None else reference.load()
     point = item.pelvis if item.pelvis else None
-    vel = gait_velocities(recording, point=point, rate_hz=RATE_HZ, up_axis=item.up_axis)
+    ref_point = ref_item.pelvis if ref_item.pelvis else None
+    vel = gait_velocities(ref_recording, point=ref_point, rate_hz=RATE_HZ, up_axis=ref_item.up_axis)
     estimator = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis, config=config)
     res = estimator.run(recording, predict_ahead_s=(PREDICT_AHEAD_S,))
     t = np.asarray(res.time_s, dtype=float)
@@ -359,11 +421,11 @@ def evaluate_item_online(item: Item, config: OnlineConfig | None = None) -> Item
     if not np.any(dt > 0):
         raise InputError(f"{item.name}: fewer than two frames with increasing times")
     rate = 1.0 / float(np.median(dt[dt > 0]))
-    ref_frames = _references(recording, vel, item, t, rate)
-    ref_grid = _references(recording, vel, item, np.asarray(vel.time_s, dtype=float), float(vel.rate_hz))
-    contacts = _contacts(recording, item, vel.up_axis)
-    step_at = recording.metadata.get("cadence_step_at_s") if item.synthetic else None
-    synthetic = item.truth is not None
+    ref_frames = _references(ref_recording, vel, ref_item, t, rate)
+    ref_grid = _references(ref_recording, vel, ref_item, np.asarray(vel.time_s, dtype=float), float(vel.rate_hz))
+    contacts = _contacts(ref_recording, ref_item, vel.up_axis)
+    step_at = ref_recording.metadata.get("cadence_step_at_s") if ref_item.synthetic else None
+    synthetic = ref_item.truth is not None
     osc = _run_oscillator(vel)
     online_row = _score(
         ref_frames,
@@ -382,6 +444,10 @@ def evaluate_item_online(item: Item, config: OnlineConfig | None = None) -> Item
             np.where(np.isfinite(res.pred_vx_std_mps[:, 0]), res.pred_vx_mps[:, 0], np.nan),
             np.where(np.isfinite(res.pred_vz_std_mps[:, 0]), res.pred_vz_mps[:, 0], np.nan),
         ),
+        f_std=res.step_frequency_std_hz,
+        speed_std=res.speed_std_mps,
+        valid=validity(res),
+        frontend_speed=np.hypot(res.vh_a_mps, res.vh_b_mps),
     )
     osc_row = _score(
         ref_grid,
@@ -418,7 +484,20 @@ SUMMARY_ONLINE_KEYS = (
     ("startup_time_s", "start-up within 0.1 Hz (s)"),
     ("cadence_step_time_s", "cadence step within 0.05 Hz (s)"),
     ("speed_step_time_s", "speed step within 0.05 m/s (s)"),
+    ("f_cover2std_fraction", "step freq. within 2 std, share of walking"),
+    ("speed_cover2std_fraction", "speed within 2 std, share of walking"),
+    ("confidently_wrong_fraction", "confidently wrong, share of walking"),
+    ("confidently_wrong_first3s_fraction", "confidently wrong, share of the first 3 s"),
+    ("valid_fraction", "valid, share of walking"),
+    ("valid_after3s_fraction", "valid, share of walking after 3 s"),
+    ("frontend_speed_max_mps", "front-end horizontal speed, highest while walking (m/s)"),
 )
+"""The rows of the online summary: (column, label); the worst recording is the highest value except for
+the columns in :data:`HIGHER_IS_BETTER` (the lowest) and :data:`BY_MAGNITUDE` (the farthest from 0)."""
+
+HIGHER_IS_BETTER = frozenset(k for k in HONESTY_KEYS if "cover2std" in k or k.startswith("valid"))
+BY_MAGNITUDE = frozenset(("latency_vz_ms", "latency_vz_input_ms"))
+"""Signed columns whose worst recording is the one farthest from 0."""
 
 
 @dataclass
@@ -438,20 +517,20 @@ class OnlineEvaluation(Evaluation):
             "times against the offline centred velocities of the paper's pipeline and the foot-contact "
             "reference (synthetic walks: the truth). The adaptive oscillator runs beside it on the offline "
             "velocities at 25 Hz. pred200ms columns: the online prediction made at t for t + 0.2 s against the offline "
-            "velocity at t + 0.2 s (the oscillator's: n/a). "
+            "velocity at t + 0.2 s (the oscillator's: n/a). Honesty rows (online only): the share of walking time "
+            "the estimate is within 2 reported standard deviations, and confidently wrong (error above 0.15 Hz "
+            "or 0.15 m/s while valid and more than 2 std). Worst: the recording with the highest value (lowest for "
+            "shares within 2 std and valid, farthest from 0 for lags). "
             'Definitions: docs/online.md, section "Online evaluation".',
             "",
-            "| median over recordings | " + " | ".join(self.estimators) + " |",
-            "|---|" + "---:|" * len(self.estimators),
+            self.summary_table(),
+            "",
         ]
-        for key, label in SUMMARY_ONLINE_KEYS:
-            cells = []
-            for est in self.estimators:
-                v = np.array([r.metrics[est].get(key, np.nan) for r in self.items], dtype=float)
-                v = v[~np.isnan(v)]
-                cells.append(f"{np.median(v):.3g} (n={v.size})" if v.size else "n/a")
-            lines.append(f"| {label} | " + " | ".join(cells) + " |")
-        return lines + [""]
+        return lines
+
+    def summary_table(self) -> str:
+        """The median over recordings and the worst recording of :data:`SUMMARY_ONLINE_KEYS`, per estimator."""
+        return median_and_worst_markdown(self, SUMMARY_ONLINE_KEYS, HIGHER_IS_BETTER, BY_MAGNITUDE)
 
 
 def step_walk_items(seed: int = 0, rate_hz: float = 100.0) -> list[Item]:

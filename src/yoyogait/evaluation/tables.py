@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io as _io
 import math
 
@@ -15,6 +16,8 @@ __all__ = [
     "table_one_markdown",
     "table_one_csv",
     "summary_markdown",
+    "median_and_worst",
+    "median_and_worst_markdown",
     "SUMMARY_KEYS",
     "md_text",
     "md_code",
@@ -98,7 +101,7 @@ def table_one(evaluation: Evaluation, estimator: str):
                 ]
                 cells.append(
                     _pool(
-                        [(m["n_samples"], m[f"{comp}_sq_err_mean_1e-2"], m[f"{comp}_sq_err_std_1e-2"]) for m in group]
+                        [(m["samples_n"], m[f"{comp}_sq_err_mean_1e-2"], m[f"{comp}_sq_err_std_1e-2"]) for m in group]
                     )
                     if group
                     else None
@@ -173,40 +176,69 @@ def reference_counts(evaluation: Evaluation) -> tuple[int, int]:
     return sum(trusted(r) for r in evaluation.items), len(evaluation.items)
 
 
-def summary_markdown(evaluation: Evaluation) -> str:
-    """Median over recordings of the main metrics, one column per estimator.
-
-    The metrics against the reference (:data:`REFERENCE_KEYS`) are given over every recording and
-    over those whose reference is trusted (:class:`~yoyogait.pipeline.events.ReferenceQuality`); the
-    line under the table counts them and names those left out.
-    """
-    lines = [
-        "| median over recordings | " + " | ".join(md_text(e) for e in evaluation.estimators) + " |",
-        "|---|" + "---:|" * len(evaluation.estimators),
+def median_and_worst(
+    evaluation: Evaluation, estimator: str, key: str, higher_is_better: bool = False, by_magnitude: bool = False
+):
+    """(median, worst value, worst recording's name, recordings with a value) of ``key`` over the
+    recordings of ``estimator``; the worst is the highest value (the lowest with ``higher_is_better``,
+    the farthest from 0 with ``by_magnitude``, e.g. a signed lag). NaN values are left out;
+    (nan, nan, "", 0) without any."""
+    pairs = [
+        (float(r.metrics[estimator].get(key, np.nan)), r.item.name) for r in evaluation.items if estimator in r.metrics
     ]
+    pairs = [(v, n) for v, n in pairs if not math.isnan(v)]
+    if not pairs:
+        return float("nan"), float("nan"), "", 0
+    values = np.array([v for v, _ in pairs])
+    if by_magnitude:
+        i = int(np.argmax(np.abs(values)))
+    else:
+        i = int(np.argmin(values) if higher_is_better else np.argmax(values))
+    return float(np.median(values)), float(values[i]), pairs[i][1], len(pairs)
+
+
+def median_and_worst_markdown(
+    evaluation: Evaluation, keys, higher_is_better=frozenset(), by_magnitude=frozenset()
+) -> str:
+    """A table of (column, label) rows: per estimator the median over recordings and the worst recording
+    (its value and name); ``higher_is_better`` and ``by_magnitude``: the columns whose worst is the lowest
+    value, or the farthest from 0."""
+    head = " | ".join(f"{md_text(e)}: median | {md_text(e)}: worst (recording)" for e in evaluation.estimators)
+    lines = [f"| over recordings | {head} |", "|---|" + "---:|---|" * len(evaluation.estimators)]
+    for key, label in keys:
+        cells = []
+        for est in evaluation.estimators:
+            med, worst, name, n = median_and_worst(evaluation, est, key, key in higher_is_better, key in by_magnitude)
+            if n == 0:
+                cells += ["n/a", "n/a"]
+            else:
+                cells += [f"{med:.3g} (n={n})", f"{worst:.3g} ({md_code(name)})"]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def summary_markdown(evaluation: Evaluation) -> str:
+    """Median over recordings of the main metrics and the worst recording, per estimator.
+
+    Where some references are not trusted (:class:`~yoyogait.pipeline.events.ReferenceQuality`), the
+    metrics against the reference (:data:`REFERENCE_KEYS`) follow again over the trusted ones only,
+    and a line counts them and names those left out.
+    """
+    text = median_and_worst_markdown(evaluation, SUMMARY_KEYS)
     n_trusted, n_all = reference_counts(evaluation)
-    for key, label in SUMMARY_KEYS:
-        rows = [(label, evaluation.items)]
-        if key in REFERENCE_KEYS and n_trusted < n_all:
-            rows = [
-                (f"{label}, all {n_all} references", evaluation.items),
-                (
-                    f"{label}, {n_trusted} trusted reference{'s' if n_trusted != 1 else ''}",
-                    [r for r in evaluation.items if trusted(r)],
-                ),
-            ]
-        for text, items in rows:
-            vals = []
-            for est in evaluation.estimators:
-                v = np.array([r.metrics[est].get(key, np.nan) for r in items], dtype=float)
-                vals.append(f"{np.nanmedian(v):.3g}" if np.isfinite(v).any() else "n/a")
-            lines.append(f"| {text} | " + " | ".join(vals) + " |")
-    if n_trusted < n_all:
-        left = [r for r in evaluation.items if not trusted(r)]
-        lines += [
+    if n_trusted == n_all:
+        return text
+    kept = dataclasses.replace(evaluation, items=[r for r in evaluation.items if trusted(r)])
+    keys = [(key, f"{label}, {n_trusted} trusted references") for key, label in SUMMARY_KEYS if key in REFERENCE_KEYS]
+    left = [r for r in evaluation.items if not trusted(r)]
+    return "\n".join(
+        [
+            text,
+            "",
+            median_and_worst_markdown(kept, keys),
             "",
             f"References trusted on {n_trusted} of {n_all} recordings; not trusted: "
             + "; ".join(f"{md_code(r.item.name)} ({md_text(r.reference_quality.reason)})" for r in left)
             + ".",
         ]
-    return "\n".join(lines)
+    )

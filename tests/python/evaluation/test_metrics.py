@@ -233,7 +233,7 @@ def test_evaluate_has_every_key_and_zero_error_for_a_perfect_estimate():
         "f_err_p90_hz",
         "speed_err_rms_mps",
         "R_err_median_abs_m",
-        "r_err_median_rel",
+        "r_err_median_rel_fraction",
         "pred1_vx_sq_err_mean_1e-2",
         "f_wrong_sign_fraction",
         "f_converge_time_s",
@@ -260,7 +260,7 @@ def test_evaluate_known_offsets():
     assert out["f_err_median_hz"] == pytest.approx(0.2)
     assert out["f_wrong_sign_fraction"] == 1.0
     assert out["f_converge_time_s"] == math.inf
-    assert out["R_err_median_rel"] == pytest.approx(0.1)
+    assert out["R_err_median_rel_fraction"] == pytest.approx(0.1)
     walking_speed = tr.speed_mps[tr.walking]
     assert out["speed_err_median_mps"] == pytest.approx(0.1 * np.median(walking_speed), rel=1e-6)
     assert math.isnan(out["pred1_vx_sq_err_mean_1e-2"])
@@ -273,4 +273,31 @@ def test_evaluate_without_references_leaves_nan():
     out = mt.evaluate(t, v, v, vx_hat_mps=v + 0.1, vz_hat_mps=v)
     assert out["vx_sq_err_mean_1e-2"] == pytest.approx(1.0)
     assert math.isnan(out["f_err_median_hz"]) and math.isnan(out["R_err_median_abs_m"])
-    assert out["n_samples"] == t.size
+    assert out["samples_n"] == t.size
+
+
+def test_coverage_counts_errors_within_two_stds():
+    """coverage_fraction: |error| <= 2 std counts, a NaN reference is left out, a NaN estimate needs an inf std."""
+    ref = np.array([1.0, 1.0, 1.0, 1.0, np.nan, 1.0, 1.0])
+    est = np.array([1.1, 1.3, 0.8, 1.0, 5.0, np.nan, np.nan])
+    std = np.array([0.1, 0.1, 0.1, 0.0, 0.1, np.inf, 0.1])
+    # covered: 0.1 <= 0.2 yes, 0.3 no, 0.2 <= 0.2 yes, 0 <= 0 yes, (left out), NaN with inf yes, NaN no
+    assert mt.coverage_fraction(est, std, ref) == pytest.approx(4 / 6)
+    assert mt.coverage_fraction(est, std, ref, mask=[True, True, False, False, False, False, False]) == 0.5
+    assert math.isnan(mt.coverage_fraction(est, std, ref, mask=np.zeros(7, dtype=bool)))
+
+
+def test_confidently_wrong_needs_a_large_error_a_small_std_and_valid():
+    """confidently_wrong_fraction: valid, error above its tolerance and above 2 std, in either quantity."""
+    f_ref = np.full(6, 1.8)
+    f_est = np.array([1.8, 2.1, 2.1, 2.1, 1.9, 1.8])  # errors 0, 0.3, 0.3, 0.3, 0.1, 0
+    f_std = np.array([0.01, 0.01, 0.2, 0.01, 0.01, 0.01])  # sample 2: 2 std covers the error
+    s_ref = np.full(6, 1.2)
+    s_est = np.array([1.2, 1.2, 1.2, 1.2, 1.2, 1.5])  # sample 5: speed wrong by 0.3 m/s
+    s_std = np.full(6, 0.02)
+    valid = np.array([True, True, True, False, True, True])  # sample 3 is not valid
+    q = ((f_est, f_std, f_ref, 0.15), (s_est, s_std, s_ref, 0.15))
+    assert mt.confidently_wrong_fraction(q, valid) == pytest.approx(2 / 6)  # samples 1 and 5
+    assert mt.confidently_wrong_fraction(q, np.zeros(6, dtype=bool)) == 0.0
+    assert mt.flag_fraction(valid) == pytest.approx(5 / 6)
+    assert mt.flag_fraction(valid, mask=[False, False, False, True, False, False]) == 0.0

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -14,6 +15,7 @@ from yoyogait.cli import main
 from yoyogait.evaluation import evaluate_online
 from yoyogait.evaluation import online as on
 from yoyogait.evaluation.datasets import synthetic_item
+from yoyogait.evaluation.tables import median_and_worst
 
 REQUIRED_COLUMNS = ("latency_vz_ms", "f_err_first3s_median_hz", "f_err_median_hz", "phase_at_contact_circstd_pct")
 
@@ -95,13 +97,17 @@ def test_evaluate_online_through_the_cli_writes_the_named_columns(tmp_path, caps
         write_trc(data / f"{subject.name}.trc", walk.recording)
     out = tmp_path / "report"
     assert main(["evaluate", str(data), "--online", "--out", str(out)]) == 0
-    assert "online" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "online" in printed and "confidently wrong, share of walking" in printed
     with open(out / "recordings.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert [r["estimator"] for r in rows] == ["online", "oscillator"] * 2
     for key in REQUIRED_COLUMNS:
         assert key in rows[0] and all(math.isfinite(float(r[key])) for r in rows), key
     assert "online evaluation" in (out / "index.md").read_text()
+    online_rows = [r for r in rows if r["estimator"] == "online"]
+    for key in ("f_cover2std_fraction", "speed_cover2std_fraction", "confidently_wrong_fraction", "valid_fraction"):
+        assert all(0.0 <= float(r[key]) <= 1.0 for r in online_rows), key
 
 
 def test_online_200ms_prediction_is_scored_and_the_oscillators_is_not(short_walks):
@@ -124,3 +130,59 @@ def test_200ms_prediction_is_compared_with_the_velocity_0_2_s_later():
     stale = on._score(ref, pred200=(*ahead, vx, vz), **kw)
     assert exact["pred200ms_vx_sq_err_mean_1e-2"] == 0.0 and exact["pred200ms_vz_sq_err_mean_1e-2"] == 0.0
     assert stale["pred200ms_vz_sq_err_mean_1e-2"] > 0.1
+
+
+def test_honesty_columns_are_shares_for_the_online_estimator_and_nan_for_the_oscillator(short_walks):
+    """Honesty columns: shares in [0, 1] online, NaN for the oscillator (no spread); front-end top speed a walker's."""
+    for r in short_walks.items:
+        online, osc = r.metrics["online"], r.metrics["oscillator"]
+        for key in on.HONESTY_KEYS:
+            assert math.isnan(osc[key]), key
+            if key.endswith("_fraction"):
+                assert 0.0 <= online[key] <= 1.0, key
+        assert 1.0 < online["frontend_speed_max_mps"] < 3.0
+        # Clean synthetic walking after the start: valid and not confidently wrong most of the time.
+        assert online["valid_after3s_fraction"] > 0.9 and online["confidently_wrong_after3s_fraction"] < 0.1
+
+
+def test_honesty_of_a_made_up_estimate_is_scored_as_defined():
+    """_score on a known estimate: half the walking time outside 2 std and valid gives coverage 0.5, wrong 0.5."""
+    t = np.arange(0.0, 10.0, 0.01)
+    n = t.size
+    vx, vz = np.ones(n), np.zeros(n)
+    ref = on._Refs(t, 100.0, vx, vz, np.ones(n, dtype=bool), np.full(n, 1.8), np.ones(n))
+    f_hat = np.where(t < 5.0, 1.8, 2.2)  # 0.4 Hz wrong in the second half
+    kw = dict(vx_hat_mps=vx, vz_hat_mps=vz, f_hat=f_hat, speed_hat=np.ones(n), phase=t % 1.0)
+    kw.update(contacts_s=np.empty(0), synthetic=False, step_at_s=None)
+    row = on._score(ref, f_std=np.full(n, 0.05), speed_std=np.full(n, 0.05), valid=np.ones(n, dtype=bool), **kw)
+    assert row["f_cover2std_fraction"] == pytest.approx(0.5, abs=0.01)
+    assert row["speed_cover2std_fraction"] == 1.0
+    assert row["confidently_wrong_fraction"] == pytest.approx(0.5, abs=0.01)
+    assert row["confidently_wrong_first3s_fraction"] == 0.0 and row["valid_fraction"] == 1.0
+    honest = on._score(ref, f_std=np.full(n, 0.3), speed_std=np.full(n, 0.05), valid=np.ones(n, dtype=bool), **kw)
+    assert honest["f_cover2std_fraction"] == 1.0 and honest["confidently_wrong_fraction"] == 0.0
+    flagged = on._score(ref, f_std=np.full(n, 0.05), speed_std=np.full(n, 0.05), valid=t < 5.0, **kw)
+    assert flagged["confidently_wrong_fraction"] == 0.0 and flagged["valid_fraction"] == pytest.approx(0.5, abs=0.01)
+
+
+def test_validity_is_the_results_valid_where_it_has_one_else_walking():
+    """validity(): a result's `valid` when it has the field, its `walking` otherwise."""
+    walking = np.array([True, True, False])
+    assert on.validity(SimpleNamespace(walking=walking)).tolist() == [True, True, False]
+    both = SimpleNamespace(walking=walking, valid=np.array([False, True, False]))
+    assert on.validity(both).tolist() == [False, True, False]
+
+
+def test_summary_names_the_worst_recording_beside_the_median(short_walks):
+    """The online summary has a median and a worst column per estimator, the worst naming its recording."""
+    med, worst, name, n = median_and_worst(short_walks, "online", "f_err_whole_median_hz")
+    values = [r.metrics["online"]["f_err_whole_median_hz"] for r in short_walks.items]
+    assert n == 2 and worst == max(values) and med == pytest.approx(np.median(values))
+    assert name == short_walks.items[int(np.argmax(values))].item.name
+    _, lowest, _, _ = median_and_worst(short_walks, "online", "valid_fraction", higher_is_better=True)
+    assert lowest == min(r.metrics["online"]["valid_fraction"] for r in short_walks.items)
+    lags = [r.metrics["online"]["latency_vz_ms"] for r in short_walks.items]
+    _, farthest, _, _ = median_and_worst(short_walks, "online", "latency_vz_ms", by_magnitude=True)
+    assert farthest == lags[int(np.argmax(np.abs(lags)))]
+    text = "\n".join(short_walks.preamble)
+    assert "online: worst (recording)" in text and "confidently wrong" in text
