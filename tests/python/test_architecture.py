@@ -72,6 +72,7 @@ STAGE_RANKS = {
     "": 0,
     "io": 1,
     "synthetic": 2,
+    "synthetic_imu": 2,
     "pipeline": 3,
     "estimators": 4,
     "evaluation": 5,
