@@ -27,7 +27,7 @@ namespace yoyogait {
     "the sensor's height above the floor standing: the inverted pendulum's length l")                             \
   X(double, step_length_factor, 1.25, "", "(", 0.0, 5.0, "]",                                                       \
     "K of the step length K 2 sqrt(2 l h - h^2) (Zijlstra & Hof 2003 use 1.25)")                                  \
-  X(double, excursion_tau_s, 1.0, "s", "(", 0.0, 1e100, "]", "low-pass of the vertical excursion h per step")       \
+  X(double, excursion_tau_s, 0.5, "s", "(", 0.0, 1e100, "]", "low-pass of the vertical excursion h per step")       \
   X(double, speed_rel_std, 0.1, "", "[", 0.0, 10.0, "]",                                                             \
     "relative standard deviation of the pendulum speed (model error), added to the estimator's speed std")       \
   X(double, settle_s, 0.5, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long") \

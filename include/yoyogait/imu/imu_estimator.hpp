@@ -54,7 +54,6 @@ class ImuOnlineEstimator {
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
     excursion_m_ = 0.0;
-    excursion_known_ = false;
     pendulum_speed_mps_ = 0.0;
     step_length_m_ = 0.0;
     heading_ = {1.0, 0.0};
@@ -201,17 +200,14 @@ class ImuOnlineEstimator {
     const GaitState& x = est_.gait_state;
     const double omega = x[gait::kW];
     if (!(est_.walking && !est_.acquiring && omega > 0.0)) {
-      if (!est_.walking) pendulum_speed_mps_ = 0.0;
+      if (!est_.walking) pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
       return;
     }
     const double h = 2.0 * std::sqrt(x[gait::kZ1] * x[gait::kZ1] + x[gait::kZ2] * x[gait::kZ2]) / omega;
     if (!std::isfinite(h)) return;
-    if (!excursion_known_) {
-      excursion_m_ = h;
-      excursion_known_ = true;
-    } else {
-      excursion_m_ += (1.0 - std::exp(-dt_s / config_.excursion_tau_s)) * (h - excursion_m_);
-    }
+    // From 0 at the start of a walk: a step of the forward velocity fed to the estimator would
+    // disturb its phase and frequency while they lock.
+    excursion_m_ += (1.0 - std::exp(-dt_s / config_.excursion_tau_s)) * (h - excursion_m_);
     const double l = config_.sensor_height_m, he = std::fmin(excursion_m_, l);
     step_length_m_ = config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * he - he * he));
     const double f = omega * 0.15915494309189533576888376337251;
@@ -274,7 +270,6 @@ class ImuOnlineEstimator {
   Estimate est_{};
   ImuEstimate out_{};
   bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;
-  bool excursion_known_ = false;
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
