@@ -1,7 +1,7 @@
 """Readers of lower-back IMU files into :class:`ImuRecording` (docs/imu.md).
 
 =====================  ==========================================================  ========================
-``data.mat``           Mobilise-D MATLAB format (``data.TimeMeasure1.<Test>.<Trial>``)  :func:`read_mobilised_mat`
+``data.mat``           Mobilise-D MATLAB format (acc in g, gyr in deg/s)            :func:`read_mobilised_mat`
 ``.csv`` (mobgap)      ``samples,acc_x..acc_z,gyr_x..gyr_z``: g, deg/s, 100 Hz       :func:`read_imu_csv`
 ``.csv`` (yoyogait)    ``time_s,acc_x_mps2..,gyr_x_rad_s..``: units in the header   :func:`read_imu_csv`
 ``.csv`` (generic)     ``acc_x..``, ``gyr_x..`` with ``acc_unit``/``gyr_unit``        :func:`read_imu_csv`
@@ -250,7 +250,8 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
                 except (KeyError, TypeError):
                     continue
                 rate = float(lb["Fs"]["Acc"]) if isinstance(lb.get("Fs"), dict) else float(lb.get("Fs", 100.0))
-                acc = np.asarray(lb["Acc"], dtype=float)
+                # The format stores the accelerometer in g (mobgap's loader scales it by 9.81 too).
+                acc = np.asarray(lb["Acc"], dtype=float) * GRAVITY_MPS2
                 gyr = np.asarray(lb["Gyr"], dtype=float) * np.pi / 180.0
                 refs = {}
                 for system, std in (content.get("Standards") or {}).items():
@@ -268,6 +269,7 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
                     metadata={"layout": "mobilised", "test": test, "trial": trial, "participant": p.parent.name},
                 )
                 _check_samples(rec)
+                check_imu_plausible(rec)
                 out.append(rec)
     if not out:
         raise InputError(f"{p}: no lower-back sensor (SU.LowerBack) in any trial")
