@@ -18,6 +18,7 @@ from ..evaluation import figures as plots
 from ..evaluation import metrics
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
+from .imu_cmd import estimate_imu, imu_options, is_imu_file
 from .options import (
     belt_speed_option,
     check_points,
@@ -60,6 +61,7 @@ def foot_contacts(recording, feet, up_axis):
 @belt_speed_option
 @force_option("Overwrite the --out and --figure files if they exist.")
 @click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
+@imu_options
 @click.pass_context
 def command(
     ctx,
@@ -76,6 +78,9 @@ def command(
     belt_speed_mps,
     force,
     online,
+    acc_unit,
+    gyr_unit,
+    sensor_height_m,
 ):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
@@ -92,7 +97,14 @@ def command(
     used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite),
     input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
     standing); --out defaults to FILE's name + .online.csv.
+
+    An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt) is estimated online by nature: one
+    row per sample, every field of the IMU estimate (docs/imu.md), --out defaulting to FILE's name +
+    .imu.csv; --config FILE's [imu] table configures it.
     """
+    if is_imu_file(file):
+        return estimate_imu(file, out=out, force=force, config_file=config_file, acc_unit=acc_unit,
+                            gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m)  # fmt: skip
     if online:
         if belt_speed_mps is not None:
             raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")

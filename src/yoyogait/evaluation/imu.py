@@ -150,16 +150,31 @@ def run_mobgap(rec: ImuRecording):
     bouts as (start_s, end_s, cadence_spm, speed_mps, stride_time_s). ImportError without mobgap."""
     import warnings
 
-    from mobgap.data import LabExampleDataset
+    with warnings.catch_warnings():  # the peer's own warnings (scikit-learn versions of its models)
+        warnings.simplefilter("ignore")
+        return _run_mobgap(rec)
+
+
+def _run_mobgap(rec: ImuRecording):
+    import warnings
+
+    from mobgap.data import GenericMobilisedDataset
     from mobgap.pipeline import MobilisedPipelineHealthy, MobilisedPipelineImpaired
 
     meta = rec.metadata
-    cohort = Path(rec.source.split(":")[0]).parent.parent.name
-    ds = LabExampleDataset(reference_system="INDIP")
-    dp = ds.get_subset(cohort=cohort, participant_id=meta["participant"], test=meta["test"], trial=meta["trial"])
-    pipe = MobilisedPipelineImpaired() if cohort == "MS" else MobilisedPipelineHealthy()
+    mat = Path(rec.source.split(":")[0])
+    cohort = mat.parent.parent.name
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
+        ds = GenericMobilisedDataset(
+            [mat],
+            test_level_names=["time_measure", "test", "trial"],
+            parent_folders_as_metadata=["cohort", "participant_id"],
+            measurement_condition="laboratory",
+            reference_system="INDIP",
+        )
+        dp = ds.get_subset(test=meta["test"], trial=meta["trial"])
+        pipe = MobilisedPipelineImpaired() if cohort == "MS" else MobilisedPipelineHealthy()
         p = pipe.safe_run(dp)
     wb = p.per_wb_parameters_
     fs = float(rec.rate_hz or 100.0)
