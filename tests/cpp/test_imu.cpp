@@ -61,19 +61,20 @@ struct Outcome {
   ImuEstimate last{};
 };
 
-// Walks for duration_s after 1 s standing (an abrupt start); errors: the worst from 5 s of walking on.
+// Walks for duration_s after 2 s standing (the front-end settles at rest; the walk starts abruptly);
+// errors: the worst from 5 s of walking on.
 Outcome walk(SyntheticImu& s, double duration_s = 20.0, ImuConfig c = ImuConfig{}) {
   c.sensor_height_m = s.pendulum_length_m();
   ImuOnlineEstimator est(c);
   Outcome o;
   int n_after = 0, n_valid = 0;
   const double dt = 0.01;
-  for (int k = 0; k * dt < duration_s + 1.0; ++k) {
+  for (int k = 0; k * dt < duration_s + 2.0; ++k) {
     const double t = k * dt;
     double a[3], g[3];
-    s.sample(t, t >= 1.0, a, g);
+    s.sample(t, t >= 2.0, a, g);
     o.last = est.update(t, a, g);
-    if (t >= 6.0) {
+    if (t >= 7.0) {
       ++n_after;
       n_valid += o.last.valid;
       o.f_err_rel = std::fmax(o.f_err_rel, std::fabs(o.last.step_frequency_hz / s.f_hz - 1.0));

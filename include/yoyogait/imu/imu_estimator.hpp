@@ -39,6 +39,9 @@ class ImuOnlineEstimator {
         int_z_(config_.highpass_tau_s),
         int_x_(config_.highpass_tau_s) {
     fwd_[config_.forward_axis] = config_.forward_negative ? -1.0 : 1.0;
+    // A frequency at a bound of the estimator's range is a filter that has not locked.
+    f_locked_min_hz_ = 1.02 * config_.estimator.gait_filter.f_min_hz;
+    f_locked_max_hz_ = 0.98 * config_.estimator.gait_filter.f_max_hz;
     reset();
   }
 
@@ -118,11 +121,16 @@ class ImuOnlineEstimator {
     if (hn > 0.2) heading_ = {x_w[0] / hn, x_w[1] / hn};  // held while the axis is near vertical
     o.heading_rad = std::atan2(heading_[1], heading_[0]);
     o.tilt_rad = std::atan2(x_w[2], hn);
-    o.az_mps2 = f_w[2] - kGravityMps2;
-    const double ax = f_w[0] * heading_[0] + f_w[1] * heading_[1];
+    // A saturated sample is no measurement: the integrators get the last unsaturated values.
+    if (!saturated || restart) {
+      az_last_ = f_w[2] - kGravityMps2;
+      ax_last_ = f_w[0] * heading_[0] + f_w[1] * heading_[1];
+    }
+    o.az_mps2 = az_last_;
+    const double ax = ax_last_;
     if (restart) {
-      int_z_.start(o.az_mps2);
-      int_x_.start(ax);
+      int_z_.start(o.az_mps2, !gap_restart_);
+      int_x_.start(ax, !gap_restart_);
       o.vz_mps = o.vx_osc_mps = 0.0;
     } else {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
@@ -158,7 +166,7 @@ class ImuOnlineEstimator {
       o.reason = ImuReason::kGap;
     else if (std::fabs(acc_norm_lp_ - kGravityMps2) > config_.gravity_tolerance * kGravityMps2)
       o.reason = ImuReason::kGravity;
-    else if (!fed_ || est_.acquiring)
+    else if (!fed_ || est_.acquiring || !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
       o.reason = ImuReason::kAcquiring;
     else if (!o.walking)
       o.reason = ImuReason::kNotWalking;
@@ -187,8 +195,18 @@ class ImuOnlineEstimator {
     return c;
   }
 
+  // A (re)start: the integrators from rest. The orientation is taken from the specific force only
+  // at the first sample: after a gap the filter's own orientation (held over the gap) is closer
+  // than one reading taken mid-step. The estimator starts again (a gap in its input would read as
+  // a jump of phase and amplitude), and so does the pendulum speed.
   void start_front_end(double t_s, const imu::Vec3& a) noexcept {
-    mahony_.start(a);
+    if (!started_) mahony_.start(a);
+    if (started_) {
+      estimator_.reset();
+      est_ = Estimate{};
+      fed_ = false;
+      pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
+    }
     started_ = true;
     start_t_s_ = t_s;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
@@ -203,7 +221,10 @@ class ImuOnlineEstimator {
       if (!est_.walking) pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
       return;
     }
-    const double h = 2.0 * std::sqrt(x[gait::kZ1] * x[gait::kZ1] + x[gait::kZ2] * x[gait::kZ2]) / omega;
+    // At most a fifth of the pendulum's length: no walker's pelvis rises more per step; a larger
+    // value is a phasor that has not locked (|Z| / w with w small).
+    const double h = std::fmin(2.0 * std::sqrt(x[gait::kZ1] * x[gait::kZ1] + x[gait::kZ2] * x[gait::kZ2]) / omega,
+                               0.2 * config_.sensor_height_m);
     if (!std::isfinite(h)) return;
     // From 0 at the start of a walk: a step of the forward velocity fed to the estimator would
     // disturb its phase and frequency while they lock.
@@ -267,6 +288,7 @@ class ImuOnlineEstimator {
   imu::Mahony mahony_;
   imu::LeakyIntegrator int_z_, int_x_;
   imu::Vec3 fwd_{0.0, 0.0, 0.0};
+  double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
   Estimate est_{};
   ImuEstimate out_{};
   bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;

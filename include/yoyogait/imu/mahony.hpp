@@ -107,9 +107,12 @@ class LeakyIntegrator {
   LeakyIntegrator() noexcept = default;
   explicit LeakyIntegrator(double tau_s) noexcept : tau_(tau_s) {}
 
-  /// Starts at rest: the next input counts as the first (no step), the integral 0.
-  void start(double x) noexcept {
-    x_prev_ = x;
+  /// Starts with the integral 0. from_x: the input so far was x (no step at the start: the first
+  /// start, at rest with a constant offset); else it was 0 (a restart in the middle of a movement,
+  /// where x is one point of an oscillation: taking it as the past level would add a decaying
+  /// offset of x tau to the integral).
+  void start(double x, bool from_x = true) noexcept {
+    x_prev_ = from_x ? x : 0.0;
     hp_ = 0.0;
     v_ = 0.0;
   }
