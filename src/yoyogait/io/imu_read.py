@@ -58,8 +58,8 @@ def _unit(value, table: dict, option: str, where) -> float:
 def is_imu_header(header: list[str]) -> bool:
     """True for a CSV header with accelerometer and gyro columns (x, y, z each) and no point positions."""
     lower = [h.strip().lower() for h in header]
-    acc = [h for h in lower if re.match(r"^acc(el)?[_ .:]?[xyz]\b", h)]
-    gyr = [h for h in lower if re.match(r"^gyr(o)?[_ .:]?[xyz]\b", h)]
+    acc = [h for h in lower if re.match(r"^acc(el)?[_ .:]?[xyz](?![a-z])", h)]
+    gyr = [h for h in lower if re.match(r"^gyr(o)?[_ .:]?[xyz](?![a-z])", h)]
     return len(acc) >= 3 and len(gyr) >= 3
 
 
