@@ -76,7 +76,9 @@ def real(data: Path, peer: bool) -> list[str]:
             if slack is not None and m is not None:
                 ok = ok and y[key] <= m[key] + slack
                 target += " and <= mobgap" + (f" + {slack:g}" if slack else "")
-            out.append(f"| {ref} | {label} | {cell(y, key)} | {cell(m, key)} | {cell(o, key)} | {target} | {_mark(ok)} |")
+            out.append(
+                f"| {ref} | {label} | {cell(y, key)} | {cell(m, key)} | {cell(o, key)} | {target} | {_mark(ok)} |"
+            )
     out.append("")
     refs = sorted({k[0] for k in summ})
     out.append("Bouts: " + ", ".join(f"{r}: {summ[(r, 'yoyogait-imu')]['bouts']}" for r in refs) + ".")
@@ -85,12 +87,17 @@ def real(data: Path, peer: bool) -> list[str]:
 
 def synthetic() -> list[str]:
     out = ["## SYNTHETIC IMU lab: median error from 3 s of walking on", ""]
-    out += ["| subject | tilt [deg] | gyro bias [deg/s] | step frequency error [%] | speed error [m/s] |", "|---|---|---|---|---|"]
+    out += [
+        "| subject | tilt [deg] | gyro bias [deg/s] | step frequency error [%] | speed error [m/s] |",
+        "|---|---|---|---|---|",
+    ]
     worst_f = worst_v = 0.0
     for s in SUBJECTS:
         for tilt in (0.0, 10.0, 20.0):
             for bias in (0.0, 1.0):
-                w = make_imu_walk(s, tilt_pitch_deg=tilt, tilt_roll_deg=tilt / 2, gyro_bias_rad_s=np.deg2rad([bias] * 3))
+                w = make_imu_walk(
+                    s, tilt_pitch_deg=tilt, tilt_roll_deg=tilt / 2, gyro_bias_rad_s=np.deg2rad([bias] * 3)
+                )
                 res = estimator_for(w.recording).run_recording(w.recording)
                 m = res.time_s >= 1.0 + 1.5 + 3.0
                 fe = 100 * abs(float(np.median(res["step_frequency_hz"][m] / w.truth.step_frequency_hz[m] - 1)))
@@ -116,7 +123,10 @@ def timing() -> list[str]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    default = Path(os.environ.get("YOYOGAIT_DATASETS", ROOT.parent / "shared" / "datasets")) / "imu_mobgap/example_data/data/lab"
+    default = (
+        Path(os.environ.get("YOYOGAIT_DATASETS", ROOT.parent / "shared" / "datasets"))
+        / "imu_mobgap/example_data/data/lab"
+    )
     ap.add_argument("--data", type=Path, default=default)
     ap.add_argument("--no-mobgap", action="store_true")
     ap.add_argument("--no-timing", action="store_true")

@@ -100,7 +100,14 @@ def make_imu_walk(
         raise InputError(f"rate_hz must be positive, got {rate_hz}")
     fine_hz = rate_hz * _OVERSAMPLE
     walk = make_walk(
-        subject, walk_type, rate_hz=fine_hz, duration_s=duration_s, seed=seed, noise_m=0.0, dropouts=False, **walk_options
+        subject,
+        walk_type,
+        rate_hz=fine_hz,
+        duration_s=duration_s,
+        seed=seed,
+        noise_m=0.0,
+        dropouts=False,
+        **walk_options,
     )
     truth = walk.truth
     t = truth.time_s
@@ -126,7 +133,11 @@ def make_imu_walk(
     keep = slice(0, None, _OVERSAMPLE)
     time_s = t[keep]
     acc, gyr = acc[keep], gyr[keep]
-    rng = np.random.default_rng(np.random.SeedSequence([int(seed), 22, int(round(abs(tilt_pitch_deg) * 10)), int(tilt_pitch_deg < 0), int(upside_down)]))
+    rng = np.random.default_rng(
+        np.random.SeedSequence(
+            [int(seed), 22, int(round(abs(tilt_pitch_deg) * 10)), int(tilt_pitch_deg < 0), int(upside_down)]
+        )
+    )
     acc = acc + np.asarray(acc_bias_mps2, dtype=float) + rng.normal(0.0, acc_noise_mps2, acc.shape)
     gyr = gyr + np.asarray(gyro_bias_rad_s, dtype=float) + rng.normal(0.0, gyr_noise_rad_s, gyr.shape)
     acc = np.clip(acc, -acc_range_mps2, acc_range_mps2)

@@ -64,7 +64,10 @@ def inspect_imu(file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_heig
     height = f"{rec.sensor_height_m:.3f} m" if rec.sensor_height_m else "not given (default 0.95 m; --sensor-height-m)"
     lines = [
         ("file", f"{file} ({report['format']})" + (" SYNTHETIC" if rec.synthetic else "")),
-        ("rate", f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular"),
+        (
+            "rate",
+            f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular",
+        ),
         ("gravity", f"{g:.2f} m/s^2 (median norm of the acceleration)"),
         ("range", f"|acc| <= {report['max_abs_acc_mps2']:.1f} m/s^2, |gyr| <= {report['max_abs_gyr_rad_s']:.2f} rad/s"),
         ("sensor height", height),
@@ -144,7 +147,9 @@ def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, p
                     mobgap_note = "mobgap is not installed (pip install 'yoyogait[mobgap]'): its column is left out"
                     peer = False
                 except Exception as exc:  # the peer's own failure is reported, not ours
-                    mobgap_note = f"mobgap failed on {rec.source}: {type(exc).__name__}: {str(exc).splitlines()[0][:200]}"
+                    mobgap_note = (
+                        f"mobgap failed on {rec.source}: {type(exc).__name__}: {str(exc).splitlines()[0][:200]}"
+                    )
                     peer_bouts = None
             r, res = ev.evaluate_recording(rec, config, peer_bouts)
             rows += r
@@ -162,7 +167,8 @@ def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, p
                 w.writerow(vals + [row.cadence_error_spm, row.speed_error_mps, row.stride_time_error_s])
         summ = ev.summary(rows)
         lines = ["# IMU evaluation: per reference walking bout", "",
-                 f"Data set: {dataset} ({len(recs)} recordings). Median (worst) absolute error over the bouts.", ""]  # fmt: skip
+                 f"Data set: {dataset} ({len(recs)} recordings). Median (worst) absolute error over the bouts.",
+                 ""]  # fmt: skip
         if mobgap_note:
             lines += [mobgap_note, ""]
         lines += ["| reference | estimator | bouts | missed | cadence [steps/min] | speed [m/s] | stride time [s] |",

@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -103,7 +104,7 @@ def evaluate_recording(rec: ImuRecording, config: ImuConfig | None = None, mobga
     rows = []
     for ref, bouts in rec.references.items():
         for i, b in enumerate(bouts):
-            base = dict(
+            base: dict[str, Any] = dict(
                 recording=rec.source,
                 reference=ref,
                 bout=i,
@@ -233,8 +234,12 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
                 ax.axvspan(b.start_s, b.end_s, color=col, alpha=0.08)
             ax1.plot(b.contact_times_s, np.full(b.contact_times_s.size, 0.0 if ref == "INDIP" else 0.05), "|",
                      color=col, ms=8, label=f"{ref} initial contacts" if j == 0 else None)  # fmt: skip
-            ax2.plot([b.start_s, b.end_s], [b.cadence_spm] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None)
-            ax3.plot([b.start_s, b.end_s], [b.speed_mps] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None)
+            ax2.plot(
+                [b.start_s, b.end_s], [b.cadence_spm] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None
+            )
+            ax3.plot(
+                [b.start_s, b.end_s], [b.speed_mps] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None
+            )
     if mobgap:
         for j, (s, e, c, v, _) in enumerate(mobgap):
             ax2.plot([s, e], [c, c], color="tab:orange", lw=1.5, ls="--", label="mobgap (offline)" if j == 0 else None)
@@ -255,6 +260,9 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
         ax.legend(loc="upper right", fontsize=7, ncol=3)
         ax.grid(alpha=0.3)
     label = "SYNTHETIC " if rec.synthetic else ""
-    fig.suptitle(f"{label}{rec.source.split('example_data/')[-1]}: reference bouts vs online IMU estimate (band: 2 std)", fontsize=9)
+    fig.suptitle(
+        f"{label}{rec.source.split('example_data/')[-1]}: reference bouts vs online IMU estimate (band: 2 std)",
+        fontsize=9,
+    )
     fig.subplots_adjust(left=0.07, right=0.98, top=0.94, bottom=0.07, hspace=0.12)
     fig.savefig(path, dpi=90)

@@ -136,6 +136,7 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
     lower = [h.lower() for h in header]
     metadata: dict = {}
     sensor_height = None
+    rate: float | None
     if lower[: len(_MOBGAP_HEADER)] == _MOBGAP_HEADER:
         metadata["layout"] = "mobgap"
         acc_scale = _unit(acc_unit, ACC_UNITS, "acc_unit", p) or GRAVITY_MPS2
@@ -206,7 +207,8 @@ def _columns(lower, kind, units, override, option, where) -> tuple[list[int], fl
     if len(scales) > 1:
         raise InputError(f"{where}: the {kind} columns disagree on their unit; pass {option}")
     raise InputError(
-        f"{where}: the {kind} columns carry no unit; pass {option} ({' or '.join(sorted(set(units) - {'m/s^2', 'rad/s', 'deg/s'}))})"
+        f"{where}: the {kind} columns carry no unit; pass {option} "
+        f"({' or '.join(sorted(set(units) - {'m/s^2', 'rad/s', 'deg/s'}))})"
     )
 
 
@@ -415,5 +417,6 @@ def check_imu_plausible(rec: ImuRecording) -> None:
     w = float(np.percentile(np.abs(gyr[ok]), 99))
     if w > 15.0:
         raise InputError(
-            f"{where}: the angular rate reaches {w:.0f} rad/s, beyond any walk: in deg/s? pass gyr_unit deg_s (--gyr-unit deg_s)"
+            f"{where}: the angular rate reaches {w:.0f} rad/s, beyond any walk: in deg/s? "
+            "pass gyr_unit deg_s (--gyr-unit deg_s)"
         )

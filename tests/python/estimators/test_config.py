@@ -60,7 +60,9 @@ FLOAT_OUTPUTS = (*(f.name for f in RECORDS["Estimate"] if f.type.startswith("flo
 def test_python_dataclasses_agree_with_the_cpp_tables_field_by_field():
     """Each section's dataclass has the C++ table's fields in its order, with its type, default and doc."""
     raw = _core.config_schema()
-    tables = {section: [d for d in raw if d["section"] == section] for section in ("", *SECTIONS, ONLINE_SECTION, IMU_SECTION)}
+    tables = {
+        section: [d for d in raw if d["section"] == section] for section in ("", *SECTIONS, ONLINE_SECTION, IMU_SECTION)
+    }
     classes = {"": EstimatorConfig, "paper_estimator": PaperConfig, "gait_filter": GaitFilterConfig}
     classes[ONLINE_SECTION] = OnlineConfig
     classes[IMU_SECTION] = ImuConfig

@@ -1,4 +1,4 @@
-"""The command line on IMU files: inspect, estimate (one row per sample), evaluate per reference bout; bad input in one line."""
+"""The command line on IMU files: inspect, estimate (a row per sample), evaluate per reference bout; bad input."""
 
 from __future__ import annotations
 

@@ -24,7 +24,7 @@ def _run(walk, config=None):
 @pytest.mark.parametrize("subject", SUBJECTS, ids=lambda s: s.name)
 @pytest.mark.parametrize("tilt_deg, bias_deg_s", [(0.0, 0.0), (20.0, 1.0), (-20.0, -1.0)])
 def test_step_frequency_and_speed_within_targets_for_tilt_and_gyro_bias(subject, tilt_deg, bias_deg_s):
-    """Median step frequency within 1 % and speed within 0.05 m/s after 3 s of walking, tilted up to 20 deg, gyro bias up to 1 deg/s."""
+    """Median f within 1 % and speed within 0.05 m/s after 3 s of walking; tilt up to 20 deg, gyro bias 1 deg/s."""
     walk = make_imu_walk(
         subject, tilt_pitch_deg=tilt_deg, tilt_roll_deg=tilt_deg / 2, gyro_bias_rad_s=np.deg2rad([bias_deg_s] * 3)
     )
