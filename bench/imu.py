@@ -41,6 +41,7 @@ def _mark(ok: bool) -> str:
 
 def real(data: Path, peer: bool) -> list[str]:
     rows = []
+    cover: list = []
     note = ""
     for rec in ev.imu_recordings(data):
         bouts = None
@@ -49,7 +50,10 @@ def real(data: Path, peer: bool) -> list[str]:
                 bouts = ev.run_mobgap(rec)
             except ImportError:
                 note, peer = "mobgap not installed: its column is empty", False
-        rows += ev.evaluate_recording(rec, None, bouts)[0]
+        r, res = ev.evaluate_recording(rec, None, bouts)
+        rows += r
+        for ref, c in ev.coverage(rec, res).items():
+            cover.append((rec.source.split("lab/")[-1], ref, c))
     summ = {(d["reference"], d["estimator"]): d for d in ev.summary(rows)}
     out = ["## Real data: median absolute error over the reference's walking bouts", ""]
     if note:
@@ -80,6 +84,15 @@ def real(data: Path, peer: bool) -> list[str]:
                 f"| {ref} | {label} | {cell(y, key)} | {cell(m, key)} | {cell(o, key)} | {target} | {_mark(ok)} |"
             )
     out.append("")
+    out += ["", "## Real data: 2-std coverage and confidently-wrong time (valid estimates inside the bouts)", "",
+            "| recording | reference | samples | cadence within 2 std | speed within 2 std "
+            "| confidently wrong (> 3 std) |",
+            "|---|---|---|---|---|---|"]  # fmt: skip
+    for name, ref, c in cover:
+        out.append(f"| {name} | {ref} | {c['samples']} | {100 * c['cadence_2std']:.0f} % "
+                   f"| {100 * c['speed_2std']:.0f} % | {100 * c['confidently_wrong']:.1f} % |")  # fmt: skip
+    out.append("")
+    out.append("Targets: coverage >= 90 % per recording, confidently wrong <= 1 %.")
     refs = sorted({k[0] for k in summ})
     out.append("Bouts: " + ", ".join(f"{r}: {summ[(r, 'yoyogait-imu')]['bouts']}" for r in refs) + ".")
     return out

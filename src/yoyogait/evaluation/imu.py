@@ -266,3 +266,33 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
     )
     fig.subplots_adjust(left=0.07, right=0.98, top=0.94, bottom=0.07, hspace=0.12)
     fig.savefig(path, dpi=90)
+
+
+def coverage(rec: ImuRecording, result: ImuResult) -> dict[str, dict[str, float]]:
+    """Per reference system, over the valid online estimates inside its walking bouts (the bout's
+    mean as the truth): the fraction within 2 standard deviations of the reference (cadence, speed),
+    and the confidently-wrong fraction (valid, and more than 3 standard deviations off in either)."""
+    t = result.time_s
+    valid = result["valid"].astype(bool)
+    out = {}
+    for ref, bouts in rec.references.items():
+        ref_cad = np.full(t.size, np.nan)
+        ref_spd = np.full(t.size, np.nan)
+        for b in bouts:
+            m = (t >= b.start_s) & (t <= b.end_s)
+            ref_cad[m], ref_spd[m] = b.cadence_spm, b.speed_mps
+        m = valid & np.isfinite(ref_cad)
+        if not m.any():
+            out[ref] = {"samples": 0, "cadence_2std": math.nan, "speed_2std": math.nan, "confidently_wrong": math.nan}
+            continue
+        ec = np.abs(60.0 * result["step_frequency_hz"][m] - ref_cad[m])
+        sc = 60.0 * result["step_frequency_std_hz"][m]
+        es = np.abs(result["speed_mps"][m] - ref_spd[m])
+        ss = result["speed_std_mps"][m]
+        out[ref] = {
+            "samples": int(m.sum()),
+            "cadence_2std": float(np.mean(ec <= 2 * sc)),
+            "speed_2std": float(np.mean(es <= 2 * ss)),
+            "confidently_wrong": float(np.mean((ec > 3 * sc) | (es > 3 * ss))),
+        }
+    return out
