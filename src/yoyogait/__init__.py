@@ -25,7 +25,7 @@ _LAZY = {
     "ImuOnlineEstimator": "estimators",
     "ImuConfig": "estimators",
     "ImuResult": "estimators",
-    "ImuRecording": "io",
+    "ImuRecording": "io.imu_recording",
     "PRESETS": "estimators",
     "yoyo_model": "model",
     "YoyoTrajectory": "model",
