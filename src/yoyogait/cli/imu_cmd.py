@@ -15,6 +15,7 @@ from .._files import atomic_file, check_output_folder, install_folder
 from ..errors import InputError, OutputError, about_file
 from ..estimators.config import ImuConfig
 from ..estimators.imu import estimator_for
+from ..evaluation import imu as ev
 from ..io.imu_read import is_imu_file, read_imu
 
 __all__ = ["imu_options", "is_imu_file", "inspect_imu", "estimate_imu", "evaluate_imu", "is_imu_dataset"]
@@ -127,8 +128,6 @@ def is_imu_dataset(dataset) -> bool:
 def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, peer=True) -> dict:
     """Per reference walking bout: cadence, speed and stride-time errors of the IMU estimators
     (yoyogait online, the oscillator, mobgap when installed); bouts.csv, summary.md, a figure per recording."""
-    from ..evaluation import imu as ev
-
     out = Path(out)
     check_output_folder(out, force)
     config = ImuConfig.from_file(config_file) if config_file is not None else None

@@ -9,6 +9,7 @@ speed + forward oscillation, vertical velocity).  No output at time t depends on
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 from dataclasses import dataclass, field
 
@@ -127,8 +128,6 @@ class ImuOnlineEstimator:
 
 def estimator_for(recording: ImuRecording, config: ImuConfig | None = None) -> ImuOnlineEstimator:
     """An estimator for a recording: its sensor height (when it gives one) as the pendulum length."""
-    import dataclasses
-
     cfg = ImuConfig() if config is None else config
     if recording.sensor_height_m is not None:
         cfg = dataclasses.replace(cfg, sensor_height_m=float(recording.sensor_height_m))

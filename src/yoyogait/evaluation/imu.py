@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -149,16 +150,12 @@ def _peer_bout(peer, b: ImuBout):
 def run_mobgap(rec: ImuRecording):
     """Mobilise-D's pipeline (mobgap, offline) on a recording of its example data set: its walking
     bouts as (start_s, end_s, cadence_spm, speed_mps, stride_time_s). ImportError without mobgap."""
-    import warnings
-
     with warnings.catch_warnings():  # the peer's own warnings (scikit-learn versions of its models)
         warnings.simplefilter("ignore")
         return _run_mobgap(rec)
 
 
 def _run_mobgap(rec: ImuRecording):
-    import warnings
-
     from mobgap.data import GenericMobilisedDataset
     from mobgap.pipeline import MobilisedPipelineHealthy, MobilisedPipelineImpaired
 

@@ -20,6 +20,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import scipy.io
 
 from ..errors import InputError
 from .imu_recording import GRAVITY_MPS2, ImuBout, ImuRecording
@@ -231,8 +232,6 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
     """Every trial of a Mobilise-D ``data.mat`` (lower-back sensor ``SU.LowerBack``), with the
     reference systems' walking bouts (``Standards.<system>.MicroWB``) and the sensor height of the
     ``infoForAlgo.mat`` beside it."""
-    import scipy.io
-
     p = Path(path)
     try:
         data = scipy.io.loadmat(p, simplify_cells=True)["data"]
@@ -292,8 +291,6 @@ def read_mobilised_mat(path, *, trial=None) -> ImuRecording:
 def _mobilised_height(info: Path) -> float | None:
     if not info.is_file():
         return None
-    import scipy.io
-
     try:
         tm = scipy.io.loadmat(info, simplify_cells=True)["infoForAlgo"]
         value = float(next(iter(tm.values()))["SensorHeight"])
