@@ -522,19 +522,23 @@ class OnlineConfig(_ConfigFile):
 def effective_toml(preset: str | None = None, path=None) -> str:
     """The effective configuration as TOML: the estimator of ``preset`` (default: the default) or of
     the file ``path`` applied to the defaults, then the ``[online]`` table (the file's, checked, else
-    the defaults). The online table is printed for either algorithm: the offline commands ignore it."""
+    the defaults), then the ``[imu]`` table likewise. Both are printed for either algorithm: the offline
+    commands ignore them."""
     if path is not None:
         path = Path(path)
         estimator = EstimatorConfig.from_file(path)
         online_values = _read_toml(path).get(ONLINE_SECTION, {})
+        imu_values = _read_toml(path).get(IMU_SECTION, {})
     else:
         estimator = EstimatorConfig.preset(preset or "default")
-        online_values = {}
-    try:  # the online table checked on its own (with the default estimator behind it)
+        online_values = imu_values = {}
+    try:  # the online and imu tables checked on their own (with the default estimator behind them)
         online = OnlineConfig().with_values({ONLINE_SECTION: online_values})
+        imu = ImuConfig().with_values({IMU_SECTION: imu_values})
     except InputError as exc:
         raise InputError(f"{path}: {exc}" if path is not None else str(exc)) from None
-    return estimator.to_toml() + "\n" + tomli_w.dumps({ONLINE_SECTION: online.to_dict()[ONLINE_SECTION]})
+    tables = {ONLINE_SECTION: online.to_dict()[ONLINE_SECTION], IMU_SECTION: imu.to_dict()[IMU_SECTION]}
+    return estimator.to_toml() + "\n" + tomli_w.dumps(tables)
 
 
 PRESETS = {"paper": EstimatorConfig.paper, "default": EstimatorConfig.default}
