@@ -81,6 +81,7 @@ def command(
     acc_unit,
     gyr_unit,
     sensor_height_m,
+    trial,
 ):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
@@ -104,7 +105,8 @@ def command(
     """
     if is_imu_file(file):
         return estimate_imu(file, out=out, force=force, config_file=config_file, acc_unit=acc_unit,
-                            gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m)  # fmt: skip
+                            gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m,
+                            trial=trial)  # fmt: skip
     if online:
         if belt_speed_mps is not None:
             raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")

@@ -22,7 +22,9 @@ __all__ = ["imu_options", "is_imu_file", "inspect_imu", "estimate_imu", "evaluat
 
 
 def imu_options(f):
-    """--acc-unit, --gyr-unit and --sensor-height-m (IMU files only)."""
+    """--acc-unit, --gyr-unit, --sensor-height-m and --trial (IMU files only)."""
+    f = click.option("--trial", default=None, metavar="TEST/TRIAL",
+                     help="Mobilise-D data.mat: the trial, e.g. Test11/Trial1 (default: the first).")(f)  # fmt: skip
     f = click.option("--sensor-height-m", type=float, default=None,
                      help="IMU files: the sensor's height standing (the inverted pendulum's length).")(f)  # fmt: skip
     f = click.option("--gyr-unit", type=click.Choice(["rad_s", "deg_s"]), default=None,
@@ -32,14 +34,18 @@ def imu_options(f):
     return f
 
 
-def _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m):
+def _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial=None):
     with about_file(file):
-        return read_imu(file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m)
+        return read_imu(
+            file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m, trial=trial
+        )
 
 
-def inspect_imu(file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, as_json=False) -> None:
+def inspect_imu(
+    file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, as_json=False
+) -> None:
     """Print an IMU recording's rate, duration, units, gravity, and what the online estimator finds."""
-    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m)
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
     res = estimator_for(rec).run_recording(rec)
     valid = res["valid"].astype(bool)
     g = float(np.median(np.linalg.norm(rec.acc_mps2, axis=1)))
@@ -85,13 +91,13 @@ def inspect_imu(file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_heig
 
 
 def estimate_imu(file, *, out=None, force=False, config_file=None, acc_unit=None, gyr_unit=None, rate_hz=None,
-                 sensor_height_m=None) -> None:  # fmt: skip
+                 sensor_height_m=None, trial=None) -> None:  # fmt: skip
     """The online IMU estimate of FILE as CSV, one row per sample (every field of ImuEstimate)."""
     config = ImuConfig.from_file(config_file) if config_file is not None else None
     target = Path(out or f"{Path(file).name}.imu.csv")
     if target.exists() and not force:
         raise OutputError(f"--out {target}: exists; use --force to overwrite it")
-    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m)
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
     res = estimator_for(rec, config).run_recording(rec)
     names = res.column_names()
 

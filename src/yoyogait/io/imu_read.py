@@ -284,7 +284,7 @@ def read_mobilised_mat(path, *, trial=None) -> ImuRecording:
         return trials[0]
     names = [f"{r.metadata['test']}/{r.metadata['trial']}" for r in trials]
     if trial not in names:
-        raise InputError(f"{path}: no trial {trial!r}; the file has {', '.join(names)} (pass trial=)")
+        raise InputError(f"{path}: no trial {trial!r}; the file has {', '.join(names)} (trial=, --trial)")
     return trials[names.index(trial)]
 
 

@@ -7,6 +7,7 @@ import csv
 import numpy as np
 
 from yoyogait.cli import main
+from yoyogait.io.imu_read import read_imu
 from yoyogait.io.imu_recording import GRAVITY_MPS2
 from yoyogait.synthetic_imu import make_imu_walk
 
@@ -72,3 +73,15 @@ def test_evaluate_the_imu_data_set(datasets_dir, tmp_path, capsys):
     assert (out / "bouts.csv").is_file() and (out / "summary.md").is_file()
     assert len(list((out / "figures").glob("*.png"))) == 9
     assert "yoyogait-imu" in text and "INDIP" in text and "Stereophoto" in text
+
+
+def test_estimate_a_trial_of_a_data_mat(datasets_dir, tmp_path, capsys):
+    """--trial picks a trial of a data.mat (one row per sample); an unknown one is one line naming --trial."""
+    mat = str(datasets_dir / MOBGAP / "data/lab/HA/002/data.mat")
+    out = tmp_path / "t.csv"
+    assert main(["estimate", mat, "--trial", "Test5/Trial2", "--out", str(out)]) == 0
+    with open(out) as f:
+        assert sum(1 for _ in f) - 1 == read_imu(mat, trial="Test5/Trial2").n_samples
+    code = main(["estimate", mat, "--trial", "Test12/Trial1", "--out", str(tmp_path / "u.csv")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--trial" in err
