@@ -186,6 +186,7 @@ def _header_line(p: Path) -> int:
 
 
 def _columns(lower, kind, units, override, option, where) -> tuple[list[int], float]:
+    flag = "--" + option.replace("_", "-")
     cols, scales = [], set()
     for a in _AXES:
         found = None
@@ -199,17 +200,19 @@ def _columns(lower, kind, units, override, option, where) -> tuple[list[int], fl
         cols.append(found[0])
         if found[1]:
             if found[1] not in units:
-                raise InputError(f"{where}: unknown unit {found[1]!r} in column {lower[found[0]]!r}; pass {option}")
+                raise InputError(
+                    f"{where}: unknown unit {found[1]!r} in column {lower[found[0]]!r}; pass {option} ({flag})"
+                )
             scales.add(units[found[1]])
     if override is not None:
         return cols, _unit(override, units, option, where)
     if len(scales) == 1:
         return cols, scales.pop()
     if len(scales) > 1:
-        raise InputError(f"{where}: the {kind} columns disagree on their unit; pass {option}")
+        raise InputError(f"{where}: the {kind} columns disagree on their unit; pass {option} ({flag})")
     raise InputError(
-        f"{where}: the {kind} columns carry no unit; pass {option} "
-        f"({' or '.join(sorted(set(units) - {'m/s^2', 'rad/s', 'deg/s'}))})"
+        f"{where}: the {kind} columns carry no unit; pass {option} ({flag}) "
+        f"{' or '.join(sorted(set(units) - {'m/s^2', 'rad/s', 'deg/s'}))}"
     )
 
 
