@@ -17,7 +17,9 @@
 #include <utility>
 #include <vector>
 
+#include "imu.hpp"
 #include "online.hpp"
+#include "yoyogait/imu/imu_config.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/yoyogait.hpp"
@@ -454,6 +456,10 @@ nb::list config_schema() {
 #define YOYO_SCHEMA_ONLINE(...) YOYO_SCHEMA("online", online, __VA_ARGS__)
   YOYOGAIT_ONLINE_FIELDS(YOYO_SCHEMA_ONLINE)
 #undef YOYO_SCHEMA_ONLINE
+  const yoyogait::ImuConfig imu{};
+#define YOYO_SCHEMA_IMU(...) YOYO_SCHEMA("imu", imu, __VA_ARGS__)
+  YOYOGAIT_IMU_FIELDS(YOYO_SCHEMA_IMU)
+#undef YOYO_SCHEMA_IMU
 #undef YOYO_SCHEMA_SHARED
 #undef YOYO_SCHEMA_PAPER
 #undef YOYO_SCHEMA_GAIT
@@ -630,4 +636,5 @@ NB_MODULE(_core, m) {
     return matrix(yoyogait::gait_transition_jacobian(x, dt_s, accel_decay, rate_decay));
   }, "x"_a, "dt_s"_a, "accel_decay"_a, "omega_rate_decay"_a);
   bind_online(m);
+  bind_imu(m);
 }

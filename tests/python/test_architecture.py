@@ -27,6 +27,7 @@ LATE_IMPORTS_ALLOWED = {
     "tomli_w",
     "matplotlib",
     "PIL",
+    "mobgap",
 }
 
 
@@ -90,6 +91,8 @@ def _stage(module: str) -> str:
     parts = module.split(".")
     if len(parts) == 1:
         return "yoyogait"
+    if parts[1] == "synthetic_imu":  # the synthetic lab's IMU: the same stage
+        return "synthetic"
     return parts[1] if parts[1] in STAGE_RANKS else ""
 
 

@@ -17,6 +17,7 @@ from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..pipeline import events
 from ..pipeline.velocities import gait_velocities
+from .imu_cmd import estimate_imu, imu_options, is_imu_file
 from .options import (
     belt_speed_option,
     check_points,
@@ -71,6 +72,7 @@ def reference_events(recording, feet, up_axis):
     "FIFO, socket or an input: docs/files.md)."
 )
 @click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
+@imu_options
 @click.pass_context
 def command(
     ctx,
@@ -87,6 +89,10 @@ def command(
     belt_speed_mps,
     force,
     online,
+    acc_unit,
+    gyr_unit,
+    sensor_height_m,
+    trial,
 ):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
@@ -103,7 +109,15 @@ def command(
     used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite),
     input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
     standing); --out defaults to FILE's name + .online.csv.
+
+    An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt) is estimated online by nature: one
+    row per sample, every field of the IMU estimate (docs/imu.md), --out defaulting to FILE's name +
+    .imu.csv; --config FILE's [imu] table configures it.
     """
+    if is_imu_file(file):
+        return estimate_imu(file, out=out, force=force, config_file=config_file, acc_unit=acc_unit,
+                            gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m,
+                            trial=trial)  # fmt: skip
     if online:
         if belt_speed_mps is not None:
             raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")

@@ -19,6 +19,7 @@ from ..errors import InputError
 from ..estimators.config import OnlineConfig
 from ..estimators.registry import config_estimators
 from ..evaluation import parallel
+from .imu_cmd import evaluate_imu, is_imu_dataset
 from .options import (
     ESTIMATOR_NAMES,
     check_points,
@@ -281,6 +282,9 @@ def command(
 ):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
+    A folder of Mobilise-D lower-back IMU data (data.mat files): per reference walking bout the
+    cadence, speed and stride-time errors of the online IMU estimator, the oscillator and mobgap.
+
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
     Fig. 3/4-style figures and an index.md into --out (recordings and figures in parallel: --jobs,
     or a Dask cluster with --scheduler; the results do not depend on how). The input options apply to
@@ -290,6 +294,10 @@ def command(
     if no_figures and figures not in (None, "none"):
         raise InputError(f"--no-figures contradicts --figures {figures}")
     mode = "none" if no_figures else figures
+    if dataset != "synthetic" and is_imu_dataset(dataset):
+        imu_config = config_files[0] if config_files else None
+        evaluate_imu(dataset, Path(out), force=force, figures=mode != "none", config_file=imu_config)
+        return
     overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     overrides = {k: v for k, v in overrides.items() if v is not None}
     result = run_evaluation(

@@ -11,6 +11,7 @@ from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
 from ..pipeline.velocities import gait_velocities
+from .imu_cmd import imu_options, inspect_imu, is_imu_file
 from .options import belt_speed_option, input_options, read_overrides
 
 
@@ -165,9 +166,17 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
 @belt_speed_option
 @click.option("--all-points", is_flag=True, help="List every point name.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
-def command(file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json) -> None:
+@imu_options
+def command(
+    file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json,
+    acc_unit, gyr_unit, sensor_height_m, trial,
+) -> None:  # fmt: skip
     """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
-    mean speed, dominant step frequency and the DFT check of the Yoyo-model."""
+    mean speed, dominant step frequency and the DFT check of the Yoyo-model. An IMU file (Mobilise-D
+    data.mat, an IMU CSV, an Xsens .txt): its rate, units, gravity and the online IMU estimate."""
+    if is_imu_file(file):
+        return inspect_imu(file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz,
+                           sensor_height_m=sensor_height_m, trial=trial, as_json=as_json)  # fmt: skip
     report = inspect_file(
         file,
         point=point,

@@ -3,6 +3,7 @@
 * :mod:`.config`: :class:`EstimatorConfig` and the presets;
 * :mod:`.gait_estimator`: :class:`GaitEstimator` (the C++ core, streaming and batch);
 * :mod:`.online`: :class:`OnlineEstimator` (frames in, estimates out, causal front-end in C++);
+* :mod:`.imu`: :class:`ImuOnlineEstimator` (one lower-back IMU in, estimates out, online);
 * :mod:`.results`: :class:`EstimateResult`, what every estimator returns;
 * :mod:`.oscillator`, :mod:`.sliding_dft`: the baselines, as algorithm objects;
 * :mod:`.registry`: every estimator by name, as the evaluation and the CLI run them.
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 from .config import ALGORITHMS, PRESETS, EstimatorConfig
 from .gait_estimator import GaitEstimator, Status
+from .imu import ImuConfig, ImuOnlineEstimator, ImuReason, ImuResult
 from .online import ConcurrentUseError, OnlineConfig, OnlineEstimator, OnlineResult, OnlineStatus
 from .oscillator import AdaptiveOscillator, OscillatorBaseline, OscillatorConfig, run_oscillator
 from .registry import BASELINES, check_estimators, estimators
@@ -28,6 +30,10 @@ __all__ = [
     "EstimateResult",
     "EstimatorConfig",
     "GaitEstimator",
+    "ImuConfig",
+    "ImuOnlineEstimator",
+    "ImuReason",
+    "ImuResult",
     "OnlineConfig",
     "OnlineEstimator",
     "OnlineResult",

@@ -39,6 +39,8 @@ __all__ = [
     "FieldSchema",
     "ONLINE_SECTION",
     "OnlineConfig",
+    "IMU_SECTION",
+    "ImuConfig",
     "GaitFilterConfig",
     "PaperConfig",
     "effective_toml",
@@ -55,6 +57,9 @@ SECTIONS = ("paper_estimator", "gait_filter")
 
 ONLINE_SECTION = "online"
 """The section of the online front-end (:class:`OnlineConfig`) in the schema and the TOML files."""
+
+IMU_SECTION = "imu"
+"""The section of the lower-back IMU front-end (:class:`ImuConfig`) in the schema and the TOML files."""
 
 
 @dataclass(frozen=True)
@@ -375,6 +380,7 @@ class EstimatorConfig(_ConfigFile):
         path = Path(path)
         values = _read_toml(path)
         values.pop(ONLINE_SECTION, None)
+        values.pop(IMU_SECTION, None)
         return cls._from_file_values(path, values)
 
     # ------------------------------------------------------------------------------- checking
@@ -469,6 +475,7 @@ class OnlineConfig(_ConfigFile):
         if not isinstance(values, Mapping):
             raise InputError(f"a configuration must be a table of fields, got {type(values).__name__}")
         values = dict(values)
+        values.pop(IMU_SECTION, None)
         online = values.pop(ONLINE_SECTION, {})
         if not isinstance(online, Mapping):
             raise InputError(f"{ONLINE_SECTION} must be a table of fields, got {online!r}")
@@ -501,19 +508,23 @@ class OnlineConfig(_ConfigFile):
 def effective_toml(preset: str | None = None, path=None) -> str:
     """The effective configuration as TOML: the estimator of ``preset`` (default: the default) or of
     the file ``path`` applied to the defaults, then the ``[online]`` table (the file's, checked, else
-    the defaults). The online table is printed for either algorithm: the offline commands ignore it."""
+    the defaults), then the ``[imu]`` table likewise. Both are printed for either algorithm: the offline
+    commands ignore them."""
     if path is not None:
         path = Path(path)
         estimator = EstimatorConfig.from_file(path)
         online_values = _read_toml(path).get(ONLINE_SECTION, {})
+        imu_values = _read_toml(path).get(IMU_SECTION, {})
     else:
         estimator = EstimatorConfig.preset(preset or "default")
-        online_values = {}
-    try:  # the online table checked on its own (with the default estimator behind it)
+        online_values = imu_values = {}
+    try:  # the online and imu tables checked on their own (with the default estimator behind them)
         online = OnlineConfig().with_values({ONLINE_SECTION: online_values})
+        imu = ImuConfig().with_values({IMU_SECTION: imu_values})
     except InputError as exc:
         raise InputError(f"{path}: {exc}" if path is not None else str(exc)) from None
-    return estimator.to_toml() + "\n" + tomli_w.dumps({ONLINE_SECTION: online.to_dict()[ONLINE_SECTION]})
+    tables = {ONLINE_SECTION: online.to_dict()[ONLINE_SECTION], IMU_SECTION: imu.to_dict()[IMU_SECTION]}
+    return estimator.to_toml() + "\n" + tomli_w.dumps(tables)
 
 
 PRESETS = {"paper": EstimatorConfig.paper, "default": EstimatorConfig.default}
@@ -527,6 +538,7 @@ def schema_markdown() -> str:
         "paper_estimator": '`[paper_estimator]`: the paper\'s estimator (`algorithm = "paper"`)',
         "gait_filter": '`[gait_filter]`: the gait filter, the default estimator (`algorithm = "gait_filter"`)',
         ONLINE_SECTION: "`[online]`: the online front-end (`OnlineConfig`; `--online`, `live`, `evaluate --online`)",
+        IMU_SECTION: "`[imu]`: the lower-back IMU front-end (`ImuConfig`; IMU files, docs/imu.md)",
     }
     lines = [
         "# Configuration",
@@ -566,7 +578,7 @@ def schema_markdown() -> str:
         "`evaluate --online`); the offline commands ignore it, so one file serves both. `yoyogait config`",
         "prints the effective configuration of a preset or a file as TOML.",
     ]
-    for section in ("", *SECTIONS, ONLINE_SECTION):
+    for section in ("", *SECTIONS, ONLINE_SECTION, IMU_SECTION):
         lines += ["", f"## {titles[section]}", "", "| field | type | default | unit | valid range | what it is |"]
         lines.append("|---|---|---|---|---|---|")
         for f in SCHEMA:
@@ -588,3 +600,80 @@ def _default_text(value: Any) -> str:
     if isinstance(value, float):
         return _num(value)
     return str(value)
+
+
+@dataclass
+class ImuConfig(_ConfigFile):
+    """Settings of the lower-back IMU front-end (docs/imu.md); mirrors ``yoyogait::ImuConfig``: the
+    gait estimator behind it and the fields of the C++ table ``YOYOGAIT_IMU_FIELDS`` (section
+    ``imu`` of :data:`SCHEMA`). In a TOML file the estimator's fields as :class:`EstimatorConfig`
+    has them, and an ``[imu]`` table; ``[online]`` is ignored here, as ``[imu]`` is by the others.
+    """
+
+    estimator: EstimatorConfig = field(default_factory=EstimatorConfig)
+    """The gait estimator behind the front-end, fed every ``estimator.sample_time_s``."""
+    mahony_kp_per_s: float = _field(IMU_SECTION, "mahony_kp_per_s")
+    mahony_ki_per_s2: float = _field(IMU_SECTION, "mahony_ki_per_s2")
+    max_gyro_bias_rad_s: float = _field(IMU_SECTION, "max_gyro_bias_rad_s")
+    highpass_tau_s: float = _field(IMU_SECTION, "highpass_tau_s")
+    forward_axis: int = _field(IMU_SECTION, "forward_axis")
+    forward_negative: bool = _field(IMU_SECTION, "forward_negative")
+    sensor_height_m: float = _field(IMU_SECTION, "sensor_height_m")
+    step_length_factor: float = _field(IMU_SECTION, "step_length_factor")
+    excursion_tau_s: float = _field(IMU_SECTION, "excursion_tau_s")
+    speed_rel_std: float = _field(IMU_SECTION, "speed_rel_std")
+    settle_s: float = _field(IMU_SECTION, "settle_s")
+    max_gap_s: float = _field(IMU_SECTION, "max_gap_s")
+    acc_saturation_mps2: float = _field(IMU_SECTION, "acc_saturation_mps2")
+    gyr_saturation_rad_s: float = _field(IMU_SECTION, "gyr_saturation_rad_s")
+    saturation_hold_s: float = _field(IMU_SECTION, "saturation_hold_s")
+    gravity_tau_s: float = _field(IMU_SECTION, "gravity_tau_s")
+    gravity_tolerance: float = _field(IMU_SECTION, "gravity_tolerance")
+    max_speed_mps: float = _field(IMU_SECTION, "max_speed_mps")
+    latency_f_hz: float = _field(IMU_SECTION, "latency_f_hz")
+
+    def _own(self):
+        return [f for f in fields(self) if f.name != "estimator"]
+
+    def to_dict(self) -> dict:
+        """The estimator's :meth:`EstimatorConfig.to_dict` with an ``imu`` table of the front-end's fields."""
+        return self.estimator.to_dict() | {IMU_SECTION: {f.name: _plain(getattr(self, f.name)) for f in self._own()}}
+
+    @classmethod
+    def from_dict(cls, values: Mapping) -> ImuConfig:
+        """The default with ``values`` (nested as :meth:`to_dict`, partial) applied, checked."""
+        return cls().with_values(values)
+
+    def with_values(self, values: Mapping) -> ImuConfig:
+        """A copy with ``values`` (the estimator's fields and an ``imu`` table, partial) applied, checked."""
+        if not isinstance(values, Mapping):
+            raise InputError(f"a configuration must be a table of fields, got {type(values).__name__}")
+        values = dict(values)
+        values.pop(ONLINE_SECTION, None)
+        imu = values.pop(IMU_SECTION, {})
+        if not isinstance(imu, Mapping):
+            raise InputError(f"{IMU_SECTION} must be a table of fields, got {imu!r}")
+        _reject_unknown(imu, {f.name for f in self._own()}, IMU_SECTION)
+        out = dataclasses.replace(self, estimator=self.estimator.with_values(values), **dict(imu))
+        out.validate()
+        return out
+
+    @classmethod
+    def from_file(cls, path) -> ImuConfig:
+        """The estimator's fields and the ``[imu]`` table of a TOML file (fields left out keep their
+        defaults). InputError naming the file and the field for anything unusable."""
+        path = Path(path)
+        return cls._from_file_values(path, _read_toml(path))
+
+    def to_native(self) -> _core.ImuConfig:
+        """The C++ struct; raises InputError saying what is not usable."""
+        if not isinstance(self.estimator, EstimatorConfig):
+            raise InputError(f"estimator must be an EstimatorConfig, got {type(self.estimator).__name__}")
+        native = _core.ImuConfig()
+        native.estimator = self.estimator.to_native()
+        for f in self._own():
+            setattr(native, f.name, f.metadata["schema"].check(getattr(self, f.name)))
+        problem = native.validate()
+        if problem:
+            raise InputError(f"invalid imu configuration: {problem}")
+        return native

@@ -168,7 +168,7 @@ def _refuse_inertial(header: list[str], where) -> None:
     if len(inertial) >= 3 and not has_points:
         raise InputError(
             f"{where}: an IMU recording ({', '.join(header[lower.index(h)] for h in inertial[:6])}), "
-            "not point positions: yoyogait reads motion capture here"
+            "not point positions: read it with yoyogait.io.imu_read.read_imu (the CLI does; docs/imu.md)"
         )
 
 

@@ -13,17 +13,19 @@ import pytest
 import yoyogait
 from yoyogait import EstimatorConfig, GaitEstimator, _core
 from yoyogait.estimators.config import (
+    IMU_SECTION,
     ONLINE_SECTION,
     SCHEMA,
     SECTIONS,
     GaitFilterConfig,
+    ImuConfig,
     OnlineConfig,
     PaperConfig,
     schema_markdown,
 )
 from yoyogait.estimators.records import RECORDS
 
-ESTIMATOR_SCHEMA = [spec for spec in SCHEMA if spec.section != ONLINE_SECTION]
+ESTIMATOR_SCHEMA = [spec for spec in SCHEMA if spec.section not in (ONLINE_SECTION, IMU_SECTION)]
 ONLINE_SCHEMA = [spec for spec in SCHEMA if spec.section == ONLINE_SECTION]
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -58,9 +60,12 @@ FLOAT_OUTPUTS = (*(f.name for f in RECORDS["Estimate"] if f.type.startswith("flo
 def test_python_dataclasses_agree_with_the_cpp_tables_field_by_field():
     """Each section's dataclass has the C++ table's fields in its order, with its type, default and doc."""
     raw = _core.config_schema()
-    tables = {section: [d for d in raw if d["section"] == section] for section in ("", *SECTIONS, ONLINE_SECTION)}
+    tables = {
+        section: [d for d in raw if d["section"] == section] for section in ("", *SECTIONS, ONLINE_SECTION, IMU_SECTION)
+    }
     classes = {"": EstimatorConfig, "paper_estimator": PaperConfig, "gait_filter": GaitFilterConfig}
     classes[ONLINE_SECTION] = OnlineConfig
+    classes[IMU_SECTION] = ImuConfig
     for section, cls in classes.items():
         own = [f for f in dataclasses.fields(cls) if f.name not in (*SECTIONS, "estimator")]
         assert [f.name for f in own] == [d["name"] for d in tables[section]], section
@@ -88,6 +93,8 @@ def test_every_field_outside_its_range_is_a_value_error_naming_it():
             with pytest.raises(ValueError, match=rf"{spec.path}\b"):
                 if spec.section == ONLINE_SECTION:
                     OnlineConfig(**{spec.name: value}).validate()
+                elif spec.section == IMU_SECTION:
+                    ImuConfig(**{spec.name: value}).validate()
                 else:
                     GaitEstimator(_with(EstimatorConfig(), spec, value))
 

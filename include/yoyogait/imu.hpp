@@ -1,0 +1,8 @@
+/// @file imu.hpp
+/// @brief The lower-back IMU front-end and ImuOnlineEstimator (docs/imu.md).
+#pragma once
+
+#include "yoyogait/imu/imu_config.hpp"
+#include "yoyogait/imu/imu_estimate.hpp"
+#include "yoyogait/imu/imu_estimator.hpp"
+#include "yoyogait/imu/mahony.hpp"

@@ -1,0 +1,77 @@
+/// @file imu/imu_config.hpp
+/// @brief ImuConfig: every setting of the lower-back IMU front-end (docs/imu.md).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+
+#include "yoyogait/config.hpp"
+
+namespace yoyogait {
+
+/// Settings of ImuOnlineEstimator, declared once: X(type, name, default, "unit", lo, min, max, hi,
+/// "doc"). None is a number of samples: the front-end behaves the same at any sample rate. The
+/// struct, its validation, the bindings, the schema (`_core.config_schema()`, section "imu"), the
+/// Python ImuConfig and the `[imu]` section of the TOML files follow this table.
+#define YOYOGAIT_IMU_FIELDS(X)                                                                                      \
+  X(double, mahony_kp_per_s, 0.5, "1/s", "(", 0.0, 100.0, "]",                                                     \
+    "Mahony filter: proportional gain of the gravity correction (about 1/kp s of accelerometer averaging)")       \
+  X(double, mahony_ki_per_s2, 0.02, "1/s^2", "[", 0.0, 100.0, "]",                                                  \
+    "Mahony filter: integral gain (the gyro bias about the horizontal axes)")                                     \
+  X(double, max_gyro_bias_rad_s, 0.1, "rad/s", "[", 0.0, 10.0, "]", "the integral term is limited to this")       \
+  X(double, highpass_tau_s, 1.0, "s", "(", 0.0, 1e100, "]",                                                         \
+    "time constant of the high-pass of the accelerations and of the leaky integrator after it")                  \
+  X(std::size_t, forward_axis, 2, "", "[", 0, 2, "]", "the sensor axis pointing forward (0 x, 1 y, 2 z)")           \
+  X(bool, forward_negative, false, "", "[", 0, 1, "]", "the forward direction is minus that axis")                 \
+  X(double, sensor_height_m, 0.95, "m", "(", 0.1, 3.0, "]",                                                         \
+    "the sensor's height above the floor standing: the inverted pendulum's length l")                             \
+  X(double, step_length_factor, 1.25, "", "(", 0.0, 5.0, "]",                                                       \
+    "K of the step length K 2 sqrt(2 l h - h^2) (Zijlstra & Hof 2003 use 1.25)")                                  \
+  X(double, excursion_tau_s, 0.5, "s", "(", 0.0, 1e100, "]", "low-pass of the vertical excursion h per step")       \
+  X(double, speed_rel_std, 0.1, "", "[", 0.0, 10.0, "]",                                                             \
+    "relative standard deviation of the pendulum speed (model error), added to the estimator's speed std")       \
+  X(double, settle_s, 2.0, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long after a (re)start (2 highpass_tau_s: the integrators' start transient decays)") \
+  X(double, max_gap_s, 0.1, "s", "(", 0.0, 1e100, "]", "a longer interval between samples restarts the front-end") \
+  X(double, acc_saturation_mps2, 78.0, "m/s^2", "(", 0.0, 1e100, "]",                                                \
+    "an acceleration component at or beyond this is saturated (the sensor's range)")                              \
+  X(double, gyr_saturation_rad_s, 34.0, "rad/s", "(", 0.0, 1e100, "]",                                               \
+    "an angular rate component at or beyond this is saturated (the sensor's range)")                              \
+  X(double, saturation_hold_s, 1.0, "s", "[", 0.0, 1e100, "]", "valid is 0 this long after a saturated sample")    \
+  X(double, gravity_tau_s, 2.0, "s", "(", 0.0, 1e100, "]", "low-pass of the acceleration's norm for the gravity check") \
+  X(double, gravity_tolerance, 0.25, "", "(", 0.0, 1.0, ")",                                                         \
+    "valid is 0 while that norm is further than this fraction from 9.81 m/s^2 (a wrong unit, a broken sensor)")  \
+  X(double, max_speed_mps, 3.0, "m/s", "(", 0.0, 1e100, "]", "a walking speed above this is not reported as valid") \
+  X(double, latency_f_hz, 2.0, "Hz", "(", 0.0, 1e100, "]", "frequency at which the reported input latency is evaluated")
+
+#define YOYOGAIT_IMU_MEMBER(type, name, def, unit, lo, min, max, hi, doc) type name = def;
+
+/// Settings of ImuOnlineEstimator: the gait estimator behind it and YOYOGAIT_IMU_FIELDS.
+struct ImuConfig {
+  /// The gait estimator behind the front-end, fed every estimator.sample_time_s with the mean of the
+  /// front-end's forward and vertical velocities over that interval.
+  EstimatorConfig estimator{};
+  YOYOGAIT_IMU_FIELDS(YOYOGAIT_IMU_MEMBER)
+
+  /// nullptr when usable, else what is wrong, naming the field ("imu.field") and its range.
+  const char* validate() const noexcept {
+    if (const char* e = estimator.validate()) return e;
+#define YOYOGAIT_CHECK_IMU(type, name, def, unit, lo, min, max, hi, doc) \
+  if (!detail::in_range(name, min, max, lo, hi)) return detail::range_message("imu.", #name, name, min, max, lo, hi, unit);
+    YOYOGAIT_IMU_FIELDS(YOYOGAIT_CHECK_IMU)
+#undef YOYOGAIT_CHECK_IMU
+    if (estimator.algorithm != Algorithm::kGaitFilter)
+      return "the IMU estimator runs the gait filter (algorithm gait_filter)";
+    return nullptr;
+  }
+};
+
+#undef YOYOGAIT_IMU_MEMBER
+
+#define YOYOGAIT_SPEC_IMU(type, name, def, unit, lo, min, max, hi, doc)                                         \
+  FieldSpec{"imu", #name, detail::type_name<type>(), unit, static_cast<double>(min), static_cast<double>(max), \
+            lo[0] == '[', hi[0] == ']', doc},
+/// Every field of the IMU table, as kConfigFields lists the estimator's.
+inline constexpr FieldSpec kImuConfigFields[] = {YOYOGAIT_IMU_FIELDS(YOYOGAIT_SPEC_IMU)};
+#undef YOYOGAIT_SPEC_IMU
+
+}  // namespace yoyogait

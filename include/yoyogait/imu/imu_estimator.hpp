@@ -1,0 +1,303 @@
+/// @file imu/imu_estimator.hpp
+/// @brief ImuOnlineEstimator: one lower-back IMU in, gait estimates out, one sample at a time,
+/// nothing taken from the future (docs/imu.md).
+///
+/// Per sample: the orientation relative to gravity (imu::Mahony), the gravity-free acceleration in
+/// the world frame, its vertical component and its component along the heading of the sensor's
+/// forward axis integrated without drift (imu::LeakyIntegrator); every
+/// EstimatorConfig::sample_time_s the mean over the interval of (pendulum speed + forward
+/// oscillation, vertical velocity) feeds the gait Estimator. The pendulum speed is the step length
+/// of the inverted pendulum (Zijlstra & Hof 2003), K 2 sqrt(2 l h - h^2), times the step frequency,
+/// with h = 2 |Z| / w the vertical excursion per step from the estimator's own vertical phasor.
+/// The Estimator has no observation of A0 of its own; the pendulum speed enters as the mean of the
+/// forward velocity it is fed, which is what A0 is (the mean forward velocity over a step).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+
+#include "yoyogait/estimator.hpp"
+#include "yoyogait/imu/imu_config.hpp"
+#include "yoyogait/imu/imu_estimate.hpp"
+#include "yoyogait/imu/mahony.hpp"
+
+namespace yoyogait {
+
+/// The IMU gait estimator. update() is noexcept and allocates nothing; the constructor throws
+/// std::invalid_argument for an unusable configuration.
+class ImuOnlineEstimator {
+ public:
+  static constexpr double kGravityMps2 = 9.80665;
+
+  explicit ImuOnlineEstimator(const ImuConfig& config = ImuConfig{})
+      : config_(checked(config)),
+        estimator_(config_.estimator),
+        mahony_(config_.mahony_kp_per_s, config_.mahony_ki_per_s2, config_.max_gyro_bias_rad_s),
+        int_z_(config_.highpass_tau_s),
+        int_x_(config_.highpass_tau_s) {
+    fwd_[config_.forward_axis] = config_.forward_negative ? -1.0 : 1.0;
+    // A frequency at a bound of the estimator's range is a filter that has not locked.
+    f_locked_min_hz_ = 1.02 * config_.estimator.gait_filter.f_min_hz;
+    f_locked_max_hz_ = 0.98 * config_.estimator.gait_filter.f_max_hz;
+    reset();
+  }
+
+  /// Back to the state before the first sample.
+  void reset() noexcept {
+    estimator_.reset();
+    est_ = Estimate{};
+    out_ = ImuEstimate{};
+    have_time_ = false;
+    fed_ = false;
+    started_ = false;
+    started_before_ = false;
+    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+    tick_age_s_ = carry_h_s_ = phase_ = 0.0;
+    excursion_m_ = 0.0;
+    pendulum_speed_mps_ = 0.0;
+    step_length_m_ = 0.0;
+    heading_ = {1.0, 0.0};
+    t_saturated_s_ = -std::numeric_limits<double>::infinity();
+    gap_restart_ = false;
+    acc_norm_lp_ = kGravityMps2;
+  }
+
+  /// One sample: t_s [s], acc[3] the specific force [m/s^2] and gyr[3] the angular rate [rad/s],
+  /// both in the sensor frame. Never throws; the state stays finite.
+  ImuEstimate update(double t_s, const double* acc, const double* gyr) noexcept {
+    ImuEstimate& o = out_;
+    o.estimator_fed = false;
+    bool finite = std::isfinite(t_s);
+    imu::Vec3 a{}, w{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      a[i] = acc[i];
+      w[i] = gyr[i];
+      finite = finite && std::isfinite(a[i]) && std::isfinite(w[i]);
+    }
+    if (!finite) {
+      o.reason = ImuReason::kNonFinite;
+      o.valid = false;
+      return o;
+    }
+    if (have_time_ && !(t_s > t_last_s_)) {
+      o.reason = ImuReason::kTimeNotIncreasing;
+      o.valid = false;
+      return o;
+    }
+    const double dt_s = have_time_ ? t_s - t_last_s_ : 0.0;
+    have_time_ = true;
+    t_last_s_ = t_s;
+    o.t_s = t_s;
+
+    bool saturated = false;
+    for (std::size_t i = 0; i < 3; ++i)
+      saturated = saturated || std::fabs(a[i]) >= config_.acc_saturation_mps2 ||
+                  std::fabs(w[i]) >= config_.gyr_saturation_rad_s;
+    if (saturated) t_saturated_s_ = t_s;
+
+    const double a_norm = imu::Mahony::norm(a);
+    const bool restart = !started_ || dt_s > config_.max_gap_s;
+    if (restart) {
+      gap_restart_ = started_;
+      start_front_end(t_s, a);
+      acc_norm_lp_ = started_before_ ? acc_norm_lp_ : a_norm;
+      started_before_ = true;
+    } else {
+      mahony_.step(a, w, dt_s, !saturated);
+      if (dt_s != gravity_dt_s_) {
+        gravity_dt_s_ = dt_s;
+        gravity_alpha_ = 1.0 - std::exp(-dt_s / config_.gravity_tau_s);
+      }
+      acc_norm_lp_ += gravity_alpha_ * (a_norm - acc_norm_lp_);
+    }
+
+    // The specific force in the world frame, gravity removed; the heading of the forward axis.
+    const imu::Vec3 f_w = mahony_.to_world(a);
+    const imu::Vec3 x_w = mahony_.to_world(fwd_);
+    const double hn = std::sqrt(x_w[0] * x_w[0] + x_w[1] * x_w[1]);
+    if (hn > 0.2) heading_ = {x_w[0] / hn, x_w[1] / hn};  // held while the axis is near vertical
+    o.heading_rad = std::atan2(heading_[1], heading_[0]);
+    o.tilt_rad = std::atan2(x_w[2], hn);
+    // A saturated sample is no measurement: the integrators get the last unsaturated values.
+    if (!saturated || restart) {
+      az_last_ = f_w[2] - kGravityMps2;
+      ax_last_ = f_w[0] * heading_[0] + f_w[1] * heading_[1];
+    }
+    o.az_mps2 = az_last_;
+    const double ax = ax_last_;
+    if (restart) {
+      int_z_.start(o.az_mps2, !gap_restart_);
+      int_x_.start(ax, !gap_restart_);
+      o.vz_mps = o.vx_osc_mps = 0.0;
+    } else {
+      o.vz_mps = int_z_.step(o.az_mps2, dt_s);
+      o.vx_osc_mps = int_x_.step(ax, dt_s);
+    }
+    o.vx_mps = pendulum_speed_mps_ + o.vx_osc_mps;
+    o.input_latency_s = int_z_.delay_s(config_.latency_f_hz);
+
+    const bool settled = t_s - start_t_s_ >= config_.settle_s;
+    if (settled && !restart) {
+      if (span_s_ == 0.0) t_first_s_ = t_s;
+      sum_vx_ += o.vx_mps * dt_s;
+      sum_vz_ += o.vz_mps * dt_s;
+      sum_age_s2_ += (t_s - t_first_s_) * dt_s;
+      span_s_ += dt_s;
+      const double T = config_.estimator.sample_time_s;
+      if (span_s_ + 0.5 * dt_s >= T * (1.0 - 1e-9)) {
+        const double step_dt_s = fed_ ? t_s - t_tick_s_ : T;
+        est_ = estimator_.step(sum_vx_ / span_s_, sum_vz_ / span_s_, step_dt_s);
+        fed_ = true;
+        o.estimator_fed = true;
+        t_tick_s_ = t_s;
+        tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
+        sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+        update_pendulum(step_dt_s);
+      }
+    }
+    carry_estimate(t_s);
+    o.valid = false;
+    if (t_s - t_saturated_s_ <= config_.saturation_hold_s)
+      o.reason = ImuReason::kSaturated;
+    else if (gap_restart_ && !settled)
+      o.reason = ImuReason::kGap;
+    else if (std::fabs(acc_norm_lp_ - kGravityMps2) > config_.gravity_tolerance * kGravityMps2)
+      o.reason = ImuReason::kGravity;
+    else if (!fed_ || est_.acquiring || !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
+      o.reason = ImuReason::kAcquiring;
+    else if (!o.walking)
+      o.reason = ImuReason::kNotWalking;
+    else if (!(o.speed_mps >= 0.0 && o.speed_mps <= config_.max_speed_mps))
+      o.reason = ImuReason::kSpeedImplausible;
+    else {
+      o.reason = ImuReason::kOk;
+      o.valid = true;
+    }
+    if (settled) gap_restart_ = false;
+    return o;
+  }
+
+  const ImuConfig& config() const noexcept { return config_; }
+  /// The estimator's last estimate (at its last sample, estimate_age_s ago).
+  const Estimate& estimate() const noexcept { return est_; }
+  const Estimator& estimator() const noexcept { return estimator_; }
+  /// The orientation filter.
+  const imu::Mahony& orientation() const noexcept { return mahony_; }
+  /// The last estimate returned by update().
+  const ImuEstimate& last() const noexcept { return out_; }
+
+ private:
+  static const ImuConfig& checked(const ImuConfig& c) {
+    if (const char* e = c.validate()) throw std::invalid_argument(e);
+    return c;
+  }
+
+  // A (re)start: the integrators from rest. The orientation is taken from the specific force only
+  // at the first sample: after a gap the filter's own orientation (held over the gap) is closer
+  // than one reading taken mid-step. The estimator starts again (a gap in its input would read as
+  // a jump of phase and amplitude), and so does the pendulum speed.
+  void start_front_end(double t_s, const imu::Vec3& a) noexcept {
+    if (!started_) mahony_.start(a);
+    if (started_) {
+      estimator_.reset();
+      est_ = Estimate{};
+      fed_ = false;
+      pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
+    }
+    started_ = true;
+    start_t_s_ = t_s;
+    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+  }
+
+  // The inverted pendulum's speed from the estimator's vertical phasor: h = 2 |Z| / w per step,
+  // low-passed while walking; the step length K 2 sqrt(2 l h - h^2), the speed that times f.
+  void update_pendulum(double dt_s) noexcept {
+    const GaitState& x = est_.gait_state;
+    const double omega = x[gait::kW];
+    if (!(est_.walking && !est_.acquiring && omega > 0.0)) {
+      if (!est_.walking) pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
+      return;
+    }
+    // At most a fifth of the pendulum's length: no walker's pelvis rises more per step; a larger
+    // value is a phasor that has not locked (|Z| / w with w small).
+    const double h = std::fmin(2.0 * std::sqrt(x[gait::kZ1] * x[gait::kZ1] + x[gait::kZ2] * x[gait::kZ2]) / omega,
+                               0.2 * config_.sensor_height_m);
+    if (!std::isfinite(h)) return;
+    // From 0 at the start of a walk: a step of the forward velocity fed to the estimator would
+    // disturb its phase and frequency while they lock.
+    excursion_m_ += (1.0 - std::exp(-dt_s / config_.excursion_tau_s)) * (h - excursion_m_);
+    const double l = config_.sensor_height_m, he = std::fmin(excursion_m_, l);
+    step_length_m_ = config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * he - he * he));
+    const double f = omega * 0.15915494309189533576888376337251;
+    pendulum_speed_mps_ = std::fmin(step_length_m_ * f, 2.0 * config_.max_speed_mps);
+  }
+
+  // The estimator's last estimate carried to t_s by its own forecast (as OnlineEstimator does).
+  void carry_estimate(double t_s) noexcept {
+    ImuEstimate& o = out_;
+    const Estimate& e = est_;
+    o.step_frequency_hz = e.step_frequency_hz;
+    o.step_frequency_std_hz = e.step_frequency_std_hz;
+    o.speed_mps = e.speed_mps;
+    const double model_std = config_.speed_rel_std * pendulum_speed_mps_;
+    o.speed_std_mps = std::sqrt(e.speed_std_mps * e.speed_std_mps + model_std * model_std);
+    o.excursion_m = excursion_m_;
+    o.step_length_m = step_length_m_;
+    o.pendulum_speed_mps = pendulum_speed_mps_;
+    o.walking = fed_ && e.walking;
+    o.estimator_status = e.status;
+    if (!fed_) {
+      o.vx_hat_mps = o.vx_mps;
+      o.vz_hat_mps = o.vz_mps;
+      o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
+      carry_h_s_ = 0.0;
+      return;
+    }
+    const double h_s = (t_s - t_tick_s_) + tick_age_s_ + o.input_latency_s;
+    carry_h_s_ = h_s;
+    const Forecast f = estimator_.forecast(std::fmax(0.0, h_s), false);
+    o.vx_hat_mps = f.vx_mps;
+    o.vz_hat_mps = f.vz_mps;
+    const GaitState& x = e.gait_state;
+    const double z1 = x[gait::kZ1], z2 = x[gait::kZ2];
+    constexpr double two_pi = 6.283185307179586476925286766559;
+    const bool phased = e.walking && z1 * z1 + z2 * z2 > 1e-12;
+    if (phased) {
+      double ph = (std::atan2(z2, z1) + f.phase_advance_rad) / two_pi;
+      ph -= std::floor(ph);
+      if (ph >= 1.0) ph = 0.0;
+      phase_ = ph;
+    }
+    if (phased && f.omega_rad_s > 0.0) {
+      double left = 0.75 - phase_;
+      left -= std::floor(left);
+      if (left >= 1.0) left = 0.0;
+      const double turn = two_pi * left, wr = f.omega_rad_s, disc = wr * wr + 2.0 * f.omega_rate_rad_s2 * turn;
+      o.next_step_in_s = disc > 0.0 ? 2.0 * turn / (wr + std::sqrt(disc)) : turn / wr;
+    } else {
+      o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
+    }
+    o.gait_phase = phase_;
+  }
+
+  ImuConfig config_;
+  Estimator estimator_;
+  imu::Mahony mahony_;
+  imu::LeakyIntegrator int_z_, int_x_;
+  imu::Vec3 fwd_{0.0, 0.0, 0.0};
+  double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
+  Estimate est_{};
+  ImuEstimate out_{};
+  bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;
+  double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
+  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
+  double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
+  double excursion_m_ = 0.0, step_length_m_ = 0.0, pendulum_speed_mps_ = 0.0;
+  std::array<double, 2> heading_{1.0, 0.0};
+  double t_saturated_s_ = 0.0, acc_norm_lp_ = kGravityMps2, gravity_dt_s_ = -1.0, gravity_alpha_ = 0.0;
+};
+
+}  // namespace yoyogait

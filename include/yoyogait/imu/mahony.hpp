@@ -1,0 +1,144 @@
+/// @file imu/mahony.hpp
+/// @brief Mahony's complementary filter (Mahony, Hamel & Pflimlin 2008) without magnetometer: the
+/// sensor's orientation relative to gravity from the rate gyro, corrected towards the measured
+/// specific force; its integral term estimates the gyro bias about the horizontal axes.
+///
+/// q is the unit quaternion (w, x, y, z) of the rotation world <- sensor, world z up. Yaw (the
+/// rotation about the vertical) is the gyro's integral: relative, drifting with the vertical bias.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+namespace yoyogait::imu {
+
+using Vec3 = std::array<double, 3>;
+
+class Mahony {
+ public:
+  Mahony() noexcept = default;
+  Mahony(double kp_per_s, double ki_per_s2, double max_bias_rad_s) noexcept
+      : kp_(kp_per_s), ki_(ki_per_s2), max_bias_(max_bias_rad_s) {}
+
+  /// Starts level with the specific force acc (any non-zero vector), yaw 0, the bias estimate 0.
+  void start(const Vec3& acc) noexcept {
+    const double n = norm(acc);
+    bias_ = {0.0, 0.0, 0.0};
+    if (!(n > 0.0)) {
+      q_ = {1.0, 0.0, 0.0, 0.0};
+      return;
+    }
+    const Vec3 a{acc[0] / n, acc[1] / n, acc[2] / n};
+    // The shortest rotation taking a onto +z: q = (1 + a.z, a x z) normalised.
+    const double w = 1.0 + a[2];
+    if (w < 1e-9) {
+      q_ = {0.0, 1.0, 0.0, 0.0};  // a = -z: half a turn about x
+      return;
+    }
+    q_ = {w, a[1], -a[0], 0.0};
+    normalise();
+  }
+
+  /// One sample dt_s after the previous one. correct: use acc (false while it is saturated).
+  void step(const Vec3& acc, const Vec3& gyr, double dt_s, bool correct) noexcept {
+    Vec3 w = gyr;
+    const double n = norm(acc);
+    if (correct && n > 0.0) {
+      const Vec3 v = up_in_sensor();
+      const double ax = acc[0] / n, ay = acc[1] / n, az = acc[2] / n;
+      const Vec3 e{ay * v[2] - az * v[1], az * v[0] - ax * v[2], ax * v[1] - ay * v[0]};  // a x v
+      for (int i = 0; i < 3; ++i) {
+        if (ki_ > 0.0) {
+          bias_[i] += ki_ * e[i] * dt_s;
+          bias_[i] = std::fmax(-max_bias_, std::fmin(max_bias_, bias_[i]));
+        }
+        w[i] += kp_ * e[i] + bias_[i];
+      }
+    }
+    const double hx = 0.5 * dt_s * w[0], hy = 0.5 * dt_s * w[1], hz = 0.5 * dt_s * w[2];
+    const double qw = q_[0], qx = q_[1], qy = q_[2], qz = q_[3];
+    q_[0] = qw - qx * hx - qy * hy - qz * hz;
+    q_[1] = qx + qw * hx + qy * hz - qz * hy;
+    q_[2] = qy + qw * hy - qx * hz + qz * hx;
+    q_[3] = qz + qw * hz + qx * hy - qy * hx;
+    normalise();
+  }
+
+  /// The world's up direction in the sensor frame (R^T e_z).
+  Vec3 up_in_sensor() const noexcept {
+    const double w = q_[0], x = q_[1], y = q_[2], z = q_[3];
+    return {2.0 * (x * z - w * y), 2.0 * (w * x + y * z), w * w - x * x - y * y + z * z};
+  }
+
+  /// A sensor-frame vector in the world frame (R v).
+  Vec3 to_world(const Vec3& v) const noexcept {
+    const double w = q_[0], x = q_[1], y = q_[2], z = q_[3];
+    return {(1.0 - 2.0 * (y * y + z * z)) * v[0] + 2.0 * (x * y - w * z) * v[1] + 2.0 * (x * z + w * y) * v[2],
+            2.0 * (x * y + w * z) * v[0] + (1.0 - 2.0 * (x * x + z * z)) * v[1] + 2.0 * (y * z - w * x) * v[2],
+            2.0 * (x * z - w * y) * v[0] + 2.0 * (y * z + w * x) * v[1] + (1.0 - 2.0 * (x * x + y * y)) * v[2]};
+  }
+
+  const std::array<double, 4>& quaternion() const noexcept { return q_; }
+  /// The integral term: minus the estimated gyro bias [rad/s].
+  const Vec3& bias_correction() const noexcept { return bias_; }
+
+  static double norm(const Vec3& v) noexcept { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+ private:
+  void normalise() noexcept {
+    const double n = std::sqrt(q_[0] * q_[0] + q_[1] * q_[1] + q_[2] * q_[2] + q_[3] * q_[3]);
+    if (!(n > 0.0) || !std::isfinite(n)) {
+      q_ = {1.0, 0.0, 0.0, 0.0};
+      return;
+    }
+    for (double& c : q_) c /= n;
+  }
+
+  double kp_ = 0.5, ki_ = 0.02, max_bias_ = 0.1;
+  std::array<double, 4> q_{1.0, 0.0, 0.0, 0.0};
+  Vec3 bias_{0.0, 0.0, 0.0};
+};
+
+/// High-pass (first order) followed by a leaky integrator, both with time constant tau: the
+/// drift-free integral of an acceleration. Against the true integral it leads by
+/// 2 atan(1 / (w tau)) at w and scales by (w tau)^2 / (1 + (w tau)^2).
+class LeakyIntegrator {
+ public:
+  LeakyIntegrator() noexcept = default;
+  explicit LeakyIntegrator(double tau_s) noexcept : tau_(tau_s) {}
+
+  /// Starts with the integral 0. from_x: the input so far was x (no step at the start: the first
+  /// start, at rest with a constant offset); else it was 0 (a restart in the middle of a movement,
+  /// where x is one point of an oscillation: taking it as the past level would add a decaying
+  /// offset of x tau to the integral).
+  void start(double x, bool from_x = true) noexcept {
+    x_prev_ = from_x ? x : 0.0;
+    hp_ = 0.0;
+    v_ = 0.0;
+  }
+
+  double step(double x, double dt_s) noexcept {
+    if (dt_s != dt_s_) {
+      dt_s_ = dt_s;
+      decay_ = std::exp(-dt_s / tau_);
+    }
+    hp_ = decay_ * (hp_ + x - x_prev_);
+    x_prev_ = x;
+    v_ = decay_ * v_ + hp_ * dt_s;
+    return v_;
+  }
+
+  double value() const noexcept { return v_; }
+
+  /// Delay of the output behind the true integral at f_hz [s] (negative: it leads).
+  double delay_s(double f_hz) const noexcept {
+    const double w = 6.283185307179586 * f_hz;
+    return -2.0 * std::atan(1.0 / (w * tau_)) / w;
+  }
+
+ private:
+  double tau_ = 1.0, dt_s_ = -1.0, decay_ = 1.0;
+  double x_prev_ = 0.0, hp_ = 0.0, v_ = 0.0;
+};
+
+}  // namespace yoyogait::imu

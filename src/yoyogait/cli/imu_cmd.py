@@ -1,0 +1,199 @@
+"""The IMU side of ``inspect``, ``estimate`` and ``evaluate``: one lower-back IMU file or data set."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import tempfile
+from pathlib import Path
+
+import click
+import numpy as np
+
+from .._files import atomic_file, check_output_folder, install_folder
+from ..errors import InputError, OutputError, about_file
+from ..estimators.config import ImuConfig
+from ..estimators.imu import estimator_for
+from ..evaluation import imu as ev
+from ..io.imu_read import is_imu_file, read_imu
+
+__all__ = ["imu_options", "is_imu_file", "inspect_imu", "estimate_imu", "evaluate_imu", "is_imu_dataset"]
+
+
+def imu_options(f):
+    """--acc-unit, --gyr-unit, --sensor-height-m and --trial (IMU files only)."""
+    f = click.option("--trial", default=None, metavar="TEST/TRIAL",
+                     help="Mobilise-D data.mat: the trial, e.g. Test11/Trial1 (default: the first).")(f)  # fmt: skip
+    f = click.option("--sensor-height-m", type=float, default=None,
+                     help="IMU files: the sensor's height standing (the inverted pendulum's length).")(f)  # fmt: skip
+    f = click.option("--gyr-unit", type=click.Choice(["rad_s", "deg_s"]), default=None,
+                     help="IMU files: unit of the angular rate columns when the file does not say.")(f)  # fmt: skip
+    f = click.option("--acc-unit", type=click.Choice(["mps2", "g"]), default=None,
+                     help="IMU files: unit of the acceleration columns when the file does not say.")(f)  # fmt: skip
+    return f
+
+
+def _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial=None):
+    with about_file(file):
+        return read_imu(
+            file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m, trial=trial
+        )
+
+
+def inspect_imu(
+    file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, as_json=False
+) -> None:
+    """Print an IMU recording's rate, duration, units, gravity, and what the online estimator finds."""
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
+    res = estimator_for(rec).run_recording(rec)
+    valid = res["valid"].astype(bool)
+    g = float(np.median(np.linalg.norm(rec.acc_mps2, axis=1)))
+    report = {
+        "file": str(file),
+        "format": f"IMU ({rec.metadata.get('layout', '?')})",
+        "synthetic": rec.synthetic,
+        "rate_hz": rec.rate_hz,
+        "samples": rec.n_samples,
+        "duration_s": rec.duration_s,
+        "gravity_mps2": g,
+        "max_abs_acc_mps2": float(np.nanmax(np.abs(rec.acc_mps2))),
+        "max_abs_gyr_rad_s": float(np.nanmax(np.abs(rec.gyr_rad_s))),
+        "sensor_height_m": rec.sensor_height_m,
+        "valid_s": float(valid.sum() / (rec.rate_hz or 100.0)),
+        "median_cadence_spm": float(np.median(res.cadence_spm[valid])) if valid.any() else None,
+        "median_speed_mps": float(np.median(res["speed_mps"][valid])) if valid.any() else None,
+        "references": {k: len(v) for k, v in rec.references.items()},
+    }
+    if as_json:
+        click.echo(json.dumps(report, indent=1, default=float))
+        return
+    height = f"{rec.sensor_height_m:.3f} m" if rec.sensor_height_m else "not given (default 0.95 m; --sensor-height-m)"
+    lines = [
+        ("file", f"{file} ({report['format']})" + (" SYNTHETIC" if rec.synthetic else "")),
+        (
+            "rate",
+            f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular",
+        ),
+        ("gravity", f"{g:.2f} m/s^2 (median norm of the acceleration)"),
+        ("range", f"|acc| <= {report['max_abs_acc_mps2']:.1f} m/s^2, |gyr| <= {report['max_abs_gyr_rad_s']:.2f} rad/s"),
+        ("sensor height", height),
+        ("valid", f"{report['valid_s']:.2f} s of valid online estimates (walking)"),
+    ]
+    if report["median_cadence_spm"] is not None:
+        lines.append(("cadence", f"{report['median_cadence_spm']:.1f} steps/min (median while valid)"))
+        lines.append(("speed", f"{report['median_speed_mps']:.2f} m/s (median while valid, inverted pendulum)"))
+    if rec.references:
+        lines.append(("references", ", ".join(f"{k} ({n} walking bouts)" for k, n in report["references"].items())))
+    width = max(len(k) for k, _ in lines)
+    for k, v in lines:
+        click.echo(f"{k:<{width}}  {v}")
+
+
+def estimate_imu(file, *, out=None, force=False, config_file=None, acc_unit=None, gyr_unit=None, rate_hz=None,
+                 sensor_height_m=None, trial=None) -> None:  # fmt: skip
+    """The online IMU estimate of FILE as CSV, one row per sample (every field of ImuEstimate)."""
+    config = ImuConfig.from_file(config_file) if config_file is not None else None
+    target = Path(out or f"{Path(file).name}.imu.csv")
+    if target.exists() and not force:
+        raise OutputError(f"--out {target}: exists; use --force to overwrite it")
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
+    res = estimator_for(rec, config).run_recording(rec)
+    names = res.column_names()
+
+    def write(p):
+        with open(p, "w", newline="", encoding="utf-8") as f:
+            if rec.synthetic:
+                f.write("# SYNTHETIC data (yoyogait.synthetic_imu)\n")
+            w = csv.writer(f)
+            w.writerow(names)
+            cols = [res[n] for n in names]
+            for i in range(len(res)):
+                w.writerow([_cell(c[i]) for c in cols])
+
+    atomic_file(target, write)
+    valid = res["valid"].astype(bool)
+    click.echo(f"wrote {target}: {len(res)} samples, {valid.mean() * 100:.0f} % valid")
+
+
+def _cell(v) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "1" if v else "0"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    x = float(v)
+    return "nan" if math.isnan(x) else f"{x:.6g}"
+
+
+def is_imu_dataset(dataset) -> bool:
+    """A folder with Mobilise-D data.mat files below it."""
+    p = Path(dataset)
+    return p.is_dir() and next(p.rglob("data.mat"), None) is not None
+
+
+def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, peer=True) -> dict:
+    """Per reference walking bout: cadence, speed and stride-time errors of the IMU estimators
+    (yoyogait online, the oscillator, mobgap when installed); bouts.csv, summary.md, a figure per recording."""
+    out = Path(out)
+    check_output_folder(out, force)
+    config = ImuConfig.from_file(config_file) if config_file is not None else None
+    recs = ev.imu_recordings(dataset)
+    mobgap_note = ""
+    rows = []
+    with tempfile.TemporaryDirectory(dir=out.parent if out.parent.exists() else None) as tmp_name:
+        tmp = Path(tmp_name) / "report"
+        (tmp / "figures").mkdir(parents=True)
+        for rec in recs:
+            peer_bouts = None
+            if peer:
+                try:
+                    peer_bouts = ev.run_mobgap(rec)
+                except ImportError:
+                    mobgap_note = "mobgap is not installed (pip install 'yoyogait[mobgap]'): its column is left out"
+                    peer = False
+                except Exception as exc:  # the peer's own failure is reported, not ours
+                    mobgap_note = (
+                        f"mobgap failed on {rec.source}: {type(exc).__name__}: {str(exc).splitlines()[0][:200]}"
+                    )
+                    peer_bouts = None
+            r, res = ev.evaluate_recording(rec, config, peer_bouts)
+            rows += r
+            if figures:
+                name = rec.source.split("lab/")[-1].replace("/data.mat:TimeMeasure1/", "_").replace("/", "_")
+                ev.imu_figure(rec, res, tmp / "figures" / f"{name}.png", peer_bouts)
+        with open(tmp / "bouts.csv", "w", newline="", encoding="utf-8") as f:
+            w = csv.writer(f)
+            keys = ["recording", "reference", "bout", "estimator", "start_s", "end_s", "ref_cadence_spm",
+                    "cadence_spm", "ref_speed_mps", "speed_mps", "ref_stride_time_s", "stride_time_s"]  # fmt: skip
+            w.writerow(keys + ["cadence_error_spm", "speed_error_mps", "stride_time_error_s"])
+            for row in rows:
+                vals = [getattr(row, k) for k in keys]
+                vals[0] = vals[0].split("example_data/")[-1]
+                w.writerow(vals + [row.cadence_error_spm, row.speed_error_mps, row.stride_time_error_s])
+        summ = ev.summary(rows)
+        lines = ["# IMU evaluation: per reference walking bout", "",
+                 f"Data set: {dataset} ({len(recs)} recordings). Median (worst) absolute error over the bouts.",
+                 ""]  # fmt: skip
+        if mobgap_note:
+            lines += [mobgap_note, ""]
+        lines += ["| reference | estimator | bouts | missed | cadence [steps/min] | speed [m/s] | stride time [s] |",
+                  "|---|---|---|---|---|---|---|"]  # fmt: skip
+        for d in summ:
+            lines.append(
+                f"| {d['reference']} | {d['estimator']} | {d['bouts']} | {d['missed']} | "
+                f"{d['median_abs_cadence_error_spm']:.2f} ({d['max_abs_cadence_error_spm']:.1f}) | "
+                f"{d['median_abs_speed_error_mps']:.3f} ({d['max_abs_speed_error_mps']:.2f}) | "
+                f"{d['median_abs_stride_time_error_s']:.3f} ({d['max_abs_stride_time_error_s']:.2f}) |"
+            )
+        (tmp / "summary.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+        install_folder(tmp, out)
+    for line in lines[4:]:
+        click.echo(line)
+    return {"rows": rows, "summary": summ, "note": mobgap_note}
+
+
+def check_imu_only_options(**given) -> None:
+    """InputError for a motion-capture option given with an IMU file."""
+    bad = [k for k, v in given.items() if v]
+    if bad:
+        raise InputError(f"{', '.join('--' + b.replace('_', '-') for b in bad)}: not used with an IMU file")

@@ -1,0 +1,422 @@
+"""Readers of lower-back IMU files into :class:`ImuRecording` (docs/imu.md).
+
+=====================  ==========================================================  ========================
+``data.mat``           Mobilise-D MATLAB format (acc in g, gyr in deg/s)            :func:`read_mobilised_mat`
+``.csv`` (mobgap)      ``samples,acc_x..acc_z,gyr_x..gyr_z``: g, deg/s, 100 Hz       :func:`read_imu_csv`
+``.csv`` (yoyogait)    ``time_s,acc_x_mps2..,gyr_x_rad_s..``: units in the header   :func:`read_imu_csv`
+``.csv`` (generic)     ``acc_x..``, ``gyr_x..`` with ``acc_unit``/``gyr_unit``        :func:`read_imu_csv`
+``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z``         :func:`read_xsens_txt`
+=====================  ==========================================================  ========================
+
+Every reader checks the units against physics (:func:`check_imu_plausible`): the accelerometer
+must read about 9.81 m/s^2 where the sensor is still, the gyro must not read in deg/s where rad/s
+was said; a failure is one line naming the option that fixes it.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import scipy.io
+
+from ..errors import InputError
+from .imu_recording import GRAVITY_MPS2, ImuBout, ImuRecording
+
+__all__ = [
+    "ACC_UNITS",
+    "GYR_UNITS",
+    "check_imu_plausible",
+    "is_imu_file",
+    "is_imu_header",
+    "read_imu",
+    "read_imu_csv",
+    "read_mobilised_mat",
+    "read_mobilised_trials",
+    "read_xsens_txt",
+]
+
+#: Accelerometer units: name -> m/s^2 per unit.
+ACC_UNITS = {"mps2": 1.0, "m/s^2": 1.0, "g": GRAVITY_MPS2}
+#: Angular-rate units: name -> rad/s per unit.
+GYR_UNITS = {"rad_s": 1.0, "rad/s": 1.0, "deg_s": np.pi / 180.0, "deg/s": np.pi / 180.0}
+
+_AXES = ("x", "y", "z")
+_MOBGAP_HEADER = ["samples", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"]
+
+
+def _unit(value, table: dict, option: str, where) -> float:
+    if value is None:
+        return 0.0
+    key = str(value).strip().lower()
+    if key not in table:
+        raise InputError(f"{where}: {option} must be one of {', '.join(sorted(table))}, not {value!r}")
+    return table[key]
+
+
+def is_imu_header(header: list[str]) -> bool:
+    """True for a CSV header with accelerometer and gyro columns (x, y, z each) and no point positions."""
+    lower = [h.strip().lower() for h in header]
+    acc = [h for h in lower if re.match(r"^acc(el)?[_ .:]?[xyz](?![a-z])", h)]
+    gyr = [h for h in lower if re.match(r"^gyr(o)?[_ .:]?[xyz](?![a-z])", h)]
+    return len(acc) >= 3 and len(gyr) >= 3
+
+
+def _first_data_header(path: Path) -> list[str] | None:
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as f:
+            for _ in range(50):
+                line = f.readline()
+                if not line:
+                    return None
+                s = line.strip()
+                if not s or s.startswith(("#", "//")):
+                    continue
+                sep = "\t" if "\t" in s else ("," if "," in s else None)
+                return [c.strip() for c in (s.split(sep) if sep else s.split())]
+    except OSError:
+        return None
+    return None
+
+
+def is_imu_file(path) -> bool:
+    """True for a file the IMU readers read: a Mobilise-D data.mat, an IMU CSV, an Xsens .txt export."""
+    p = Path(path)
+    ext = p.suffix.lower()
+    if ext == ".mat":
+        return True
+    if ext in (".csv", ".txt"):
+        header = _first_data_header(p)
+        return header is not None and (is_imu_header(header) or "PacketCounter" in header)
+    return False
+
+
+def read_imu(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None) -> ImuRecording:
+    """Read an IMU file (see the module's table); the options override what the file says or lacks."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such file")
+    ext = p.suffix.lower()
+    if ext == ".mat":
+        rec = read_mobilised_mat(p, trial=trial)
+    elif ext == ".txt":
+        rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+    elif ext == ".csv":
+        rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+    else:
+        raise InputError(f"{p}: not an IMU file yoyogait reads (.mat, .csv, .txt)")
+    if sensor_height_m is not None:
+        if not (np.isfinite(sensor_height_m) and 0.1 < sensor_height_m <= 3.0):
+            raise InputError(f"sensor_height_m must be in (0.1, 3] m, not {sensor_height_m!r}")
+        rec.sensor_height_m = float(sensor_height_m)
+    check_imu_plausible(rec)
+    return rec
+
+
+# ----------------------------------------------------------------------------------------- CSV
+
+
+def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+    """An IMU CSV: the mobgap layout (``samples`` column, g and deg/s at 100 Hz, a
+    ``participant_metadata.json`` beside the cohort folders for the sensor height), yoyogait's
+    (``time_s``, units in the column names ``acc_x_mps2``/``acc_x_g``, ``gyr_x_rad_s``/``gyr_x_deg_s``)
+    or a generic one (``acc_x``.. and ``gyr_x``.. with ``acc_unit``, ``gyr_unit`` and a time column
+    or ``rate_hz``)."""
+    p = Path(path)
+    header = _first_data_header(p)
+    if header is None or not is_imu_header(header):
+        raise InputError(f"{p}: no acc_x, acc_y, acc_z and gyr_x, gyr_y, gyr_z columns: not an IMU table")
+    try:
+        table = np.loadtxt(p, delimiter=",", skiprows=_header_line(p) + 1, ndmin=2, comments="#")
+    except ValueError as exc:
+        raise InputError(f"{p}: not a numeric table after the header ({exc})") from None
+    if table.shape[0] < 2:
+        raise InputError(f"{p}: fewer than two samples")
+    lower = [h.lower() for h in header]
+    metadata: dict = {}
+    sensor_height = None
+    rate: float | None
+    if lower[: len(_MOBGAP_HEADER)] == _MOBGAP_HEADER:
+        metadata["layout"] = "mobgap"
+        acc_scale = _unit(acc_unit, ACC_UNITS, "acc_unit", p) or GRAVITY_MPS2
+        gyr_scale = _unit(gyr_unit, GYR_UNITS, "gyr_unit", p) or np.pi / 180.0
+        rate = float(rate_hz) if rate_hz else 100.0
+        time_s = table[:, 0] / rate
+        acc_cols = [lower.index(f"acc_{a}") for a in _AXES]
+        gyr_cols = [lower.index(f"gyr_{a}") for a in _AXES]
+        sensor_height = _mobgap_sensor_height(p)
+    else:
+        acc_cols, acc_scale = _columns(lower, "acc", ACC_UNITS, acc_unit, "acc_unit", p)
+        gyr_cols, gyr_scale = _columns(lower, "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
+        tcol = next((lower.index(n) for n in ("time_s", "time", "t") if n in lower), None)
+        if tcol is not None:
+            time_s = table[:, tcol]
+            rate = float(rate_hz) if rate_hz else None
+        elif rate_hz:
+            rate = float(rate_hz)
+            time_s = np.arange(table.shape[0]) / rate
+        else:
+            raise InputError(f"{p}: no time column (time_s); give the sample rate with rate_hz (--rate-hz)")
+        if rate is None:
+            dt = np.diff(time_s)
+            rate = float(1.0 / np.median(dt)) if dt.size and np.median(dt) > 0 else None
+        metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
+    rec = ImuRecording(
+        time_s=time_s,
+        acc_mps2=table[:, acc_cols] * acc_scale,
+        gyr_rad_s=table[:, gyr_cols] * gyr_scale,
+        rate_hz=rate,
+        source=str(p),
+        sensor_height_m=sensor_height,
+        metadata=metadata,
+    )
+    _check_samples(rec)
+    return rec
+
+
+def _header_line(p: Path) -> int:
+    with open(p, encoding="utf-8-sig", errors="replace") as f:
+        for i, line in enumerate(f):
+            s = line.strip()
+            if s and not s.startswith(("#", "//")):
+                return i
+    return 0
+
+
+def _columns(lower, kind, units, override, option, where) -> tuple[list[int], float]:
+    flag = "--" + option.replace("_", "-")
+    cols, scales = [], set()
+    for a in _AXES:
+        found = None
+        for i, h in enumerate(lower):
+            m = re.match(rf"^{kind}(?:o|el)?[_ .:]?{a}(?:[_ ]?(?:\[)?([a-z0-9/^_]+?)(?:\])?)?$", h)
+            if m:
+                found = (i, m.group(1))
+                break
+        if found is None:
+            raise InputError(f"{where}: no {kind}_{a} column")
+        cols.append(found[0])
+        if found[1]:
+            if found[1] not in units:
+                raise InputError(
+                    f"{where}: unknown unit {found[1]!r} in column {lower[found[0]]!r}; pass {option} ({flag})"
+                )
+            scales.add(units[found[1]])
+    if override is not None:
+        return cols, _unit(override, units, option, where)
+    if len(scales) == 1:
+        return cols, scales.pop()
+    if len(scales) > 1:
+        raise InputError(f"{where}: the {kind} columns disagree on their unit; pass {option} ({flag})")
+    raise InputError(
+        f"{where}: the {kind} columns carry no unit; pass {option} ({flag}) "
+        f"{' or '.join(sorted(set(units) - {'m/s^2', 'rad/s', 'deg/s'}))}"
+    )
+
+
+def _mobgap_sensor_height(p: Path) -> float | None:
+    # data_csv/<cohort>/<id>/<file>.csv with data_csv/participant_metadata.json
+    meta = p.parent.parent.parent / "participant_metadata.json"
+    if not meta.is_file():
+        return None
+    try:
+        info = json.loads(meta.read_text())[p.parent.parent.name][p.parent.name]
+        return float(info["sensor_height_m"])
+    except (KeyError, ValueError, TypeError):
+        return None
+
+
+# ------------------------------------------------------------------------------------- Mobilise-D
+
+
+def read_mobilised_trials(path) -> list[ImuRecording]:
+    """Every trial of a Mobilise-D ``data.mat`` (lower-back sensor ``SU.LowerBack``), with the
+    reference systems' walking bouts (``Standards.<system>.MicroWB``) and the sensor height of the
+    ``infoForAlgo.mat`` beside it."""
+    p = Path(path)
+    try:
+        data = scipy.io.loadmat(p, simplify_cells=True)["data"]
+    except (ValueError, NotImplementedError, KeyError, OSError) as exc:
+        raise InputError(f"{p}: not a Mobilise-D data.mat ({exc})") from None
+    height = _mobilised_height(p.parent / "infoForAlgo.mat")
+    out = []
+    for tm, tests in data.items():
+        if not isinstance(tests, dict):
+            continue
+        for test, trials in tests.items():
+            if not isinstance(trials, dict):
+                continue
+            for trial, content in trials.items():
+                try:
+                    lb = content["SU"]["LowerBack"]
+                except (KeyError, TypeError):
+                    continue
+                rate = float(lb["Fs"]["Acc"]) if isinstance(lb.get("Fs"), dict) else float(lb.get("Fs", 100.0))
+                # The format stores the accelerometer in g (mobgap's loader scales it by 9.81 too).
+                acc = np.asarray(lb["Acc"], dtype=float) * GRAVITY_MPS2
+                gyr = np.asarray(lb["Gyr"], dtype=float) * np.pi / 180.0
+                refs = {}
+                for system, std in (content.get("Standards") or {}).items():
+                    bouts = _bouts(std.get("MicroWB"))
+                    if bouts:
+                        refs[system] = bouts
+                rec = ImuRecording(
+                    time_s=np.arange(acc.shape[0]) / rate,
+                    acc_mps2=acc,
+                    gyr_rad_s=gyr,
+                    rate_hz=rate,
+                    source=f"{p}:{tm}/{test}/{trial}",
+                    sensor_height_m=height,
+                    references=refs,
+                    metadata={"layout": "mobilised", "test": test, "trial": trial, "participant": p.parent.name},
+                )
+                _check_samples(rec)
+                check_imu_plausible(rec)
+                out.append(rec)
+    if not out:
+        raise InputError(f"{p}: no lower-back sensor (SU.LowerBack) in any trial")
+    return out
+
+
+def read_mobilised_mat(path, *, trial=None) -> ImuRecording:
+    """One trial of a Mobilise-D ``data.mat``: ``trial`` as ``Test5/Trial1`` (default: the first)."""
+    trials = read_mobilised_trials(path)
+    if trial is None:
+        return trials[0]
+    names = [f"{r.metadata['test']}/{r.metadata['trial']}" for r in trials]
+    if trial not in names:
+        raise InputError(f"{path}: no trial {trial!r}; the file has {', '.join(names)} (trial=, --trial)")
+    return trials[names.index(trial)]
+
+
+def _mobilised_height(info: Path) -> float | None:
+    if not info.is_file():
+        return None
+    try:
+        tm = scipy.io.loadmat(info, simplify_cells=True)["infoForAlgo"]
+        value = float(next(iter(tm.values()))["SensorHeight"])
+    except (KeyError, ValueError, TypeError, StopIteration, OSError):
+        return None
+    return value / 100.0 if value > 3.0 else value  # the format gives centimetres
+
+
+def _bouts(micro) -> list[ImuBout]:
+    if micro is None:
+        return []
+    items = [micro] if isinstance(micro, dict) else list(micro)
+    out = []
+    for b in items:
+        try:
+            stride = np.asarray(b.get("Stride_Duration", []), dtype=float).reshape(-1)
+            ic = np.asarray(b.get("InitialContact_Event", []), dtype=float).reshape(-1)
+            out.append(
+                ImuBout(
+                    start_s=float(b["Start"]),
+                    end_s=float(b["End"]),
+                    cadence_spm=float(b["Cadence"]),
+                    speed_mps=float(b["WalkingSpeed"]),
+                    stride_time_s=float(np.nanmean(stride)) if stride.size else float("nan"),
+                    contact_times_s=ic,
+                )
+            )
+        except (KeyError, TypeError, ValueError):
+            continue
+    return out
+
+
+# ------------------------------------------------------------------------------------------ Xsens
+
+
+def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+    """An Xsens MT Manager / Awinda text export: ``//`` comment lines (``// Update Rate: 100.0Hz``),
+    a tab-separated header with ``PacketCounter``, ``Acc_X``..``Acc_Z``, ``Gyr_X``..``Gyr_Z``
+    (MT Manager's units: m/s^2 and rad/s unless ``acc_unit``/``gyr_unit`` say otherwise)."""
+    p = Path(path)
+    rate = float(rate_hz) if rate_hz else None
+    header, rows = None, []
+    with open(p, encoding="utf-8-sig", errors="replace") as f:
+        for line in f:
+            s = line.strip()
+            if not s:
+                continue
+            if s.startswith("//"):
+                m = re.search(r"Update Rate:\s*([0-9.]+)\s*Hz", s)
+                if m and rate is None:
+                    rate = float(m.group(1))
+                continue
+            parts = s.split("\t") if "\t" in s else s.split()
+            if header is None:
+                header = [h.strip() for h in parts]
+                continue
+            rows.append(parts)
+    if header is None or "PacketCounter" not in header:
+        raise InputError(f"{p}: no PacketCounter header line: not an Xsens MT Manager export")
+    need = ["Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"]
+    missing = [n for n in need if n not in header]
+    if missing:
+        raise InputError(f"{p}: the export lacks {', '.join(missing)} (export calibrated data)")
+    if rate is None:
+        raise InputError(f"{p}: no '// Update Rate' line; give the sample rate with rate_hz (--rate-hz)")
+    cols = [header.index(n) for n in ["PacketCounter", *need]]
+    try:
+        table = np.array([[float(r[c]) if c < len(r) and r[c] != "" else np.nan for c in cols] for r in rows])
+    except ValueError as exc:
+        raise InputError(f"{p}: a value is not a number ({exc})") from None
+    if table.shape[0] < 2:
+        raise InputError(f"{p}: fewer than two samples")
+    counter = np.unwrap(table[:, 0], period=65536.0)
+    acc_scale = _unit(acc_unit, ACC_UNITS, "acc_unit", p) or 1.0
+    gyr_scale = _unit(gyr_unit, GYR_UNITS, "gyr_unit", p) or 1.0
+    rec = ImuRecording(
+        time_s=(counter - counter[0]) / rate,
+        acc_mps2=table[:, 1:4] * acc_scale,
+        gyr_rad_s=table[:, 4:7] * gyr_scale,
+        rate_hz=rate,
+        source=str(p),
+        metadata={"layout": "xsens"},
+    )
+    _check_samples(rec)
+    return rec
+
+
+# ------------------------------------------------------------------------------------ plausibility
+
+
+def _check_samples(rec: ImuRecording) -> None:
+    where = rec.source
+    t = rec.time_s
+    if not np.all(np.isfinite(t)):
+        raise InputError(f"{where}: timestamps are not finite")
+    if np.any(np.diff(t) <= 0):
+        raise InputError(f"{where}: timestamps do not increase")
+    if rec.rate_hz is not None and not (np.isfinite(rec.rate_hz) and 1.0 <= rec.rate_hz <= 10000.0):
+        raise InputError(f"{where}: sample rate {rec.rate_hz!r} Hz is not plausible; pass rate_hz")
+
+
+def check_imu_plausible(rec: ImuRecording) -> None:
+    """Units against physics: where the sensor is still (the angular rate small, the acceleration
+    steady) its specific force is gravity, 9.81 m/s^2; the rate gyro of a walking person stays
+    below 10 rad/s. InputError naming the option that fixes a wrong unit."""
+    where = rec.source
+    acc, gyr = rec.acc_mps2, rec.gyr_rad_s
+    ok = np.all(np.isfinite(acc), axis=1) & np.all(np.isfinite(gyr), axis=1)
+    if ok.sum() < 2:
+        raise InputError(f"{where}: no finite accelerometer and gyro sample")
+    norm = np.linalg.norm(acc[ok], axis=1)
+    g = float(np.median(norm))
+    if 0.5 < g < 2.0:
+        raise InputError(
+            f"{where}: the acceleration's median norm is {g:.2f}, not 9.81 m/s^2: in g? pass acc_unit g (--acc-unit g)"
+        )
+    if not (0.6 * GRAVITY_MPS2 < g < 1.4 * GRAVITY_MPS2):
+        raise InputError(
+            f"{where}: the acceleration's median norm is {g:.3g} m/s^2, not about 9.81: pass acc_unit (mps2 or g)"
+        )
+    w = float(np.percentile(np.abs(gyr[ok]), 99))
+    if w > 15.0:
+        raise InputError(
+            f"{where}: the angular rate reaches {w:.0f} rad/s, beyond any walk: in deg/s? "
+            "pass gyr_unit deg_s (--gyr-unit deg_s)"
+        )

@@ -1,0 +1,250 @@
+// The lower-back IMU front-end and ImuOnlineEstimator: a synthetic sensor on a Yoyo-model walker
+// (tilted, biased), the orientation filter, validity and its reasons, bad input.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "yoyogait/imu.hpp"
+
+// Heap allocations counted by the replaced operator new of test_estimator.cpp.
+extern std::atomic<long> g_allocations;
+
+using namespace yoyogait;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.80665;
+
+// A walker along world x, up z: forward x = v t + r sin(theta), vertical z = r cos(theta). The
+// sensor's axes (x up, y right, z forward) are tilted forward by pitch_rad about its right axis and
+// turned about its forward axis by roll_rad; its gyro has a bias in every axis.
+struct SyntheticImu {
+  double f_hz = 1.8, speed_mps = 1.3, r_m = 0.022, pitch_rad = 0.0, roll_rad = 0.0, bias_rad_s = 0.0;
+  double noise_mps2 = 0.02, scale = 1.0;
+  std::mt19937 rng{3};
+  // The pendulum length for which K 2 sqrt(2 l h - h^2) is the step length v / f (h = 2 r, K = 1.25).
+  double pendulum_length_m() const {
+    const double half = 0.5 * speed_mps / f_hz / 1.25, h = 2.0 * r_m;
+    return (half * half + h * h) / (2.0 * h);
+  }
+  // The specific force and angular rate in the sensor frame at t (walking when walk).
+  void sample(double t, bool walk, double acc[3], double gyr[3]) {
+    const double w = 2.0 * kPi * f_hz, th = w * t;
+    const double ax = walk ? -r_m * w * w * std::sin(th) : 0.0, az = walk ? -r_m * w * w * std::cos(th) : 0.0;
+    const double fw[3] = {ax, 0.0, az + kG};  // world (forward, left, up)
+    // Sensor axes in the world: x = up, y = right, z = forward, then the tilts.
+    const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad), cr = std::cos(roll_rad), sr = std::sin(roll_rad);
+    // Untilted: ex = (0,0,1), ey = (0,-1,0), ez = (1,0,0). Pitch turns ex towards ez about ey.
+    double ex[3] = {sp, 0.0, cp}, ez[3] = {cp, 0.0, -sp}, ey[3] = {0.0, -1.0, 0.0};
+    // Roll about ez: ex, ey turn.
+    double ex2[3], ey2[3];
+    for (int i = 0; i < 3; ++i) {
+      ex2[i] = cr * ex[i] + sr * ey[i];
+      ey2[i] = -sr * ex[i] + cr * ey[i];
+    }
+    std::normal_distribution<double> n(0.0, noise_mps2);
+    acc[0] = scale * (fw[0] * ex2[0] + fw[1] * ex2[1] + fw[2] * ex2[2]) + n(rng);
+    acc[1] = scale * (fw[0] * ey2[0] + fw[1] * ey2[1] + fw[2] * ey2[2]) + n(rng);
+    acc[2] = scale * (fw[0] * ez[0] + fw[1] * ez[1] + fw[2] * ez[2]) + n(rng);
+    for (int i = 0; i < 3; ++i) gyr[i] = bias_rad_s;
+  }
+};
+
+struct Outcome {
+  double f_err_rel = 0.0, speed_err_mps = 0.0, valid_fraction = 0.0;
+  ImuEstimate last{};
+};
+
+// Walks for duration_s after 2 s standing (the front-end settles at rest; the walk starts abruptly);
+// errors: the worst from 5 s of walking on.
+Outcome walk(SyntheticImu& s, double duration_s = 20.0, ImuConfig c = ImuConfig{}) {
+  c.sensor_height_m = s.pendulum_length_m();
+  ImuOnlineEstimator est(c);
+  Outcome o;
+  int n_after = 0, n_valid = 0;
+  const double dt = 0.01;
+  for (int k = 0; k * dt < duration_s + 2.0; ++k) {
+    const double t = k * dt;
+    double a[3], g[3];
+    s.sample(t, t >= 2.0, a, g);
+    o.last = est.update(t, a, g);
+    if (t >= 7.0) {
+      ++n_after;
+      n_valid += o.last.valid;
+      o.f_err_rel = std::fmax(o.f_err_rel, std::fabs(o.last.step_frequency_hz / s.f_hz - 1.0));
+      o.speed_err_mps = std::fmax(o.speed_err_mps, std::fabs(o.last.speed_mps - s.speed_mps));
+    }
+  }
+  o.valid_fraction = n_after ? static_cast<double>(n_valid) / n_after : 0.0;
+  return o;
+}
+
+TEST(Imu, LevelSensorGivesStepFrequencyAndSpeed) {
+  // A level sensor: f within 1 %, speed within 0.05 m/s from 5 s of walking on, valid throughout.
+  SyntheticImu s;
+  const Outcome o = walk(s);
+  EXPECT_LT(o.f_err_rel, 0.01);
+  EXPECT_LT(o.speed_err_mps, 0.05);
+  EXPECT_GT(o.valid_fraction, 0.99);
+}
+
+TEST(Imu, TiltAndGyroBiasWithinTargets) {
+  // 20 deg of tilt both ways and 1 deg/s of gyro bias on every axis: the same targets.
+  SyntheticImu s;
+  s.pitch_rad = 20.0 * kPi / 180.0;
+  s.roll_rad = -20.0 * kPi / 180.0;
+  s.bias_rad_s = 1.0 * kPi / 180.0;
+  const Outcome o = walk(s);
+  EXPECT_LT(o.f_err_rel, 0.01);
+  EXPECT_LT(o.speed_err_mps, 0.05);
+}
+
+TEST(Imu, UpsideDownSensorSameCadence) {
+  // Half a turn about the forward axis: the orientation filter finds gravity, the cadence stays.
+  SyntheticImu s;
+  s.roll_rad = kPi;
+  const Outcome o = walk(s);
+  EXPECT_LT(o.f_err_rel, 0.01);
+  EXPECT_LT(o.speed_err_mps, 0.05);
+}
+
+TEST(Imu, AtRestIsNeverValid) {
+  // A sensor at rest the whole time: never valid, and the speed reported stays near zero.
+  SyntheticImu s;
+  ImuOnlineEstimator est;
+  for (int k = 0; k < 2000; ++k) {
+    double a[3], g[3];
+    s.sample(k * 0.01, false, a, g);
+    const ImuEstimate e = est.update(k * 0.01, a, g);
+    ASSERT_FALSE(e.valid) << k;
+    ASSERT_TRUE(e.reason == ImuReason::kAcquiring || e.reason == ImuReason::kNotWalking);
+    ASSERT_LT(std::fabs(e.speed_mps), 0.3);
+  }
+}
+
+TEST(Imu, GravityInTheWrongUnitIsNotValid) {
+  // Accelerations in g, not m/s^2: valid 0 with the reason kGravity while walking.
+  SyntheticImu s;
+  s.scale = 1.0 / kG;
+  const Outcome o = walk(s, 10.0);
+  EXPECT_EQ(o.valid_fraction, 0.0);
+  EXPECT_EQ(o.last.reason, ImuReason::kGravity);
+}
+
+TEST(Imu, SaturationMakesItInvalidForTheHoldTime) {
+  // One saturated sample: invalid with kSaturated for saturation_hold_s, valid again after.
+  SyntheticImu s;
+  ImuConfig c;
+  c.sensor_height_m = s.pendulum_length_m();
+  ImuOnlineEstimator est(c);
+  for (int k = 0; k < 1500; ++k) {
+    const double t = k * 0.01;
+    double a[3], g[3];
+    s.sample(t, t >= 1.0, a, g);
+    if (k == 1000) a[0] = 200.0;
+    const ImuEstimate e = est.update(t, a, g);
+    if (k >= 1000 && t <= 10.0 + c.saturation_hold_s - 0.01) {
+      ASSERT_EQ(e.reason, ImuReason::kSaturated) << k;
+    }
+    if (k == 1400) {
+      EXPECT_TRUE(e.valid);
+    }
+  }
+}
+
+TEST(Imu, GapRestartsTheFrontEnd) {
+  // A gap longer than max_gap_s: kGap until the front-end settles, and valid again later.
+  SyntheticImu s;
+  ImuConfig c;
+  c.sensor_height_m = s.pendulum_length_m();
+  ImuOnlineEstimator est(c);
+  bool saw_gap = false;
+  ImuEstimate e;
+  for (int k = 0; k < 2000; ++k) {
+    if (k >= 1000 && k < 1050) continue;
+    const double t = k * 0.01;
+    double a[3], g[3];
+    s.sample(t, t >= 1.0, a, g);
+    e = est.update(t, a, g);
+    if (k == 1050) {
+      EXPECT_EQ(e.reason, ImuReason::kGap);
+      saw_gap = true;
+    }
+  }
+  EXPECT_TRUE(saw_gap);
+  EXPECT_TRUE(e.valid);
+}
+
+TEST(Imu, NonFiniteAndRepeatedSamplesAreIgnored) {
+  // NaN values and a repeated time are ignored with their reason; the state stays finite.
+  SyntheticImu s;
+  ImuOnlineEstimator est;
+  double a[3], g[3];
+  s.sample(0.0, false, a, g);
+  est.update(0.0, a, g);
+  double bad[3] = {std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0};
+  EXPECT_EQ(est.update(0.01, bad, g).reason, ImuReason::kNonFinite);
+  EXPECT_EQ(est.update(0.0, a, g).reason, ImuReason::kTimeNotIncreasing);
+  const ImuEstimate e = est.update(0.02, a, g);
+  EXPECT_TRUE(std::isfinite(e.vz_mps) && std::isfinite(e.speed_mps));
+}
+
+TEST(Imu, UpdateAllocatesNothing) {
+  // update() makes no heap allocation.
+  SyntheticImu s;
+  ImuOnlineEstimator est;
+  double a[3], g[3];
+  const long before = g_allocations.load();
+  for (int k = 0; k < 1000; ++k) {
+    s.sample(k * 0.01, true, a, g);
+    est.update(k * 0.01, a, g);
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+TEST(Imu, ConfigIsValidated) {
+  // A setting out of range names itself; the constructor throws.
+  ImuConfig c;
+  c.sensor_height_m = -1.0;
+  ASSERT_NE(c.validate(), nullptr);
+  EXPECT_NE(std::string(c.validate()).find("imu.sensor_height_m"), std::string::npos);
+  EXPECT_THROW(ImuOnlineEstimator{c}, std::invalid_argument);
+  EXPECT_EQ(ImuConfig{}.validate(), nullptr);
+}
+
+TEST(Imu, MahonyFindsGravityFromAnyStart) {
+  // Started from one reading, the filter's up direction is the normalised specific force.
+  imu::Mahony m(0.5, 0.0, 0.1);
+  for (const imu::Vec3 a : {imu::Vec3{0.0, 0.0, kG}, imu::Vec3{kG, 0.0, 0.0}, imu::Vec3{0.0, 0.0, -kG},
+                            imu::Vec3{3.0, -4.0, 8.0}}) {
+    m.start(a);
+    const imu::Vec3 up = m.up_in_sensor();
+    const double n = imu::Mahony::norm(a);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(up[i], a[i] / n, 1e-12);
+  }
+}
+
+TEST(Imu, LeakyIntegratorDoesNotDrift) {
+  // A constant acceleration bias integrates to nothing; a sine integrates to its integral's amplitude.
+  imu::LeakyIntegrator li(1.0);
+  li.start(0.3);
+  double v = 0.0;
+  for (int k = 0; k < 3000; ++k) v = li.step(0.3, 0.01);
+  EXPECT_NEAR(v, 0.0, 1e-12);
+  const double w = 2.0 * kPi * 2.0;
+  li.start(0.0);
+  double peak = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    v = li.step(std::cos(w * k * 0.01), 0.01);
+    if (k > 2000) peak = std::fmax(peak, std::fabs(v));
+  }
+  EXPECT_NEAR(peak, 1.0 / w, 0.02 / w);
+}
+
+}  // namespace

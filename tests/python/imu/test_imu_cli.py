@@ -1,0 +1,87 @@
+"""The command line on IMU files: inspect, estimate (a row per sample), evaluate per reference bout; bad input."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+
+from yoyogait.cli import main
+from yoyogait.io.imu_read import read_imu
+from yoyogait.io.imu_recording import GRAVITY_MPS2
+from yoyogait.synthetic_imu import make_imu_walk
+
+MOBGAP = "imu_mobgap/example_data"
+
+
+def _csv(path, scale=1.0):
+    rec = make_imu_walk(duration_s=10.0).recording
+    cols = ["time_s", "acc_x_mps2", "acc_y_mps2", "acc_z_mps2", "gyr_x_rad_s", "gyr_y_rad_s", "gyr_z_rad_s"]
+    np.savetxt(path, np.column_stack([rec.time_s, rec.acc_mps2 * scale, rec.gyr_rad_s]), delimiter=",",
+               header=",".join(cols), comments="")  # fmt: skip
+    return rec
+
+
+def test_inspect_a_mobgap_csv(datasets_dir, capsys):
+    """inspect on a mobgap CSV reports the rate, gravity, sensor height and a cadence, exit 0."""
+    code = main(["inspect", str(datasets_dir / MOBGAP / "data_csv/HA/001/TimeMeasure1_Test5_Trial1.csv")])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert "100 Hz" in out and "gravity" in out and "0.964 m" in out and "steps/min" in out
+
+
+def test_estimate_writes_one_row_per_sample(tmp_path, capsys, monkeypatch):
+    """estimate on an IMU CSV writes one row per input sample with every field, valid while walking."""
+    monkeypatch.chdir(tmp_path)
+    rec = _csv(tmp_path / "walk.csv")
+    assert main(["estimate", "walk.csv"]) == 0
+    with open(tmp_path / "walk.csv.imu.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == rec.n_samples
+    assert {"time_s", "step_frequency_hz", "speed_mps", "valid", "reason"} <= set(rows[0])
+    assert rows[-1]["valid"] == "1"
+
+
+def test_estimate_does_not_overwrite_without_force(tmp_path, capsys, monkeypatch):
+    """An existing --out is left alone without --force: one line, exit non-zero; with --force it is replaced."""
+    monkeypatch.chdir(tmp_path)
+    _csv(tmp_path / "walk.csv")
+    (tmp_path / "mine.csv").write_text("keep\n")
+    code = main(["estimate", "walk.csv", "--out", "mine.csv"])
+    err = capsys.readouterr().err
+    assert code != 0 and len(err.strip().splitlines()) == 1 and "--force" in err
+    assert (tmp_path / "mine.csv").read_text() == "keep\n"
+    assert main(["estimate", "walk.csv", "--out", "mine.csv", "--force"]) == 0
+
+
+def test_gravity_in_g_is_one_line_naming_the_option(tmp_path, capsys, monkeypatch):
+    """An IMU CSV whose acceleration is in g but labelled m/s^2: one line naming --acc-unit, exit 2, no output."""
+    monkeypatch.chdir(tmp_path)
+    _csv(tmp_path / "walk.csv", scale=1 / GRAVITY_MPS2)
+    code = main(["estimate", "walk.csv"])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--acc-unit g" in err and "Traceback" not in err
+    assert not (tmp_path / "walk.csv.imu.csv").exists()
+
+
+def test_evaluate_the_imu_data_set(datasets_dir, tmp_path, capsys):
+    """evaluate over the Mobilise-D folder writes bouts.csv, summary.md and a figure per recording."""
+    out = tmp_path / "report"
+    code = main(["evaluate", str(datasets_dir / MOBGAP / "data/lab"), "--out", str(out)])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert (out / "bouts.csv").is_file() and (out / "summary.md").is_file()
+    assert len(list((out / "figures").glob("*.png"))) == 9
+    assert "yoyogait-imu" in text and "INDIP" in text and "Stereophoto" in text
+
+
+def test_estimate_a_trial_of_a_data_mat(datasets_dir, tmp_path, capsys):
+    """--trial picks a trial of a data.mat (one row per sample); an unknown one is one line naming --trial."""
+    mat = str(datasets_dir / MOBGAP / "data/lab/HA/002/data.mat")
+    out = tmp_path / "t.csv"
+    assert main(["estimate", mat, "--trial", "Test5/Trial2", "--out", str(out)]) == 0
+    with open(out) as f:
+        assert sum(1 for _ in f) - 1 == read_imu(mat, trial="Test5/Trial2").n_samples
+    code = main(["estimate", mat, "--trial", "Test12/Trial1", "--out", str(tmp_path / "u.csv")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--trial" in err

@@ -1,0 +1,173 @@
+"""The online IMU estimator on the SYNTHETIC IMU lab: accuracy, causality, validity and bad input."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from yoyogait import ImuConfig, ImuOnlineEstimator
+from yoyogait.estimators.imu import ImuReason, estimator_for
+from yoyogait.io.imu_recording import GRAVITY_MPS2, ImuRecording
+from yoyogait.synthetic import SUBJECTS
+from yoyogait.synthetic_imu import make_imu_walk
+
+# The walk starts standing for 1 s and reaches its pace within 1.5 s; "after 3 s of walking" is from 5.5 s.
+SETTLED_S = 1.0 + 1.5 + 3.0
+
+
+def _run(walk, config=None):
+    return estimator_for(walk.recording, config).run_recording(walk.recording)
+
+
+@pytest.mark.parametrize("subject", SUBJECTS, ids=lambda s: s.name)
+@pytest.mark.parametrize("tilt_deg, bias_deg_s", [(0.0, 0.0), (20.0, 1.0), (-20.0, -1.0)])
+def test_step_frequency_and_speed_within_targets_for_tilt_and_gyro_bias(subject, tilt_deg, bias_deg_s):
+    """Median f within 1 % and speed within 0.05 m/s after 3 s of walking; tilt up to 20 deg, gyro bias 1 deg/s."""
+    walk = make_imu_walk(
+        subject, tilt_pitch_deg=tilt_deg, tilt_roll_deg=tilt_deg / 2, gyro_bias_rad_s=np.deg2rad([bias_deg_s] * 3)
+    )
+    res = _run(walk)
+    m = res.time_s >= SETTLED_S
+    f_err = res["step_frequency_hz"][m] / walk.truth.step_frequency_hz[m] - 1.0
+    v_err = res["speed_mps"][m] - walk.truth.speed_mps[m]
+    assert abs(np.median(f_err)) < 0.01
+    assert abs(np.median(v_err)) < 0.05
+    assert res["valid"][m].mean() > 0.95
+
+
+def test_the_recording_is_labelled_synthetic():
+    """A synthetic IMU recording says SYNTHETIC in its repr, its metadata and its walk's name."""
+    walk = make_imu_walk()
+    assert walk.recording.synthetic and "SYNTHETIC" in repr(walk.recording) and "SYNTHETIC" in walk.name
+    assert "SYNTHETIC" in walk.recording.metadata["description"]
+
+
+def test_specific_force_at_rest_is_gravity_in_the_sensor_frame():
+    """Standing, the specific force has the norm of gravity and points along the sensor's up axis (x)."""
+    walk = make_imu_walk(acc_noise_mps2=0.0, gyr_noise_rad_s=0.0)
+    rest = walk.recording.time_s < 0.9
+    acc = walk.recording.acc_mps2[rest]
+    assert np.allclose(np.linalg.norm(acc, axis=1), GRAVITY_MPS2, rtol=2e-3)
+    assert np.all(acc[:, 0] > 0.99 * GRAVITY_MPS2)
+
+
+def test_no_output_at_or_before_t_depends_on_samples_after_t():
+    """Changing every sample after t changes no output at or before t (causality)."""
+    walk = make_imu_walk(duration_s=12.0)
+    rec = walk.recording
+    base = _run(walk)
+    k = int(np.searchsorted(rec.time_s, 7.3))
+    rng = np.random.default_rng(1)
+    acc, gyr = rec.acc_mps2.copy(), rec.gyr_rad_s.copy()
+    acc[k + 1 :] += rng.normal(0, 3.0, acc[k + 1 :].shape)
+    gyr[k + 1 :] += rng.normal(0, 1.0, gyr[k + 1 :].shape)
+    changed = ImuOnlineEstimator(dataclasses.replace(ImuConfig(), sensor_height_m=rec.sensor_height_m)).run(
+        rec.time_s, acc, gyr
+    )
+    for name in base.column_names():
+        a, b = base[name][: k + 1], changed[name][: k + 1]
+        assert np.array_equal(a, b, equal_nan=True), name
+    assert not np.array_equal(base["vz_mps"][k + 1 :], changed["vz_mps"][k + 1 :])
+
+
+def test_update_and_run_agree():
+    """update() sample by sample gives what run() gives."""
+    walk = make_imu_walk(duration_s=6.0)
+    rec = walk.recording
+    est = ImuOnlineEstimator()
+    rows = [est.update(t, a, g) for t, a, g in zip(rec.time_s, rec.acc_mps2, rec.gyr_rad_s)]
+    res = ImuOnlineEstimator().run(rec.time_s, rec.acc_mps2, rec.gyr_rad_s)
+    assert np.array_equal([r.speed_mps for r in rows], res["speed_mps"])
+    assert np.array_equal([r.step_frequency_hz for r in rows], res["step_frequency_hz"])
+
+
+def test_upside_down_sensor_gives_the_same_cadence():
+    """Worn upside down (half a turn about the forward axis) the cadence and speed stay within the targets."""
+    walk = make_imu_walk(upside_down=True)
+    res = _run(walk)
+    m = res.time_s >= SETTLED_S
+    assert abs(np.median(res["step_frequency_hz"][m] / walk.truth.step_frequency_hz[m] - 1)) < 0.01
+    assert abs(np.median(res["speed_mps"][m] - walk.truth.speed_mps[m])) < 0.05
+
+
+def test_saturated_accelerometer_is_not_valid():
+    """An accelerometer whose range clips the walk's vertical acceleration: its samples are SATURATED, not valid."""
+    walk = make_imu_walk(acc_range_mps2=11.0)
+    res = estimator_for(walk.recording, ImuConfig(acc_saturation_mps2=11.0)).run_recording(walk.recording)
+    walking = res.time_s >= SETTLED_S
+    assert not res["valid"][walking].any()
+    assert np.all(res["reason"][walking] == int(ImuReason.SATURATED))
+
+
+def test_gravity_in_g_is_not_valid_online():
+    """Accelerations in g fed as m/s^2: reason GRAVITY, never valid."""
+    walk = make_imu_walk(duration_s=10.0)
+    rec = walk.recording
+    res = ImuOnlineEstimator().run(rec.time_s, rec.acc_mps2 / GRAVITY_MPS2, rec.gyr_rad_s)
+    assert not res["valid"].any()
+    assert res["reason"][-1] == int(ImuReason.GRAVITY)
+
+
+def test_a_gap_restarts_the_front_end_and_says_so():
+    """A 0.5 s gap in the samples: the next sample's reason is GAP; valid again 3 s after the front-end settles."""
+    walk = make_imu_walk(duration_s=16.0)
+    rec = walk.recording
+    keep = (rec.time_s < 9.0) | (rec.time_s >= 9.5)
+    res = estimator_for(rec).run(rec.time_s[keep], rec.acc_mps2[keep], rec.gyr_rad_s[keep])
+    k = int(np.searchsorted(res.time_s, 9.5))
+    assert res["reason"][k] == int(ImuReason.GAP) and not res["valid"][k]
+    assert res["valid"][res.time_s > 9.5 + ImuConfig().settle_s + 3.0].all()
+
+
+def test_a_file_at_rest_is_never_valid_and_reports_no_absurd_speed():
+    """A sensor at rest the whole time: never valid, the speed stays below 0.3 m/s."""
+    n = 3000
+    t = np.arange(n) * 0.01
+    rng = np.random.default_rng(0)
+    acc = np.tile([GRAVITY_MPS2, 0.0, 0.0], (n, 1)) + rng.normal(0, 0.02, (n, 3))
+    gyr = rng.normal(0, 0.002, (n, 3))
+    res = ImuOnlineEstimator().run(t, acc, gyr)
+    assert not res["valid"].any()
+    assert set(np.unique(res["reason"])) <= {int(ImuReason.ACQUIRING), int(ImuReason.NOT_WALKING)}
+    assert np.all(np.abs(res["speed_mps"]) < 0.3)
+
+
+def test_no_valid_speed_is_absurd_on_noise():
+    """Violent random motion (acceleration noise 5 m/s^2): no valid speed outside [0, max_speed_mps]."""
+    n = 3000
+    t = np.arange(n) * 0.01
+    rng = np.random.default_rng(2)
+    acc = np.tile([GRAVITY_MPS2, 0.0, 0.0], (n, 1)) + rng.normal(0, 5.0, (n, 3))
+    res = ImuOnlineEstimator().run(t, acc, rng.normal(0, 0.5, (n, 3)))
+    v = res["speed_mps"][res["valid"].astype(bool)]
+    assert np.all((v >= 0) & (v <= ImuConfig().max_speed_mps))
+
+
+def test_non_finite_and_bad_shapes():
+    """A NaN sample is ignored with NON_FINITE; acc of the wrong size is a ValueError naming it."""
+    est = ImuOnlineEstimator()
+    est.update(0.0, [GRAVITY_MPS2, 0, 0], [0, 0, 0])
+    assert est.update(0.01, [np.nan, 0, 0], [0, 0, 0]).reason == ImuReason.NON_FINITE
+    with pytest.raises(ValueError, match="acc"):
+        est.update(0.02, [1.0, 2.0], [0, 0, 0])
+
+
+def test_imu_config_from_toml(tmp_path):
+    """An [imu] table of a TOML file sets the IMU settings; an unknown one is an error naming it."""
+    p = tmp_path / "c.toml"
+    p.write_text("sample_time_s = 0.04\n[online]\nmax_gap_s = 0.5\n[imu]\nsensor_height_m = 1.02\n")
+    assert ImuConfig.from_file(p).sensor_height_m == 1.02
+    p.write_text("[imu]\nsensor_height = 1.0\n")
+    with pytest.raises(ValueError, match="sensor_height"):
+        ImuConfig.from_file(p)
+    p.write_text("[imu]\nsensor_height_m = 5.0\n")
+    with pytest.raises(ValueError, match="imu.sensor_height_m"):
+        ImuConfig.from_file(p)
+
+
+def test_recording_checks_its_shapes():
+    """An ImuRecording with acc not N x 3 is an InputError."""
+    with pytest.raises(ValueError, match="3"):
+        ImuRecording(time_s=np.arange(3.0), acc_mps2=np.zeros((3, 2)), gyr_rad_s=np.zeros((3, 3)))

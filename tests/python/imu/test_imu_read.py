@@ -1,0 +1,135 @@
+"""The IMU readers: the real Mobilise-D and mobgap files, yoyogait's and a generic CSV, Xsens .txt; units checked."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from yoyogait.errors import InputError
+from yoyogait.io.imu_read import is_imu_file, read_imu, read_mobilised_trials
+from yoyogait.io.imu_recording import GRAVITY_MPS2
+from yoyogait.synthetic_imu import make_imu_walk
+
+MOBGAP = "imu_mobgap/example_data"
+
+
+def _write_yoyogait_csv(path, rec, acc_scale=1.0, acc_col="acc_{}_mps2", gyr_col="gyr_{}_rad_s", gyr_scale=1.0):
+    cols = ["time_s"] + [acc_col.format(a) for a in "xyz"] + [gyr_col.format(a) for a in "xyz"]
+    table = np.column_stack([rec.time_s, rec.acc_mps2 * acc_scale, rec.gyr_rad_s * gyr_scale])
+    np.savetxt(path, table, delimiter=",", header=",".join(cols), comments="")
+
+
+def test_mobilised_mat_reads_every_trial_with_its_references(datasets_dir):
+    """A Mobilise-D data.mat gives each trial at 100 Hz, gravity ~9.81 m/s^2, the sensor height, both references."""
+    trials = read_mobilised_trials(datasets_dir / MOBGAP / "data/lab/HA/001/data.mat")
+    assert [f"{r.metadata['test']}/{r.metadata['trial']}" for r in trials] == [
+        "Test5/Trial1",
+        "Test5/Trial2",
+        "Test11/Trial1",
+    ]
+    for r in trials:
+        assert r.rate_hz == 100.0 and abs(np.median(np.linalg.norm(r.acc_mps2, axis=1)) - GRAVITY_MPS2) < 0.5
+        assert r.sensor_height_m == pytest.approx(0.964)
+        assert set(r.references) == {"INDIP", "Stereophoto"}
+        for b in r.references["INDIP"]:
+            assert b.end_s > b.start_s and 60 < b.cadence_spm < 140 and 0.1 < b.speed_mps < 2.0
+
+
+def test_mobgap_csv_matches_the_mat_file(datasets_dir):
+    """The mobgap CSV and the data.mat of a trial hold the same signals (to the 0.03 % of the export's g)."""
+    csv = read_imu(datasets_dir / MOBGAP / "data_csv/HA/001/TimeMeasure1_Test5_Trial1.csv")
+    mat = read_imu(datasets_dir / MOBGAP / "data/lab/HA/001/data.mat", trial="Test5/Trial1")
+    assert csv.n_samples == mat.n_samples and csv.sensor_height_m == pytest.approx(mat.sensor_height_m)
+    assert np.allclose(csv.acc_mps2, mat.acc_mps2, rtol=5e-4, atol=1e-6)
+    assert np.allclose(csv.gyr_rad_s, mat.gyr_rad_s, atol=1e-6)
+
+
+def test_every_shared_imu_table_is_recognised(datasets_dir):
+    """Each of the nine shared IMU CSVs is an IMU file and reads with plausible units."""
+    files = sorted((datasets_dir / MOBGAP / "data_csv").rglob("*.csv"))
+    assert len(files) == 9
+    for f in files:
+        assert is_imu_file(f)
+        read_imu(f)
+
+
+def test_unknown_trial_names_the_option(datasets_dir):
+    """A trial the data.mat does not hold: one line naming the trials it has and trial=."""
+    with pytest.raises(InputError, match=r"Test5/Trial1, .*trial="):
+        read_imu(datasets_dir / MOBGAP / "data/lab/HA/001/data.mat", trial="Test9/Trial1")
+
+
+def test_yoyogait_csv_round_trip(tmp_path):
+    """A yoyogait IMU CSV (units in the header) reads back the SYNTHETIC signals exactly (to print precision)."""
+    rec = make_imu_walk(duration_s=4.0).recording
+    p = tmp_path / "imu.csv"
+    _write_yoyogait_csv(p, rec)
+    back = read_imu(p)
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-9) and np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-9)
+    assert back.rate_hz == pytest.approx(100.0)
+
+
+def test_header_units_g_and_deg_s_are_applied(tmp_path):
+    """Columns named acc_x_g and gyr_x_deg_s are scaled to m/s^2 and rad/s."""
+    rec = make_imu_walk(duration_s=4.0).recording
+    p = tmp_path / "imu.csv"
+    _write_yoyogait_csv(p, rec, 1 / GRAVITY_MPS2, "acc_{}_g", "gyr_{}_deg_s", 180 / np.pi)
+    back = read_imu(p)
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-6) and np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-6)
+
+
+def test_generic_csv_without_units_names_the_option(tmp_path):
+    """acc_x.. without a unit: one line asking for acc_unit; with it, it reads."""
+    rec = make_imu_walk(duration_s=4.0).recording
+    p = tmp_path / "generic.csv"
+    _write_yoyogait_csv(p, rec, 1.0, "acc_{}", "gyr_{}")
+    with pytest.raises(InputError, match="acc_unit"):
+        read_imu(p)
+    back = read_imu(p, acc_unit="mps2", gyr_unit="rad_s")
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-9)
+
+
+def test_gravity_in_the_wrong_unit_names_the_option(tmp_path):
+    """Accelerations in g declared as m/s^2: the error says 'in g?' and names --acc-unit."""
+    rec = make_imu_walk(duration_s=4.0).recording
+    p = tmp_path / "imu.csv"
+    _write_yoyogait_csv(p, rec, 1 / GRAVITY_MPS2)
+    with pytest.raises(InputError, match=r"in g\? pass acc_unit g \(--acc-unit g\)"):
+        read_imu(p)
+
+
+def test_angular_rate_in_deg_s_declared_rad_s_names_the_option(tmp_path):
+    """A turning walk's rate in deg/s declared as rad/s: the error names --gyr-unit deg_s."""
+    rec = make_imu_walk(None, "3-rectangle", duration_s=12.0).recording
+    p = tmp_path / "imu.csv"
+    _write_yoyogait_csv(p, rec, 1.0, "acc_{}_mps2", "gyr_{}_rad_s", 180 / np.pi)
+    with pytest.raises(InputError, match=r"--gyr-unit deg_s"):
+        read_imu(p)
+
+
+def _xsens(path, rec, rate="100.0"):
+    lines = ["// General information:", f"//  Update Rate: {rate}Hz", "//  Filter Profile: general",
+             "PacketCounter\tAcc_X\tAcc_Y\tAcc_Z\tGyr_X\tGyr_Y\tGyr_Z"]  # fmt: skip
+    for i in range(rec.n_samples):
+        vals = [str((i + 65000) % 65536)] + [f"{v:.6f}" for v in (*rec.acc_mps2[i], *rec.gyr_rad_s[i])]
+        lines.append("\t".join(vals))
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_xsens_mt_manager_txt(tmp_path):
+    """An Xsens MT Manager export: the rate from its comment, the packet counter's wrap unwrapped into time."""
+    rec = make_imu_walk(duration_s=12.0).recording
+    p = tmp_path / "MT_012005D6-000-000.txt"
+    _xsens(p, rec)
+    assert is_imu_file(p)
+    back = read_imu(p)
+    assert back.rate_hz == 100.0 and np.allclose(np.diff(back.time_s), 0.01)
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-5)
+
+
+def test_xsens_without_gyro_says_what_to_export(tmp_path):
+    """An Xsens export without Gyr_ columns: one line saying which columns are missing."""
+    p = tmp_path / "MT.txt"
+    p.write_text("//  Update Rate: 100.0Hz\nPacketCounter\tAcc_X\tAcc_Y\tAcc_Z\n1\t9.8\t0\t0\n2\t9.8\t0\t0\n")
+    with pytest.raises(InputError, match="Gyr_X"):
+        read_imu(p)
