@@ -1,0 +1,167 @@
+/// @file online/validity.hpp
+/// @brief Whether an online estimate can be used as it is (OnlineEstimate::valid) and, when not,
+/// why (OnlineEstimate::invalid_reason, a set of InvalidReason bits); the input-noise estimate; the
+/// inflation of the reported standard deviations while the model does not hold (docs/online.md,
+/// "Validity").
+///
+/// Everything here is a first-order low-pass (gain dt / (tau + dt), no exp per frame) or a
+/// comparison; a ring of 16 centre positions keeps the distance travelled. No allocation.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "yoyogait/online/online_estimate.hpp"
+
+namespace yoyogait::online {
+
+/// The checks behind OnlineEstimate::valid, one per InvalidReason, fed frame by frame.
+class Validity {
+ public:
+  struct Settings {
+    double valid_after_s = 2.0;           ///< walking (bank collapsed) this long before an estimate is valid [s]
+    double min_rate_hz = 10.0;            ///< a lower mean frame rate flags kRateTooLow [Hz]
+    double max_plausible_speed_mps = 6.0;  ///< a front-end speed (low-passed) above it: kImplausibleInput [m/s]
+    double max_input_noise_m = 0.01;      ///< estimated marker noise above it: kInputNoisy [m]
+    double max_nis = 6.0;                 ///< mean NIS of the estimator over about a second above it: kModelNotHolding
+    double stale_s = 0.35;                ///< an estimate older than this: kInputMissing [s]
+    double min_travel_ratio = 0.5;        ///< distance travelled / (speed x time) below it: kNotMoving
+    double f_min_hz = 0.6, f_max_hz = 3.5;  ///< the estimator's frequency range (a pinned estimate is not valid)
+  };
+
+  /// The hold of kImplausibleInput after the last implausible frame [s]; the window of the distance
+  /// travelled [s]; an instantaneous front-end speed that is implausible at once [m/s].
+  static constexpr double kImplausibleHoldS = 2.0, kTravelWindowS = 2.0, kJumpSpeedMps = 50.0;
+  /// Low-pass time constants: frame rate, noise, speed, NIS, changes of the visible set [s].
+  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kNisTauS = 1.0, kSetTauS = 1.0;
+  /// Changes of the set of visible points per second above which the input counts as missing.
+  static constexpr double kMaxSetChangesPerS = 4.0;
+
+  Validity() noexcept = default;
+  explicit Validity(const Settings& s) noexcept : s_(s) { reset(); }
+
+  void reset() noexcept {
+    dt_lp_s_ = -1.0;
+    noise2_lp_m2_ = 0.0;
+    speed_lp_mps_ = 0.0;
+    nis_lp_ = 2.0;
+    set_changes_lp_ = 0.0;
+    last_seen_ = 0;
+    implausible_until_s_ = -1e300;
+    steady_since_s_ = 0.0;
+    steady_ = false;
+    restart_travel();
+  }
+
+  /// A frame accepted dt_s after the previous one (0 for the first).
+  void frame(double dt_s, std::size_t points_seen) noexcept {
+    if (dt_s > 0.0) {
+      dt_lp_s_ = dt_lp_s_ < 0.0 ? dt_s : dt_lp_s_ + gain(dt_s, kRateTauS) * (dt_s - dt_lp_s_);
+      const double changed = points_seen != last_seen_ ? 1.0 / dt_s : 0.0;
+      set_changes_lp_ += gain(dt_s, kSetTauS) * (changed - set_changes_lp_);
+    }
+    last_seen_ = points_seen;
+  }
+
+  /// The front-end restarted: the travel and the noise start again.
+  void restart_travel() noexcept {
+    ring_n_ = 0;
+    ring_next_ = 0;
+    ring_t_s_ = -1e300;
+  }
+
+  /// The differentiator's update at t_s, dt_s after its previous one: innovation and velocity.
+  void front_end(double t_s, double dt_s, double innovation2_m2, double predicted_var_m2, double pa_m, double pb_m,
+                 double va_mps, double vb_mps, double vz_mps) noexcept {
+    if (dt_s > 0.0) {
+      const double n2 = innovation2_m2 - predicted_var_m2;
+      noise2_lp_m2_ += gain(dt_s, kNoiseTauS) * ((n2 > 0.0 ? n2 : 0.0) - noise2_lp_m2_);
+      const double v = std::sqrt(va_mps * va_mps + vb_mps * vb_mps + vz_mps * vz_mps);
+      speed_lp_mps_ += gain(dt_s, kSpeedTauS) * ((std::isfinite(v) ? v : 1e300) - speed_lp_mps_);
+      if (!(v <= kJumpSpeedMps) || !(speed_lp_mps_ <= s_.max_plausible_speed_mps)) implausible_until_s_ = t_s + kImplausibleHoldS;
+    }
+    if (t_s - ring_t_s_ >= kTravelWindowS / static_cast<double>(kRing)) {
+      ring_[ring_next_] = {t_s, pa_m, pb_m};
+      ring_t_s_ = t_s;
+      ring_next_ = (ring_next_ + 1) % kRing;
+      if (ring_n_ < kRing) ++ring_n_;
+      pa_m_ = pa_m;
+      pb_m_ = pb_m;
+    }
+  }
+
+  /// The estimator's NIS after a sample dt_s after the previous one (NaN: nothing updated).
+  void sample(double dt_s, double nis) noexcept {
+    if (std::isfinite(nis) && dt_s > 0.0) nis_lp_ += gain(dt_s, kNisTauS) * (nis - nis_lp_);
+  }
+
+  /// What the estimator reports, at t_s.
+  struct Inputs {
+    bool fed = false, walking = false, acquiring = true, frame_ignored = false;
+    double estimate_age_s = 0.0, speed_mps = 0.0, step_frequency_hz = 0.0;
+  };
+
+  /// The InvalidReason bits at t_s.
+  std::uint8_t reasons(double t_s, const Inputs& in) noexcept {
+    std::uint8_t r = 0;
+    const bool steady = in.fed && in.walking && !in.acquiring;
+    if (steady && !steady_) steady_since_s_ = t_s;
+    steady_ = steady;
+    if (!in.fed || in.acquiring || (steady && t_s - steady_since_s_ < s_.valid_after_s)) r |= bit(InvalidReason::kAcquiring);
+    if (in.fed && !in.walking) r |= bit(InvalidReason::kNotWalking);
+    if (noise2_lp_m2_ > s_.max_input_noise_m * s_.max_input_noise_m) r |= bit(InvalidReason::kInputNoisy);
+    if (in.frame_ignored || in.estimate_age_s > s_.stale_s || set_changes_lp_ > kMaxSetChangesPerS)
+      r |= bit(InvalidReason::kInputMissing);
+    const double f = in.step_frequency_hz, margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
+    if (nis_lp_ > s_.max_nis || (in.walking && (f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin)))
+      r |= bit(InvalidReason::kModelNotHolding);
+    if (t_s < implausible_until_s_ || !(std::fabs(in.speed_mps) <= s_.max_plausible_speed_mps))
+      r |= bit(InvalidReason::kImplausibleInput);
+    if (dt_lp_s_ * s_.min_rate_hz > 1.0) r |= bit(InvalidReason::kRateTooLow);
+    if (in.walking && !moved(in.speed_mps)) r |= bit(InvalidReason::kNotMoving);
+    return r;
+  }
+
+  /// The marker noise estimated from the differentiator's innovations [m].
+  double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
+  /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
+  double std_inflation() const noexcept { return nis_lp_ > 2.0 ? std::sqrt(0.5 * nis_lp_) : 1.0; }
+  /// Whether the frequency lies at a bound of its range (within 2 % of the range).
+  bool pinned(double f_hz) const noexcept {
+    const double margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
+    return f_hz <= s_.f_min_hz + margin || f_hz >= s_.f_max_hz - margin;
+  }
+  double mean_nis() const noexcept { return nis_lp_; }
+
+ private:
+  static constexpr std::size_t kRing = 16;
+  struct Mark {
+    double t_s = 0.0, a_m = 0.0, b_m = 0.0;
+  };
+  static double gain(double dt_s, double tau_s) noexcept { return dt_s >= tau_s ? 1.0 : dt_s / (tau_s + dt_s); }
+  static std::uint8_t bit(InvalidReason r) noexcept { return static_cast<std::uint8_t>(r); }
+
+  /// Whether the centre travelled at least min_travel_ratio x speed x time over the window (true
+  /// until the window has filled, or at a speed too small to tell).
+  bool moved(double speed_mps) const noexcept {
+    if (ring_n_ < kRing) return true;
+    const Mark& old = ring_[ring_next_];  // the oldest of a full ring
+    const double dt = ring_t_s_ - old.t_s, expected = std::fabs(speed_mps) * dt;
+    if (!(expected > 0.2)) return true;
+    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m;
+    return std::sqrt(da * da + db * db) >= s_.min_travel_ratio * expected;
+  }
+
+  Settings s_;
+  double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed_lp_mps_ = 0.0, nis_lp_ = 2.0, set_changes_lp_ = 0.0;
+  std::size_t last_seen_ = 0;
+  double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
+  bool steady_ = false;
+  std::array<Mark, kRing> ring_{};
+  std::size_t ring_n_ = 0, ring_next_ = 0;
+  double ring_t_s_ = -1e300, pa_m_ = 0.0, pb_m_ = 0.0;
+};
+
+}  // namespace yoyogait::online
