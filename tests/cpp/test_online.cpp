@@ -50,13 +50,17 @@ struct SyntheticPelvis {
   }
 };
 
+// Every value finite; the two stds too once the estimator has been fed (before: +inf, never NaN).
 bool all_finite(const OnlineEstimate& e) {
-  const double v[] = {
-      e.vx_mps,        e.vz_mps,     e.vh_a_mps,        e.vh_b_mps,          e.heading_rad,           e.walk_a_mps,
-      e.walk_b_mps,    e.vx_hat_mps, e.vz_hat_mps,      e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps,
-      e.speed_std_mps, e.gait_phase, e.input_latency_s, e.estimate_age_s};
+  const double v[] = {e.vx_mps,     e.vz_mps,     e.vh_a_mps,          e.vh_b_mps,   e.heading_rad,
+                      e.walk_a_mps, e.walk_b_mps, e.vx_hat_mps,        e.vz_hat_mps, e.step_frequency_hz,
+                      e.speed_mps,  e.gait_phase, e.input_latency_s,   e.estimate_age_s, e.input_noise_m};
   for (double x : v)
     if (!std::isfinite(x)) return false;
+  for (double x : {e.step_frequency_std_hz, e.speed_std_mps}) {
+    if (!(x >= 0.0)) return false;
+    if (e.walking && !std::isfinite(x)) return false;
+  }
   return true;
 }
 
@@ -234,9 +238,14 @@ TEST(OnlineEstimator, BadInputGetsAStatusAndStateStaysFinite) {
   EXPECT_EQ(e.status, OnlineStatus::kUsed);
   EXPECT_EQ(e.points_seen, 3);
   EXPECT_LT(std::fabs(e.vx_mps), 3.0);
-  // A gap of ten minutes restarts the front-end; the walk is found again.
+  // A gap of ten minutes: held back as a jump ahead until two more frames follow, then it restarts
+  // the front-end; the walk is found again.
   t += 600.0;
   walk.markers(t, p);
+  EXPECT_EQ(est.update(t, p).status, OnlineStatus::kTimeJump);
+  t += 0.01;
+  EXPECT_EQ(est.update(t, p).status, OnlineStatus::kTimeJump);
+  t += 0.01;
   e = est.update(t, p);
   EXPECT_EQ(e.status, OnlineStatus::kGapRestart);
   for (int k = 1; k < 2000; ++k) {

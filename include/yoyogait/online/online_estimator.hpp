@@ -49,7 +49,8 @@ class OnlineEstimator {
         heading_(online::heading_settings(config_)),
         decimator_(online::decimator_settings(config_)),
         latency_(online::latency_settings(config_)),
-        validity_(online::validity_settings(config_)) {
+        validity_(online::validity_settings(config_)),
+        q_f_(config_.estimator.gait_filter.q_omega_rad2_per_s3 * kInvTwoPi * kInvTwoPi) {
     reset();
   }
 
@@ -253,6 +254,11 @@ class OnlineEstimator {
     const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     validity_.sample(dt_s, estimator_.innovation().nis);
+    // The variances reported until the next sample: scaled while the innovations are larger than
+    // the model expects (sqrt of the mean NIS over 2, at least 1).
+    const double k = validity_.std_inflation();
+    f_var_ = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz;
+    s_var_ = k * k * est_.speed_std_mps * est_.speed_std_mps;
     out_.estimator_fed = true;
     latency_.sampled(t_s, gap_s, m.age_s, decimator_.antialias_delay_s(config_.latency_f_hz), diff_);
   }
@@ -293,15 +299,13 @@ class OnlineEstimator {
       o.next_step_in_s = phase_.next_step_in_s();
       return;
     }
-    // The stds: scaled while the innovations are larger than the model expects, grown by the
-    // model's random walks over the estimate's age, and never confident at a bound of the range.
-    const double k = validity_.std_inflation(), age = o.estimate_age_s;
-    const double f_std = k * e.step_frequency_std_hz, s_std = k * e.speed_std_mps;
-    const double q_f = config_.estimator.gait_filter.q_omega_rad2_per_s3 * kInvTwoPi * kInvTwoPi;
-    o.step_frequency_std_hz = std::sqrt(f_std * f_std + q_f * age);
+    // The stds (scaled at the sample: feed()), grown by the model's random walks over the
+    // estimate's age, and never confident at a bound of the range.
+    const double age = o.estimate_age_s;
+    o.step_frequency_std_hz = std::sqrt(f_var_ + q_f_ * age);
     if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < kPinnedStdHz)
       o.step_frequency_std_hz = kPinnedStdHz;
-    o.speed_std_mps = std::sqrt(s_std * s_std + grown_var_speed(age));
+    o.speed_std_mps = std::sqrt(s_var_ + grown_var_speed(age));
     const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false);
     o.vx_hat_mps = bounded(f.vx_mps);
     o.vz_hat_mps = bounded(f.vz_mps);
@@ -345,6 +349,8 @@ class OnlineEstimator {
   double t_last_s_ = 0.0;   ///< the last accepted frame [s]
   double t_seen_s_ = 0.0;   ///< the last frame with a point seen [s]
   double start_t_s_ = 0.0;  ///< the differentiator's last (re)start [s]
+  double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
+  double q_f_ = 0.0;  ///< the random walk of f [Hz^2/s]
   double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
   int jump_n_ = 0;          ///< frames in a row that followed it
   std::uint64_t ignored_frames_ = 0;

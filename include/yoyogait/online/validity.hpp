@@ -23,7 +23,7 @@ class Validity {
   struct Settings {
     double valid_after_s = 2.0;           ///< walking (bank collapsed) this long before an estimate is valid [s]
     double min_rate_hz = 10.0;            ///< a lower mean frame rate flags kRateTooLow [Hz]
-    double max_plausible_speed_mps = 6.0;  ///< a front-end speed (low-passed) above it: kImplausibleInput [m/s]
+    double max_plausible_speed_mps = 6.0;  ///< a front-end RMS speed (over ~0.25 s) above it: kImplausibleInput [m/s]
     double max_input_noise_m = 0.01;      ///< estimated marker noise above it: kInputNoisy [m]
     double max_nis = 6.0;                 ///< mean NIS of the estimator over about a second above it: kModelNotHolding
     double stale_s = 0.35;                ///< an estimate older than this: kInputMissing [s]
@@ -34,6 +34,8 @@ class Validity {
   /// The hold of kImplausibleInput after the last implausible frame [s]; the window of the distance
   /// travelled [s]; an instantaneous front-end speed that is implausible at once [m/s].
   static constexpr double kImplausibleHoldS = 2.0, kTravelWindowS = 2.0, kJumpSpeedMps = 50.0;
+  /// Less travel than this over the window is no walking that can be told from noise [m] (0.125 m/s).
+  static constexpr double kMinTravelM = 0.25;
   /// Low-pass time constants: frame rate, noise, speed, NIS, changes of the visible set [s].
   static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kNisTauS = 1.0, kSetTauS = 1.0;
   /// Changes of the set of visible points per second above which the input counts as missing.
@@ -45,7 +47,8 @@ class Validity {
   void reset() noexcept {
     dt_lp_s_ = -1.0;
     noise2_lp_m2_ = 0.0;
-    speed_lp_mps_ = 0.0;
+    speed2_lp_ = 0.0;
+    gains_dt_s_ = -1.0;
     nis_lp_ = 2.0;
     set_changes_lp_ = 0.0;
     last_seen_ = 0;
@@ -58,9 +61,16 @@ class Validity {
   /// A frame accepted dt_s after the previous one (0 for the first).
   void frame(double dt_s, std::size_t points_seen) noexcept {
     if (dt_s > 0.0) {
-      dt_lp_s_ = dt_lp_s_ < 0.0 ? dt_s : dt_lp_s_ + gain(dt_s, kRateTauS) * (dt_s - dt_lp_s_);
+      if (dt_s != gains_dt_s_) {  // the gains change only with the frame interval
+        gains_dt_s_ = dt_s;
+        g_rate_ = gain(dt_s, kRateTauS);
+        g_set_ = gain(dt_s, kSetTauS);
+        g_noise_ = gain(dt_s, kNoiseTauS);
+        g_speed_ = gain(dt_s, kSpeedTauS);
+      }
+      dt_lp_s_ = dt_lp_s_ < 0.0 ? dt_s : dt_lp_s_ + g_rate_ * (dt_s - dt_lp_s_);
       const double changed = points_seen != last_seen_ ? 1.0 / dt_s : 0.0;
-      set_changes_lp_ += gain(dt_s, kSetTauS) * (changed - set_changes_lp_);
+      set_changes_lp_ += g_set_ * (changed - set_changes_lp_);
     }
     last_seen_ = points_seen;
   }
@@ -72,15 +82,20 @@ class Validity {
     ring_t_s_ = -1e300;
   }
 
-  /// The differentiator's update at t_s, dt_s after its previous one: innovation and velocity.
+  /// The differentiator's update at t_s, dt_s after the previous frame with a point (the frame of
+  /// frame()): innovation, position and velocity. The speed is low-passed as its square (an RMS).
   void front_end(double t_s, double dt_s, double innovation2_m2, double predicted_var_m2, double pa_m, double pb_m,
                  double va_mps, double vb_mps, double vz_mps) noexcept {
     if (dt_s > 0.0) {
+      const bool same = dt_s == gains_dt_s_;
+      const double gn = same ? g_noise_ : gain(dt_s, kNoiseTauS), gs = same ? g_speed_ : gain(dt_s, kSpeedTauS);
       const double n2 = innovation2_m2 - predicted_var_m2;
-      noise2_lp_m2_ += gain(dt_s, kNoiseTauS) * ((n2 > 0.0 ? n2 : 0.0) - noise2_lp_m2_);
-      const double v = std::sqrt(va_mps * va_mps + vb_mps * vb_mps + vz_mps * vz_mps);
-      speed_lp_mps_ += gain(dt_s, kSpeedTauS) * ((std::isfinite(v) ? v : 1e300) - speed_lp_mps_);
-      if (!(v <= kJumpSpeedMps) || !(speed_lp_mps_ <= s_.max_plausible_speed_mps)) implausible_until_s_ = t_s + kImplausibleHoldS;
+      noise2_lp_m2_ += gn * ((n2 > 0.0 ? n2 : 0.0) - noise2_lp_m2_);
+      const double v2 = va_mps * va_mps + vb_mps * vb_mps + vz_mps * vz_mps;
+      speed2_lp_ += gs * ((v2 <= 1e300 ? v2 : 1e300) - speed2_lp_);
+      const double lim = s_.max_plausible_speed_mps;
+      if (!(v2 <= kJumpSpeedMps * kJumpSpeedMps) || !(speed2_lp_ <= lim * lim))
+        implausible_until_s_ = t_s + kImplausibleHoldS;
     }
     if (t_s - ring_t_s_ >= kTravelWindowS / static_cast<double>(kRing)) {
       ring_[ring_next_] = {t_s, pa_m, pb_m};
@@ -143,19 +158,20 @@ class Validity {
   static double gain(double dt_s, double tau_s) noexcept { return dt_s >= tau_s ? 1.0 : dt_s / (tau_s + dt_s); }
   static std::uint8_t bit(InvalidReason r) noexcept { return static_cast<std::uint8_t>(r); }
 
-  /// Whether the centre travelled at least min_travel_ratio x speed x time over the window (true
-  /// until the window has filled, or at a speed too small to tell).
+  /// Whether the centre travelled at least kMinTravelM and min_travel_ratio x speed x time over the
+  /// window (true until the window has filled after a restart).
   bool moved(double speed_mps) const noexcept {
     if (ring_n_ < kRing) return true;
     const Mark& old = ring_[ring_next_];  // the oldest of a full ring
     const double dt = ring_t_s_ - old.t_s, expected = std::fabs(speed_mps) * dt;
-    if (!(expected > 0.2)) return true;
-    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m;
-    return std::sqrt(da * da + db * db) >= s_.min_travel_ratio * expected;
+    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m, need = s_.min_travel_ratio * expected;
+    const double travel2 = da * da + db * db, min2 = need > kMinTravelM ? need * need : kMinTravelM * kMinTravelM;
+    return travel2 >= min2;
   }
 
   Settings s_;
-  double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed_lp_mps_ = 0.0, nis_lp_ = 2.0, set_changes_lp_ = 0.0;
+  double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed2_lp_ = 0.0, nis_lp_ = 2.0, set_changes_lp_ = 0.0;
+  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_noise_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
   std::size_t last_seen_ = 0;
   double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
   bool steady_ = false;
