@@ -17,7 +17,7 @@ from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..evaluation import metrics
 from ..pipeline import events
-from ..pipeline.velocities import gait_velocities
+from ..pipeline.velocities import check_point_motion, gait_velocities
 from .options import (
     belt_speed_option,
     check_points,
@@ -171,6 +171,7 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     with about_file(file):
         recording = io.read(file, **overrides)
         check_points(recording, point)
+        check_point_motion(recording, point)  # the check `estimate` makes (offline pipeline), here too
         est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis, config=config)
         res = est.run(recording)
     res.to_csv(out)

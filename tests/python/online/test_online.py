@@ -172,7 +172,7 @@ def test_config_mirrors_the_native_struct():
 
 
 def test_estimate_online_writes_one_row_per_frame(datasets_dir, tmp_path, capsys):
-    """`estimate FILE --online` writes a finite CSV row per frame (stds: once fed; next step: while walking), keeps an existing file."""
+    """`estimate FILE --online` writes a finite CSV row per frame (stds once fed, next step while walking)."""
     import csv
 
     from yoyogait.cli import main

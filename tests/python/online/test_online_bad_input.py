@@ -10,6 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from builders import stepping_walk, write_trc
+from yoyogait.cli import main
 from yoyogait.estimators import ConcurrentUseError, OnlineConfig, OnlineEstimator, OnlineStatus
 from yoyogait.estimators.online import InvalidReason
 
@@ -64,7 +66,7 @@ def test_clean_walking_is_valid_after_acquisition_and_invalid_while_acquiring():
 @settings(max_examples=12, deadline=None)
 @given(p_missing=st.floats(0.3, 0.9), rate_hz=st.sampled_from([15.0, 30.0, 100.0]), seed=st.integers(0, 10**6))
 def test_marker_flicker_keeps_outputs_bounded_and_never_confidently_wrong(p_missing, rate_hz, seed):
-    """Markers missing at random: reconstruction and speed stay within max_plausible_speed_mps, never confidently wrong."""
+    """Markers missing at random: reconstruction and speed within max_plausible_speed_mps, never confidently wrong."""
     t, p = pelvis(rate_hz=rate_hz, dur_s=20.0)
     rng = np.random.default_rng(seed)
     p[rng.random(p.shape[:2]) < p_missing] = np.nan
@@ -87,7 +89,7 @@ def test_standing_with_marker_noise_is_never_valid(noise_m, rate_hz, seed):
 
 
 def test_ghost_walker_is_not_walking_and_its_stds_grow_at_bounded_cost():
-    """Minutes without a marker after a walk: walking 0, valid 0, stds growing; each frame and predict() cost bounded."""
+    """Minutes without a marker after a walk: walking 0, valid 0, stds growing; frames and predict() cost bounded."""
     t, p = pelvis(dur_s=20.0)
     est, _ = run(t, p)
     t_gap = 20.0 + np.arange(1, 1 + 100 * 600) / 100.0
@@ -214,7 +216,7 @@ def test_a_jump_of_the_centre_is_implausible_for_a_while():
 
 
 def test_the_guard_is_released_when_a_signal_handler_raises_during_update():
-    """An exception raised by a signal handler at any point of update() leaves the estimator usable (no ConcurrentUseError)."""
+    """An exception from a signal handler anywhere in update() leaves the estimator usable (no ConcurrentUseError)."""
     t, p = pelvis(dur_s=5.0)
     est = OnlineEstimator(NAMES, "z")
 
@@ -251,3 +253,17 @@ def test_the_guard_is_released_when_a_signal_handler_raises_during_update():
     except ConcurrentUseError:  # pragma: no cover - the failure this test is about
         pytest.fail("the estimator stayed locked after an exception from a signal handler")
 
+
+def test_estimate_online_refuses_what_estimate_refuses(tmp_path, capsys):
+    """A pelvis that jumps 3 m in one frame: `estimate` and `estimate --online` both exit 2 with the same one line."""
+    rec, _ = stepping_walk(step_hz=1.8)
+    pos = rec.positions_m.copy()
+    pos[400, :3, 0] += 3.0  # the three pelvis markers of one frame 3 m off
+    rec.positions_m[:] = pos
+    path = write_trc(tmp_path / "walk.trc", rec)
+    assert main(["estimate", str(path), "--out", str(tmp_path / "a.csv"), "--figure", "none"]) == 2
+    offline = capsys.readouterr().err
+    assert main(["estimate", str(path), "--online", "--out", str(tmp_path / "b.csv")]) == 2
+    online = capsys.readouterr().err
+    assert "jumps" in online and online.strip() == offline.strip()
+    assert not (tmp_path / "b.csv").exists()
