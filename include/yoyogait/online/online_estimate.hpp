@@ -63,7 +63,7 @@ enum class InvalidReason : std::uint8_t {
   X(double, estimate_age_s, 0.0, "s", kAll, "time since the estimator's last sample")                            \
   X(::yoyogait::OnlineStatus, status, ::yoyogait::OnlineStatus::kUsed, "", kAll, "what update() did with the frame (OnlineStatus)")     \
   X(::yoyogait::Status, estimator_status, ::yoyogait::Status::kUpdated, "", kAll, "Status of the estimator's last sample")               \
-  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector")                                  \
+  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector (0 once the estimate is stale)")                                  \
   X(bool, estimator_fed, false, "", kAll, "this frame completed an interval and fed the estimator")              \
   X(::std::uint8_t, points_seen, 0, "", kAll, "points used on this frame")                                        \
   X(bool, valid, false, "", kAll, "the estimate can be used as it is: invalid_reason is 0")                       \
@@ -83,7 +83,7 @@ struct OnlinePrediction {
   double vz_mps = 0.0;      ///< vertical velocity at t_s
   double vx_std_mps = std::numeric_limits<double>::infinity();  ///< its standard deviation (model uncertainty)
   double vz_std_mps = std::numeric_limits<double>::infinity();
-  bool valid = false;       ///< the estimator has been fed and 0 <= horizon_s <= kMaxHorizonS
+  bool valid = false;       ///< 0 <= horizon_s <= kMaxHorizonS and the last estimate is valid (OnlineEstimate::valid)
 };
 
 }  // namespace yoyogait

@@ -114,7 +114,9 @@ class OnlineEstimator {
   /// Forward and vertical velocity horizon_s [s] after the last frame's time, from the estimator's
   /// forecast (rates of speed and cadence included) over the same horizon as vx_hat_mps plus
   /// horizon_s; predict(0) is the last estimate's vx_hat_mps, vz_hat_mps. Standard deviations: the
-  /// estimator's covariance propagated over that horizon (GaitFilter::forecast). Before the estimator
+  /// estimator's covariance propagated over that horizon (GaitFilter::forecast), scaled as the
+  /// estimate's are; the horizon from the last sample capped at kMaxCarryS + kMaxHorizonS (the speed's
+  /// random walk beyond), so that the cost is bounded. valid: the last estimate's. Before the estimator
   /// has been fed: the front-end's velocities held (= vx_hat_mps, vz_hat_mps), stds infinite, valid
   /// false; for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
   OnlinePrediction predict(double horizon_s) const noexcept {

@@ -85,6 +85,8 @@ ONLINE_CSV_COLUMNS = (
     "status",
     "input_latency_s",
     "next_step_in_s",
+    "valid",
+    "invalid_reason",
 )
 
 
