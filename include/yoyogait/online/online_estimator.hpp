@@ -254,13 +254,26 @@ class OnlineEstimator {
     const bool plausible = std::fabs(m.vx_mps) <= lim && std::fabs(m.vz_mps) <= lim;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
+    const GaitState prior = est_.gait_state;
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
-    validity_.sample(dt_s, estimator_.innovation().nis);
+    {
+      // The vertical phasor's prior (the last posterior turned by w dt) against its posterior.
+      const double a = prior[gait::kW] * dt_s, ca = std::cos(a), sa = std::sin(a);
+      const double p1 = ca * prior[gait::kZ1] - sa * prior[gait::kZ2], p2 = sa * prior[gait::kZ1] + ca * prior[gait::kZ2];
+      const double q1 = est_.gait_state[gait::kZ1], q2 = est_.gait_state[gait::kZ2];
+      if (est_.walking && !est_.acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8)
+        validity_.phase_correction(dt_s, std::atan2(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2));
+    }
+    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps);
     // The variances reported until the next sample: scaled while the innovations are larger than
-    // the model expects (sqrt of the mean NIS over 2, at least 1).
+    // the model expects (sqrt of the mean NIS over 2, at least 1), plus what a transient adds.
     const double k = validity_.std_inflation();
-    f_var_ = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz;
-    s_var_ = k * k * est_.speed_std_mps * est_.speed_std_mps;
+    // A change of speed comes with one of cadence (at a constant step length, f / speed per m/s):
+    // the speed's transient counts for f too.
+    const double sp = est_.speed_mps > 0.3 ? est_.speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
+    const double tv_s = validity_.transient_var_speed();
+    f_var_ = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() + fs * fs * tv_s;
+    s_var_ = k * k * est_.speed_std_mps * est_.speed_std_mps + tv_s;
     out_.estimator_fed = true;
     latency_.sampled(t_s, gap_s, m.age_s, decimator_.antialias_delay_s(config_.latency_f_hz), diff_);
   }

@@ -37,9 +37,14 @@ class Validity {
   /// Less travel than this over the window is no walking that can be told from noise [m] (0.125 m/s).
   static constexpr double kMinTravelM = 0.25;
   /// Low-pass time constants: frame rate, noise, speed, NIS, changes of the visible set [s].
-  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kNisTauS = 1.0, kSetTauS = 1.0;
+  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kNisTauS = 0.5, kSetTauS = 1.0;
   /// Changes of the set of visible points per second above which the input counts as missing.
   static constexpr double kMaxSetChangesPerS = 4.0;
+  /// The lag of the estimates behind a change of cadence or speed, for their stds [s]; the low-pass
+  /// of their rates of change [s].
+  static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;
+  /// The frequency error taken per unit of the phase correction rate (the update corrects part of it).
+  static constexpr double kPhaseGain = 3.0;
 
   Validity() noexcept = default;
   explicit Validity(const Settings& s) noexcept : s_(s) { reset(); }
@@ -55,6 +60,8 @@ class Validity {
     implausible_until_s_ = -1e300;
     steady_since_s_ = 0.0;
     steady_ = false;
+    have_last_ = false;
+    last_f_hz_ = last_speed_mps_ = f_rate_lp_ = s_rate_lp_ = phase_rate_lp_ = 0.0;
     restart_travel();
   }
 
@@ -107,10 +114,37 @@ class Validity {
     }
   }
 
-  /// The estimator's NIS after a sample dt_s after the previous one (NaN: nothing updated).
-  void sample(double dt_s, double nis) noexcept {
-    if (std::isfinite(nis) && dt_s > 0.0) nis_lp_ += gain(dt_s, kNisTauS) * (nis - nis_lp_);
+  /// The estimator's sample dt_s after the previous one: its NIS (NaN: nothing updated), step
+  /// frequency and speed (their rates of change, low-passed, measure how far a transient is off).
+  void sample(double dt_s, double nis, double f_hz, double speed_mps) noexcept {
+    if (!(dt_s > 0.0)) return;
+    if (std::isfinite(nis)) nis_lp_ += gain(dt_s, kNisTauS) * (nis - nis_lp_);
+    if (have_last_) {
+      const double g = gain(dt_s, kRateLpTauS);
+      f_rate_lp_ += g * ((f_hz - last_f_hz_) / dt_s - f_rate_lp_);
+      s_rate_lp_ += g * ((speed_mps - last_speed_mps_) / dt_s - s_rate_lp_);
+    }
+    have_last_ = true;
+    last_f_hz_ = f_hz;
+    last_speed_mps_ = speed_mps;
   }
+
+  /// The phase correction of the vertical phasor by the sample's update, correction_rad over dt_s
+  /// (the posterior's angle less the prior's, turned by w dt): while the cadence is off, the update
+  /// keeps turning the phase the same way, by about the frequency error times dt.
+  void phase_correction(double dt_s, double correction_rad) noexcept {
+    if (dt_s > 0.0 && std::isfinite(correction_rad))
+      phase_rate_lp_ += gain(dt_s, kRateLpTauS) * (correction_rad / dt_s - phase_rate_lp_);
+  }
+
+  /// The variance a transient adds to f [Hz^2] and to the speed [(m/s)^2]: (kTransientLagS x the
+  /// low-passed rate)^2, how far an estimate that lags by kTransientLagS is behind a change; for f,
+  /// also (kPhaseGain x the low-passed phase correction rate / 2 pi)^2.
+  double transient_var_f() const noexcept {
+    const double c = kPhaseGain * phase_rate_lp_ * 0.15915494309189535;
+    return kTransientLagS * kTransientLagS * f_rate_lp_ * f_rate_lp_ + c * c;
+  }
+  double transient_var_speed() const noexcept { return kTransientLagS * kTransientLagS * s_rate_lp_ * s_rate_lp_; }
 
   /// What the estimator reports, at t_s.
   struct Inputs {
@@ -174,7 +208,9 @@ class Validity {
   double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_noise_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
   std::size_t last_seen_ = 0;
   double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
-  bool steady_ = false;
+  bool steady_ = false, have_last_ = false;
+  double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates
+  double phase_rate_lp_ = 0.0;  ///< the low-passed phase correction rate [rad/s]
   std::array<Mark, kRing> ring_{};
   std::size_t ring_n_ = 0, ring_next_ = 0;
   double ring_t_s_ = -1e300, pa_m_ = 0.0, pb_m_ = 0.0;
