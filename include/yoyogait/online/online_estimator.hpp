@@ -256,15 +256,15 @@ class OnlineEstimator {
     const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
     const GaitState prior = est_.gait_state;
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
-    {
-      // The vertical phasor's prior (the last posterior turned by w dt) against its posterior.
-      const double a = prior[gait::kW] * dt_s, ca = std::cos(a), sa = std::sin(a);
-      const double p1 = ca * prior[gait::kZ1] - sa * prior[gait::kZ2], p2 = sa * prior[gait::kZ1] + ca * prior[gait::kZ2];
-      const double q1 = est_.gait_state[gait::kZ1], q2 = est_.gait_state[gait::kZ2];
-      if (est_.walking && !est_.acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8)
-        validity_.phase_correction(dt_s, std::atan2(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2));
-    }
-    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps);
+    // The vertical phasor's turn from the last posterior to this one, less the w dt the model turns
+    // it by: the update's phase correction.
+    const double p1 = prior[gait::kZ1], p2 = prior[gait::kZ2];
+    const double q1 = est_.gait_state[gait::kZ1], q2 = est_.gait_state[gait::kZ2];
+    const double correction =
+        est_.walking && !est_.acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8
+            ? atan2_fast(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2) - prior[gait::kW] * dt_s
+            : std::numeric_limits<double>::quiet_NaN();
+    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
     // The variances reported until the next sample: scaled while the innovations are larger than
     // the model expects (sqrt of the mean NIS over 2, at least 1), plus what a transient adds.
     const double k = validity_.std_inflation();
@@ -274,6 +274,8 @@ class OnlineEstimator {
     const double tv_s = validity_.transient_var_speed();
     f_var_ = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() + fs * fs * tv_s;
     s_var_ = k * k * est_.speed_std_mps * est_.speed_std_mps + tv_s;
+    f_std_ = sqrt1(f_var_);
+    s_std_ = sqrt1(s_var_);
     out_.estimator_fed = true;
     latency_.sampled(t_s, gap_s, m.age_s, decimator_.antialias_delay_s(config_.latency_f_hz), diff_);
   }
@@ -316,11 +318,13 @@ class OnlineEstimator {
     }
     // The stds (scaled at the sample: feed()), grown by the model's random walks over the
     // estimate's age, and never confident at a bound of the range.
+    // (Within two sample times of the sample the growth is below 1e-4 Hz and 3e-4 m/s: not computed.)
     const double age = o.estimate_age_s;
-    o.step_frequency_std_hz = std::sqrt(f_var_ + q_f_ * age);
+    const bool grown = age > 2.0 * config_.estimator.sample_time_s;
+    o.step_frequency_std_hz = grown ? sqrt1(f_var_ + q_f_ * age) : f_std_;
     if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < kPinnedStdHz)
       o.step_frequency_std_hz = kPinnedStdHz;
-    o.speed_std_mps = std::sqrt(s_var_ + grown_var_speed(age));
+    o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
     const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false);
     o.vx_hat_mps = bounded(f.vx_mps);
     o.vz_hat_mps = bounded(f.vz_mps);
@@ -365,6 +369,7 @@ class OnlineEstimator {
   double t_seen_s_ = 0.0;   ///< the last frame with a point seen [s]
   double start_t_s_ = 0.0;  ///< the differentiator's last (re)start [s]
   double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
+  double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
   double q_f_ = 0.0;  ///< the random walk of f [Hz^2/s]
   double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
   int jump_n_ = 0;          ///< frames in a row that followed it

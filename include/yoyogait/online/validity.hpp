@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "yoyogait/math.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 
 namespace yoyogait::online {
@@ -36,13 +37,13 @@ class Validity {
   static constexpr double kImplausibleHoldS = 2.0, kTravelWindowS = 2.0, kJumpSpeedMps = 50.0;
   /// Less travel than this over the window is no walking that can be told from noise [m] (0.125 m/s).
   static constexpr double kMinTravelM = 0.25;
-  /// Low-pass time constants: frame rate, noise, speed, NIS, changes of the visible set [s].
-  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kNisTauS = 0.5, kSetTauS = 1.0;
+  /// Low-pass time constants: frame rate, noise, speed, changes of the visible set [s].
+  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kSetTauS = 1.0;
   /// Changes of the set of visible points per second above which the input counts as missing.
   static constexpr double kMaxSetChangesPerS = 4.0;
   /// The lag of the estimates behind a change of cadence or speed, for their stds [s]; the low-pass
   /// of their rates of change [s].
-  static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;
+  static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;  // (also the NIS's low-pass)
   /// The frequency error taken per unit of the phase correction rate (the update corrects part of it).
   static constexpr double kPhaseGain = 3.0;
 
@@ -62,13 +63,14 @@ class Validity {
     steady_ = false;
     have_last_ = false;
     last_f_hz_ = last_speed_mps_ = f_rate_lp_ = s_rate_lp_ = phase_rate_lp_ = 0.0;
+    sample_dt_s_ = -1.0;
     restart_travel();
   }
 
   /// A frame accepted dt_s after the previous one (0 for the first).
   void frame(double dt_s, std::size_t points_seen) noexcept {
     if (dt_s > 0.0) {
-      if (dt_s != gains_dt_s_) {  // the gains change only with the frame interval
+      if (!near_gains_dt(dt_s)) {  // the gains change only with the frame interval
         gains_dt_s_ = dt_s;
         g_rate_ = gain(dt_s, kRateTauS);
         g_set_ = gain(dt_s, kSetTauS);
@@ -94,7 +96,7 @@ class Validity {
   void front_end(double t_s, double dt_s, double innovation2_m2, double predicted_var_m2, double pa_m, double pb_m,
                  double va_mps, double vb_mps, double vz_mps) noexcept {
     if (dt_s > 0.0) {
-      const bool same = dt_s == gains_dt_s_;
+      const bool same = near_gains_dt(dt_s);
       const double gn = same ? g_noise_ : gain(dt_s, kNoiseTauS), gs = same ? g_speed_ : gain(dt_s, kSpeedTauS);
       const double n2 = innovation2_m2 - predicted_var_m2;
       noise2_lp_m2_ += gn * ((n2 > 0.0 ? n2 : 0.0) - noise2_lp_m2_);
@@ -116,25 +118,28 @@ class Validity {
 
   /// The estimator's sample dt_s after the previous one: its NIS (NaN: nothing updated), step
   /// frequency and speed (their rates of change, low-passed, measure how far a transient is off).
-  void sample(double dt_s, double nis, double f_hz, double speed_mps) noexcept {
+  /// correction_rad: the phase correction of the vertical phasor by the update (the posterior's
+  /// angle less the prior's, turned by w dt; NaN: none): while the cadence is off, the update keeps
+  /// turning the phase the same way, by about the frequency error times dt.
+  void sample(double dt_s, double nis, double f_hz, double speed_mps, double correction_rad) noexcept {
     if (!(dt_s > 0.0)) return;
-    if (std::isfinite(nis)) nis_lp_ += gain(dt_s, kNisTauS) * (nis - nis_lp_);
+    if (dt_s != sample_dt_s_) {  // one gain for the NIS and the rates (kNisTauS = kRateLpTauS)
+      sample_dt_s_ = dt_s;
+      g_sample_ = gain(dt_s, kRateLpTauS);
+      inv_sample_dt_ = 1.0 / dt_s;
+    }
+    const double g = g_sample_, inv = inv_sample_dt_;
+    if (std::isfinite(nis)) nis_lp_ += g * (nis - nis_lp_);
     if (have_last_) {
-      const double g = gain(dt_s, kRateLpTauS);
-      f_rate_lp_ += g * ((f_hz - last_f_hz_) / dt_s - f_rate_lp_);
-      s_rate_lp_ += g * ((speed_mps - last_speed_mps_) / dt_s - s_rate_lp_);
+      f_rate_lp_ += g * ((f_hz - last_f_hz_) * inv - f_rate_lp_);
+      s_rate_lp_ += g * ((speed_mps - last_speed_mps_) * inv - s_rate_lp_);
     }
     have_last_ = true;
     last_f_hz_ = f_hz;
     last_speed_mps_ = speed_mps;
-  }
-
-  /// The phase correction of the vertical phasor by the sample's update, correction_rad over dt_s
-  /// (the posterior's angle less the prior's, turned by w dt): while the cadence is off, the update
-  /// keeps turning the phase the same way, by about the frequency error times dt.
-  void phase_correction(double dt_s, double correction_rad) noexcept {
-    if (dt_s > 0.0 && std::isfinite(correction_rad))
-      phase_rate_lp_ += gain(dt_s, kRateLpTauS) * (correction_rad / dt_s - phase_rate_lp_);
+    if (correction_rad > 3.141592653589793) correction_rad -= 6.283185307179586;
+    if (correction_rad < -3.141592653589793) correction_rad += 6.283185307179586;
+    if (std::isfinite(correction_rad)) phase_rate_lp_ += g * (correction_rad * inv - phase_rate_lp_);
   }
 
   /// The variance a transient adds to f [Hz^2] and to the speed [(m/s)^2]: (kTransientLagS x the
@@ -176,7 +181,7 @@ class Validity {
   /// The marker noise estimated from the differentiator's innovations [m].
   double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
   /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
-  double std_inflation() const noexcept { return nis_lp_ > 2.0 ? std::sqrt(0.5 * nis_lp_) : 1.0; }
+  double std_inflation() const noexcept { return nis_lp_ > 2.0 ? sqrt1(0.5 * nis_lp_) : 1.0; }
   /// Whether the frequency lies at a bound of its range (within 2 % of the range).
   bool pinned(double f_hz) const noexcept {
     const double margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
@@ -190,6 +195,8 @@ class Validity {
     double t_s = 0.0, a_m = 0.0, b_m = 0.0;
   };
   static double gain(double dt_s, double tau_s) noexcept { return dt_s >= tau_s ? 1.0 : dt_s / (tau_s + dt_s); }
+  /// Whether dt_s is the interval of the gains within 1e-6 (timestamps' rounding: no new divisions).
+  bool near_gains_dt(double dt_s) const noexcept { return std::fabs(dt_s - gains_dt_s_) <= 1e-6 * dt_s; }
   static std::uint8_t bit(InvalidReason r) noexcept { return static_cast<std::uint8_t>(r); }
 
   /// Whether the centre travelled at least kMinTravelM and min_travel_ratio x speed x time over the
@@ -211,6 +218,7 @@ class Validity {
   bool steady_ = false, have_last_ = false;
   double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates
   double phase_rate_lp_ = 0.0;  ///< the low-passed phase correction rate [rad/s]
+  double sample_dt_s_ = -1.0, g_sample_ = 1.0, inv_sample_dt_ = 1.0;  ///< the sample gain at that dt
   std::array<Mark, kRing> ring_{};
   std::size_t ring_n_ = 0, ring_next_ = 0;
   double ring_t_s_ = -1e300, pa_m_ = 0.0, pb_m_ = 0.0;
