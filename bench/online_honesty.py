@@ -1,6 +1,7 @@
 """Whether the online estimates are right or say that they may not be: per recording, over its walking part.
 
     python bench/online_honesty.py [--datasets ../shared/datasets] [--no-real] [--jobs 2] [--per-recording]
+                                   [--set max_mean_nis=8 ...]   (online settings other than the defaults)
 
 Every recording is replayed frame by frame through OnlineEstimator (its defaults) and compared, at each
 frame, with the references of the online evaluation (yoyogait.evaluation.online: the truth of the
@@ -27,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from yoyogait.errors import InputError
+from yoyogait.estimators.config import OnlineConfig
 from yoyogait.estimators.online import OnlineEstimator
 from yoyogait.evaluation.datasets import manifest_items, synthetic_items
 from yoyogait.evaluation.online import RATE_HZ, _references, step_walk_items
@@ -58,12 +60,13 @@ def _since_bout_start(t: np.ndarray, walking: np.ndarray) -> np.ndarray:
     return out
 
 
-def score(item) -> dict:
-    """The honesty figures of one item (percentages)."""
+def score(item, overrides=None) -> dict:
+    """The honesty figures of one item (percentages), with the online settings ``overrides``."""
     recording = item.load()
     point = item.pelvis if item.pelvis else None
     vel = gait_velocities(recording, point=point, rate_hz=RATE_HZ, up_axis=item.up_axis)
-    est = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis)
+    config = OnlineConfig.from_dict({"online": dict(overrides)}) if overrides else None
+    est = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis, config=config)
     res = est.run(recording, predict_ahead_s=())
     t = np.asarray(res.time_s, dtype=float)
     dt = np.diff(t)
@@ -94,18 +97,20 @@ def score(item) -> dict:
     }
 
 
-def _one(item):
+def _one(args):
+    item, overrides = args
     try:
-        return item.name, score(item), ""
+        return item.name, score(item, overrides), ""
     except (InputError, ValueError) as exc:
         return item.name, None, str(exc)
 
 
-def run(items, jobs):
+def run(items, jobs, overrides=None):
+    work = [(i, overrides) for i in items]
     if jobs > 1:
         with ProcessPoolExecutor(jobs) as pool:
-            return list(pool.map(_one, items))
-    return [_one(i) for i in items]
+            return list(pool.map(_one, work))
+    return [_one(w) for w in work]
 
 
 def table(name: str, rows) -> list[str]:
@@ -133,12 +138,14 @@ def main() -> None:
     ap.add_argument("--no-real", action="store_true")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--per-recording", action="store_true")
+    ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help="an online setting")
     args = ap.parse_args()
+    overrides = tuple((k, float(v)) for k, v in (s.split("=", 1) for s in args.set))
     groups = [("SYNTHETIC lab", synthetic_items() + step_walk_items())]
     if not args.no_real and args.datasets.is_dir():
         groups.append(("shared manifest", manifest_items(args.datasets / "manifest.json")[0]))
     for name, items in groups:
-        rows = run(items, args.jobs)
+        rows = run(items, args.jobs, overrides)
         print("\n".join(table(name, rows)))
         if args.per_recording:
             keys = [k for k, *_ in TARGETS]
