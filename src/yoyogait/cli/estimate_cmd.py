@@ -12,7 +12,7 @@ from .._files import atomic_files, check_distinct, check_output_file
 from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError, about_file
 from ..estimators.config import EstimatorConfig, OnlineConfig
-from ..estimators.online import OnlineEstimator
+from ..estimators.online import InvalidReason, OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..evaluation import metrics
@@ -182,4 +182,18 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
         f"median step frequency while walking {np.median(f):.2f} Hz, "
         f"front-end latency {1e3 * float(np.median(res.input_latency_s)):.1f} ms"
     )
+    click.echo(validity_line(res))
     click.echo(f"wrote {out}")
+
+
+def validity_line(res) -> str:
+    """One line on what the validity checks found: the share of valid frames, the most frequent reason
+    when not valid, the input noise (docs/online.md, "Validity")."""
+    valid = np.asarray(res.valid, dtype=bool)
+    reasons = np.asarray(res.invalid_reason, dtype=int)
+    noise_mm = 1e3 * float(np.median(res.input_noise_m)) if len(res) else 0.0
+    line = f"estimates valid {100.0 * valid.mean() if len(res) else 0.0:.0f} % of the time"
+    if (~valid).any():
+        counts = {r.name.lower().replace("_", " "): int(np.sum((reasons & int(r)) != 0)) for r in InvalidReason}
+        line += f" (not valid mostly: {max(counts, key=counts.get)})"
+    return line + f"; input noise {noise_mm:.1f} mm"

@@ -267,3 +267,12 @@ def test_estimate_online_refuses_what_estimate_refuses(tmp_path, capsys):
     online = capsys.readouterr().err
     assert "jumps" in online and online.strip() == offline.strip()
     assert not (tmp_path / "b.csv").exists()
+
+
+def test_estimate_online_says_in_one_line_how_often_the_estimates_are_valid(tmp_path, capsys):
+    """`estimate --online` prints the share of valid estimates, the main reason when not, and the input noise."""
+    rec, _ = stepping_walk(step_hz=1.8, walk_s=3.0)
+    path = write_trc(tmp_path / "walk.trc", rec)
+    assert main(["estimate", str(path), "--online", "--out", str(tmp_path / "b.csv")]) == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("estimates valid")]
+    assert len(lines) == 1 and "not valid mostly: " in lines[0] and lines[0].endswith(" mm")
