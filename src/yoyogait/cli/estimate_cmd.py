@@ -195,5 +195,5 @@ def validity_line(res) -> str:
     line = f"estimates valid {100.0 * valid.mean() if len(res) else 0.0:.0f} % of the time"
     if (~valid).any():
         counts = {r.name.lower().replace("_", " "): int(np.sum((reasons & int(r)) != 0)) for r in InvalidReason}
-        line += f" (not valid mostly: {max(counts, key=counts.get)})"
+        line += f" (not valid mostly: {max(counts, key=lambda name: counts[name])})"
     return line + f"; input noise {noise_mm:.1f} mm"
