@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <algorithm>
 #include <limits>
 #include <random>
 #include <stdexcept>
@@ -363,4 +364,38 @@ TEST(OnlineEstimator, PredictAtZeroIsTheReconstructionAndAllocatesNothing) {
   EXPECT_FALSE(est.predict(-0.1).valid);
   EXPECT_FALSE(est.predict(std::numeric_limits<double>::quiet_NaN()).valid);
   EXPECT_TRUE(std::isinf(est.predict(OnlineEstimator::kMaxHorizonS * 2.0).vx_std_mps));
+}
+
+// valid is invalid_reason == 0: acquiring at first, valid in steady walking and then right within 2
+// std; a walker who vanishes is not walking, not valid (INPUT_MISSING) with growing stds.
+TEST(OnlineEstimator, ValidInSteadyWalkingNotAfterTheWalkerVanishes) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  OnlineEstimate e = est.update(0.0, (walk.markers(0.0, p), p));
+  EXPECT_FALSE(e.valid);
+  EXPECT_NE(e.invalid_reason & static_cast<std::uint8_t>(InvalidReason::kAcquiring), 0);
+  int valid = 0, frames = 0;
+  for (int k = 1; k < 2000; ++k) {
+    const double t = k / 100.0;
+    walk.markers(t, p);
+    e = est.update(t, p);
+    ASSERT_EQ(e.valid, e.invalid_reason == 0);
+    if (t < 6.0) continue;
+    ++frames;
+    if (!e.valid) continue;
+    ++valid;
+    EXPECT_LT(std::fabs(e.step_frequency_hz - walk.f_hz), std::max(0.15, 2.0 * e.step_frequency_std_hz));
+    EXPECT_LT(std::fabs(e.speed_mps - walk.speed_mps), std::max(0.15, 2.0 * e.speed_std_mps));
+  }
+  EXPECT_GT(valid, 0.95 * frames);
+  const double f_std = e.step_frequency_std_hz, s_std = e.speed_std_mps;
+  double none[12];
+  for (double& x : none) x = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 1; k <= 6000; ++k) e = est.update(20.0 + k / 100.0, none);
+  EXPECT_FALSE(e.walking);
+  EXPECT_FALSE(e.valid);
+  EXPECT_NE(e.invalid_reason & static_cast<std::uint8_t>(InvalidReason::kInputMissing), 0);
+  EXPECT_GT(e.step_frequency_std_hz, 5.0 * f_std);
+  EXPECT_GT(e.speed_std_mps, 5.0 * s_std);
 }
