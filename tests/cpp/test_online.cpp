@@ -2,9 +2,9 @@
 // the causal centre, the differentiator's delay, bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <algorithm>
 #include <limits>
 #include <random>
 #include <stdexcept>

@@ -39,6 +39,8 @@ namespace yoyogait {
   X(double, min_rate_hz, 10.0, "Hz", "[", 0.0, 1e100, "]", "a lower mean frame rate makes the estimates not valid") \
   X(double, max_plausible_speed_mps, 6.0, "m/s", "(", 0.0, 1e100, "]",                                             \
     "input moving faster (low-passed over 0.25 s; or 50 m/s in one frame) is implausible; estimates bounded by it") \
+  X(double, max_walking_speed_mps, 3.0, "m/s", "(", 0.0, 1e100, "]",                                              \
+    "while walking, a faster front-end horizontal velocity is cut to this unless it lasts longer than a step")      \
   X(double, max_input_noise_m, 0.01, "m", "(", 0.0, 1e100, "]",                                                    \
     "a higher marker noise, estimated from the differentiator's innovations, makes the estimates not valid")      \
   X(double, max_mean_nis, 6.0, "", "(", 0.0, 1e100, "]",                                                           \

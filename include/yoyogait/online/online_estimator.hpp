@@ -70,6 +70,7 @@ class OnlineEstimator {
     have_seen_ = false;
     jump_n_ = 0;
     jump_t_s_ = 0.0;
+    fast_s_ = 0.0;
     ignored_frames_ = 0;
   }
 
@@ -233,13 +234,26 @@ class OnlineEstimator {
   void velocities(double gap_s, bool settled) noexcept {
     OnlineEstimate& o = out_;
     const std::array<double, 3> v = diff_.velocity_mps();
-    const double va = v[axes_.a], vb = v[axes_.b];
+    double va = v[axes_.a], vb = v[axes_.b];
+    // While walking, a horizontal velocity beyond max_walking_speed_mps that has lasted less than a
+    // step is a jump, a swap or noise, not the person: cut to that speed.
+    const double lim = config_.max_walking_speed_mps, vh2 = va * va + vb * vb;
+    if (vh2 > lim * lim) {
+      fast_s_ += gap_s;
+      if (est_.walking && est_.step_frequency_hz > 0.0 && fast_s_ * est_.step_frequency_hz < 1.0) {
+        const double k = lim / sqrt1(vh2);
+        va *= k;
+        vb *= k;
+      }
+    } else {
+      fast_s_ = 0.0;
+    }
     o.vh_a_mps = va;
     o.vh_b_mps = vb;
     o.vz_mps = v[axes_.up];
     const std::array<double, 3> pos = diff_.position_m();
     validity_.front_end(o.t_s, gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), pos[axes_.a], pos[axes_.b],
-                        va, vb, o.vz_mps);
+                        v[axes_.a], v[axes_.b], o.vz_mps);  // the velocity before any cut
     if (settled) heading_.update(va, vb, gap_s);
     o.heading_rad = heading_.heading_rad();
     o.vx_mps = heading_.forward_mps(va, vb);
@@ -371,6 +385,7 @@ class OnlineEstimator {
   double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
   double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
   double q_f_ = 0.0;  ///< the random walk of f [Hz^2/s]
+  double fast_s_ = 0.0;     ///< how long the horizontal velocity has exceeded max_walking_speed_mps [s]
   double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
   int jump_n_ = 0;          ///< frames in a row that followed it
   std::uint64_t ignored_frames_ = 0;

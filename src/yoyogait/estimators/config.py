@@ -455,6 +455,7 @@ class OnlineConfig(_ConfigFile):
     valid_after_s: float = _field(ONLINE_SECTION, "valid_after_s")
     min_rate_hz: float = _field(ONLINE_SECTION, "min_rate_hz")
     max_plausible_speed_mps: float = _field(ONLINE_SECTION, "max_plausible_speed_mps")
+    max_walking_speed_mps: float = _field(ONLINE_SECTION, "max_walking_speed_mps")
     max_input_noise_m: float = _field(ONLINE_SECTION, "max_input_noise_m")
     max_mean_nis: float = _field(ONLINE_SECTION, "max_mean_nis")
 

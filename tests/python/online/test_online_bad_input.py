@@ -276,3 +276,19 @@ def test_estimate_online_says_in_one_line_how_often_the_estimates_are_valid(tmp_
     assert main(["estimate", str(path), "--online", "--out", str(tmp_path / "b.csv")]) == 0
     lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("estimates valid")]
     assert len(lines) == 1 and "not valid mostly: " in lines[0] and lines[0].endswith(" mm")
+
+
+def test_a_short_jump_while_walking_is_cut_to_a_walking_speed():
+    """All markers 0.3 m aside for 5 frames mid-walk: the front-end's horizontal speed <= max_walking_speed_mps."""
+    t, p = pelvis()
+    p[1500:1505, :, 1] += 0.3
+    _, r = run(t, p)
+    limit = OnlineConfig().max_walking_speed_mps
+    assert r.walking[1490]
+    speed_h = np.hypot(r.vh_a_mps, r.vh_b_mps)[1500:1600]
+    assert speed_h.max() <= limit + 1e-9
+    # A person standing who is moved the same way is not walking: nothing is cut, the jump shows.
+    ts, ps = pelvis(standing=True)
+    ps[1500:1505, :, 1] += 0.3
+    _, st_ = run(ts, ps)
+    assert np.hypot(st_.vh_a_mps, st_.vh_b_mps)[1500:1600].max() > limit
