@@ -158,7 +158,7 @@ def command(
 
 def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file=None):
     """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator (ONLINE_CSV_COLUMNS;
-    status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite)."""
+    status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite, 5 time jump)."""
     if preset != "default":
         raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
     if figure not in (None, "none"):
