@@ -48,6 +48,19 @@ inline double py_min(double a, double b) noexcept { return b < a ? b : a; }
 inline double py_max(double a, double b) noexcept { return b > a ? b : a; }
 }  // namespace detail
 
+/// atan2(y, x) within 2e-6 rad, without a library call (a minimax polynomial of atan on [0, 1]);
+/// 0 at the origin. For angles that need no more (the gait phase, phase corrections).
+inline double atan2_fast(double y, double x) noexcept {
+  const double ax = std::fabs(x), ay = std::fabs(y), hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
+  if (!(hi > 0.0)) return 0.0;
+  const double r = lo / hi, r2 = r * r;
+  double a = r * (0.99997726 + r2 * (-0.33262347 + r2 * (0.19354346 + r2 * (-0.11643287 + r2 * (0.05265332 +
+                                                                                             r2 * -0.01172120)))));
+  if (ay > ax) a = 1.5707963267948966 - a;
+  if (x < 0.0) a = 3.141592653589793 - a;
+  return y < 0.0 ? -a : a;
+}
+
 /// sqrt(a), correctly rounded as std::sqrt, but without the errno check that std::sqrt carries
 /// under the default -fmath-errno (a branch to a library call on the per-sample path).
 inline double sqrt1(double a) noexcept {

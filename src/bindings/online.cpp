@@ -3,9 +3,11 @@
 
 #include <nanobind/ndarray.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -19,6 +21,32 @@ using yoyogait::OnlineEstimate;
 using yoyogait::OnlineEstimator;
 
 namespace {
+
+// The estimator as bound: with a flag that one call at a time holds. Taken and released in C++, where
+// no Python signal handler can run between the two, so that no exception leaves it set.
+struct Guarded : OnlineEstimator {
+  using OnlineEstimator::OnlineEstimator;
+  std::atomic<bool> busy{false};
+};
+
+// Raised (as _core.ConcurrentUse) by a call made while another one is running.
+struct ConcurrentUse : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Holds the flag for one call; throws ConcurrentUse when another call holds it.
+class Busy {
+ public:
+  explicit Busy(Guarded& g) : flag_(g.busy) {
+    if (flag_.exchange(true, std::memory_order_acquire)) throw ConcurrentUse("the estimator is in use");
+  }
+  ~Busy() { flag_.store(false, std::memory_order_release); }
+  Busy(const Busy&) = delete;
+  Busy& operator=(const Busy&) = delete;
+
+ private:
+  std::atomic<bool>& flag_;
+};
 
 using Positions = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
 using Times = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
@@ -47,7 +75,8 @@ const double* frame_of(const OnlineEstimator& est, const Positions& p) {
 // Every frame of a recording through update(), in C++: one array per field of OnlineEstimate.
 // With predictions: for each frame and each horizon h of predict_ahead_s, predict(h) after the frame
 // (arrays n x m, row-major).
-nb::dict run(OnlineEstimator& est, const Times& time_s, const Positions& positions, const Times& predict_ahead_s) {
+nb::dict run(Guarded& est, const Times& time_s, const Positions& positions, const Times& predict_ahead_s) {
+  const Busy busy(est);
   const std::size_t n = time_s.shape(0), k = est.points(), m = predict_ahead_s.shape(0);
   for (std::size_t j = 0; j < m; ++j) {
     const double h = predict_ahead_s.data()[j];
@@ -121,7 +150,20 @@ void bind_online(nb::module_& m) {
       .value("ALL_MISSING", yoyogait::OnlineStatus::kAllMissing)
       .value("TIME_NOT_INCREASING", yoyogait::OnlineStatus::kTimeNotIncreasing)
       .value("GAP_RESTART", yoyogait::OnlineStatus::kGapRestart)
-      .value("NON_FINITE", yoyogait::OnlineStatus::kNonFinite);
+      .value("NON_FINITE", yoyogait::OnlineStatus::kNonFinite)
+      .value("TIME_JUMP", yoyogait::OnlineStatus::kTimeJump);
+
+  nb::enum_<yoyogait::InvalidReason>(m, "InvalidReason", nb::is_arithmetic(), nb::is_flag())
+      .value("ACQUIRING", yoyogait::InvalidReason::kAcquiring)
+      .value("NOT_WALKING", yoyogait::InvalidReason::kNotWalking)
+      .value("INPUT_NOISY", yoyogait::InvalidReason::kInputNoisy)
+      .value("INPUT_MISSING", yoyogait::InvalidReason::kInputMissing)
+      .value("MODEL_NOT_HOLDING", yoyogait::InvalidReason::kModelNotHolding)
+      .value("IMPLAUSIBLE_INPUT", yoyogait::InvalidReason::kImplausibleInput)
+      .value("RATE_TOO_LOW", yoyogait::InvalidReason::kRateTooLow)
+      .value("NOT_MOVING", yoyogait::InvalidReason::kNotMoving);
+
+  nb::exception<ConcurrentUse>(m, "ConcurrentUse", PyExc_RuntimeError);
 
   auto estimate_cls = nb::class_<OnlineEstimate>(m, "OnlineEstimate");
 #define YOYO_RO(type, name, ...) estimate_cls.def_ro(#name, &OnlineEstimate::name);
@@ -148,21 +190,36 @@ void bind_online(nb::module_& m) {
             .format(p.t_s, p.horizon_s, p.vx_mps, p.vx_std_mps, p.vz_mps, p.vz_std_mps, p.valid);
       });
 
-  nb::class_<OnlineEstimator>(m, "OnlineEstimator")
+  nb::class_<Guarded>(m, "OnlineEstimator")
       .def(nb::init<std::size_t, int, double, const OnlineConfig&>(), "n_points"_a, "up_axis"_a,
            "length_unit_m"_a = 1.0, "config"_a = OnlineConfig{})
       .def(
           "update",
-          [](OnlineEstimator& est, double t_s, const Positions& p) { return est.update(t_s, frame_of(est, p)); },
+          [](Guarded& est, double t_s, const Positions& p) {
+            const double* frame = frame_of(est, p);
+            const Busy busy(est);
+            return est.update(t_s, frame);
+          },
           "t_s"_a, "positions"_a)
       .def("run", &run, "time_s"_a, "positions"_a, "predict_ahead_s"_a)
-      .def("predict", &OnlineEstimator::predict, "horizon_s"_a)
+      .def(
+          "predict",
+          [](Guarded& est, double h_s) {
+            const Busy busy(est);
+            return est.predict(h_s);
+          },
+          "horizon_s"_a)
       .def_prop_ro_static("max_horizon_s", [](nb::handle) { return OnlineEstimator::kMaxHorizonS; })
-      .def("reset", &OnlineEstimator::reset)
-      .def_prop_ro("points", &OnlineEstimator::points)
-      .def_prop_ro("up_axis", &OnlineEstimator::up_axis)
-      .def_prop_ro("length_unit_m", &OnlineEstimator::length_unit_m)
-      .def_prop_ro("config", &OnlineEstimator::config)
-      .def_prop_ro("estimate", &OnlineEstimator::estimate);
+      .def("reset",
+           [](Guarded& est) {
+             const Busy busy(est);
+             est.reset();
+           })
+      .def_prop_ro("ignored_frames", [](const Guarded& e) { return e.ignored_frames(); })
+      .def_prop_ro("points", [](const Guarded& e) { return e.points(); })
+      .def_prop_ro("up_axis", [](const Guarded& e) { return e.up_axis(); })
+      .def_prop_ro("length_unit_m", [](const Guarded& e) { return e.length_unit_m(); })
+      .def_prop_ro("config", [](const Guarded& e) { return e.config(); })
+      .def_prop_ro("estimate", [](const Guarded& e) { return e.estimate(); });
 }
 // clang-format on

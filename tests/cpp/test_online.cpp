@@ -2,6 +2,7 @@
 // the causal centre, the differentiator's delay, bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -50,13 +51,17 @@ struct SyntheticPelvis {
   }
 };
 
+// Every value finite; the two stds too once the estimator has been fed (before: +inf, never NaN).
 bool all_finite(const OnlineEstimate& e) {
-  const double v[] = {
-      e.vx_mps,        e.vz_mps,     e.vh_a_mps,        e.vh_b_mps,          e.heading_rad,           e.walk_a_mps,
-      e.walk_b_mps,    e.vx_hat_mps, e.vz_hat_mps,      e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps,
-      e.speed_std_mps, e.gait_phase, e.input_latency_s, e.estimate_age_s};
+  const double v[] = {e.vx_mps,     e.vz_mps,     e.vh_a_mps,          e.vh_b_mps,   e.heading_rad,
+                      e.walk_a_mps, e.walk_b_mps, e.vx_hat_mps,        e.vz_hat_mps, e.step_frequency_hz,
+                      e.speed_mps,  e.gait_phase, e.input_latency_s,   e.estimate_age_s, e.input_noise_m};
   for (double x : v)
     if (!std::isfinite(x)) return false;
+  for (double x : {e.step_frequency_std_hz, e.speed_std_mps}) {
+    if (!(x >= 0.0)) return false;
+    if (e.walking && !std::isfinite(x)) return false;
+  }
   return true;
 }
 
@@ -234,9 +239,14 @@ TEST(OnlineEstimator, BadInputGetsAStatusAndStateStaysFinite) {
   EXPECT_EQ(e.status, OnlineStatus::kUsed);
   EXPECT_EQ(e.points_seen, 3);
   EXPECT_LT(std::fabs(e.vx_mps), 3.0);
-  // A gap of ten minutes restarts the front-end; the walk is found again.
+  // A gap of ten minutes: held back as a jump ahead until two more frames follow, then it restarts
+  // the front-end; the walk is found again.
   t += 600.0;
   walk.markers(t, p);
+  EXPECT_EQ(est.update(t, p).status, OnlineStatus::kTimeJump);
+  t += 0.01;
+  EXPECT_EQ(est.update(t, p).status, OnlineStatus::kTimeJump);
+  t += 0.01;
   e = est.update(t, p);
   EXPECT_EQ(e.status, OnlineStatus::kGapRestart);
   for (int k = 1; k < 2000; ++k) {
@@ -354,4 +364,38 @@ TEST(OnlineEstimator, PredictAtZeroIsTheReconstructionAndAllocatesNothing) {
   EXPECT_FALSE(est.predict(-0.1).valid);
   EXPECT_FALSE(est.predict(std::numeric_limits<double>::quiet_NaN()).valid);
   EXPECT_TRUE(std::isinf(est.predict(OnlineEstimator::kMaxHorizonS * 2.0).vx_std_mps));
+}
+
+// valid is invalid_reason == 0: acquiring at first, valid in steady walking and then right within 2
+// std; a walker who vanishes is not walking, not valid (INPUT_MISSING) with growing stds.
+TEST(OnlineEstimator, ValidInSteadyWalkingNotAfterTheWalkerVanishes) {
+  SyntheticPelvis walk;
+  OnlineEstimator est(4, 2, 1.0);
+  double p[12];
+  OnlineEstimate e = est.update(0.0, (walk.markers(0.0, p), p));
+  EXPECT_FALSE(e.valid);
+  EXPECT_NE(e.invalid_reason & static_cast<std::uint8_t>(InvalidReason::kAcquiring), 0);
+  int valid = 0, frames = 0;
+  for (int k = 1; k < 2000; ++k) {
+    const double t = k / 100.0;
+    walk.markers(t, p);
+    e = est.update(t, p);
+    ASSERT_EQ(e.valid, e.invalid_reason == 0);
+    if (t < 6.0) continue;
+    ++frames;
+    if (!e.valid) continue;
+    ++valid;
+    EXPECT_LT(std::fabs(e.step_frequency_hz - walk.f_hz), std::max(0.15, 2.0 * e.step_frequency_std_hz));
+    EXPECT_LT(std::fabs(e.speed_mps - walk.speed_mps), std::max(0.15, 2.0 * e.speed_std_mps));
+  }
+  EXPECT_GT(valid, 0.95 * frames);
+  const double f_std = e.step_frequency_std_hz, s_std = e.speed_std_mps;
+  double none[12];
+  for (double& x : none) x = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 1; k <= 6000; ++k) e = est.update(20.0 + k / 100.0, none);
+  EXPECT_FALSE(e.walking);
+  EXPECT_FALSE(e.valid);
+  EXPECT_NE(e.invalid_reason & static_cast<std::uint8_t>(InvalidReason::kInputMissing), 0);
+  EXPECT_GT(e.step_frequency_std_hz, 5.0 * f_std);
+  EXPECT_GT(e.speed_std_mps, 5.0 * s_std);
 }

@@ -35,7 +35,9 @@ inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
   Ekf e = f;
   std::array<gait::Harmonic, 2> hc{active_harmonics()[kVx], active_harmonics()[kVz]};
   if (h_s > 0.0) {
-    const double n = std::ceil(h_s / nominal_dt_ - 1e-9);
+    // At most kMaxForecastSteps steps (longer ones beyond): a bounded cost for any horizon.
+    double n = std::ceil(h_s / nominal_dt_ - 1e-9);
+    if (!(n <= kMaxForecastSteps)) n = kMaxForecastSteps;
     const double dt = h_s / (n > 1.0 ? n : 1.0);
     DecayFactors::Values fc;
     fc.dt = dt;

@@ -187,6 +187,8 @@ class GaitFilter {
   /// in steps of at most sample_time_s, scaled by the std scale lambda. Copies only; no allocation.
   /// Defined in gait/forecast.hpp.
   Forecast forecast(double h_s, bool with_std) const noexcept;
+  /// The most covariance steps forecast takes (beyond 64 sample times, longer steps).
+  static constexpr double kMaxForecastSteps = 64.0;
 
   const EstimatorConfig& config() const noexcept { return cfg_; }
   /// State of the active EKF (the best bank member while acquiring).

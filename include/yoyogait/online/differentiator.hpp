@@ -88,8 +88,10 @@ class KalmanDifferentiator {
   void update(const std::array<double, 3>& p_m) noexcept {
     const double S = P_[0][0] + r2_;
     const double K0 = P_[0][0] / S, K1 = P_[1][0] / S, K2 = P_[2][0] / S;
+    double nu2 = 0.0;
     for (int k = 0; k < 3; ++k) {
       const double nu = p_m[k] - x_[k][kP];
+      nu2 += nu * nu;
       x_[k][kP] += K0 * nu;
       x_[k][kV] += K1 * nu;
       x_[k][kA] += K2 * nu;
@@ -99,7 +101,14 @@ class KalmanDifferentiator {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) P_[i][j] -= K[i] * row0[j];
     gain_ = {K0, K1, K2};
+    innovation2_m2_ = nu2 / 3.0;
+    predicted_var_m2_ = S - r2_;
   }
+
+  /// The last update's mean squared position innovation over the axes [m^2] and the part of it the
+  /// filter's own uncertainty explains (H P- H^T) [m^2]: their difference estimates the marker noise.
+  double innovation2_m2() const noexcept { return innovation2_m2_; }
+  double predicted_var_m2() const noexcept { return predicted_var_m2_; }
 
   std::array<double, 3> position_m() const noexcept { return {x_[0][kP], x_[1][kP], x_[2][kP]}; }
   std::array<double, 3> velocity_mps() const noexcept { return {x_[0][kV], x_[1][kV], x_[2][kV]}; }
@@ -150,6 +159,7 @@ class KalmanDifferentiator {
   std::array<Axis, 3> x_{};
   std::array<std::array<double, 3>, 3> P_{};
   std::array<double, 3> gain_{};
+  double innovation2_m2_ = 0.0, predicted_var_m2_ = 0.0;
   bool started_ = false;
 };
 

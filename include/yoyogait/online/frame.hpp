@@ -19,7 +19,8 @@ struct Axes {
 };
 
 /// The points of the last frame read, in metres. A point is seen when each of its coordinates is
-/// finite and within max_abs_position_m (after the length unit); else it is missing.
+/// finite and within max_abs_position_m (after the length unit) and it is not exactly (0, 0, 0)
+/// (a missing point as many writers mark it); else it is missing.
 class PointFrame {
  public:
   /// What one frame held.
@@ -43,6 +44,8 @@ class PointFrame {
         if (!(std::fabs(v) <= max_abs_m_)) ok = false;  // NaN, infinite or absurd
         pos_[j][a] = v;
       }
+      // Exactly (0, 0, 0): how many writers mark a missing point.
+      if (ok && pos_[j][0] == 0.0 && pos_[j][1] == 0.0 && pos_[j][2] == 0.0) ok = false;
       visible_[j] = ok;
       c.seen += ok;
       c.bad += (!ok && any_value);

@@ -27,11 +27,13 @@ class GaitPhase {
 
   /// The estimate (walking, vertical phasor z1, z2 at its sample) carried over a turn of
   /// phase_advance_rad, to where the step angular frequency is omega_rad_s with rate omega_rate_rad_s2.
+  /// next_step_in_s stays below 1 / f_hz (the reported step frequency; also at a falling rate).
   void update(bool walking, double z1, double z2, double phase_advance_rad, double omega_rad_s,
-              double omega_rate_rad_s2) noexcept {
-    const bool phased = walking && z1 * z1 + z2 * z2 > 1e-12;
+              double omega_rate_rad_s2, double f_hz) noexcept {
+    const bool phased = walking && z1 * z1 + z2 * z2 > 1e-12 && std::isfinite(phase_advance_rad) &&
+                        std::fabs(phase_advance_rad) < 1e9 && std::isfinite(omega_rad_s);
     if (phased) {
-      const double th = std::atan2(z2, z1) + phase_advance_rad;
+      const double th = atan2_fast(z2, z1) + phase_advance_rad;  // (within 2e-6 rad: 3e-7 of a step)
       double ph = th / kTwoPi;
       ph -= std::floor(ph);
       if (ph >= 1.0) ph = 0.0;
@@ -44,6 +46,9 @@ class GaitPhase {
       if (left >= 1.0) left = 0.0;
       const double turn = kTwoPi * left, w = omega_rad_s, disc = w * w + 2.0 * omega_rate_rad_s2 * turn;
       next_step_in_s_ = disc > 0.0 ? 2.0 * turn / (w + std::sqrt(disc)) : turn / w;
+      const double period_s = f_hz > 0.0 ? 1.0 / f_hz : 0.0;
+      if (!(next_step_in_s_ < period_s)) next_step_in_s_ = std::nextafter(period_s, 0.0);
+      if (!(next_step_in_s_ >= 0.0)) next_step_in_s_ = 0.0;
     } else {
       next_step_in_s_ = std::numeric_limits<double>::quiet_NaN();
     }

@@ -17,7 +17,21 @@ enum class OnlineStatus : std::uint8_t {
   kAllMissing = 1,         ///< no point was seen: the estimate is carried forward by prediction
   kTimeNotIncreasing = 2,  ///< the timestamp did not increase: the frame was ignored
   kGapRestart = 3,         ///< used, after a gap longer than max_gap_s that restarted the front-end
-  kNonFinite = 4,          ///< non-finite timestamp, or every seen coordinate non-finite or absurd: ignored
+  kNonFinite = 4,          ///< non-finite or absurd timestamp, or every seen coordinate non-finite or absurd: ignored
+  kTimeJump = 5,           ///< the timestamp jumped more than max_time_jump_s ahead: ignored until frames confirm it
+};
+
+/// Why an estimate is not valid: the bits of OnlineEstimate::invalid_reason (0: valid). Each names
+/// a check of online/validity.hpp (docs/online.md, "Validity").
+enum class InvalidReason : std::uint8_t {
+  kAcquiring = 1,          ///< no estimate yet, the start-up bank running, or walking for less than valid_after_s
+  kNotWalking = 2,         ///< the walking detector says standing
+  kInputNoisy = 4,         ///< the marker noise estimated online is above max_input_noise_m
+  kInputMissing = 8,       ///< the frame was ignored, the estimate is stale, or the visible points keep changing
+  kModelNotHolding = 16,   ///< the estimator's innovations are too large (mean NIS), or f sits at a bound
+  kImplausibleInput = 32,  ///< the input moves faster than a person can (wrong length unit, jumps, zeros)
+  kRateTooLow = 64,        ///< the mean frame rate is below min_rate_hz
+  kNotMoving = 128,        ///< the centre travels much less than the speed says (treadmill, sway, turning on the spot)
 };
 
 /// The fields of OnlineEstimate, declared once: X(type, name, default, "unit", scope, "doc") (scope:
@@ -49,9 +63,12 @@ enum class OnlineStatus : std::uint8_t {
   X(double, estimate_age_s, 0.0, "s", kAll, "time since the estimator's last sample")                            \
   X(::yoyogait::OnlineStatus, status, ::yoyogait::OnlineStatus::kUsed, "", kAll, "what update() did with the frame (OnlineStatus)")     \
   X(::yoyogait::Status, estimator_status, ::yoyogait::Status::kUpdated, "", kAll, "Status of the estimator's last sample")               \
-  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector")                                  \
+  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector (0 once the estimate is stale)")                                  \
   X(bool, estimator_fed, false, "", kAll, "this frame completed an interval and fed the estimator")              \
-  X(::std::uint8_t, points_seen, 0, "", kAll, "points used on this frame")
+  X(::std::uint8_t, points_seen, 0, "", kAll, "points used on this frame")                                        \
+  X(bool, valid, false, "", kAll, "the estimate can be used as it is: invalid_reason is 0")                       \
+  X(::std::uint8_t, invalid_reason, 1, "", kAll, "why not valid: a set of InvalidReason bits (0: valid)")         \
+  X(double, input_noise_m, 0.0, "m", kAll, "the marker noise estimated from the differentiator's innovations")
 
 /// One estimate, at the time of one frame (YOYOGAIT_ONLINE_ESTIMATE_FIELDS).
 struct OnlineEstimate {
@@ -66,7 +83,7 @@ struct OnlinePrediction {
   double vz_mps = 0.0;      ///< vertical velocity at t_s
   double vx_std_mps = std::numeric_limits<double>::infinity();  ///< its standard deviation (model uncertainty)
   double vz_std_mps = std::numeric_limits<double>::infinity();
-  bool valid = false;       ///< the estimator has been fed and 0 <= horizon_s <= kMaxHorizonS
+  bool valid = false;       ///< 0 <= horizon_s <= kMaxHorizonS and the last estimate is valid (OnlineEstimate::valid)
 };
 
 }  // namespace yoyogait

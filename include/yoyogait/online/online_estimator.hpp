@@ -7,13 +7,14 @@
 /// velocity along it (online/heading.hpp); every EstimatorConfig::sample_time_s the mean velocity
 /// over that interval (online/decimator.hpp) feeds the gait Estimator, whose estimate is carried to
 /// each frame's time by its own forecast over the delays behind it (online/latency.hpp), with the
-/// gait phase (online/gait_phase.hpp).
+/// gait phase (online/gait_phase.hpp); whether it is valid, and why not (online/validity.hpp).
 #pragma once
 
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 #include "yoyogait/estimator.hpp"
@@ -27,6 +28,7 @@
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/online/settings.hpp"
+#include "yoyogait/online/validity.hpp"
 
 namespace yoyogait {
 
@@ -46,7 +48,9 @@ class OnlineEstimator {
         diff_(online::differentiator_settings(config_)),
         heading_(online::heading_settings(config_)),
         decimator_(online::decimator_settings(config_)),
-        latency_(online::latency_settings(config_)) {
+        latency_(online::latency_settings(config_)),
+        validity_(online::validity_settings(config_)),
+        q_f_(config_.estimator.gait_filter.q_omega_rad2_per_s3 * kInvTwoPi * kInvTwoPi) {
     reset();
   }
 
@@ -59,10 +63,15 @@ class OnlineEstimator {
     decimator_.restart();
     latency_.reset();
     phase_.reset();
+    validity_.reset();
     est_ = Estimate{};
     out_ = OnlineEstimate{};
     have_time_ = false;
     have_seen_ = false;
+    jump_n_ = 0;
+    jump_t_s_ = 0.0;
+    fast_s_ = 0.0;
+    ignored_frames_ = 0;
   }
 
   /// One frame: t_s [s], positions_xyz: n_points x 3 coordinates (x, y, z of each point, in the
@@ -70,9 +79,16 @@ class OnlineEstimator {
   OnlineEstimate update(double t_s, const double* positions_xyz) noexcept {
     OnlineEstimate& o = out_;
     o.estimator_fed = false;
-    if (!accept_time(t_s)) return o;
+    const double frame_dt_s = have_time_ ? t_s - t_last_s_ : 0.0;
+    if (!accept_time(t_s)) {
+      ++ignored_frames_;
+      o.valid = false;
+      o.invalid_reason |= static_cast<std::uint8_t>(InvalidReason::kInputMissing);
+      return o;
+    }
     const online::PointFrame::Count seen = frame_.read(positions_xyz);
     o.points_seen = static_cast<std::uint8_t>(seen.seen);
+    validity_.frame(frame_dt_s, seen.seen);
     if (seen.seen == 0) return carried(t_s, seen.bad ? OnlineStatus::kNonFinite : OnlineStatus::kAllMissing);
     const double gap_s = have_seen_ ? t_s - t_seen_s_ : 0.0;
     const bool restart = !diff_.started() || gap_s > config_.max_gap_s;
@@ -89,11 +105,19 @@ class OnlineEstimator {
 
   /// The longest horizon predict() accepts [s] (validated up to 1 s: docs/online.md sec. 5).
   static constexpr double kMaxHorizonS = 2.0;
+  /// The longest horizon an estimate is carried over by the model [s]: beyond it (an estimate that
+  /// old is stale: not valid) the forecast stops there and only its standard deviations grow, so that
+  /// every call costs a bounded time.
+  static constexpr double kMaxCarryS = 2.0;
+  /// Timestamps beyond +-this are absurd (31,700 years) and ignored as non-finite [s].
+  static constexpr double kMaxAbsTimeS = 1e12;
 
   /// Forward and vertical velocity horizon_s [s] after the last frame's time, from the estimator's
   /// forecast (rates of speed and cadence included) over the same horizon as vx_hat_mps plus
   /// horizon_s; predict(0) is the last estimate's vx_hat_mps, vz_hat_mps. Standard deviations: the
-  /// estimator's covariance propagated over that horizon (GaitFilter::forecast). Before the estimator
+  /// estimator's covariance propagated over that horizon (GaitFilter::forecast), scaled as the
+  /// estimate's are; the horizon from the last sample capped at kMaxCarryS + kMaxHorizonS (the speed's
+  /// random walk beyond), so that the cost is bounded. valid: the last estimate's. Before the estimator
   /// has been fed: the front-end's velocities held (= vx_hat_mps, vz_hat_mps), stds infinite, valid
   /// false; for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
   OnlinePrediction predict(double horizon_s) const noexcept {
@@ -109,12 +133,14 @@ class OnlineEstimator {
       p.vz_mps = out_.vz_hat_mps;
       return p;
     }
-    const Forecast f = estimator_.forecast(latency_.horizon_s() + horizon_s, true);
-    p.vx_mps = f.vx_mps;
-    p.vz_mps = f.vz_mps;
-    p.vx_std_mps = f.vx_std_mps;
-    p.vz_std_mps = f.vz_std_mps;
-    p.valid = true;
+    const double h_s = latency_.horizon_s() + horizon_s;
+    const Forecast f = estimator_.forecast(h_s < kMaxCarryS + kMaxHorizonS ? h_s : kMaxCarryS + kMaxHorizonS, true);
+    const double k = validity_.std_inflation();
+    p.vx_mps = bounded(f.vx_mps);
+    p.vz_mps = bounded(f.vz_mps);
+    p.vx_std_mps = std::sqrt(k * k * f.vx_std_mps * f.vx_std_mps + grown_var_speed(h_s - kMaxCarryS - kMaxHorizonS));
+    p.vz_std_mps = k * f.vz_std_mps;
+    p.valid = out_.valid;
     return p;
   }
 
@@ -127,6 +153,9 @@ class OnlineEstimator {
   double length_unit_m() const noexcept { return frame_.length_unit_m(); }
   /// The last estimate returned by update().
   const OnlineEstimate& last() const noexcept { return out_; }
+  /// Frames ignored since the last reset (a timestamp not finite, absurd, not increasing or jumping
+  /// ahead unconfirmed).
+  std::uint64_t ignored_frames() const noexcept { return ignored_frames_; }
 
  private:
   static const OnlineConfig& checked(const OnlineConfig& c, std::size_t n, int up, double unit) {
@@ -137,11 +166,12 @@ class OnlineEstimator {
     return c;
   }
 
-  /// A finite timestamp after the last accepted one is accepted; else the frame is ignored (its
-  /// status set, nothing else changed).
+  /// A finite timestamp within +-kMaxAbsTimeS after the last accepted one is accepted, unless it
+  /// lies more than max_time_jump_s ahead: then only once two more frames follow it, each within
+  /// max_gap_s of the one before. Else the frame is ignored (its status set, nothing else changed).
   bool accept_time(double t_s) noexcept {
     OnlineEstimate& o = out_;
-    if (!std::isfinite(t_s)) {
+    if (!(std::fabs(t_s) <= kMaxAbsTimeS)) {
       o.status = OnlineStatus::kNonFinite;
       return false;
     }
@@ -149,6 +179,16 @@ class OnlineEstimator {
       o.status = OnlineStatus::kTimeNotIncreasing;
       return false;
     }
+    if (have_time_ && t_s - t_last_s_ > config_.max_time_jump_s) {
+      const bool follows = jump_n_ > 0 && t_s > jump_t_s_ && t_s - jump_t_s_ <= config_.max_gap_s;
+      jump_n_ = follows ? jump_n_ + 1 : 1;
+      jump_t_s_ = t_s;
+      if (jump_n_ < 3) {
+        o.status = OnlineStatus::kTimeJump;
+        return false;
+      }
+    }
+    jump_n_ = 0;
     have_time_ = true;
     t_last_s_ = t_s;
     o.t_s = t_s;
@@ -186,6 +226,7 @@ class OnlineEstimator {
     diff_.start(centre_m);
     start_t_s_ = t_s;
     decimator_.restart();
+    validity_.restart_travel();
   }
 
   /// The differentiator's velocity on the axes; the heading (updated once settled) and the
@@ -193,10 +234,26 @@ class OnlineEstimator {
   void velocities(double gap_s, bool settled) noexcept {
     OnlineEstimate& o = out_;
     const std::array<double, 3> v = diff_.velocity_mps();
-    const double va = v[axes_.a], vb = v[axes_.b];
+    double va = v[axes_.a], vb = v[axes_.b];
+    // While walking, a horizontal velocity beyond max_walking_speed_mps that has lasted less than a
+    // step is a jump, a swap or noise, not the person: cut to that speed.
+    const double lim = config_.max_walking_speed_mps, vh2 = va * va + vb * vb;
+    if (vh2 > lim * lim) {
+      fast_s_ += gap_s;
+      if (est_.walking && est_.step_frequency_hz > 0.0 && fast_s_ * est_.step_frequency_hz < 1.0) {
+        const double k = lim / sqrt1(vh2);
+        va *= k;
+        vb *= k;
+      }
+    } else {
+      fast_s_ = 0.0;
+    }
     o.vh_a_mps = va;
     o.vh_b_mps = vb;
     o.vz_mps = v[axes_.up];
+    const std::array<double, 3> pos = diff_.position_m();
+    validity_.front_end(o.t_s, gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), pos[axes_.a], pos[axes_.b],
+                        v[axes_.a], v[axes_.b], o.vz_mps);  // the velocity before any cut
     if (settled) heading_.update(va, vb, gap_s);
     o.heading_rad = heading_.heading_rad();
     o.vx_mps = heading_.forward_mps(va, vb);
@@ -205,7 +262,34 @@ class OnlineEstimator {
   /// The interval just completed feeds the estimator (its time step: since its last sample).
   void feed(double t_s, double gap_s) noexcept {
     const online::Decimator::Mean& m = decimator_.mean();
-    est_ = estimator_.step(m.vx_mps, m.vz_mps, latency_.sample_dt_s(t_s, config_.estimator.sample_time_s));
+    // Velocities no person reaches are not fed (the estimator predicts only): they would drive its
+    // amplitudes without bound.
+    const double lim = config_.max_plausible_speed_mps;
+    const bool plausible = std::fabs(m.vx_mps) <= lim && std::fabs(m.vz_mps) <= lim;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
+    const GaitState prior = est_.gait_state;
+    est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
+    // The vertical phasor's turn from the last posterior to this one, less the w dt the model turns
+    // it by: the update's phase correction.
+    const double p1 = prior[gait::kZ1], p2 = prior[gait::kZ2];
+    const double q1 = est_.gait_state[gait::kZ1], q2 = est_.gait_state[gait::kZ2];
+    const double correction =
+        est_.walking && !est_.acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8
+            ? atan2_fast(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2) - prior[gait::kW] * dt_s
+            : std::numeric_limits<double>::quiet_NaN();
+    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
+    // The variances reported until the next sample: scaled while the innovations are larger than
+    // the model expects (sqrt of the mean NIS over 2, at least 1), plus what a transient adds.
+    const double k = validity_.std_inflation();
+    // A change of speed comes with one of cadence (at a constant step length, f / speed per m/s):
+    // the speed's transient counts for f too.
+    const double sp = est_.speed_mps > 0.3 ? est_.speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
+    const double tv_s = validity_.transient_var_speed();
+    f_var_ = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() + fs * fs * tv_s;
+    s_var_ = k * k * est_.speed_std_mps * est_.speed_std_mps + tv_s;
+    f_std_ = sqrt1(f_var_);
+    s_std_ = sqrt1(s_var_);
     out_.estimator_fed = true;
     latency_.sampled(t_s, gap_s, m.age_s, decimator_.antialias_delay_s(config_.latency_f_hz), diff_);
   }
@@ -215,33 +299,70 @@ class OnlineEstimator {
   void carry_estimate(double t_s) noexcept {
     OnlineEstimate& o = out_;
     const Estimate& e = est_;
-    o.step_frequency_hz = e.step_frequency_hz;
-    o.step_frequency_std_hz = e.step_frequency_std_hz;
-    o.speed_mps = e.speed_mps;
-    o.speed_std_mps = e.speed_std_mps;
-    o.walking = latency_.fed() && e.walking;
-    o.estimator_status = e.status;
-    o.walk_a_mps = e.speed_mps * heading_.unit()[0];
-    o.walk_b_mps = e.speed_mps * heading_.unit()[1];
+    const bool fed = latency_.fed();
     const double h_s = latency_.carry_to(t_s);
-    if (!latency_.fed()) {
+    o.estimate_age_s = fed ? latency_.sample_age_s(t_s) : 0.0;
+    const bool stale = o.estimate_age_s > validity_stale_s();
+    o.step_frequency_hz = e.step_frequency_hz;
+    o.speed_mps = bounded(e.speed_mps);
+    o.walking = fed && e.walking && !stale;
+    o.estimator_status = e.status;
+    o.walk_a_mps = o.speed_mps * heading_.unit()[0];
+    o.walk_b_mps = o.speed_mps * heading_.unit()[1];
+    o.input_noise_m = validity_.input_noise_m();
+    online::Validity::Inputs in;
+    in.fed = fed;
+    in.walking = o.walking;
+    in.acquiring = e.acquiring;
+    in.estimate_age_s = o.estimate_age_s;
+    in.speed_mps = e.speed_mps;
+    in.step_frequency_hz = e.step_frequency_hz;
+    o.invalid_reason = validity_.reasons(t_s, in);
+    o.valid = o.invalid_reason == 0;
+    if (!fed) {
       // No estimate yet (the front-end settles, the first interval fills): the measured velocity
-      // is the best there is; zero would tell a controller that the walker stands.
-      o.vx_hat_mps = o.vx_mps;
-      o.vz_hat_mps = o.vz_mps;
-      o.estimate_age_s = 0.0;
+      // is the best there is; zero would tell a controller that the walker stands. Nothing is known
+      // of the estimator's outputs: infinite stds, as predict() gives.
+      o.step_frequency_std_hz = o.speed_std_mps = std::numeric_limits<double>::infinity();
+      o.vx_hat_mps = bounded(o.vx_mps);
+      o.vz_hat_mps = bounded(o.vz_mps);
       phase_.hold();
       o.next_step_in_s = phase_.next_step_in_s();
       return;
     }
-    o.estimate_age_s = latency_.sample_age_s(t_s);
-    const Forecast f = estimator_.forecast(h_s, false);
-    o.vx_hat_mps = f.vx_mps;
-    o.vz_hat_mps = f.vz_mps;
-    phase_.update(e.walking, e.gait_state[gait::kZ1], e.gait_state[gait::kZ2], f.phase_advance_rad, f.omega_rad_s,
-                  f.omega_rate_rad_s2);
+    // The stds (scaled at the sample: feed()), grown by the model's random walks over the
+    // estimate's age, and never confident at a bound of the range.
+    // (Within two sample times of the sample the growth is below 1e-4 Hz and 3e-4 m/s: not computed.)
+    const double age = o.estimate_age_s;
+    const bool grown = age > 2.0 * config_.estimator.sample_time_s;
+    o.step_frequency_std_hz = grown ? sqrt1(f_var_ + q_f_ * age) : f_std_;
+    if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < kPinnedStdHz)
+      o.step_frequency_std_hz = kPinnedStdHz;
+    o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
+    const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false);
+    o.vx_hat_mps = bounded(f.vx_mps);
+    o.vz_hat_mps = bounded(f.vz_mps);
+    phase_.update(o.walking, e.gait_state[gait::kZ1], e.gait_state[gait::kZ2], f.phase_advance_rad, f.omega_rad_s,
+                  f.omega_rate_rad_s2, e.step_frequency_hz);
     o.next_step_in_s = phase_.next_step_in_s();
     o.gait_phase = phase_.phase();
+  }
+
+  /// The frequency std at a bound of the range, at least [Hz].
+  static constexpr double kPinnedStdHz = 0.5;
+
+  /// An estimate older than this is stale [s] (Validity's stale_s).
+  double validity_stale_s() const noexcept { return config_.max_gap_s + 2.0 * config_.estimator.sample_time_s; }
+
+  /// The variance the speed's random walk adds over age_s [(m/s)^2] (0 for age_s <= 0).
+  double grown_var_speed(double age_s) const noexcept {
+    return config_.estimator.gait_filter.q_speed_m2_per_s3 * (age_s > 0.0 ? age_s : 0.0);
+  }
+
+  /// A velocity within +-max_plausible_speed_mps (NaN: 0).
+  double bounded(double v_mps) const noexcept {
+    const double lim = config_.max_plausible_speed_mps;
+    return v_mps > lim ? lim : v_mps < -lim ? -lim : v_mps == v_mps ? v_mps : 0.0;
   }
 
   OnlineConfig config_;
@@ -254,12 +375,20 @@ class OnlineEstimator {
   online::Decimator decimator_;
   online::Latency latency_;
   online::GaitPhase phase_;
+  online::Validity validity_;
   Estimate est_{};
   OnlineEstimate out_{};
   bool have_time_ = false, have_seen_ = false;
   double t_last_s_ = 0.0;   ///< the last accepted frame [s]
   double t_seen_s_ = 0.0;   ///< the last frame with a point seen [s]
   double start_t_s_ = 0.0;  ///< the differentiator's last (re)start [s]
+  double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
+  double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
+  double q_f_ = 0.0;  ///< the random walk of f [Hz^2/s]
+  double fast_s_ = 0.0;     ///< how long the horizontal velocity has exceeded max_walking_speed_mps [s]
+  double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
+  int jump_n_ = 0;          ///< frames in a row that followed it
+  std::uint64_t ignored_frames_ = 0;
 };
 
 }  // namespace yoyogait

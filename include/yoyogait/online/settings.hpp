@@ -9,6 +9,7 @@
 #include "yoyogait/online/heading.hpp"
 #include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
+#include "yoyogait/online/validity.hpp"
 
 namespace yoyogait::online {
 
@@ -51,6 +52,22 @@ inline Decimator::Settings decimator_settings(const OnlineConfig& c) noexcept {
 inline Latency::Settings latency_settings(const OnlineConfig& c) noexcept {
   Latency::Settings s;
   s.f_hz = c.latency_f_hz;
+  return s;
+}
+
+/// The validity checks' settings (valid_after_s, min_rate_hz, max_plausible_speed_mps,
+/// max_input_noise_m, max_mean_nis; stale after max_gap_s plus two estimator samples; the
+/// estimator's frequency range).
+inline Validity::Settings validity_settings(const OnlineConfig& c) noexcept {
+  Validity::Settings s;
+  s.valid_after_s = c.valid_after_s;
+  s.min_rate_hz = c.min_rate_hz;
+  s.max_plausible_speed_mps = c.max_plausible_speed_mps;
+  s.max_input_noise_m = c.max_input_noise_m;
+  s.max_nis = c.max_mean_nis;
+  s.stale_s = c.max_gap_s + 2.0 * c.estimator.sample_time_s;
+  s.f_min_hz = c.estimator.gait_filter.f_min_hz;
+  s.f_max_hz = c.estimator.gait_filter.f_max_hz;
   return s;
 }
 

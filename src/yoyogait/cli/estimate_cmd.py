@@ -12,11 +12,11 @@ from .._files import atomic_files, check_distinct, check_output_file
 from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError, about_file
 from ..estimators.config import EstimatorConfig, OnlineConfig
-from ..estimators.online import OnlineEstimator
+from ..estimators.online import InvalidReason, OnlineEstimator
 from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..pipeline import events
-from ..pipeline.velocities import gait_velocities
+from ..pipeline.velocities import check_point_motion, gait_velocities
 from .imu_cmd import estimate_imu, imu_options, is_imu_file
 from .options import (
     belt_speed_option,
@@ -179,7 +179,7 @@ def command(
 
 def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file=None):
     """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator (ONLINE_CSV_COLUMNS;
-    status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite)."""
+    status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite, 5 time jump)."""
     if preset != "default":
         raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
     if figure not in (None, "none"):
@@ -192,6 +192,7 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     with about_file(file):
         recording = io.read(file, **overrides)
         check_points(recording, point)
+        check_point_motion(recording, point)  # the check `estimate` makes (offline pipeline), here too
         est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis, config=config)
         res = est.run(recording)
     res.to_csv(out)
@@ -202,4 +203,18 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
         f"median step frequency while walking {np.median(f):.2f} Hz, "
         f"front-end latency {1e3 * float(np.median(res.input_latency_s)):.1f} ms"
     )
+    click.echo(validity_line(res))
     click.echo(f"wrote {out}")
+
+
+def validity_line(res) -> str:
+    """One line on what the validity checks found: the share of valid frames, the most frequent reason
+    when not valid, the input noise (docs/online.md, "Validity")."""
+    valid = np.asarray(res.valid, dtype=bool)
+    reasons = np.asarray(res.invalid_reason, dtype=int)
+    noise_mm = 1e3 * float(np.median(res.input_noise_m)) if len(res) else 0.0
+    line = f"estimates valid {100.0 * valid.mean() if len(res) else 0.0:.0f} % of the time"
+    if (~valid).any():
+        counts = {r.name.lower().replace("_", " "): int(np.sum((reasons & int(r)) != 0)) for r in InvalidReason}
+        line += f" (not valid mostly: {max(counts, key=lambda name: counts[name])})"
+    return line + f"; input noise {noise_mm:.1f} mm"

@@ -457,6 +457,13 @@ class OnlineConfig(_ConfigFile):
     heading_tau_s: float = _field(ONLINE_SECTION, "heading_tau_s")
     heading_min_speed_mps: float = _field(ONLINE_SECTION, "heading_min_speed_mps")
     latency_f_hz: float = _field(ONLINE_SECTION, "latency_f_hz")
+    max_time_jump_s: float = _field(ONLINE_SECTION, "max_time_jump_s")
+    valid_after_s: float = _field(ONLINE_SECTION, "valid_after_s")
+    min_rate_hz: float = _field(ONLINE_SECTION, "min_rate_hz")
+    max_plausible_speed_mps: float = _field(ONLINE_SECTION, "max_plausible_speed_mps")
+    max_walking_speed_mps: float = _field(ONLINE_SECTION, "max_walking_speed_mps")
+    max_input_noise_m: float = _field(ONLINE_SECTION, "max_input_noise_m")
+    max_mean_nis: float = _field(ONLINE_SECTION, "max_mean_nis")
 
     def _own(self):
         return [f for f in fields(self) if f.name != "estimator"]

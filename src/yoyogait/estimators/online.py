@@ -7,15 +7,15 @@ mean velocity of the interval.  Unlike :func:`yoyogait.pipeline.gait_velocities`
 offline pipeline: centred Savitzky-Golay, spline gap filling, resampling), no output at time t
 depends on a frame after t.
 
-Threads: one estimator serves one caller at a time.  ``update``, ``run`` and ``reset`` take a
-non-blocking lock; a call made while another thread is inside one of them raises
+Threads: one estimator serves one caller at a time.  ``update``, ``predict``, ``run`` and ``reset``
+take a flag in C++ (set and cleared there, so that no exception, not even one raised by a signal
+handler, can leave it set); a call made while another thread is inside one of them raises
 :class:`ConcurrentUseError` instead of waiting or corrupting the state.  Use one estimator per
 thread, or serialise the calls yourself.
 """
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -37,11 +37,14 @@ __all__ = [
     "OnlineEstimator",
     "OnlineResult",
     "OnlineStatus",
+    "InvalidReason",
     "ConcurrentUseError",
     "MAX_POINTS",
 ]
 
 OnlineStatus = _core.OnlineStatus
+#: The bits of ``invalid_reason`` (docs/online.md, "Validity").
+InvalidReason = _core.InvalidReason
 """What ``update`` did with a frame: USED, ALL_MISSING, TIME_NOT_INCREASING, GAP_RESTART, NON_FINITE."""
 
 MAX_POINTS = 16
@@ -82,6 +85,8 @@ ONLINE_CSV_COLUMNS = (
     "status",
     "input_latency_s",
     "next_step_in_s",
+    "valid",
+    "invalid_reason",
 )
 
 
@@ -121,6 +126,11 @@ class OnlineResult:
     walking: np.ndarray
     estimator_fed: np.ndarray
     points_seen: np.ndarray
+    valid: np.ndarray
+    """The estimate can be used as it is (``invalid_reason`` 0)."""
+    invalid_reason: np.ndarray
+    """Why not: a set of :class:`InvalidReason` bits."""
+    input_noise_m: np.ndarray
     predict_ahead_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
     """The horizons of the predictions (m) [s]."""
     pred_vx_mps: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
@@ -172,7 +182,6 @@ class OnlineEstimator:
         self._impl = _core.OnlineEstimator(
             len(names), AXES.index(self.up_axis), self.length_unit_m, self.config.to_native()
         )
-        self._lock = threading.Lock()
 
     @classmethod
     def for_recording(cls, rec: Recording, point=None, *, up_axis: str | None = None, config=None):
@@ -185,12 +194,12 @@ class OnlineEstimator:
         up, _ = points.resolve_up_axis(rec, up_axis)
         return cls(choice.names, up, 1.0, config)
 
-    def _enter(self, what: str) -> None:
-        if not self._lock.acquire(blocking=False):
-            raise ConcurrentUseError(
-                f"OnlineEstimator.{what} called while another thread is using this estimator; "
-                "use one estimator per thread or serialise the calls"
-            )
+    @staticmethod
+    def _busy(what: str) -> ConcurrentUseError:
+        return ConcurrentUseError(
+            f"OnlineEstimator.{what} called while another thread is using this estimator; "
+            "use one estimator per thread or serialise the calls"
+        )
 
     def update(self, t_s: float, positions):
         """One frame at ``t_s`` [s]: positions of the points (k x 3, in the length unit, NaN where
@@ -198,11 +207,10 @@ class OnlineEstimator:
         p = np.ascontiguousarray(positions, dtype=np.float64)
         if p.size != 3 * len(self.point_names):
             raise InputError(f"positions must hold {len(self.point_names)} x 3 coordinates, got shape {p.shape}")
-        self._enter("update")
         try:
             return self._impl.update(float(t_s), p)
-        finally:
-            self._lock.release()
+        except _core.ConcurrentUse:
+            raise self._busy("update") from None
 
     @property
     def max_horizon_s(self) -> float:
@@ -215,11 +223,10 @@ class OnlineEstimator:
         OnlinePrediction (t_s, vx_mps, vz_mps, vx_std_mps, vz_std_mps, valid). ``predict(0)`` is the
         last estimate's vx_hat_mps, vz_hat_mps."""
         h = _horizons([horizon_s])[0]
-        self._enter("predict")
         try:
             return self._impl.predict(float(h))
-        finally:
-            self._lock.release()
+        except _core.ConcurrentUse:
+            raise self._busy("predict") from None
 
     def run(
         self, recording: Recording | np.ndarray, positions=None, *, predict_ahead_s: Sequence[float] = (0.2,)
@@ -251,11 +258,10 @@ class OnlineEstimator:
             )
         t = np.ascontiguousarray(t)
         p = np.ascontiguousarray(p)
-        self._enter("run")
         try:
             out = self._impl.run(t, p, horizons)
-        finally:
-            self._lock.release()
+        except _core.ConcurrentUse:
+            raise self._busy("run") from None
         m = len(horizons)
         for key in ("pred_vx_mps", "pred_vz_mps", "pred_vx_std_mps", "pred_vz_std_mps"):
             out[key] = out[key].reshape(len(t), m)
@@ -263,11 +269,16 @@ class OnlineEstimator:
 
     def reset(self) -> None:
         """Back to the state before the first frame."""
-        self._enter("reset")
         try:
             self._impl.reset()
-        finally:
-            self._lock.release()
+        except _core.ConcurrentUse:
+            raise self._busy("reset") from None
+
+    @property
+    def ignored_frames(self) -> int:
+        """Frames ignored since the last reset (timestamp not finite, absurd, not increasing, or an
+        unconfirmed jump ahead)."""
+        return int(self._impl.ignored_frames)
 
     @property
     def estimate(self):

@@ -398,7 +398,7 @@ def confidently_wrong_fraction(quantities, valid, mask=None, *, stds: float = CO
         est = _finite_or(estimate, n, "estimate")
         sd = np.nan_to_num(_finite_or(std, n, "std"), nan=0.0)
         known |= np.isfinite(ref)
-        with np.errstate(invalid="ignore"):
+        with np.errstate(invalid="ignore", over="ignore"):  # an infinite std (not yet known) is never below
             err = np.abs(est - ref)
             wrong |= np.isfinite(err) & (err > tolerance) & (err > stds * sd)
     keep = m & known

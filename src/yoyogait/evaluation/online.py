@@ -380,12 +380,8 @@ def _honesty(ref: _Refs, walk, first, after, f_hat, f_std, speed_hat, speed_std,
 
 
 def validity(res) -> np.ndarray:
-    """The per-frame flag a controller gates on: the result's ``valid`` where it has one.
-
-    Until the online estimate reports ``valid``, ``walking`` stands in for it (the estimate is used
-    while it says the person walks); remove the fallback once every OnlineResult has ``valid``.
-    """
-    return np.asarray(res.valid if hasattr(res, "valid") else res.walking, dtype=bool)
+    """The per-frame flag a controller gates on: the online estimate's ``valid``."""
+    return np.asarray(res.valid, dtype=bool)
 
 
 def _run_oscillator(vel) -> dict[str, np.ndarray]:

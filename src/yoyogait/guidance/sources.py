@@ -13,7 +13,7 @@ later frame.  The sources compared (:data:`SOURCE_NAMES`):
   velocity without the oscillation (``speed_mps`` along ``heading_rad``: ``walk_a_mps``,
   ``walk_b_mps``);
 * ``yoyogait-gated``: the same, zero while the estimate is not usable (:func:`usable`: the
-  estimator's ``walking`` detector);
+  estimate's ``valid``);
 * ``yoyogait-predicted``: the same, with the walking speed predicted ``latency_s`` ahead by the
   estimator's forecast (:meth:`OnlineEstimator.predict`), so that after the latency it describes the
   present;
@@ -64,12 +64,9 @@ _PREDICT_SAMPLES = 4  # the step-averaged forecast: 4 horizons a quarter step ap
 
 
 def usable(estimate) -> bool:
-    """Whether the controller may use an estimate's walking velocity (the gate of ``yoyogait-gated``).
-
-    The estimator's walking/standing detector for now; the one place to switch to a ``valid``
-    flag once the estimate carries one.
-    """
-    return bool(estimate.walking)
+    """Whether the controller may use an estimate's walking velocity (the gate of ``yoyogait-gated``):
+    the online estimate's ``valid`` (docs/online.md, the validity output)."""
+    return bool(estimate.valid)
 
 
 class VelocitySource:

@@ -37,6 +37,7 @@ from .treadmill import Treadmill, detect_treadmill
 __all__ = [
     "GaitVelocities",
     "gait_velocities",
+    "check_point_motion",
     "fill_short_gaps",
     "savgol_velocity",
     "resample",
@@ -296,6 +297,18 @@ def _check_speed(time_s: np.ndarray, speed_mps: np.ndarray, label: str, where: s
             f"{where}: {label} moves at {speed_mps[k]:.4g} m/s at {time_s[k]:.3f} s, faster than any person "
             f"({MAX_SPEED_MPS:g} m/s): a corrupt sample or a wrong length unit"
         )
+
+
+def check_point_motion(recording: Recording, point=None, *, max_gap_s: float = 0.2, hand_side: str = "right") -> None:
+    """InputError if ``point`` (as :func:`gait_velocities` takes it) moves faster than any person between two
+    known samples: the check :func:`gait_velocities` makes, for the paths that do not run it (``estimate --online``)."""
+    if recording.velocities is not None:
+        return
+    where = recording.source or "recording"
+    trajectory = points.point_trajectory(recording, point, hand_side=hand_side)
+    t, p = _uniform(np.asarray(recording.time_s, dtype=float), trajectory.positions_m, where, max_gap_s)
+    p = fill_short_gaps(p, _rate(t, where), max_gap_s)
+    _check_jumps(t, p, trajectory.label, where)
 
 
 def _check_jumps(time_s: np.ndarray, positions_m: np.ndarray, label: str, where: str) -> None:

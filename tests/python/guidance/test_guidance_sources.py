@@ -94,6 +94,7 @@ def test_the_yoyogait_source_gives_the_walking_velocity_without_the_oscillation(
     assert step_yo < 0.2 * step_raw
 
 
-def test_the_gate_follows_the_walking_flag():
-    """usable() is the estimate's walking detector."""
-    assert usable(SimpleNamespace(walking=True)) and not usable(SimpleNamespace(walking=False))
+def test_the_gate_follows_the_valid_flag():
+    """usable() is the estimate's valid flag, not its walking detector."""
+    assert usable(SimpleNamespace(walking=True, valid=True))
+    assert not usable(SimpleNamespace(walking=True, valid=False))

@@ -146,7 +146,10 @@ def test_bad_input_is_a_status_or_a_clear_error():
     assert est.update(0.01, np.full((2, 3), np.nan)).status == OnlineStatus.ALL_MISSING
     assert est.update(0.02, np.full((2, 3), np.inf)).status == OnlineStatus.NON_FINITE
     assert est.update(float("nan"), np.zeros((2, 3))).status == OnlineStatus.NON_FINITE
-    assert est.update(900.0, [[0, 900, 0], [100, 900, 0]]).status == OnlineStatus.GAP_RESTART
+    # A jump ahead beyond max_time_jump_s is held back until two more frames follow it.
+    assert est.update(900.0, [[0, 900, 0], [100, 900, 0]]).status == OnlineStatus.TIME_JUMP
+    assert est.update(900.01, [[0, 900, 0], [100, 900, 0]]).status == OnlineStatus.TIME_JUMP
+    assert est.update(900.02, [[0, 900, 0], [100, 900, 0]]).status == OnlineStatus.GAP_RESTART
     with pytest.raises(InputError, match="2 x 3"):
         est.update(1000.0, np.zeros(3))
     with pytest.raises(InputError, match="up_axis"):
@@ -169,7 +172,7 @@ def test_config_mirrors_the_native_struct():
 
 
 def test_estimate_online_writes_one_row_per_frame(datasets_dir, tmp_path, capsys):
-    """`estimate FILE --online` writes a finite CSV row per frame (next step: while walking), keeps an existing file."""
+    """`estimate FILE --online` writes a finite CSV row per frame (stds once fed, next step while walking)."""
     import csv
 
     from yoyogait.cli import main
@@ -182,7 +185,11 @@ def test_estimate_online_writes_one_row_per_frame(datasets_dir, tmp_path, capsys
     needed = "time_s vx_mps vz_mps vx_hat_mps vz_hat_mps step_frequency_hz step_frequency_std_hz speed_mps"
     needed += " speed_std_mps heading_rad gait_phase walking status"
     assert set(needed.split()) <= set(rows[0])
-    assert all(np.isfinite(float(v)) for r in rows for k, v in r.items() if k != "next_step_in_s")
+    # Every value finite, but the stds, which are infinite until the estimator has had its first sample.
+    stds = {"step_frequency_std_hz", "speed_std_mps"}
+    assert all(np.isfinite(float(v)) for r in rows for k, v in r.items() if k != "next_step_in_s" and k not in stds)
+    assert all(not np.isnan(float(r[k])) for r in rows for k in stds)
+    assert all(np.isfinite(float(r[k])) for r in rows if r["walking"] == "1" for k in stds)
     next_step = np.array([float(r["next_step_in_s"]) for r in rows])
     walking = np.array([r["walking"] == "1" for r in rows])
     assert walking.any() and np.array_equal(np.isfinite(next_step), walking)

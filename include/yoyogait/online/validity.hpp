@@ -1,0 +1,227 @@
+/// @file online/validity.hpp
+/// @brief Whether an online estimate can be used as it is (OnlineEstimate::valid) and, when not,
+/// why (OnlineEstimate::invalid_reason, a set of InvalidReason bits); the input-noise estimate; the
+/// inflation of the reported standard deviations while the model does not hold (docs/online.md,
+/// "Validity").
+///
+/// Everything here is a first-order low-pass (gain dt / (tau + dt), no exp per frame) or a
+/// comparison; a ring of 16 centre positions keeps the distance travelled. No allocation.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "yoyogait/math.hpp"
+#include "yoyogait/online/online_estimate.hpp"
+
+namespace yoyogait::online {
+
+/// The checks behind OnlineEstimate::valid, one per InvalidReason, fed frame by frame.
+class Validity {
+ public:
+  struct Settings {
+    double valid_after_s = 2.0;           ///< walking (bank collapsed) this long before an estimate is valid [s]
+    double min_rate_hz = 10.0;            ///< a lower mean frame rate flags kRateTooLow [Hz]
+    double max_plausible_speed_mps = 6.0;  ///< a front-end RMS speed (over ~0.25 s) above it: kImplausibleInput [m/s]
+    double max_input_noise_m = 0.01;      ///< estimated marker noise above it: kInputNoisy [m]
+    double max_nis = 6.0;                 ///< mean NIS of the estimator over about a second above it: kModelNotHolding
+    double stale_s = 0.35;                ///< an estimate older than this: kInputMissing [s]
+    double min_travel_ratio = 0.5;        ///< distance travelled / (speed x time) below it: kNotMoving
+    double f_min_hz = 0.6, f_max_hz = 3.5;  ///< the estimator's frequency range (a pinned estimate is not valid)
+  };
+
+  /// The hold of kImplausibleInput after the last implausible frame [s]; the window of the distance
+  /// travelled [s]; an instantaneous front-end speed that is implausible at once [m/s].
+  static constexpr double kImplausibleHoldS = 2.0, kTravelWindowS = 2.0, kJumpSpeedMps = 50.0;
+  /// Less travel than this over the window is no walking that can be told from noise [m] (0.125 m/s).
+  static constexpr double kMinTravelM = 0.25;
+  /// Low-pass time constants: frame rate, noise, speed, changes of the visible set [s].
+  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kSetTauS = 1.0;
+  /// Changes of the set of visible points per second above which the input counts as missing.
+  static constexpr double kMaxSetChangesPerS = 4.0;
+  /// The lag of the estimates behind a change of cadence or speed, for their stds [s]; the low-pass
+  /// of their rates of change [s].
+  static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;  // (also the NIS's low-pass)
+  /// The frequency error taken per unit of the phase correction rate (the update corrects part of it).
+  static constexpr double kPhaseGain = 3.0;
+
+  Validity() noexcept = default;
+  explicit Validity(const Settings& s) noexcept : s_(s) { reset(); }
+
+  void reset() noexcept {
+    dt_lp_s_ = -1.0;
+    noise2_lp_m2_ = 0.0;
+    speed2_lp_ = 0.0;
+    gains_dt_s_ = -1.0;
+    nis_lp_ = 2.0;
+    set_changes_lp_ = 0.0;
+    last_seen_ = 0;
+    implausible_until_s_ = -1e300;
+    steady_since_s_ = 0.0;
+    steady_ = false;
+    have_last_ = false;
+    last_f_hz_ = last_speed_mps_ = f_rate_lp_ = s_rate_lp_ = phase_rate_lp_ = 0.0;
+    sample_dt_s_ = -1.0;
+    restart_travel();
+  }
+
+  /// A frame accepted dt_s after the previous one (0 for the first).
+  void frame(double dt_s, std::size_t points_seen) noexcept {
+    if (dt_s > 0.0) {
+      if (!near_gains_dt(dt_s)) {  // the gains change only with the frame interval
+        gains_dt_s_ = dt_s;
+        g_rate_ = gain(dt_s, kRateTauS);
+        g_set_ = gain(dt_s, kSetTauS);
+        g_noise_ = gain(dt_s, kNoiseTauS);
+        g_speed_ = gain(dt_s, kSpeedTauS);
+      }
+      dt_lp_s_ = dt_lp_s_ < 0.0 ? dt_s : dt_lp_s_ + g_rate_ * (dt_s - dt_lp_s_);
+      const double changed = points_seen != last_seen_ ? 1.0 / dt_s : 0.0;
+      set_changes_lp_ += g_set_ * (changed - set_changes_lp_);
+    }
+    last_seen_ = points_seen;
+  }
+
+  /// The front-end restarted: the travel and the noise start again.
+  void restart_travel() noexcept {
+    ring_n_ = 0;
+    ring_next_ = 0;
+    ring_t_s_ = -1e300;
+  }
+
+  /// The differentiator's update at t_s, dt_s after the previous frame with a point (the frame of
+  /// frame()): innovation, position and velocity. The speed is low-passed as its square (an RMS).
+  void front_end(double t_s, double dt_s, double innovation2_m2, double predicted_var_m2, double pa_m, double pb_m,
+                 double va_mps, double vb_mps, double vz_mps) noexcept {
+    if (dt_s > 0.0) {
+      const bool same = near_gains_dt(dt_s);
+      const double gn = same ? g_noise_ : gain(dt_s, kNoiseTauS), gs = same ? g_speed_ : gain(dt_s, kSpeedTauS);
+      const double n2 = innovation2_m2 - predicted_var_m2;
+      noise2_lp_m2_ += gn * ((n2 > 0.0 ? n2 : 0.0) - noise2_lp_m2_);
+      const double v2 = va_mps * va_mps + vb_mps * vb_mps + vz_mps * vz_mps;
+      speed2_lp_ += gs * ((v2 <= 1e300 ? v2 : 1e300) - speed2_lp_);
+      const double lim = s_.max_plausible_speed_mps;
+      if (!(v2 <= kJumpSpeedMps * kJumpSpeedMps) || !(speed2_lp_ <= lim * lim))
+        implausible_until_s_ = t_s + kImplausibleHoldS;
+    }
+    if (t_s - ring_t_s_ >= kTravelWindowS / static_cast<double>(kRing)) {
+      ring_[ring_next_] = {t_s, pa_m, pb_m};
+      ring_t_s_ = t_s;
+      ring_next_ = (ring_next_ + 1) % kRing;
+      if (ring_n_ < kRing) ++ring_n_;
+      pa_m_ = pa_m;
+      pb_m_ = pb_m;
+    }
+  }
+
+  /// The estimator's sample dt_s after the previous one: its NIS (NaN: nothing updated), step
+  /// frequency and speed (their rates of change, low-passed, measure how far a transient is off).
+  /// correction_rad: the phase correction of the vertical phasor by the update (the posterior's
+  /// angle less the prior's, turned by w dt; NaN: none): while the cadence is off, the update keeps
+  /// turning the phase the same way, by about the frequency error times dt.
+  void sample(double dt_s, double nis, double f_hz, double speed_mps, double correction_rad) noexcept {
+    if (!(dt_s > 0.0)) return;
+    if (dt_s != sample_dt_s_) {  // one gain for the NIS and the rates (kNisTauS = kRateLpTauS)
+      sample_dt_s_ = dt_s;
+      g_sample_ = gain(dt_s, kRateLpTauS);
+      inv_sample_dt_ = 1.0 / dt_s;
+    }
+    const double g = g_sample_, inv = inv_sample_dt_;
+    if (std::isfinite(nis)) nis_lp_ += g * (nis - nis_lp_);
+    if (have_last_) {
+      f_rate_lp_ += g * ((f_hz - last_f_hz_) * inv - f_rate_lp_);
+      s_rate_lp_ += g * ((speed_mps - last_speed_mps_) * inv - s_rate_lp_);
+    }
+    have_last_ = true;
+    last_f_hz_ = f_hz;
+    last_speed_mps_ = speed_mps;
+    if (correction_rad > 3.141592653589793) correction_rad -= 6.283185307179586;
+    if (correction_rad < -3.141592653589793) correction_rad += 6.283185307179586;
+    if (std::isfinite(correction_rad)) phase_rate_lp_ += g * (correction_rad * inv - phase_rate_lp_);
+  }
+
+  /// The variance a transient adds to f [Hz^2] and to the speed [(m/s)^2]: (kTransientLagS x the
+  /// low-passed rate)^2, how far an estimate that lags by kTransientLagS is behind a change; for f,
+  /// also (kPhaseGain x the low-passed phase correction rate / 2 pi)^2.
+  double transient_var_f() const noexcept {
+    const double c = kPhaseGain * phase_rate_lp_ * 0.15915494309189535;
+    return kTransientLagS * kTransientLagS * f_rate_lp_ * f_rate_lp_ + c * c;
+  }
+  double transient_var_speed() const noexcept { return kTransientLagS * kTransientLagS * s_rate_lp_ * s_rate_lp_; }
+
+  /// What the estimator reports, at t_s.
+  struct Inputs {
+    bool fed = false, walking = false, acquiring = true, frame_ignored = false;
+    double estimate_age_s = 0.0, speed_mps = 0.0, step_frequency_hz = 0.0;
+  };
+
+  /// The InvalidReason bits at t_s.
+  std::uint8_t reasons(double t_s, const Inputs& in) noexcept {
+    std::uint8_t r = 0;
+    const bool steady = in.fed && in.walking && !in.acquiring;
+    if (steady && !steady_) steady_since_s_ = t_s;
+    steady_ = steady;
+    if (!in.fed || in.acquiring || (steady && t_s - steady_since_s_ < s_.valid_after_s)) r |= bit(InvalidReason::kAcquiring);
+    if (in.fed && !in.walking) r |= bit(InvalidReason::kNotWalking);
+    if (noise2_lp_m2_ > s_.max_input_noise_m * s_.max_input_noise_m) r |= bit(InvalidReason::kInputNoisy);
+    if (in.frame_ignored || in.estimate_age_s > s_.stale_s || set_changes_lp_ > kMaxSetChangesPerS)
+      r |= bit(InvalidReason::kInputMissing);
+    const double f = in.step_frequency_hz, margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
+    if (nis_lp_ > s_.max_nis || (in.walking && (f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin)))
+      r |= bit(InvalidReason::kModelNotHolding);
+    if (t_s < implausible_until_s_ || !(std::fabs(in.speed_mps) <= s_.max_plausible_speed_mps))
+      r |= bit(InvalidReason::kImplausibleInput);
+    if (dt_lp_s_ * s_.min_rate_hz > 1.0) r |= bit(InvalidReason::kRateTooLow);
+    if (in.walking && !moved(in.speed_mps)) r |= bit(InvalidReason::kNotMoving);
+    return r;
+  }
+
+  /// The marker noise estimated from the differentiator's innovations [m].
+  double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
+  /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
+  double std_inflation() const noexcept { return nis_lp_ > 2.0 ? sqrt1(0.5 * nis_lp_) : 1.0; }
+  /// Whether the frequency lies at a bound of its range (within 2 % of the range).
+  bool pinned(double f_hz) const noexcept {
+    const double margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
+    return f_hz <= s_.f_min_hz + margin || f_hz >= s_.f_max_hz - margin;
+  }
+  double mean_nis() const noexcept { return nis_lp_; }
+
+ private:
+  static constexpr std::size_t kRing = 16;
+  struct Mark {
+    double t_s = 0.0, a_m = 0.0, b_m = 0.0;
+  };
+  static double gain(double dt_s, double tau_s) noexcept { return dt_s >= tau_s ? 1.0 : dt_s / (tau_s + dt_s); }
+  /// Whether dt_s is the interval of the gains within 1e-6 (timestamps' rounding: no new divisions).
+  bool near_gains_dt(double dt_s) const noexcept { return std::fabs(dt_s - gains_dt_s_) <= 1e-6 * dt_s; }
+  static std::uint8_t bit(InvalidReason r) noexcept { return static_cast<std::uint8_t>(r); }
+
+  /// Whether the centre travelled at least kMinTravelM and min_travel_ratio x speed x time over the
+  /// window (true until the window has filled after a restart).
+  bool moved(double speed_mps) const noexcept {
+    if (ring_n_ < kRing) return true;
+    const Mark& old = ring_[ring_next_];  // the oldest of a full ring
+    const double dt = ring_t_s_ - old.t_s, expected = std::fabs(speed_mps) * dt;
+    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m, need = s_.min_travel_ratio * expected;
+    const double travel2 = da * da + db * db, min2 = need > kMinTravelM ? need * need : kMinTravelM * kMinTravelM;
+    return travel2 >= min2;
+  }
+
+  Settings s_;
+  double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed2_lp_ = 0.0, nis_lp_ = 2.0, set_changes_lp_ = 0.0;
+  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_noise_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
+  std::size_t last_seen_ = 0;
+  double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
+  bool steady_ = false, have_last_ = false;
+  double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates
+  double phase_rate_lp_ = 0.0;  ///< the low-passed phase correction rate [rad/s]
+  double sample_dt_s_ = -1.0, g_sample_ = 1.0, inv_sample_dt_ = 1.0;  ///< the sample gain at that dt
+  std::array<Mark, kRing> ring_{};
+  std::size_t ring_n_ = 0, ring_next_ = 0;
+  double ring_t_s_ = -1e300, pa_m_ = 0.0, pb_m_ = 0.0;
+};
+
+}  // namespace yoyogait::online
