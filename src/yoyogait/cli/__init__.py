@@ -18,7 +18,17 @@ import click
 
 from .._guard import Interrupted, handle_interrupts, interrupted_by
 from ..errors import YoyogaitError
-from . import config_cmd, demo_cmd, estimate_cmd, evaluate_cmd, inspect_cmd, live_cmd, replay_cmd, tune_cmd
+from . import (
+    config_cmd,
+    demo_cmd,
+    estimate_cmd,
+    evaluate_cmd,
+    inspect_cmd,
+    live_cmd,
+    replay_cmd,
+    ros2_cmd,
+    tune_cmd,
+)
 from .options import cli_message
 
 
@@ -46,7 +56,7 @@ def cli() -> None:
 
 def _register() -> None:
     cli.add_command(demo_cmd.demo)
-    for module in (inspect_cmd, estimate_cmd, evaluate_cmd, replay_cmd, live_cmd, tune_cmd, config_cmd):
+    for module in (inspect_cmd, estimate_cmd, evaluate_cmd, replay_cmd, live_cmd, ros2_cmd, tune_cmd, config_cmd):
         cli.add_command(module.command)
 
 
