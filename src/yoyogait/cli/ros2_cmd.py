@@ -8,7 +8,7 @@ import threading
 import click
 
 from .._guard import Interrupted
-from ..ros2.node import run_node, summary_line
+from ..ros2.node import run_node, startup_line, summary_line
 from .options import POSITIVE, config_file_option
 
 
@@ -67,19 +67,14 @@ def command(
     in_main = threading.current_thread() is threading.main_thread()
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)} if in_main else {}
 
-    def started(gait):
-        p = gait.params
-        inputs = ", ".join(f"{topic} ({kind.rsplit('/', 1)[-1]})" for topic, kind in gait.inputs.items())
-        base = gait.node.get_fully_qualified_name()
-        click.echo(
-            f"ros2: node {base} reading {inputs}, {p['time_source']} time, {p['qos']} QoS, up {p['up_axis']}, "
-            f"{p['length_unit_m']:g} m per unit; publishing {base}/walking_velocity, {base}/velocity, "
-            f"{base}/predicted_velocity ({p['predict_horizon_s']:g} s ahead), {base}/gait_state, /diagnostics",
-            err=True,
-        )
-
     try:
-        counts = run_node(parameters, ros_args, stop=stop, duration_s=duration, on_start=started)
+        counts = run_node(
+            parameters,
+            ros_args,
+            stop=stop,
+            duration_s=duration,
+            on_start=lambda gait: click.echo(startup_line(gait), err=True),
+        )
     finally:
         for s, h in previous.items():
             signal.signal(s, h)

@@ -47,7 +47,7 @@ from . import messages
 from ._ros import markers_type, ros
 from .assembly import FrameAssembler
 
-__all__ = ["NODE_NAME", "PARAMETERS", "NodeCounts", "GaitNode", "run_node", "main"]
+__all__ = ["NODE_NAME", "PARAMETERS", "NodeCounts", "GaitNode", "run_node", "main", "startup_line", "summary_line"]
 
 NODE_NAME = "yoyogait"
 
@@ -230,7 +230,10 @@ class GaitNode:
             return
         self._said.add((topic, kind))
         log = self.node.get_logger()
-        (log.error if error else log.warning)(f"topic {topic}: {text}")
+        if error:  # rclpy wants one severity per call site
+            log.error(f"topic {topic}: {text}")
+        else:
+            log.warning(f"topic {topic}: {text}")
 
     # ----------------------------------------------------------------------------------------- inputs
     def _time_of(self, topic: str, header: Any) -> float | None:
@@ -405,8 +408,12 @@ class GaitNode:
         try:
             check_plausible(rec)
         except InputError as exc:
-            text = str(exc).replace("--length-unit-m", "length_unit_m:=").replace("--up-axis", "up_axis:=")
-            text = text.replace("--rate-hz", "the source's rate").replace(f"topic {where}: ", "")
+            text = str(exc).replace("--length-unit-m ", "length_unit_m:=").replace("--up-axis ", "up_axis:=")
+            text = (
+                text.replace("pass --rate-hz", "check the stamps")
+                .replace("--rate-hz", "the stamps")
+                .replace(f"topic {where}: ", "")
+            )
             self.implausible = text
             self.say(where, "plausibility", text, error=True)
 
@@ -461,21 +468,19 @@ class GaitNode:
         self.pub_diagnostics.publish(msg)
 
     def _check_topics(self, now: float) -> None:
-        types = dict(self.node.get_topic_names_and_types())
         for topic, expected in self.inputs.items():
-            name = self.node.resolve_topic_name(topic)
-            carried = [t for t in types.get(name, []) if t != expected]
-            if carried and expected not in types.get(name, []):
+            publishers = self.node.get_publishers_info_by_topic(topic)
+            carried = sorted({info.topic_type for info in publishers} - {expected})
+            if carried and len(carried) == len({info.topic_type for info in publishers}):
                 self.say(topic, "type", f"carries {', '.join(carried)}, expected {expected}: nothing is read", True)
             last = self._last_message.get(topic)
             silent_s = now - (last if last is not None else self._started)
             if last is None and silent_s > self.params["silent_warning_s"]:
-                publishers = self.node.count_publishers(topic)
+                n = len(publishers)
                 self.say(
                     topic,
                     "silent",
-                    f"no message in {silent_s:.0f} s ({publishers} publisher{'s' if publishers != 1 else ''}; "
-                    f"expected {expected})",
+                    f"no message in {silent_s:.0f} s ({n} publisher{'s' if n != 1 else ''}; expected {expected})",
                 )
 
     def destroy(self) -> None:
@@ -547,7 +552,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = {s: signal.signal(s, on_signal) for s in _guard.SIGNALS}
     code = 0
     try:
-        counts = run_node(None, argv, stop=stop)
+        counts = run_node(None, argv, stop=stop, on_start=lambda gait: print(startup_line(gait), file=sys.stderr))
         print(summary_line(counts), file=sys.stderr)
     except (YoyogaitError, ValueError, OSError) as exc:
         print(f"yoyogait ros2: error: {' '.join(str(exc).split())}", file=sys.stderr)
@@ -559,6 +564,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"yoyogait ros2: interrupted ({signal.Signals(received[0]).name})", file=sys.stderr)
         return 128 + received[0]
     return code
+
+
+def startup_line(gait: GaitNode) -> str:
+    """What the node reads and publishes, on one line (printed when it starts)."""
+    p = gait.params
+    inputs = ", ".join(f"{topic} ({kind.rsplit('/', 1)[-1]})" for topic, kind in gait.inputs.items())
+    base = gait.node.get_fully_qualified_name()
+    return (
+        f"ros2: node {base} reading {inputs}, {p['time_source']} time, {p['qos']} QoS, up {p['up_axis']}, "
+        f"{p['length_unit_m']:g} m per unit; publishing {base}/walking_velocity, {base}/velocity, "
+        f"{base}/predicted_velocity ({p['predict_horizon_s']:g} s ahead), {base}/gait_state, /diagnostics"
+    )
 
 
 def summary_line(c: NodeCounts) -> str:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import random
 import threading
 import time
 
@@ -21,11 +20,8 @@ std_msgs = pytest.importorskip("std_msgs.msg", reason="the ros2 extra (rclpy, st
 
 
 @pytest.fixture
-def ros_localhost(monkeypatch):
-    """ROS 2 discovery on this machine only, in a domain of its own."""
-    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    monkeypatch.setenv("ROS_LOCALHOST_ONLY", "1")
-    monkeypatch.setenv("ROS_DOMAIN_ID", str(random.randint(1, 101)))
+def ros_localhost(ros_machine_only):
+    """rclpy started on this machine only, in the test run's own domain (tests/conftest.py)."""
     rclpy.init()
     yield
     rclpy.shutdown()
