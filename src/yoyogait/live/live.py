@@ -109,21 +109,29 @@ class _Stopped(Exception):
 
 
 def resolve_all(name: str, timeout_s: float, stop: threading.Event | None = None, twins_s: float = 0.5) -> list[Any]:
-    """Every StreamInfo of the LSL streams called ``name``, the newest first; waits in slices of 0.1 s
-    (``stop`` ends the wait: _Stopped), then ``twins_s`` more for others of the same name.
-    InputError when none appears within ``timeout_s``."""
+    """Every StreamInfo of the LSL streams called ``name``, the newest first. A background resolver is polled
+    every 0.1 s (``stop`` ends the wait: _Stopped); once one stream is seen, ``twins_s`` more for others of the
+    same name. InputError when none appears within ``timeout_s``."""
     lsl = pylsl()
     deadline = time.monotonic() + timeout_s
-    found: list[Any] = []
-    while not found:
-        if stop is not None and stop.is_set():
-            raise _Stopped
-        left = deadline - time.monotonic()
-        if left <= 0:
-            raise InputError(f"no LSL stream named {name!r} found within {timeout_s:g} s (is the source running?)")
-        found = lsl.resolve_byprop("name", name, 1, min(0.1, left))
-    if twins_s > 0:
-        found = lsl.resolve_byprop("name", name, len(found) + 1, twins_s) or found
+    resolver = lsl.ContinuousResolver(prop="name", value=name, forget_after=5.0)
+    try:
+        found: list[Any] = []
+        seen_at = None
+        while True:
+            if stop is not None and stop.is_set():
+                raise _Stopped
+            now = time.monotonic()
+            found = list(resolver.results())
+            if found and seen_at is None:
+                seen_at = now
+            if seen_at is not None and now - seen_at >= twins_s:
+                break
+            if not found and now >= deadline:
+                raise InputError(f"no LSL stream named {name!r} found within {timeout_s:g} s (is the source running?)")
+            time.sleep(0.02 if seen_at is None and now - (deadline - timeout_s) < 0.2 else 0.1)
+    finally:
+        del resolver
     unique = {info.uid(): info for info in found}
     return sorted(unique.values(), key=lambda i: i.created_at(), reverse=True)
 
@@ -203,6 +211,16 @@ def check_rate(info: Any) -> None:
             f"stream {info.name()!r} states a nominal rate of {rate:g} Hz: not a motion-capture rate "
             f"(expected 0, irregular, to {MAX_NOMINAL_RATE_HZ:g} Hz); fix the source's nominal_srate"
         )
+
+
+def _unreadable(source: str, info: Any) -> str:
+    """The line for a stream liblsl cannot open: its description does not parse (liblsl names it "(invalid: ...)")."""
+    said = info.name()
+    why = f" ({said.strip('()')})" if said.startswith("(invalid") else ""
+    return (
+        f"stream {source!r}: its description could not be read{why}: a nominal rate or channel count out of "
+        f"range? (expected a rate of 0 to {MAX_NOMINAL_RATE_HZ:g} Hz)"
+    )
 
 
 def _format_name(code: int) -> str:
@@ -436,7 +454,10 @@ def _connect(
                     f"stream {source!r}: --max-buffer-s {max_buffer_s:g} at {rate:g} Hz would hold {rate * buflen:.3g} "
                     f"frames (at most {MAX_BUFFER_FRAMES:g}); pass a smaller --max-buffer-s"
                 )
-            inlet = lsl.StreamInlet(info, max_buflen=buflen, recover=False, processing_flags=0)
+            try:
+                inlet = lsl.StreamInlet(info, max_buflen=buflen, recover=False, processing_flags=0)
+            except RuntimeError:
+                raise InputError(_unreadable(source, info)) from None
             what = f"stream {source!r}"
             full_info = _sliced(inlet.info, timeout_s if timeout_s is not None else 10.0, stop, what)
             setup = setup_from_info(full_info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
