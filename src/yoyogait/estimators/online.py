@@ -173,6 +173,11 @@ class OnlineEstimator:
             len(names), AXES.index(self.up_axis), self.length_unit_m, self.config.to_native()
         )
         self._lock = threading.Lock()
+        # The per-frame path, bound once (update and predict run at the capture rate).
+        self._coordinates = 3 * len(names)
+        self._acquire, self._release = self._lock.acquire, self._lock.release
+        self._native_update, self._native_predict = self._impl.update, self._impl.predict
+        self._max_horizon_s = float(_core.OnlineEstimator.max_horizon_s)
 
     @classmethod
     def for_recording(cls, rec: Recording, point=None, *, up_axis: str | None = None, config=None):
@@ -195,14 +200,16 @@ class OnlineEstimator:
     def update(self, t_s: float, positions):
         """One frame at ``t_s`` [s]: positions of the points (k x 3, in the length unit, NaN where
         missing). Returns the native OnlineEstimate; bad frames get a ``status``, never an exception."""
-        p = np.ascontiguousarray(positions, dtype=np.float64)
-        if p.size != 3 * len(self.point_names):
+        # An ndarray goes as it is: the binding converts another dtype or layout to contiguous float64 itself.
+        p = positions if type(positions) is np.ndarray else np.ascontiguousarray(positions, dtype=np.float64)
+        if p.size != self._coordinates:
             raise InputError(f"positions must hold {len(self.point_names)} x 3 coordinates, got shape {p.shape}")
-        self._enter("update")
+        if not self._acquire(False):
+            self._enter("update")  # raises ConcurrentUseError
         try:
-            return self._impl.update(float(t_s), p)
+            return self._native_update(t_s if type(t_s) is float else float(t_s), p)
         finally:
-            self._lock.release()
+            self._release()
 
     @property
     def max_horizon_s(self) -> float:
@@ -214,12 +221,15 @@ class OnlineEstimator:
         deviations (rates of speed and cadence included; docs/online.md sec. 5): a native
         OnlinePrediction (t_s, vx_mps, vz_mps, vx_std_mps, vz_std_mps, valid). ``predict(0)`` is the
         last estimate's vx_hat_mps, vz_hat_mps."""
-        h = _horizons([horizon_s])[0]
-        self._enter("predict")
+        h = horizon_s
+        if not (type(h) is float and 0.0 <= h <= self._max_horizon_s):  # else checked (InputError) and converted
+            h = float(_horizons([horizon_s])[0])
+        if not self._acquire(False):
+            self._enter("predict")  # raises ConcurrentUseError
         try:
-            return self._impl.predict(float(h))
+            return self._native_predict(h)
         finally:
-            self._lock.release()
+            self._release()
 
     def run(
         self, recording: Recording | np.ndarray, positions=None, *, predict_ahead_s: Sequence[float] = (0.2,)

@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from ..estimators.online import ONLINE_ESTIMATE_COLUMNS, ONLINE_ESTIMATE_FIELDS
 from ..io.recording import AXES
 
@@ -70,20 +68,24 @@ def velocity_covariance(
     axes: tuple[int, int, int], heading_rad: float, std_along: float, std_up: float = math.inf
 ) -> list[float]:
     """The row-major 6 x 6 covariance of a velocity known along the heading to ``std_along`` and up to
-    ``std_up`` [m/s] (inf: not observed); across the heading and every angular rate not observed."""
-    h = heading_rad if math.isfinite(heading_rad) else 0.0
-    u = np.zeros(3)
-    w = np.zeros(3)
-    e = np.zeros(3)
-    u[axes[0]], u[axes[1]] = math.cos(h), math.sin(h)
-    w[axes[0]], w[axes[1]] = -math.sin(h), math.cos(h)
-    e[axes[2]] = 1.0
-    along = _variance(std_along) if math.isfinite(heading_rad) else UNOBSERVED_VARIANCE
-    linear = along * np.outer(u, u) + UNOBSERVED_VARIANCE * np.outer(w, w) + _variance(std_up) * np.outer(e, e)
-    cov = np.zeros((6, 6))
-    cov[:3, :3] = 0.5 * (linear + linear.T)
-    cov[3:, 3:] = UNOBSERVED_VARIANCE * np.eye(3)
-    return cov.ravel().tolist()
+    ``std_up`` [m/s] (inf: not observed); across the heading and every angular rate not observed.
+
+    The linear block is ``var_along u u^T + var_across w w^T + var_up e e^T`` written out (u = (c, s),
+    w = (-s, c) in the a, b plane): each off-diagonal entry is computed once and written to both places."""
+    big = UNOBSERVED_VARIANCE
+    if math.isfinite(heading_rad):
+        c, s = math.cos(heading_rad), math.sin(heading_rad)
+        along = _variance(std_along)
+    else:
+        c, s, along = 1.0, 0.0, big
+    a, b, up = axes
+    cov = [0.0] * 36
+    cov[6 * a + a] = along * c * c + big * s * s
+    cov[6 * b + b] = along * s * s + big * c * c
+    cov[6 * a + b] = cov[6 * b + a] = (along - big) * c * s
+    cov[6 * up + up] = _variance(std_up)
+    cov[21] = cov[28] = cov[35] = big
+    return cov
 
 
 def gait_state_row(estimate, radii: tuple[float, float], horizon_s: float, prediction) -> list[float]:

@@ -212,6 +212,7 @@ class GaitNode:
         self.pub_predicted = node.create_publisher(twist, "~/predicted_velocity", qos_out)
         self.pub_state = node.create_publisher(r.Float64MultiArray, "~/gait_state", qos_out)
         self.pub_diagnostics = node.create_publisher(r.DiagnosticArray, "/diagnostics", 10)
+        self._walking, self._velocity, self._predicted = twist(), twist(), twist()
         self._state_message = r.Float64MultiArray()
         self._state_message.layout.dim = [
             r.MultiArrayDimension(label=label, size=1, stride=1) for label in messages.GAIT_STATE_LABELS
@@ -355,43 +356,44 @@ class GaitNode:
         return est
 
     def _publish(self, header: Any, est: Any, prediction: Any) -> None:
-        axes, v = self.axes, messages.velocity_vector
+        axes, v, cov = self.axes, messages.velocity_vector, messages.velocity_covariance
         heading = est.heading_rad
-        self.pub_walking.publish(
-            self._twist(
-                header,
-                v(axes, est.walk_a_mps, est.walk_b_mps, 0.0),
-                messages.velocity_covariance(axes, heading, est.speed_std_mps),
-            )
+        self._send(
+            self.pub_walking,
+            self._walking,
+            header,
+            v(axes, est.walk_a_mps, est.walk_b_mps, 0.0),
+            cov(axes, heading, est.speed_std_mps),
         )
-        self.pub_velocity.publish(
-            self._twist(
-                header,
-                v(axes, est.vh_a_mps, est.vh_b_mps, est.vz_mps),
-                messages.velocity_covariance(axes, heading, math.inf),
-            )
+        self._send(
+            self.pub_velocity,
+            self._velocity,
+            header,
+            v(axes, est.vh_a_mps, est.vh_b_mps, est.vz_mps),
+            cov(axes, heading, math.inf),
         )
         c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
         vx = prediction.vx_mps
-        self.pub_predicted.publish(
-            self._twist(
-                header,
-                v(axes, vx * c, vx * s, prediction.vz_mps),
-                messages.velocity_covariance(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps),
-            )
+        self._send(
+            self.pub_predicted,
+            self._predicted,
+            header,
+            v(axes, vx * c, vx * s, prediction.vz_mps),
+            cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps),
         )
         gait = self.estimator.estimate if self.estimator is not None else None
         radii = (gait.R_m, gait.r_m) if gait is not None else (math.nan, math.nan)
         self._state_message.data = messages.gait_state_row(est, radii, self.params["predict_horizon_s"], prediction)
         self.pub_state.publish(self._state_message)
 
-    def _twist(self, header: Any, linear: tuple[float, float, float], covariance: list[float]) -> Any:
-        msg = self._r.TwistWithCovarianceStamped()
+    @staticmethod
+    def _send(publisher: Any, msg: Any, header: Any, linear: tuple[float, float, float], covariance: list[float]):
+        """``msg`` (one per topic, reused: publish serialises it at once) filled and published."""
         msg.header = header
         t = msg.twist.twist.linear
         t.x, t.y, t.z = linear
         msg.twist.covariance = covariance
-        return msg
+        publisher.publish(msg)
 
     def _check_plausible(self, topic: str, t_s: float, positions: np.ndarray) -> None:
         assert self._plausibility is not None
