@@ -69,7 +69,6 @@ def paced(n: int, rate_hz: float, send, marks: dict, pid: int) -> None:
 def bench_node(rate_hz: float, duration_s: float) -> dict:
     import rclpy
     from geometry_msgs.msg import PoseStamped, TwistWithCovarianceStamped
-    from rclpy.executors import SingleThreadedExecutor
     from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
     _, centre = walk_centre(rate_hz, duration_s)
@@ -89,7 +88,9 @@ def bench_node(rate_hz: float, duration_s: float) -> dict:
         lambda m: received.append((time.time_ns(), m.header.stamp.sec * 10**9 + m.header.stamp.nanosec)),
         qos,
     )
-    executor = SingleThreadedExecutor()
+    from yoyogait.ros2.node import make_executor
+
+    executor = make_executor()
     executor.add_node(node)
     stop = threading.Event()
     spinner = threading.Thread(target=lambda: [executor.spin_once(0.01) for _ in iter(stop.is_set, True)], daemon=True)

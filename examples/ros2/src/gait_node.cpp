@@ -5,7 +5,8 @@
 //      centre) from a motion-capture driver, in metres, frame with `up_axis` up.
 // Out: std_msgs/msg/Float64MultiArray on "gait_estimate": dim[0] labelled "estimate", data =
 //      the estimate stream's channels in their order (time_s, vx_mps, vz_mps, vh_a_mps, ...,
-//      points_seen), the same layout as the Python publisher.
+//      gait_phase, next_step_in_s, ..., points_seen), the layout of `yoyogait live --ros2-topic`.
+//      The Python node (`yoyogait ros2`, docs/ros2.md) publishes typed, stamped messages instead.
 //
 // The estimator's update() is noexcept and allocates nothing; the message is allocated once.
 #include <array>
@@ -43,9 +44,9 @@ class GaitNode : public rclcpp::Node {
     const std::array<double, kChannels> row{
         e.t_s, e.vx_mps, e.vz_mps, e.vh_a_mps, e.vh_b_mps, e.heading_rad, e.walk_a_mps, e.walk_b_mps,
         e.vx_hat_mps, e.vz_hat_mps, e.step_frequency_hz, e.step_frequency_std_hz, e.speed_mps, e.speed_std_mps,
-        e.gait_phase, e.input_latency_s, e.estimate_age_s, static_cast<double>(e.status),
+        e.gait_phase, e.next_step_in_s, e.input_latency_s, e.estimate_age_s, static_cast<double>(e.status),
         static_cast<double>(e.estimator_status), e.walking ? 1.0 : 0.0, e.estimator_fed ? 1.0 : 0.0,
-        static_cast<double>(e.points_seen), e.next_step_in_s};
+        static_cast<double>(e.points_seen)};
     std::copy(row.begin(), row.end(), message_.data.begin());
     publisher_->publish(message_);
   }

@@ -35,6 +35,7 @@ def ros() -> Any:
             warnings.simplefilter("ignore", DeprecationWarning)
             import rclpy
             import rclpy.executors
+            import rclpy.experimental
             import rclpy.node
             import rclpy.qos
             import rclpy.signals
@@ -54,6 +55,7 @@ def ros() -> Any:
         ParameterDescriptor=ParameterDescriptor,
         qos=rclpy.qos,
         executors=rclpy.executors,
+        experimental=rclpy.experimental,
         signals=rclpy.signals,
         PoseStamped=PoseStamped,
         PointStamped=PointStamped,
