@@ -14,6 +14,9 @@ from yoyogait import OnlineEstimator
 from yoyogait.cli import main
 from yoyogait.live.live import ESTIMATE_COLUMNS, estimate_row
 
+# lark, under the rosidl runtime that rclpy.init loads, imports modules deprecated in Python 3.11 (ROS's own).
+pytestmark = pytest.mark.filterwarnings("ignore::DeprecationWarning:lark.*")
+
 pylsl = pytest.importorskip("pylsl")
 rclpy = pytest.importorskip("rclpy", reason="the ros2 extra (rclpy, std_msgs) is not installed")
 std_msgs = pytest.importorskip("std_msgs.msg", reason="the ros2 extra (rclpy, std_msgs) is not installed")
