@@ -254,3 +254,33 @@ def test_node_from_the_command_line_says_its_topics_and_stops_at_a_signal_with_1
     assert took_s < 2.0
     assert "ros2: 0 frames, 0 estimates" in err
     assert "Warning" not in err and "Traceback" not in err, err
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["ros2", "--ros-args", "-p", "up_axis:=w"], "parameter up_axis: one of x, y, z, not 'w'"),
+        (
+            ["ros2", "--ros-args", "-p", "pose_topic:=/a", "-p", "length_unit_m:=abc"],
+            "parameter length_unit_m: a number",
+        ),
+        (["ros2"], "give one input: pose_topic (PoseStamped), point_topics"),
+        (["ros2", "--pose-topic", "bad topic"], "parameter pose_topic: 'bad topic' is not a topic name"),
+        (["ros2", "--markers-topic", "/markers"], "mocap4r2_msgs is not importable"),
+    ],
+)
+def test_bad_parameters_exit_2_with_one_line_naming_them(argv, message, capsys):
+    """A wrong parameter, no input, a malformed topic, Markers without mocap4r2_msgs: one line, exit 2."""
+    from yoyogait.cli import main
+
+    if "--markers-topic" in argv:
+        pytest.importorskip("rclpy")
+        try:
+            import mocap4r2_msgs  # noqa: F401
+
+            pytest.skip("mocap4r2_msgs is importable here")
+        except ImportError:
+            pass
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
