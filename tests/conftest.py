@@ -73,3 +73,23 @@ def lsl_machine_only(tmp_path_factory):
         os.environ.pop("LSLAPICFG", None)
     else:
         os.environ["LSLAPICFG"] = previous
+
+
+@pytest.fixture(scope="session", autouse=True)
+def ros_machine_only():
+    """ROS 2 discovery confined to this machine (LOCALHOST) and to this test run (a private ROS_DOMAIN_ID in
+    100-200), set before rclpy is first initialised, for this process and the subprocesses the tests start."""
+    import random
+
+    names = ("ROS_AUTOMATIC_DISCOVERY_RANGE", "ROS_LOCALHOST_ONLY", "ROS_DOMAIN_ID", "ROS_STATIC_PEERS")
+    previous = {n: os.environ.get(n) for n in names}
+    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
+    os.environ.pop("ROS_LOCALHOST_ONLY", None)  # deprecated since Jazzy; the range above replaces it
+    os.environ.pop("ROS_STATIC_PEERS", None)
+    os.environ["ROS_DOMAIN_ID"] = str(random.SystemRandom().randint(100, 200))
+    yield int(os.environ["ROS_DOMAIN_ID"])
+    for n, v in previous.items():
+        if v is None:
+            os.environ.pop(n, None)
+        else:
+            os.environ[n] = v

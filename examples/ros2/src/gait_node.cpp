@@ -5,8 +5,9 @@
 //      centre) from a motion-capture driver, in metres, frame with `up_axis` up.
 // Out: std_msgs/msg/Float64MultiArray on "gait_estimate": dim[0] labelled "estimate", data =
 //      the estimate stream's channels in their order (time_s, vx_mps, vz_mps, vh_a_mps, ...,
-//      points_seen, valid, invalid_reason, input_noise_m), the same layout as the Python publisher.
+//      points_seen, valid, invalid_reason, input_noise_m), the layout of `yoyogait live --ros2-topic`.
 //      Gate on valid (1): invalid_reason holds the InvalidReason bits when it is 0.
+//      The Python node (`yoyogait ros2`, docs/ros2.md) publishes typed, stamped messages instead.
 //
 // The estimator's update() is noexcept and allocates nothing; the message is allocated once.
 #include <array>

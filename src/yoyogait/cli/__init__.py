@@ -28,6 +28,7 @@ from . import (
     inspect_cmd,
     live_cmd,
     replay_cmd,
+    ros2_cmd,
     tune_cmd,
 )
 from .options import cli_message
@@ -57,7 +58,9 @@ def cli() -> None:
 
 def _register() -> None:
     cli.add_command(demo_cmd.demo)
-    for module in (inspect_cmd, estimate_cmd, evaluate_cmd, replay_cmd, live_cmd, tune_cmd, config_cmd, guide_cmd):
+    for module in (
+        inspect_cmd, estimate_cmd, evaluate_cmd, replay_cmd, live_cmd, ros2_cmd, tune_cmd, config_cmd, guide_cmd,
+    ):  # fmt: skip
         cli.add_command(module.command)
 
 

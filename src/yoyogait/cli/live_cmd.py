@@ -9,6 +9,7 @@ from pathlib import Path
 
 import click
 
+from .._guard import Interrupted
 from ..estimators.config import OnlineConfig
 from ..estimators.online import ONLINE_CSV_COLUMNS, csv_formats
 from ..live.live import describe_source, run_live
@@ -84,23 +85,35 @@ def command(
         for line in describe_source(source, timeout):
             click.echo(line)
         return
-    # SIGTERM (a launcher stopping live) ends the run like --duration: the CSV is completed, exit 0.
+    # SIGINT and SIGTERM end the run at once in every state (waiting for the source included): the
+    # summary line, the record completed with the rows so far, then exit 130 or 143.
     stop = threading.Event()
+    received: list[int] = []
+
+    def on_signal(signum, frame):
+        received.append(signum)
+        stop.set()
+
     in_main = threading.current_thread() is threading.main_thread()  # signals can only be caught there
-    previous = signal.signal(signal.SIGTERM, lambda *_: stop.set()) if in_main else None
+    previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)} if in_main else {}
     status = StatusLine(sys.stderr) if sys.stderr.isatty() else None
     sink = None
-    if ros2_topic:
-        sink = Ros2Publisher(ros2_topic)
 
     def setup(s):
+        outputs = [f"publishing LSL {publish!r}"] if publish else []
+        if ros2_topic:
+            outputs.append(f"ROS 2 topic {ros2_topic!r}")
+        if record:
+            outputs.append(f"recording {record}")
         click.echo(
-            f"live: {s.source!r} at {s.nominal_rate_hz:g} Hz, following {s.choice.label}, up {s.up_axis}"
-            + (f", publishing {publish!r}" if publish else ""),
+            f"live: {s.source!r} at {s.nominal_rate_hz:g} Hz, following {s.choice.label}, up {s.up_axis}; "
+            + (", ".join(outputs) if outputs else "no output but the status line (see --publish, --record)"),
             err=True,
         )
 
     try:
+        if ros2_topic:
+            sink = Ros2Publisher(ros2_topic)
         counters = run_live(
             source,
             publish=publish,
@@ -118,21 +131,26 @@ def command(
             on_setup=setup,
             on_estimate=sink.publish if sink is not None else None,
             on_status=status.show if status is not None else None,
+            on_note=lambda line: click.echo(line, err=True),
             stop=stop,
             config=config,
         )
     finally:
-        if in_main:
-            signal.signal(signal.SIGTERM, previous)
         if status is not None:
             status.close()
         if sink is not None:
             sink.close()
+        for s, h in previous.items():
+            signal.signal(s, h)
     click.echo(
         f"live: {counters.frames} frames, {counters.estimates} estimates; dropped (time not increasing) "
-        f"{counters.dropped_not_increasing}, missing by the nominal rate {counters.missing_frames}, "
-        f"restarts {counters.restarts}" + ("; the source ended" if counters.source_ended else ""),
+        f"{counters.dropped_not_increasing}, dropped (time jumped) {counters.dropped_jumps}, missing by the "
+        f"nominal rate {counters.missing_frames}, in bursts {counters.burst_frames}, restarts {counters.restarts}"
+        + (f", reconnects {counters.reconnects}" if counters.reconnects else "")
+        + ("; the source ended" if counters.source_ended else ""),
         err=True,
     )
-    if record:
+    if record and counters.connected:
         click.echo(f"wrote {record}", err=True)
+    if received:
+        raise Interrupted(received[0])

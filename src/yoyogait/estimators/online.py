@@ -182,6 +182,11 @@ class OnlineEstimator:
         self._impl = _core.OnlineEstimator(
             len(names), AXES.index(self.up_axis), self.length_unit_m, self.config.to_native()
         )
+        # The per-frame path, bound once (update and predict run at the capture rate); the guard
+        # against concurrent use is the native estimator's own (an atomic flag, released on every path).
+        self._coordinates = 3 * len(names)
+        self._native_update, self._native_predict = self._impl.update, self._impl.predict
+        self._max_horizon_s = float(_core.OnlineEstimator.max_horizon_s)
 
     @classmethod
     def for_recording(cls, rec: Recording, point=None, *, up_axis: str | None = None, config=None):
@@ -204,11 +209,12 @@ class OnlineEstimator:
     def update(self, t_s: float, positions):
         """One frame at ``t_s`` [s]: positions of the points (k x 3, in the length unit, NaN where
         missing). Returns the native OnlineEstimate; bad frames get a ``status``, never an exception."""
-        p = np.ascontiguousarray(positions, dtype=np.float64)
-        if p.size != 3 * len(self.point_names):
+        # An ndarray goes as it is: the binding converts another dtype or layout to contiguous float64 itself.
+        p = positions if type(positions) is np.ndarray else np.ascontiguousarray(positions, dtype=np.float64)
+        if p.size != self._coordinates:
             raise InputError(f"positions must hold {len(self.point_names)} x 3 coordinates, got shape {p.shape}")
         try:
-            return self._impl.update(float(t_s), p)
+            return self._native_update(t_s if type(t_s) is float else float(t_s), p)
         except _core.ConcurrentUse:
             raise self._busy("update") from None
 
@@ -222,9 +228,11 @@ class OnlineEstimator:
         deviations (rates of speed and cadence included; docs/online.md sec. 5): a native
         OnlinePrediction (t_s, vx_mps, vz_mps, vx_std_mps, vz_std_mps, valid). ``predict(0)`` is the
         last estimate's vx_hat_mps, vz_hat_mps."""
-        h = _horizons([horizon_s])[0]
+        h = horizon_s
+        if not (type(h) is float and 0.0 <= h <= self._max_horizon_s):  # else checked (InputError) and converted
+            h = float(_horizons([horizon_s])[0])
         try:
-            return self._impl.predict(float(h))
+            return self._native_predict(h)
         except _core.ConcurrentUse:
             raise self._busy("predict") from None
 

@@ -6,7 +6,10 @@ from typing import Any
 
 from ..errors import YoyogaitError
 
-INSTALL_HINT = "live streaming needs pylsl: pip install 'yoyogait[live]'"
+INSTALL_HINT = (
+    "live streaming over LSL needs pylsl: pip install 'yoyogait[live]' (ROS 2 topics in, without LSL: "
+    "yoyogait ros2, docs/ros2.md)"
+)
 
 
 def pylsl() -> Any:

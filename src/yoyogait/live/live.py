@@ -5,19 +5,26 @@ points to follow (the pelvis found by name as for files, or ``point``), and feed
 :class:`yoyogait.estimators.online.OnlineEstimator`. Each estimate is published as one sample,
 stamped with its input frame's LSL timestamp (docs/live.md lists the channels).
 
-Real conditions:
+Real conditions (the frame handling is :class:`yoyogait.estimators.frame_gate.FrameGate`, shared
+with the ROS 2 node):
 
 * frames whose time does not increase (duplicated, out of order, late past a newer one) are
-  dropped and counted (``dropped_not_increasing``); frames missing from the source's nominal
+  dropped and counted (``dropped_not_increasing``); a single frame whose time jumps (100 s back,
+  1e306 ahead) is dropped and counted (``dropped_jumps``); frames missing from the source's nominal
   rate (never sent, or dropped by the bounded inlet buffer when this consumer falls behind) are
-  counted (``missing_frames``);
+  counted (``missing_frames``), frames that come faster than it (a burst) too (``burst_frames``);
 * the inlet buffer holds at most ``max_buffer_s`` seconds of frames (liblsl drops the oldest
   beyond it); nothing here keeps a history, so memory does not grow with time;
-* the source stopping: with ``exit_on_end`` the run ends; otherwise liblsl reconnects when the
-  stream comes back, and after a silence longer than ``reacquire_after_s`` (or a jump back in
-  time by more than that) the estimator starts over and re-acquires (``restarts``). Shorter
-  gaps are bridged by the estimator itself (its front-end restarts after 0.25 s without a
-  point, the gait filter keeps its state).
+* the source stopping: with ``exit_on_end`` the run ends; otherwise the stream is resolved by name
+  again until it comes back, and its layout is read again (a source may come back relabelled, with
+  its channels shifted or another channel count: ``reconnects``); the estimator starts over
+  (``restarts``), as after a silence longer than ``reacquire_after_s``. Shorter gaps are bridged by
+  the estimator itself (its front-end restarts after 0.25 s without a point, the gait filter keeps
+  its state);
+* several streams of one name: each is tried, the newest first; the first whose layout is usable
+  is followed, and a line says so;
+* ``stop`` (set by SIGINT or SIGTERM in the CLI) ends the run within 0.1 s in every state, waiting
+  for the source included.
 """
 
 from __future__ import annotations
@@ -36,6 +43,7 @@ import numpy as np
 
 from .._files import check_output_file, commit, give_default_mode, temporary_beside
 from ..errors import InputError
+from ..estimators.frame_gate import DROP, RESTART, FrameCounts, FrameGate
 from ..estimators.online import ONLINE_ESTIMATE_FIELDS, OnlineConfig, OnlineEstimator, column_of
 from ..io.recording import Recording
 from ..pipeline import points
@@ -56,15 +64,20 @@ def estimate_row(estimate: Any) -> list[float]:
     return [float(getattr(estimate, a)) for a in _ATTRIBUTES]
 
 
-@dataclass
-class LiveCounters:
-    """What a live run saw; every count since the start."""
+#: The highest nominal rate taken for a motion-capture stream [Hz], and the most frames a buffer holds.
+MAX_NOMINAL_RATE_HZ = 100_000.0
+MAX_BUFFER_FRAMES = 10_000_000
+#: The longest --max-buffer-s [s].
+MAX_BUFFER_S = 3600.0
+_INTEGER_FORMATS = ("cf_int8", "cf_int16", "cf_int32", "cf_int64")
 
-    frames: int = 0  # frames received
-    estimates: int = 0  # estimates produced (one per frame used)
-    dropped_not_increasing: int = 0  # duplicated, out-of-order or late frames, dropped
-    missing_frames: int = 0  # frames absent by the nominal rate (not sent, or dropped by the full buffer)
-    restarts: int = 0  # the source came back after a silence or jumped back: the estimator started over
+
+@dataclass
+class LiveCounters(FrameCounts):
+    """What a live run saw; every count since the start (the frame counts: :class:`FrameCounts`)."""
+
+    reconnects: int = 0  # the source came back as a new stream (its layout read again)
+    connected: bool = False  # the source was found and its layout read (else the run was stopped before)
     source_ended: bool = False
     latency_s: list[float] = field(default_factory=list, repr=False)  # recent receive latencies (status line)
 
@@ -79,15 +92,74 @@ class LiveSetup:
     up_axis: str
     length_unit_m: float
     nominal_rate_hz: float
+    uid: str = ""  # the LSL stream's unique id (a source that comes back is a new one)
+
+    def same_layout(self, other: LiveSetup) -> bool:
+        """The same channels for the same points."""
+        a, b = self.layout, other.layout
+        return (
+            a.channel_count == b.channel_count
+            and a.point_names == b.point_names
+            and a.time_channel == b.time_channel
+            and np.array_equal(a.position_channels, b.position_channels)
+            and self.choice.names == other.choice.names
+        )
+
+
+class _Stopped(Exception):
+    """``stop`` was set while waiting."""
+
+
+def resolve_all(name: str, timeout_s: float, stop: threading.Event | None = None, twins_s: float = 0.5) -> list[Any]:
+    """Every StreamInfo of the LSL streams called ``name``, the newest first. A background resolver is polled
+    every 0.1 s (``stop`` ends the wait: _Stopped); once one stream is seen, ``twins_s`` more for others of the
+    same name. InputError when none appears within ``timeout_s``."""
+    lsl = pylsl()
+    deadline = time.monotonic() + timeout_s
+    resolver = lsl.ContinuousResolver(prop="name", value=name, forget_after=5.0)
+    try:
+        found: list[Any] = []
+        seen_at = None
+        while True:
+            if stop is not None and stop.is_set():
+                raise _Stopped
+            now = time.monotonic()
+            found = list(resolver.results())
+            if found and seen_at is None:
+                seen_at = now
+            if seen_at is not None and now - seen_at >= twins_s:
+                break
+            if not found and now >= deadline:
+                raise InputError(f"no LSL stream named {name!r} found within {timeout_s:g} s (is the source running?)")
+            time.sleep(0.02 if seen_at is None and now - (deadline - timeout_s) < 0.2 else 0.1)
+    finally:
+        del resolver
+    unique = {info.uid(): info for info in found}
+    return sorted(unique.values(), key=lambda i: i.created_at(), reverse=True)
 
 
 def resolve_source(name: str, timeout_s: float) -> Any:
-    """The StreamInfo of the LSL stream called ``name``; InputError when none appears in time."""
+    """The StreamInfo of the LSL stream called ``name`` (the newest); InputError when none appears in time."""
+    return resolve_all(name, timeout_s, twins_s=0)[0]
+
+
+def _sliced(call: Callable[[float], Any], timeout_s: float, stop: threading.Event | None, what: str) -> Any:
+    """``call(slice_s)`` until it returns, in slices of 0.1 s; _Stopped when ``stop`` is set, InputError
+    naming ``what`` at the timeout."""
     lsl = pylsl()
-    found = lsl.resolve_byprop("name", name, 1, timeout_s)
-    if not found:
-        raise InputError(f"no LSL stream named {name!r} found within {timeout_s:g} s (is the source running?)")
-    return found[0]
+    deadline = time.monotonic() + timeout_s
+    while True:
+        if stop is not None and stop.is_set():
+            raise _Stopped
+        left = deadline - time.monotonic()
+        if left <= 0:
+            raise InputError(f"{what}: could not connect within {timeout_s:g} s")
+        try:
+            return call(min(0.1, left))
+        except lsl.util.TimeoutError:
+            continue
+        except lsl.util.LostError as exc:
+            raise InputError(f"{what}: the stream went away while connecting ({exc})") from None
 
 
 def choose_points(layout: MarkerLayout, source: str, point: str | Sequence[str] | None) -> points.PointChoice:
@@ -116,13 +188,49 @@ def setup_from_info(
 ) -> LiveSetup:
     """Layout, points, up axis and unit of a marker stream; InputError saying what is missing."""
     source = info.name()
+    check_rate(info)
     layout = read_layout(info, length_unit_m=length_unit_m, up_axis=up_axis)
     if layout.up_axis is None:
         raise InputError(f"stream {source!r} does not say which axis is up; pass --up-axis")
     if layout.length_unit_m is None:
         raise InputError(f"stream {source!r} does not say its length unit; pass --length-unit-m (0.001 for mm)")
     choice = choose_points(layout, source, point)
+    fmt = _format_name(info.channel_format())
+    if layout.time_channel is not None and fmt in _INTEGER_FORMATS:
+        raise InputError(
+            f"stream {source!r}: its time_s channel is in an integer format ({fmt[3:]}), "
+            "which cannot hold frame times (frames of one second would share one time); send float32 or double64 "
+            "channels, or no time_s channel (the LSL timestamps are used then)"
+        )
     return LiveSetup(source, layout, choice, layout.up_axis, layout.length_unit_m, float(info.nominal_srate()))
+
+
+def check_rate(info: Any) -> None:
+    """InputError unless the stream's nominal rate is one of motion capture (or irregular)."""
+    rate = info.nominal_srate()
+    if not (math.isfinite(rate) and 0 <= rate <= MAX_NOMINAL_RATE_HZ):
+        raise InputError(
+            f"stream {info.name()!r} states a nominal rate of {rate:g} Hz: not a motion-capture rate "
+            f"(expected 0, irregular, to {MAX_NOMINAL_RATE_HZ:g} Hz); fix the source's nominal_srate"
+        )
+
+
+def _unreadable(source: str, info: Any) -> str:
+    """The line for a stream liblsl cannot open: its description does not parse (liblsl names it "(invalid: ...)")."""
+    said = info.name()
+    why = f" ({said.strip('()')})" if said.startswith("(invalid") else ""
+    return (
+        f"stream {source!r}: its description could not be read{why}: a nominal rate or channel count out of "
+        f"range? (expected a rate of 0 to {MAX_NOMINAL_RATE_HZ:g} Hz)"
+    )
+
+
+def _format_name(code: int) -> str:
+    lsl = pylsl()
+    for name in ("cf_float32", "cf_double64", "cf_string", *_INTEGER_FORMATS):
+        if getattr(lsl, name, None) == code:
+            return name
+    return f"format {code}"
 
 
 def describe_source(name: str, timeout_s: float) -> list[str]:
@@ -243,6 +351,7 @@ def run_live(
     on_setup: Callable[[LiveSetup], None] | None = None,
     on_estimate: Callable[[list[float], float], None] | None = None,
     on_status: Callable[[LiveCounters, list[float]], None] | None = None,
+    on_note: Callable[[str], None] | None = None,
     status_interval_s: float = 0.5,
     stop: threading.Event | None = None,
     config: OnlineConfig | None = None,
@@ -254,36 +363,40 @@ def run_live(
     subscriber can connect before the first estimate); ``record``: CSV of the estimates (the channels
     ``record_columns`` in ``record_formats``);
     ``on_estimate(row, timestamp)`` after each estimate; ``on_status(counters, last_row)`` every
-    ``status_interval_s``.
+    ``status_interval_s``; ``on_note(line)`` for what the run handled on its own (twin streams, a
+    source that came back with another layout). ``stop`` ends the run at once in every state.
     """
     lsl = pylsl()
     if publish is not None and publish == source:
         raise InputError(f"--publish {publish!r}: the estimate stream needs a name other than the source's")
-    if not (math.isfinite(max_buffer_s) and max_buffer_s > 0):
-        raise InputError(f"--max-buffer-s must be a positive number, not {max_buffer_s!r}")
+    if not (math.isfinite(max_buffer_s) and 0 < max_buffer_s <= MAX_BUFFER_S):
+        raise InputError(f"--max-buffer-s must be a number of seconds in (0, {MAX_BUFFER_S:g}], not {max_buffer_s!r}")
     if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"--duration must be a positive number of seconds, not {duration_s!r}")
+    note = on_note if on_note is not None else (lambda line: None)
     recorder = CsvRecord(record, record_columns, record_formats, force) if record is not None else None
+    counters = LiveCounters()
+    started = time.monotonic()
     try:
         outlet = lsl.StreamOutlet(estimate_stream_info(publish), 1, 10) if publish else None
-        info = resolve_source(source, resolve_timeout_s)
-        # max_buflen is in seconds for a stream with a nominal rate, in hundreds of samples otherwise.
-        rate = info.nominal_srate()
-        buflen = max(1, math.ceil(max_buffer_s if rate > 0 else max_buffer_s * 10))
-        inlet = lsl.StreamInlet(info, max_buflen=buflen, recover=not exit_on_end, processing_flags=0)
         try:
-            full_info = inlet.info(resolve_timeout_s)
-            setup = setup_from_info(full_info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
+            inlet, setup = _connect(
+                source, resolve_timeout_s, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note
+            )
+        except _Stopped:
+            inlet = None
+        if inlet is not None:
+            counters.connected = True
             if on_setup is not None:
                 on_setup(setup)
-            inlet.open_stream(resolve_timeout_s)
-        except (lsl.util.TimeoutError, lsl.util.LostError) as exc:
-            raise InputError(f"stream {source!r}: could not connect within {resolve_timeout_s:g} s ({exc})") from None
-        counters = _loop(
-            inlet, outlet, recorder, setup, functools.partial(OnlineEstimator, config=config), duration_s,
-            reacquire_after_s, stop,
-            on_estimate, on_status, status_interval_s,
-        )  # fmt: skip
+            reconnect = functools.partial(
+                _connect, source, None, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note
+            )
+            _loop(
+                inlet, outlet, recorder, setup, functools.partial(OnlineEstimator, config=config), counters,
+                started, duration_s, reacquire_after_s, stop, None if exit_on_end else reconnect,
+                on_estimate, on_status, note, status_interval_s,
+            )  # fmt: skip
     except BaseException:
         if recorder is not None:
             # A live run interrupted keeps what it recorded (whole rows); a failed setup leaves nothing.
@@ -293,8 +406,89 @@ def run_live(
                 recorder.discard()
         raise
     if recorder is not None:
-        recorder.close()
+        if counters.connected:
+            recorder.close()
+        else:  # stopped while waiting for the source: nothing to keep
+            recorder.discard()
     return counters
+
+
+def _connect(
+    source: str,
+    timeout_s: float | None,
+    stop: threading.Event | None,
+    point: str | Sequence[str] | None,
+    up_axis: str | None,
+    length_unit_m: float | None,
+    max_buffer_s: float,
+    exit_on_end: bool,
+    note: Callable[[str], None],
+    exclude: frozenset[str] = frozenset(),
+    deadline: float | None = None,
+) -> tuple[Any, LiveSetup]:
+    """An open inlet on the newest usable stream called ``source`` and its setup. ``timeout_s`` None: wait
+    (until ``deadline``, a monotonic time, if given) for a stream whose uid is not in ``exclude``."""
+    lsl = pylsl()
+    while True:
+        wait_s = (
+            timeout_s if timeout_s is not None else (0.5 if deadline is None else max(0.0, deadline - time.monotonic()))
+        )
+        try:
+            infos = [i for i in resolve_all(source, wait_s, stop) if i.uid() not in exclude]
+        except InputError:
+            if timeout_s is not None:
+                raise
+            if deadline is not None and time.monotonic() >= deadline:
+                raise _Stopped from None
+            continue
+        if not infos:
+            if timeout_s is not None:
+                raise InputError(f"no new LSL stream named {source!r} found within {timeout_s:g} s")
+            if deadline is not None and time.monotonic() >= deadline:
+                raise _Stopped
+            time.sleep(0.1)
+            continue
+        break
+    first_error: InputError | None = None
+    for info in infos:
+        try:
+            check_rate(info)
+            rate = info.nominal_srate()
+            # max_buflen is in seconds for a stream with a nominal rate, in hundreds of samples otherwise.
+            buflen = max(1, math.ceil(max_buffer_s if rate > 0 else max_buffer_s * 10))
+            if rate * buflen > MAX_BUFFER_FRAMES:
+                raise InputError(
+                    f"stream {source!r}: --max-buffer-s {max_buffer_s:g} at {rate:g} Hz would hold {rate * buflen:.3g} "
+                    f"frames (at most {MAX_BUFFER_FRAMES:g}); pass a smaller --max-buffer-s"
+                )
+            try:
+                inlet = lsl.StreamInlet(info, max_buflen=buflen, recover=False, processing_flags=0)
+            except RuntimeError:
+                raise InputError(_unreadable(source, info)) from None
+            what = f"stream {source!r}"
+            full_info = _sliced(inlet.info, timeout_s if timeout_s is not None else 10.0, stop, what)
+            setup = setup_from_info(full_info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
+            _sliced(inlet.open_stream, timeout_s if timeout_s is not None else 10.0, stop, what)
+        except InputError as exc:
+            if first_error is None:
+                first_error = exc
+            continue
+        if len(infos) > 1:
+            hosts = ", ".join(f"{i.hostname() or '?'} ({i.source_id() or i.uid()[:8]})" for i in infos)
+            note(
+                f"live: {len(infos)} streams named {source!r}: {hosts}; following the newest usable one, "
+                f"{info.source_id() or info.uid()[:8]} ({info.channel_count()} channels)"
+            )
+        setup.uid = info.uid()
+        return inlet, setup
+    assert first_error is not None
+    if timeout_s is None:
+        note(f"live: {first_error}; waiting for another stream named {source!r}")
+        return _connect(
+            source, None, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note,
+            exclude | {i.uid() for i in infos}, deadline,
+        )  # fmt: skip
+    raise first_error
 
 
 def _loop(
@@ -303,26 +497,31 @@ def _loop(
     recorder: CsvRecord | None,
     setup: LiveSetup,
     estimator_type: Any,
+    counters: LiveCounters,
+    started: float,
     duration_s: float | None,
     reacquire_after_s: float,
     stop: threading.Event | None,
+    reconnect: Callable[..., tuple[Any, LiveSetup]] | None,
     on_estimate: Callable[[list[float], float], None] | None,
     on_status: Callable[[LiveCounters, list[float]], None] | None,
+    note: Callable[[str], None],
     status_interval_s: float,
-) -> LiveCounters:
+) -> None:
     lsl = pylsl()
     lost_error = lsl.util.LostError
-    layout = setup.layout
-    chosen = [layout.point_names.index(n) for n in setup.choice.names]
-    channels = layout.position_channels[chosen].ravel()
-    time_channel = layout.time_channel
-    estimator = estimator_type(setup.choice.names, setup.up_axis, setup.length_unit_m)
-    counters = LiveCounters()
-    frame_period_s = 1.0 / setup.nominal_rate_hz if setup.nominal_rate_hz > 0 else 0.0
-    started = time.monotonic()
+    gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
+
+    def mapping(s: LiveSetup) -> tuple[np.ndarray, int | None, Any]:
+        chosen = [s.layout.point_names.index(n) for n in s.choice.names]
+        return (
+            s.layout.position_channels[chosen].ravel(),
+            s.layout.time_channel,
+            estimator_type(s.choice.names, s.up_axis, s.length_unit_m),
+        )
+
+    channels, time_channel, estimator = mapping(setup)
     next_status = started + status_interval_s
-    last_arrival = None
-    last_t = -math.inf
     row: list[float] = []
     while True:
         now = time.monotonic()
@@ -334,29 +533,37 @@ def _loop(
         try:
             sample, stamp = inlet.pull_sample(timeout=wait_s)
         except lost_error:
-            counters.source_ended = True
-            break
+            if reconnect is None:
+                counters.source_ended = True
+                break
+            old = setup
+            deadline = None if duration_s is None else started + duration_s
+            try:
+                inlet, setup = reconnect(exclude=frozenset({old.uid}), deadline=deadline)
+            except _Stopped:
+                break
+            counters.reconnects += 1
+            if not setup.same_layout(old):
+                note(
+                    f"live: stream {setup.source!r} came back with another layout ({setup.layout.channel_count} "
+                    f"channels, was {old.layout.channel_count}): read again, following {setup.choice.label}"
+                )
+            channels, time_channel, estimator = mapping(setup)
+            gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
+            if counters.estimates > 0:
+                counters.restarts += 1
+            continue
         if sample is None:
             continue
         arrival = time.monotonic()
-        counters.frames += 1
-        t_s = sample[time_channel] if time_channel is not None else stamp
-        silent = last_arrival is not None and arrival - last_arrival > reacquire_after_s
-        jumped_back = t_s < last_t - reacquire_after_s
-        if (silent or jumped_back) and counters.estimates > 0:
-            estimator.reset()  # the source came back: start over rather than bridge the gap
-            counters.restarts += 1
-            last_t = -math.inf
-        last_arrival = arrival
-        if not (t_s > last_t) or not math.isfinite(t_s):
-            counters.dropped_not_increasing += 1
+        t_s = float(sample[time_channel]) if time_channel is not None else stamp
+        verdict = gate.admit(t_s, arrival)
+        if verdict == DROP:
             continue
-        if frame_period_s and last_t > -math.inf:
-            counters.missing_frames += max(0, round((t_s - last_t) / frame_period_s) - 1)
-        last_t = t_s
+        if verdict == RESTART:
+            estimator.reset()  # the source came back: start over rather than bridge the gap
         positions = np.asarray(sample)[channels]
         row = estimate_row(estimator.update(t_s, positions))
-        counters.estimates += 1
         if outlet is not None:
             outlet.push_sample(row, stamp)
         if recorder is not None:
@@ -369,4 +576,3 @@ def _loop(
                 on_status(counters, row)
                 counters.latency_s.clear()
                 next_status = arrival + status_interval_s
-    return counters

@@ -8,6 +8,7 @@ docs/live.md). The node is called ``yoyogait_live``; QoS: keep last 10, reliable
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 from ..errors import YoyogaitError
@@ -17,6 +18,8 @@ INSTALL_HINT = "publishing on ROS 2 needs rclpy and std_msgs: pip install 'yoyog
 
 
 def _ros() -> tuple[Any, Any]:
+    # lark (under the rosidl runtime) imports modules deprecated in Python 3.11: ROS's warnings, not shown.
+    warnings.filterwarnings("ignore", category=DeprecationWarning, module=r"lark(\..*)?$")
     try:
         import rclpy
         from std_msgs.msg import Float64MultiArray, MultiArrayDimension

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import random
 import threading
 import time
 
@@ -15,17 +14,17 @@ from yoyogait import OnlineEstimator
 from yoyogait.cli import main
 from yoyogait.live.live import ESTIMATE_COLUMNS, estimate_row
 
+# lark, under the rosidl runtime that rclpy.init loads, imports modules deprecated in Python 3.11 (ROS's own).
+pytestmark = pytest.mark.filterwarnings("ignore::DeprecationWarning:lark.*")
+
 pylsl = pytest.importorskip("pylsl")
 rclpy = pytest.importorskip("rclpy", reason="the ros2 extra (rclpy, std_msgs) is not installed")
 std_msgs = pytest.importorskip("std_msgs.msg", reason="the ros2 extra (rclpy, std_msgs) is not installed")
 
 
 @pytest.fixture
-def ros_localhost(monkeypatch):
-    """ROS 2 discovery on this machine only, in a domain of its own."""
-    monkeypatch.setenv("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    monkeypatch.setenv("ROS_LOCALHOST_ONLY", "1")
-    monkeypatch.setenv("ROS_DOMAIN_ID", str(random.randint(1, 101)))
+def ros_localhost(ros_machine_only):
+    """rclpy started on this machine only, in the test run's own domain (tests/conftest.py)."""
     rclpy.init()
     yield
     rclpy.shutdown()

@@ -1,0 +1,286 @@
+"""The ROS 2 node on loopback: a real walk replayed as PoseStamped and PointStamped, every estimate received
+in order, stamped, identical to OnlineEstimator.run; bad input said in one line; the CLI's exits."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+import warnings
+
+import numpy as np
+import pytest
+from ros2_helpers import Loopback, require_ros
+
+from yoyogait import io
+from yoyogait.estimators.online import ONLINE_ESTIMATE_COLUMNS, OnlineEstimator
+from yoyogait.pipeline import points
+from yoyogait.ros2.messages import GAIT_STATE_LABELS
+
+rclpy = require_ros()
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistWithCovarianceStamped  # noqa: E402
+from std_msgs.msg import Float64MultiArray  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+WALK = "c3d_org_samples/sample26_Qualisys_Walking_Hybrid_1_1.c3d"
+HORIZON_S = 0.2
+
+
+@pytest.fixture(scope="module")
+def walk(datasets_dir):
+    """The real Qualisys walk (240 Hz, 2.8 s): its pelvis markers, up axis and integer stamps 100 s ago."""
+    rec = io.read(datasets_dir / WALK)
+    names = list(points.choose_point(rec, None).names)
+    up, _ = points.resolve_up_axis(rec, None)
+    markers = rec.points(names)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # frames where every pelvis marker is lost: NaN
+        centre = np.nanmean(markers, axis=1)
+    base_ns = time.time_ns() - 100 * 10**9
+    stamps_ns = base_ns + np.round(rec.time_s * 1e9).astype(np.int64)
+    t_s = np.array([(ns // 10**9) + (ns % 10**9) * 1e-9 for ns in stamps_ns.tolist()])  # as the node reads them
+    return {"names": names, "up": up, "markers": markers, "centre": centre, "stamps_ns": stamps_ns.tolist(), "t_s": t_s}
+
+
+def _stamp(msg, ns: int, frame_id: str = "mocap"):
+    msg.header.stamp.sec, msg.header.stamp.nanosec = ns // 10**9, ns % 10**9
+    msg.header.frame_id = frame_id
+    return msg
+
+
+def _outputs(loop: Loopback):
+    base = loop.gait.node.get_fully_qualified_name()
+    return {
+        "walking": loop.collect(TwistWithCovarianceStamped, f"{base}/walking_velocity"),
+        "velocity": loop.collect(TwistWithCovarianceStamped, f"{base}/velocity"),
+        "predicted": loop.collect(TwistWithCovarianceStamped, f"{base}/predicted_velocity"),
+        "state": loop.collect(Float64MultiArray, f"{base}/gait_state"),
+    }
+
+
+def _connected(loop: Loopback, publishers) -> bool:
+    """Every input publisher matched by the node, every output matched by the test's subscriptions."""
+    g = loop.gait
+    outs = (g.pub_walking, g.pub_velocity, g.pub_predicted, g.pub_state)
+    return all(p.get_subscription_count() > 0 for p in publishers) and all(p.get_subscription_count() > 0 for p in outs)
+
+
+def _check_against_run(out, expected, stamps_ns):
+    n = len(stamps_ns)
+    for key, got in out.items():
+        assert len(got) == n, f"{key}: {len(got)} of {n} estimates"
+    got_ns = [m.header.stamp.sec * 10**9 + m.header.stamp.nanosec for m in out["walking"]]
+    assert got_ns == list(stamps_ns)  # every frame, in order, stamped with its own stamp
+    assert {m.header.frame_id for m in out["walking"] + out["velocity"] + out["predicted"]} == {"mocap"}
+    labels = [d.label for d in out["state"][0].layout.dim]
+    assert labels == list(GAIT_STATE_LABELS) and set(ONLINE_ESTIMATE_COLUMNS) <= set(labels)
+    state = np.array([m.data for m in out["state"]])
+    for j, column in enumerate(ONLINE_ESTIMATE_COLUMNS):
+        np.testing.assert_array_equal(state[:, j], getattr(expected, column).astype(float), err_msg=column)
+    np.testing.assert_array_equal(state[:, labels.index("pred_vx_mps")], expected.pred_vx_mps[:, 0])
+    walking = np.array([[m.twist.twist.linear.x, m.twist.twist.linear.y] for m in out["walking"]])
+    np.testing.assert_array_equal(walking[:, 0], expected.walk_a_mps)
+    np.testing.assert_array_equal(walking[:, 1], expected.walk_b_mps)
+    for key in ("walking", "velocity", "predicted"):
+        for m in out[key]:
+            c = np.array(m.twist.covariance).reshape(6, 6)
+            assert np.array_equal(c, c.T), key
+            assert np.linalg.eigvalsh(c).min() >= -1e-9 * np.abs(c).max(), key
+
+
+def _replay(loop, publish_frame, n, out, window=8):
+    """Frames published as fast as the node takes them (at most ``window`` ahead of its estimates)."""
+    for k in range(n):
+        assert loop.wait(lambda k=k: len(out["state"]) >= k - window, 10), f"stalled at frame {k}"
+        publish_frame(k)
+    loop.wait(lambda: len(out["state"]) >= n, 10)
+    time.sleep(0.2)  # nothing more arrives
+
+
+def test_pose_stamped_replay_gives_every_estimate_in_order_stamped_equal_to_the_online_run(walk):
+    """The pelvis centre of a real walk as PoseStamped: one estimate per frame, in order, with its stamp and frame,
+    equal to OnlineEstimator.run of the same frames; covariances symmetric and PSD."""
+    centre = walk["centre"]
+    loop = Loopback(rclpy, {"pose_topic": "/test/pelvis/pose", "up_axis": walk["up"]})
+    try:
+        out = _outputs(loop)  # the consumer, connected before the source starts
+        pub = loop.test.create_publisher(PoseStamped, "/test/pelvis/pose", loop.qos())
+        assert loop.wait(lambda: _connected(loop, [pub]), 15), "no discovery on loopback"
+
+        def send(k):
+            msg = _stamp(PoseStamped(), walk["stamps_ns"][k])
+            msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in centre[k])
+            pub.publish(msg)
+
+        _replay(loop, send, len(centre), out)
+    finally:
+        loop.close()
+    estimator = OnlineEstimator(["pelvis"], walk["up"], 1.0)
+    expected = estimator.run(walk["t_s"], centre[:, None, :], predict_ahead_s=[HORIZON_S])
+    _check_against_run(out, expected, walk["stamps_ns"])
+    assert loop.gait.counts.estimates == len(centre) and loop.gait.counts.dropped_not_increasing == 0
+
+
+def test_point_stamped_markers_assembled_by_stamp_give_the_online_run_of_the_pelvis_markers(walk):
+    """The pelvis markers of a real walk, one PointStamped topic each (NaN where the camera lost one): one frame per
+    stamp, estimated as OnlineEstimator.run of the k markers."""
+    names, markers = walk["names"], walk["markers"]
+    topics = [f"/test/markers/{n}" for n in names]
+    loop = Loopback(rclpy, {"point_topics": topics, "up_axis": walk["up"], "assembly_window_s": 2.0})
+    try:
+        out = _outputs(loop)
+        pubs = [loop.test.create_publisher(PointStamped, t, loop.qos()) for t in topics]
+        assert loop.wait(lambda: _connected(loop, pubs), 15), "no discovery on loopback"
+
+        def send(k):
+            for j, pub in enumerate(pubs):
+                msg = _stamp(PointStamped(), walk["stamps_ns"][k])
+                msg.point.x, msg.point.y, msg.point.z = (float(v) for v in markers[k, j])
+                pub.publish(msg)
+
+        _replay(loop, send, markers.shape[0], out)
+    finally:
+        loop.close()
+    expected = OnlineEstimator(names, walk["up"], 1.0).run(walk["t_s"], markers, predict_ahead_s=[HORIZON_S])
+    _check_against_run(out, expected, walk["stamps_ns"])
+    c = loop.gait.counts
+    assert c.incomplete_frames == 0 and c.late_points == 0 and c.repeated_points == 0
+    assert c.non_finite == int(np.isnan(markers).any(axis=2).sum())  # every lost marker counted
+
+
+def test_bad_input_is_one_line_naming_the_topic_and_the_node_keeps_running(walk, capfd):
+    """NaN, a zero stamp, a stamp from the future, a topic of another type, one that never publishes, and a
+    length unit off by 1000: one line each naming the topic; the frames after them are still estimated."""
+    from std_msgs.msg import String
+
+    centre_mm = walk["centre"] * 1000.0  # millimetres, the node told metres
+    pose, wrong, silent = "/test/bad/pose", "/test/bad/string", "/test/bad/silent"
+    loop = Loopback(
+        rclpy,
+        {"point_topics": [silent], "silent_warning_s": 0.5, "diagnostics_period_s": 0.2},
+        node_name="yoyogait_silent",
+    )
+    loop2 = None
+    try:
+        time.sleep(1.0)  # the silent topic's line comes from the ~1 Hz health check
+        loop2 = Loopback(
+            rclpy,
+            {"pose_topic": pose, "plausibility_s": 1.0, "diagnostics_period_s": 0.2},
+            node_name="yoyogait_bad",
+        )
+        out = _outputs(loop2)
+        pub = loop2.test.create_publisher(PoseStamped, pose, loop2.qos())
+        bogus = loop2.test.create_publisher(String, wrong, loop2.qos())
+        loop2.gait.inputs[wrong] = "geometry_msgs/msg/PoseStamped"  # as if the node had been told to read it
+        assert loop2.wait(lambda: _connected(loop2, [pub]), 15)
+        bogus.publish(String(data="not a pose"))
+        now_ns = time.time_ns()
+
+        def send(k, ns=None, xyz=None):
+            msg = _stamp(PoseStamped(), walk["stamps_ns"][k] if ns is None else ns)
+            msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (
+                float(v) for v in (centre_mm[k] if xyz is None else xyz)
+            )
+            pub.publish(msg)
+
+        send(0, ns=0)  # stamp zero
+        send(0, ns=now_ns + 60 * 10**9)  # a minute ahead
+        send(0, xyz=(float("nan"),) * 3)
+        _replay(loop2, lambda k: send(k + 1), len(centre_mm) - 1, out)
+        time.sleep(0.5)
+    finally:
+        if loop2 is not None:
+            loop2.close()
+        loop.close()
+    err = capfd.readouterr().err
+    for needle in (
+        f"topic {pose}: header.stamp is 0",
+        "ahead of this node's clock (max_future_s 0.5): dropped",
+        f"topic {pose}: a message with NaN",
+        f"topic {wrong}: carries std_msgs/msg/String, expected geometry_msgs/msg/PoseStamped",
+        f"topic {silent}: no message in",
+        f"topic {pose}: faster than a person",
+    ):
+        lines = [line for line in err.splitlines() if needle in line]
+        assert len(lines) == 1, (needle, err[-3000:])
+    assert "length_unit_m:=0.001" in err
+    c = loop2.gait.counts
+    lost = int(np.isnan(centre_mm[1:]).any(axis=1).sum())  # frames of the file where every pelvis marker is lost
+    assert c.zero_stamps == 1 and c.future_stamps == 1 and c.non_finite == 1 + lost
+    assert len(out["state"]) == len(centre_mm)  # the NaN frame and every later one estimated
+    assert "Traceback" not in err
+
+
+def _node_cli(*args):
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    return subprocess.Popen(
+        [sys.executable, *args], env=env, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True
+    )
+
+
+@pytest.mark.parametrize(
+    "argv, signum",
+    [
+        (["-m", "yoyogait.ros2", "--ros-args", "-p", "pose_topic:=/test/cli/pose", "-p", "up_axis:=z"], signal.SIGINT),
+        (["-m", "yoyogait", "ros2", "--pose-topic", "/test/cli/pose"], signal.SIGTERM),
+    ],
+)
+def test_node_from_the_command_line_says_its_topics_and_stops_at_a_signal_with_128_plus_it(argv, signum):
+    """python -m yoyogait.ros2 --ros-args -p ... and yoyogait ros2: SIGINT/SIGTERM end them at once, exit 130/143,
+    the summary line; no warning or traceback on stderr."""
+    proc = _node_cli(*argv)
+    lines: list[str] = []
+    reader = threading.Thread(target=lambda: lines.extend(iter(proc.stderr.readline, "")), daemon=True)
+    reader.start()
+    try:
+        deadline = time.monotonic() + 30
+        while not any("ros2: node" in x for x in lines) and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.05)
+        assert any("ros2: node /yoyogait reading /test/cli/pose (PoseStamped)" in x for x in lines), lines
+        time.sleep(0.3)
+        stopped = time.monotonic()
+        proc.send_signal(signum)
+        code = proc.wait(10)
+        took_s = time.monotonic() - stopped
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    reader.join(5)
+    err = "".join(lines)
+    assert code == 128 + signum, err
+    assert took_s < 2.0
+    assert "ros2: 0 frames, 0 estimates" in err
+    assert "Warning" not in err and "Traceback" not in err, err
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["ros2", "--ros-args", "-p", "up_axis:=w"], "parameter up_axis: one of x, y, z, not 'w'"),
+        (
+            ["ros2", "--ros-args", "-p", "pose_topic:=/a", "-p", "length_unit_m:=abc"],
+            "parameter length_unit_m: a number",
+        ),
+        (["ros2"], "give one input: pose_topic (PoseStamped), point_topics"),
+        (["ros2", "--pose-topic", "bad topic"], "parameter pose_topic: 'bad topic' is not a topic name"),
+        (["ros2", "--markers-topic", "/markers"], "mocap4r2_msgs is not importable"),
+    ],
+)
+def test_bad_parameters_exit_2_with_one_line_naming_them(argv, message, capsys):
+    """A wrong parameter, no input, a malformed topic, Markers without mocap4r2_msgs: one line, exit 2."""
+    from yoyogait.cli import main
+
+    if "--markers-topic" in argv:
+        pytest.importorskip("rclpy")
+        try:
+            import mocap4r2_msgs  # noqa: F401
+
+            pytest.skip("mocap4r2_msgs is importable here")
+        except ImportError:
+            pass
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
