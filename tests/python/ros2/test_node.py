@@ -215,10 +215,8 @@ def test_bad_input_is_one_line_naming_the_topic_and_the_node_keeps_running(walk,
 
 
 def _node_cli(*args):
-    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    return subprocess.Popen(
-        [sys.executable, *args], env=env, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True
-    )
+    # The yoyogait this interpreter imports (the installed package, or what PYTHONPATH names).
+    return subprocess.Popen([sys.executable, *args], stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
 
 
 @pytest.mark.parametrize(
