@@ -173,7 +173,13 @@ struct FrequencyList {
 
 // ----------------------------------------------------------------------------------- the structs
 
+// The three uses of a settings table row, shared by every settings table (these, and the online and
+// IMU front-ends'): a struct member, its range check in validate() (obj.name, errors "prefix" + name),
+// and its FieldSpec (below).
 #define YOYOGAIT_CONFIG_MEMBER(type, name, def, unit, lo, min, max, hi, doc) type name = def;
+#define YOYOGAIT_CHECK_FIELD(obj, prefix, type, name, def, unit, lo, min, max, hi, doc) \
+  if (!::yoyogait::detail::in_range(obj.name, min, max, lo, hi))                      \
+    return ::yoyogait::detail::range_message(prefix, #name, obj.name, min, max, lo, hi, unit);
 
 /// The paper's estimator (Algorithm::kPaper): YOYOGAIT_PAPER_FIELDS.
 struct PaperConfig {
@@ -256,8 +262,6 @@ struct EstimatorConfig {
   const char* validate() const noexcept {
     if (algorithm != Algorithm::kPaper && algorithm != Algorithm::kGaitFilter)
       return "algorithm must be paper or gait_filter";
-#define YOYOGAIT_CHECK_FIELD(obj, prefix, type, name, def, unit, lo, min, max, hi, doc) \
-  if (!detail::in_range(obj.name, min, max, lo, hi)) return detail::range_message(prefix, #name, obj.name, min, max, lo, hi, unit);
 #define YOYOGAIT_CHECK_SHARED(...) YOYOGAIT_CHECK_FIELD((*this), "", __VA_ARGS__)
 #define YOYOGAIT_CHECK_PAPER(...) YOYOGAIT_CHECK_FIELD(paper_estimator, "paper_estimator.", __VA_ARGS__)
 #define YOYOGAIT_CHECK_GAIT(...) YOYOGAIT_CHECK_FIELD(gait_filter, "gait_filter.", __VA_ARGS__)
@@ -267,7 +271,6 @@ struct EstimatorConfig {
 #undef YOYOGAIT_CHECK_SHARED
 #undef YOYOGAIT_CHECK_PAPER
 #undef YOYOGAIT_CHECK_GAIT
-#undef YOYOGAIT_CHECK_FIELD
     // Rules between fields of the gait filter.
     const GaitFilterConfig& g = gait_filter;
     if (!(g.f_max_hz > g.f_min_hz)) return "gait_filter.f_max_hz must be > gait_filter.f_min_hz";
@@ -301,7 +304,6 @@ struct EstimatorConfig {
   }
 };
 
-#undef YOYOGAIT_CONFIG_MEMBER
 
 // ------------------------------------------------------------------------------------ the schema
 
@@ -342,6 +344,5 @@ inline constexpr FieldSpec kConfigFields[] = {
 #undef YOYOGAIT_SPEC_SHARED
 #undef YOYOGAIT_SPEC_PAPER
 #undef YOYOGAIT_SPEC_GAIT
-#undef YOYOGAIT_FIELD_SPEC
 
 }  // namespace yoyogait

@@ -43,20 +43,18 @@ namespace yoyogait {
   X(double, max_speed_mps, 3.0, "m/s", "(", 0.0, 1e100, "]", "a walking speed above this is not reported as valid") \
   X(double, latency_f_hz, 2.0, "Hz", "(", 0.0, 1e100, "]", "frequency at which the reported input latency is evaluated")
 
-#define YOYOGAIT_IMU_MEMBER(type, name, def, unit, lo, min, max, hi, doc) type name = def;
 
 /// Settings of ImuOnlineEstimator: the gait estimator behind it and YOYOGAIT_IMU_FIELDS.
 struct ImuConfig {
   /// The gait estimator behind the front-end, fed every estimator.sample_time_s with the mean of the
   /// front-end's forward and vertical velocities over that interval.
   EstimatorConfig estimator{};
-  YOYOGAIT_IMU_FIELDS(YOYOGAIT_IMU_MEMBER)
+  YOYOGAIT_IMU_FIELDS(YOYOGAIT_CONFIG_MEMBER)
 
   /// nullptr when usable, else what is wrong, naming the field ("imu.field") and its range.
   const char* validate() const noexcept {
     if (const char* e = estimator.validate()) return e;
-#define YOYOGAIT_CHECK_IMU(type, name, def, unit, lo, min, max, hi, doc) \
-  if (!detail::in_range(name, min, max, lo, hi)) return detail::range_message("imu.", #name, name, min, max, lo, hi, unit);
+#define YOYOGAIT_CHECK_IMU(...) YOYOGAIT_CHECK_FIELD((*this), "imu.", __VA_ARGS__)
     YOYOGAIT_IMU_FIELDS(YOYOGAIT_CHECK_IMU)
 #undef YOYOGAIT_CHECK_IMU
     if (estimator.algorithm != Algorithm::kGaitFilter)
@@ -65,11 +63,7 @@ struct ImuConfig {
   }
 };
 
-#undef YOYOGAIT_IMU_MEMBER
-
-#define YOYOGAIT_SPEC_IMU(type, name, def, unit, lo, min, max, hi, doc)                                         \
-  FieldSpec{"imu", #name, detail::type_name<type>(), unit, static_cast<double>(min), static_cast<double>(max), \
-            lo[0] == '[', hi[0] == ']', doc},
+#define YOYOGAIT_SPEC_IMU(...) YOYOGAIT_FIELD_SPEC("imu", __VA_ARGS__)
 /// Every field of the IMU table, as kConfigFields lists the estimator's.
 inline constexpr FieldSpec kImuConfigFields[] = {YOYOGAIT_IMU_FIELDS(YOYOGAIT_SPEC_IMU)};
 #undef YOYOGAIT_SPEC_IMU

@@ -46,7 +46,6 @@ namespace yoyogait {
   X(double, max_mean_nis, 6.0, "", "(", 0.0, 1e100, "]",                                                           \
     "the estimator's NIS averaged over about a second above this: the model does not hold (not valid; stds scaled)")
 
-#define YOYOGAIT_ONLINE_MEMBER(type, name, def, unit, lo, min, max, hi, doc) type name = def;
 
 /// Settings of OnlineEstimator: the gait estimator behind it and YOYOGAIT_ONLINE_FIELDS.
 struct OnlineConfig {
@@ -54,13 +53,12 @@ struct OnlineConfig {
   /// paper's 25 Hz) with the mean of the front-end's velocities over that interval (the
   /// anti-aliasing filter of the decimation).
   EstimatorConfig estimator{};
-  YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_ONLINE_MEMBER)
+  YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_CONFIG_MEMBER)
 
   /// nullptr when usable, else what is wrong, naming the field ("online.field") and its range.
   const char* validate() const noexcept {
     if (const char* e = estimator.validate()) return e;
-#define YOYOGAIT_CHECK_ONLINE(type, name, def, unit, lo, min, max, hi, doc) \
-  if (!detail::in_range(name, min, max, lo, hi)) return detail::range_message("online.", #name, name, min, max, lo, hi, unit);
+#define YOYOGAIT_CHECK_ONLINE(...) YOYOGAIT_CHECK_FIELD((*this), "online.", __VA_ARGS__)
     YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_CHECK_ONLINE)
 #undef YOYOGAIT_CHECK_ONLINE
     if (estimator.algorithm != Algorithm::kGaitFilter)
@@ -69,11 +67,7 @@ struct OnlineConfig {
   }
 };
 
-#undef YOYOGAIT_ONLINE_MEMBER
-
-#define YOYOGAIT_SPEC_ONLINE(type, name, def, unit, lo, min, max, hi, doc)                                        \
-  FieldSpec{"online", #name, detail::type_name<type>(), unit, static_cast<double>(min), static_cast<double>(max), \
-            lo[0] == '[', hi[0] == ']', doc},
+#define YOYOGAIT_SPEC_ONLINE(...) YOYOGAIT_FIELD_SPEC("online", __VA_ARGS__)
 /// Every field of the online table, as kConfigFields lists the estimator's.
 inline constexpr FieldSpec kOnlineConfigFields[] = {YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_SPEC_ONLINE)};
 #undef YOYOGAIT_SPEC_ONLINE
