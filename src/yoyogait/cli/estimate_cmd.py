@@ -165,7 +165,7 @@ def command(
             contacts_s=ev.contacts_s if ev is not None else None,
             reference_quality=quality,
             conditions=plots.recording_conditions(recording, vel),
-            title=f"{stem}: {vel.point} [{preset}]",
+            title=f"{stem} [{preset}]: {vel.point}",
             synthetic=synthetic,
             path=p,
         )

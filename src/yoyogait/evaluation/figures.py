@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import functools
 import math
+import textwrap
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -95,10 +96,14 @@ def _with_conditions(title: str, conditions) -> str:
     return f"{title} ({', '.join(new)})" if new else title
 
 
+#: Characters of a figure title that fit the width of a figure (a longer one is shortened at a word).
+TITLE_MAX_CHARS = 110
+
+
 def _title(title: str, synthetic: bool) -> str:
     if synthetic and "synthetic" not in title.lower():
-        return f"Synthetic data: {title}" if title else "Synthetic data"
-    return title
+        title = f"Synthetic data: {title}" if title else "Synthetic data"
+    return textwrap.shorten(title, TITLE_MAX_CHARS, placeholder=" ...") if len(title) > TITLE_MAX_CHARS else title
 
 
 def _given(explicit, result, name: str):
