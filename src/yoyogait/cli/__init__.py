@@ -19,19 +19,6 @@ import click
 from .._guard import Interrupted, handle_interrupts, interrupted_by
 from .._reading import one_line
 from ..errors import YoyogaitError
-from . import (
-    config_cmd,
-    demo_cmd,
-    estimate_cmd,
-    evaluate_cmd,
-    guide_cmd,
-    inspect_cmd,
-    live_cmd,
-    replay_cmd,
-    ros2_cmd,
-    tune_cmd,
-)
-from .options import cli_message
 
 
 class _Stopped(BaseException):
@@ -57,6 +44,21 @@ def cli() -> None:
 
 
 def _register() -> None:
+    # Imported here, not at the top: the commands bring numpy, scipy and the core (seconds on a loaded
+    # machine), and main() imports them under its interrupt guard, so Ctrl-C then is a clean 130 too.
+    from . import (
+        config_cmd,
+        demo_cmd,
+        estimate_cmd,
+        evaluate_cmd,
+        guide_cmd,
+        inspect_cmd,
+        live_cmd,
+        replay_cmd,
+        ros2_cmd,
+        tune_cmd,
+    )
+
     cli.add_command(demo_cmd.demo)
     for module in (
         inspect_cmd, estimate_cmd, evaluate_cmd, replay_cmd, live_cmd, ros2_cmd, tune_cmd, config_cmd, guide_cmd,
@@ -66,7 +68,6 @@ def _register() -> None:
 
 def main(argv=None) -> int:
     """Entry point of the ``yoyogait`` script."""
-    _register()
     with handle_interrupts(), warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         warnings.simplefilter("ignore", RuntimeWarning)
@@ -85,6 +86,7 @@ def main(argv=None) -> int:
 
 def _run(argv) -> int:
     try:
+        _register()
         rv = cli.main(args=argv, prog_name="yoyogait", standalone_mode=False)
     except _Stopped as stop:
         return 128 + stop.signum
@@ -100,6 +102,8 @@ def _run(argv) -> int:
         click.echo(f"yoyogait: error: {exc.format_message()}", err=True)
         return exc.exit_code
     except (YoyogaitError, ValueError, OSError) as exc:
+        from .options import cli_message
+
         click.echo(f"yoyogait: error: {cli_message(_one_line(exc))}", err=True)
         return 2
     return rv if isinstance(rv, int) else 0

@@ -114,6 +114,8 @@ def command(
     try:
         if ros2_topic:
             sink = Ros2Publisher(ros2_topic)
+        if status is not None:  # on a terminal, so that the wait is not mistaken for a hang
+            click.echo(f"live: looking for the LSL stream {source!r} (up to {timeout:g} s)", err=True)
         counters = run_live(
             source,
             publish=publish,
