@@ -38,6 +38,7 @@ def ros() -> Any:
             import rclpy.experimental
             import rclpy.node
             import rclpy.qos
+            import rclpy.serialization
             import rclpy.signals
             from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
             from geometry_msgs.msg import PointStamped, PoseStamped, TwistWithCovarianceStamped
@@ -57,6 +58,8 @@ def ros() -> Any:
         executors=rclpy.executors,
         experimental=rclpy.experimental,
         signals=rclpy.signals,
+        serialize=rclpy.serialization.serialize_message,
+        deserialize=rclpy.serialization.deserialize_message,
         PoseStamped=PoseStamped,
         PointStamped=PointStamped,
         TwistWithCovarianceStamped=TwistWithCovarianceStamped,

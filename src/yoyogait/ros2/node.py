@@ -189,7 +189,8 @@ class GaitNode:
         if p["pose_topic"]:
             topic = p["pose_topic"]
             self._make_estimator([topic])
-            node.create_subscription(r.PoseStamped, topic, lambda m: self._on_pose(topic, m), qos_in)
+            # Raw: the stamp, frame and position read from the bytes (no message object per frame).
+            node.create_subscription(r.PoseStamped, topic, lambda m: self._on_pose(topic, m), qos_in, raw=True)
             self.inputs[topic] = _POSE
         elif p["point_topics"]:
             topics = p["point_topics"]
@@ -212,11 +213,16 @@ class GaitNode:
         self.pub_predicted = node.create_publisher(twist, "~/predicted_velocity", qos_out)
         self.pub_state = node.create_publisher(r.Float64MultiArray, "~/gait_state", qos_out)
         self.pub_diagnostics = node.create_publisher(r.DiagnosticArray, "/diagnostics", 10)
-        self._walking, self._velocity, self._predicted = twist(), twist(), twist()
-        self._state_message = r.Float64MultiArray()
-        self._state_message.layout.dim = [
-            r.MultiArrayDimension(label=label, size=1, stride=1) for label in messages.GAIT_STATE_LABELS
-        ]
+        # The per-frame messages as bytes from templates (messages.py: a message object costs far more).
+        self._twist_bytes = messages.StampedTwistBytes(twist, r.serialize)
+        state = r.Float64MultiArray()
+        labels = messages.GAIT_STATE_LABELS
+        state.layout.dim = [r.MultiArrayDimension(label=label, size=1, stride=1) for label in labels]
+        self._state_bytes = messages.GaitStateBytes(state, r.serialize)
+        self._frame_bytes, self._frame_str = b"", ""
+        # The node's clock in ns: the system clock as it is, unless use_sim_time (then the ROS clock).
+        clock = node.get_clock()
+        self._now_ns = (lambda: clock.now().nanoseconds) if node.get_parameter("use_sim_time").value else time.time_ns
         self._diag_last = (time.monotonic(), 0, 0)
         node.create_timer(p["diagnostics_period_s"], self._diagnostics)
 
@@ -237,20 +243,20 @@ class GaitNode:
             log.warning(f"topic {topic}: {text}")
 
     # ----------------------------------------------------------------------------------------- inputs
-    def _time_of(self, topic: str, header: Any) -> float | None:
-        """The frame time [s] of a message, or None (counted, said) when its stamp is unusable."""
-        now_s = self.node.get_clock().now().nanoseconds * 1e-9
+    def _time_of(self, topic: str, sec: int, nanosec: int, frame_id: str) -> float | None:
+        """The frame time [s] of a message stamped (sec, nanosec), or None (counted, said) when its stamp is
+        unusable."""
+        now_s = self._now_ns() * 1e-9
         self._last_message[topic] = time.monotonic()
         if not self._frame_id:
-            self._frame_id = header.frame_id
+            self._frame_id = frame_id
         if self.by_arrival:
             return now_s
-        stamp = header.stamp
-        if stamp.sec == 0 and stamp.nanosec == 0:
+        if sec == 0 and nanosec == 0:
             self.counts.zero_stamps += 1
             self.say(topic, "zero", "header.stamp is 0 (the driver does not stamp?): dropped; set time_source:=arrival")
             return None
-        t_s = _seconds(stamp)
+        t_s = sec + nanosec * 1e-9
         if t_s > now_s + self.params["max_future_s"]:
             self.counts.future_stamps += 1
             self.say(
@@ -263,33 +269,43 @@ class GaitNode:
         self.counts.latency_s.append(now_s - t_s)
         return t_s
 
-    def _header(self, t_s: float, header: Any) -> Any:
-        """The output header of a frame: the input's, or its arrival time (time_source arrival)."""
+    def _stamp(self, t_s: float, sec: int, nanosec: int, frame_id: str) -> tuple[int, int, str]:
+        """The outputs' stamp and frame: the input's, or its arrival time (time_source arrival)."""
         if not self.by_arrival:
-            return header
-        out = self._r.Header()
+            return sec, nanosec, frame_id
         ns = round(t_s * 1e9)
-        out.stamp.sec, out.stamp.nanosec = ns // 1_000_000_000, ns % 1_000_000_000
-        out.frame_id = header.frame_id
-        return out
+        return ns // 1_000_000_000, ns % 1_000_000_000, frame_id
 
     def _finite(self, topic: str, xyz: np.ndarray) -> None:
         if not np.isfinite(xyz).all():
-            self.counts.non_finite += 1
-            self.say(topic, "nan", "a message with NaN or inf coordinates: estimated with that point missing")
+            self._non_finite(topic)
 
-    def _on_pose(self, topic: str, msg: Any) -> None:
-        t_s = self._time_of(topic, msg.header)
+    def _non_finite(self, topic: str) -> None:
+        self.counts.non_finite += 1
+        self.say(topic, "nan", "a message with NaN or inf coordinates: estimated with that point missing")
+
+    def _on_pose(self, topic: str, raw: bytes) -> None:
+        pose = messages.pose_of(raw)
+        if pose is None:  # not little-endian CDR: through rclpy
+            msg = self._r.deserialize(raw, self._r.PoseStamped)
+            h, q = msg.header, msg.pose.position
+            sec, nanosec, frame, x, y, z = h.stamp.sec, h.stamp.nanosec, h.frame_id, q.x, q.y, q.z
+        else:
+            sec, nanosec, frame_bytes, x, y, z = pose
+            if frame_bytes != self._frame_bytes:
+                self._frame_bytes, self._frame_str = frame_bytes, frame_bytes.decode("utf-8", "replace")
+            frame = self._frame_str
+        t_s = self._time_of(topic, sec, nanosec, frame)
         if t_s is None:
             return
-        q = msg.pose.position
-        xyz = np.array([[q.x, q.y, q.z]])
-        self._finite(topic, xyz)
-        self.process(topic, t_s, self._header(t_s, msg.header), xyz)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+            self._non_finite(topic)
+        self.process(topic, t_s, self._stamp(t_s, sec, nanosec, frame), (x, y, z))
 
     def _point_callback(self, index: int, topic: str) -> Callable[[Any], None]:
         def on_point(msg: Any) -> None:
-            t_s = self._time_of(topic, msg.header)
+            h = msg.header
+            t_s = self._time_of(topic, h.stamp.sec, h.stamp.nanosec, h.frame_id)
             if t_s is None:
                 return
             assert self.assembler is not None
@@ -308,14 +324,12 @@ class GaitNode:
             self._assembled("point_topics", frame)
 
     def _assembled(self, topic: str, frame: Any) -> None:
-        header = self._r.Header()
-        header.frame_id = self._frame_id
-        if not self.by_arrival:
-            header.stamp.sec, header.stamp.nanosec = frame.key
-        self.process(topic, frame.t_s, self._header(frame.t_s, header), frame.positions)
+        sec, nanosec = (0, 0) if self.by_arrival else frame.key
+        self.process(topic, frame.t_s, self._stamp(frame.t_s, sec, nanosec, self._frame_id), frame.positions)
 
     def _on_markers(self, topic: str, msg: Any) -> None:
-        t_s = self._time_of(topic, msg.header)
+        h = msg.header
+        t_s = self._time_of(topic, h.stamp.sec, h.stamp.nanosec, h.frame_id)
         if t_s is None:
             return
         names = [m.marker_name or str(m.marker_index) for m in msg.markers]
@@ -336,64 +350,59 @@ class GaitNode:
                 q = msg.markers[j].translation
                 positions[k] = (q.x, q.y, q.z)
         self._finite(topic, positions)
-        self.process(topic, t_s, self._header(t_s, msg.header), positions)
+        self.process(topic, t_s, self._stamp(t_s, h.stamp.sec, h.stamp.nanosec, h.frame_id), positions)
 
     # ----------------------------------------------------------------------------------------- a frame
-    def process(self, topic: str, t_s: float, header: Any, positions: np.ndarray) -> Any:
-        """One frame through the gate and the estimator; the outputs published. Returns the estimate."""
+    def process(self, topic: str, t_s: float, stamp: tuple[int, int, str], positions) -> Any:
+        """One frame through the gate and the estimator; the outputs published, stamped ``stamp`` (sec,
+        nanosec, frame id). ``positions``: k x 3, or one point's (x, y, z). Returns the estimate."""
         assert self.estimator is not None
         verdict = self.gate.admit(t_s, time.monotonic())
         if verdict == DROP:
             return None
         if verdict == RESTART:
             self.estimator.reset()
-        est = self.estimator.update(t_s, positions)
-        prediction = self.estimator.predict(self.params["predict_horizon_s"])
+        if type(positions) is tuple:
+            est = self.estimator.update_point(t_s, *positions)
+        else:
+            est = self.estimator.update(t_s, positions)
         self.last_estimate = est
-        self._publish(header, est, prediction)
+        self._publish(stamp, est)
         if self._plausibility is not None:
-            self._check_plausible(topic, t_s, positions)
+            self._check_plausible(topic, t_s, np.reshape(positions, (-1, 3)))
         return est
 
-    def _publish(self, header: Any, est: Any, prediction: Any) -> None:
-        axes, v, cov = self.axes, messages.velocity_vector, messages.velocity_covariance
+    def _publish(self, stamp: tuple[int, int, str], est: Any) -> None:
+        """The outputs of a frame, the walking velocity first (what a controller waits for), each as bytes."""
+        axes, v, cov, twist = self.axes, messages.velocity_vector, messages.velocity_covariance, self._twist_bytes
+        sec, nanosec, frame = stamp
         heading = est.heading_rad
-        self._send(
-            self.pub_walking,
-            self._walking,
-            header,
-            v(axes, est.walk_a_mps, est.walk_b_mps, 0.0),
-            cov(axes, heading, est.speed_std_mps),
+        self.pub_walking.publish(
+            twist(
+                sec, nanosec, frame, v(axes, est.walk_a_mps, est.walk_b_mps, 0.0), cov(axes, heading, est.speed_std_mps)
+            ),
         )
-        self._send(
-            self.pub_velocity,
-            self._velocity,
-            header,
-            v(axes, est.vh_a_mps, est.vh_b_mps, est.vz_mps),
-            cov(axes, heading, math.inf),
+        self.pub_velocity.publish(
+            twist(sec, nanosec, frame, v(axes, est.vh_a_mps, est.vh_b_mps, est.vz_mps), cov(axes, heading, math.inf))
         )
+        assert self.estimator is not None
+        horizon_s = self.params["predict_horizon_s"]
+        prediction = self.estimator.predict(horizon_s)
         c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
         vx = prediction.vx_mps
-        self._send(
-            self.pub_predicted,
-            self._predicted,
-            header,
-            v(axes, vx * c, vx * s, prediction.vz_mps),
-            cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps),
+        self.pub_predicted.publish(
+            twist(
+                sec,
+                nanosec,
+                frame,
+                v(axes, vx * c, vx * s, prediction.vz_mps),
+                cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps),
+            )
         )
-        gait = self.estimator.estimate if self.estimator is not None else None
-        radii = (gait.R_m, gait.r_m) if gait is not None else (math.nan, math.nan)
-        self._state_message.data = messages.gait_state_row(est, radii, self.params["predict_horizon_s"], prediction)
-        self.pub_state.publish(self._state_message)
-
-    @staticmethod
-    def _send(publisher: Any, msg: Any, header: Any, linear: tuple[float, float, float], covariance: list[float]):
-        """``msg`` (one per topic, reused: publish serialises it at once) filled and published."""
-        msg.header = header
-        t = msg.twist.twist.linear
-        t.x, t.y, t.z = linear
-        msg.twist.covariance = covariance
-        publisher.publish(msg)
+        gait = self.estimator.estimate
+        self.pub_state.publish(
+            self._state_bytes(messages.gait_state_row(est, (gait.R_m, gait.r_m), horizon_s, prediction))
+        )
 
     def _check_plausible(self, topic: str, t_s: float, positions: np.ndarray) -> None:
         assert self._plausibility is not None
