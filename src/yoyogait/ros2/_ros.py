@@ -45,6 +45,7 @@ def ros() -> Any:
             from rcl_interfaces.msg import ParameterDescriptor
             from rclpy.parameter import Parameter
             from rclpy.validate_topic_name import validate_topic_name
+            from sensor_msgs.msg import Imu
             from std_msgs.msg import Float64MultiArray, Header, MultiArrayDimension
     except (ImportError, OSError, RuntimeError) as exc:
         raise YoyogaitError(f"{INSTALL_HINT} ({exc})") from None
@@ -62,6 +63,7 @@ def ros() -> Any:
         deserialize=rclpy.serialization.deserialize_message,
         PoseStamped=PoseStamped,
         PointStamped=PointStamped,
+        Imu=Imu,
         TwistWithCovarianceStamped=TwistWithCovarianceStamped,
         Header=Header,
         Float64MultiArray=Float64MultiArray,

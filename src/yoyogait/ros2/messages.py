@@ -20,12 +20,15 @@ import struct
 from collections.abc import Callable
 from typing import Any
 
+from ..estimators.imu import IMU_ESTIMATE_FIELDS
 from ..estimators.online import ONLINE_ESTIMATE_COLUMNS, ONLINE_ESTIMATE_FIELDS
 from ..io.recording import AXES
 
 __all__ = [
     "UNOBSERVED_VARIANCE",
     "GAIT_STATE_LABELS",
+    "IMU_GAIT_STATE_LABELS",
+    "imu_gait_state_row",
     "horizontal_axes",
     "velocity_vector",
     "velocity_covariance",
@@ -50,6 +53,13 @@ GAIT_STATE_LABELS: tuple[str, ...] = ONLINE_ESTIMATE_COLUMNS + (
     "pred_vz_std_mps",
 )
 _ATTRIBUTES = tuple(f.name for f in ONLINE_ESTIMATE_FIELDS)
+
+#: The gait state of IMU input (``imu_topic``): every field of the IMU estimate's record table, in order
+#: (its ``t_s`` is ``time_s``; docs/imu.md). The IMU estimator has no prediction and no radii.
+IMU_GAIT_STATE_LABELS: tuple[str, ...] = tuple(
+    "time_s" if name == "t_s" else name for name, _, _ in IMU_ESTIMATE_FIELDS
+)
+_IMU_ATTRIBUTES = tuple(name for name, _, _ in IMU_ESTIMATE_FIELDS)
 
 
 def horizontal_axes(up_axis: str) -> tuple[int, int, int]:
@@ -105,6 +115,11 @@ def gait_state_row(estimate, radii: tuple[float, float], horizon_s: float, predi
         float(prediction.vz_std_mps),
     ]
     return row
+
+
+def imu_gait_state_row(estimate) -> list[float]:
+    """The IMU gait state's values in :data:`IMU_GAIT_STATE_LABELS` order."""
+    return [float(getattr(estimate, a)) for a in _IMU_ATTRIBUTES]
 
 
 # ------------------------------------------------------------------------------ serialized messages

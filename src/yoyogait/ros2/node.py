@@ -21,6 +21,7 @@ topic, once per topic and kind, and a count in the diagnostics; the node keeps r
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import signal
 import statistics
@@ -39,7 +40,10 @@ from .. import _guard
 from ..errors import InputError, YoyogaitError
 from ..estimators.config import OnlineConfig
 from ..estimators.frame_gate import DROP, RESTART, FrameCounts, FrameGate
+from ..estimators.imu import ImuConfig, ImuOnlineEstimator
 from ..estimators.online import OnlineEstimator
+from ..io.imu_read import check_imu_plausible
+from ..io.imu_recording import ImuRecording
 from ..io.plausibility import check_plausible
 from ..io.recording import AXES, Recording
 from ..pipeline import points
@@ -57,6 +61,9 @@ PARAMETERS: dict[str, tuple[Any, str]] = {
     "point_topics": ([], "geometry_msgs/PointStamped topics, one per marker, averaged as the pelvis points are"),
     "markers_topic": ("", "mocap4r2_msgs/Markers (needs mocap4r2_msgs importable)"),
     "marker_names": ([], "the Markers' markers to follow by name (default: the pelvis, found by name)"),
+    "imu_topic": ("", "sensor_msgs/Imu of one IMU at the lower back (m/s^2 with gravity, rad/s: REP 145)"),
+    "forward_axis": ("x", "IMU input: the sensor axis pointing forward, x y z -x -y -z (REP 103: x)"),
+    "sensor_height_m": (0.0, "IMU input: the sensor's height above the floor standing [m] (0: the configuration's)"),
     "up_axis": ("z", "the input frame's up axis (x, y or z; ROS: z)"),
     "length_unit_m": (1.0, "metres per input length unit (ROS: 1)"),
     "time_source": ("header", "header (header.stamp) or arrival (the node's clock at arrival)"),
@@ -71,10 +78,18 @@ PARAMETERS: dict[str, tuple[Any, str]] = {
     "plausibility_s": (3.0, "input time after which the frames so far get the plausibility check of files [s]"),
     "diagnostics_period_s": (1.0, "period of /diagnostics [s]"),
 }
-_CHOICES = {"up_axis": AXES, "time_source": ("header", "arrival"), "qos": ("reliable", "sensor_data")}
+_CHOICES = {
+    "up_axis": AXES,
+    "time_source": ("header", "arrival"),
+    "qos": ("reliable", "sensor_data"),
+    "forward_axis": ("x", "y", "z", "-x", "-y", "-z"),
+}
+_INPUTS = ("pose_topic", "point_topics", "markers_topic", "imu_topic")
 _POSE = "geometry_msgs/msg/PoseStamped"
 _POINT = "geometry_msgs/msg/PointStamped"
 _MARKERS = "mocap4r2_msgs/msg/Markers"
+_IMU = "sensor_msgs/msg/Imu"
+_IMU_AXES = (0, 1, 2)  # IMU input: the outputs' x is the forward direction at the start, z up
 
 
 @dataclass
@@ -131,7 +146,7 @@ class GaitNode:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise InputError(f"parameter {name}: a number, not {value!r}")
             value = float(value)
-            if value <= 0 and name != "max_future_s":
+            if value <= 0 and name not in ("max_future_s", "sensor_height_m") or value < 0:
                 raise InputError(f"parameter {name}: a number > 0, not {value!r}")
         elif isinstance(default, int):
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
@@ -146,15 +161,20 @@ class GaitNode:
         r, node = self._r, self.node
         p = {name: self._param(name) for name in PARAMETERS}
         self.params = p
-        given = [k for k in ("pose_topic", "point_topics", "markers_topic") if p[k]]
+        given = [k for k in _INPUTS if p[k]]
         if len(given) != 1:
             raise InputError(
-                "give one input: pose_topic (PoseStamped), point_topics (PointStamped per marker) or markers_topic "
-                f"(mocap4r2_msgs/Markers); got {', '.join(given) if given else 'none'}"
+                "give one input: pose_topic (PoseStamped), point_topics (PointStamped per marker), markers_topic "
+                f"(mocap4r2_msgs/Markers) or imu_topic (sensor_msgs/Imu); got {', '.join(given) if given else 'none'}"
             )
         if p["predict_horizon_s"] > OnlineEstimator(["p"]).max_horizon_s:
             raise InputError(f"parameter predict_horizon_s: at most {OnlineEstimator(['p']).max_horizon_s:g} s")
-        self.config = OnlineConfig.from_file(Path(p["config_file"])) if p["config_file"] else None
+        self.imu: ImuOnlineEstimator | None = None
+        if p["imu_topic"]:
+            self.imu = ImuOnlineEstimator(self._imu_config())
+            self.config = None
+        else:
+            self.config = OnlineConfig.from_file(Path(p["config_file"])) if p["config_file"] else None
         self.by_arrival = p["time_source"] == "arrival"
         self.axes = messages.horizontal_axes(p["up_axis"])
         self.counts = NodeCounts()
@@ -178,7 +198,7 @@ class GaitNode:
         qos_out = r.qos.QoSProfile(
             depth=depth, reliability=r.qos.ReliabilityPolicy.RELIABLE, history=r.qos.HistoryPolicy.KEEP_LAST
         )
-        for key in ("pose_topic", "point_topics", "markers_topic"):
+        for key in _INPUTS:
             for topic in p[key] if isinstance(p[key], list) else [p[key]] if p[key] else []:
                 try:
                     r.validate_topic_name(topic)
@@ -202,6 +222,11 @@ class GaitNode:
                 node.create_subscription(r.PointStamped, topic, self._point_callback(k, topic), qos_in)
                 self.inputs[topic] = _POINT
             node.create_timer(min(0.01, p["assembly_window_s"]), self._expire)
+        elif p["imu_topic"]:
+            topic = p["imu_topic"]
+            node.create_subscription(r.Imu, topic, lambda m: self._on_imu(topic, m), qos_in)
+            self.inputs[topic] = _IMU
+            self._imu_samples: list[tuple[float, tuple, tuple]] | None = []
         else:
             topic = p["markers_topic"]
             node.create_subscription(markers_type(), topic, lambda m: self._on_markers(topic, m), qos_in)
@@ -210,13 +235,16 @@ class GaitNode:
         twist = r.TwistWithCovarianceStamped
         self.pub_walking = node.create_publisher(twist, "~/walking_velocity", qos_out)
         self.pub_velocity = node.create_publisher(twist, "~/velocity", qos_out)
-        self.pub_predicted = node.create_publisher(twist, "~/predicted_velocity", qos_out)
+        # IMU input has no prediction (ImuOnlineEstimator): no predicted velocity topic.
+        self.pub_predicted = (
+            None if self.imu is not None else node.create_publisher(twist, "~/predicted_velocity", qos_out)
+        )
         self.pub_state = node.create_publisher(r.Float64MultiArray, "~/gait_state", qos_out)
         self.pub_diagnostics = node.create_publisher(r.DiagnosticArray, "/diagnostics", 10)
         # The per-frame messages as bytes from templates (messages.py: a message object costs far more).
         self._twist_bytes = messages.StampedTwistBytes(twist, r.serialize)
         state = r.Float64MultiArray()
-        labels = messages.GAIT_STATE_LABELS
+        labels = messages.IMU_GAIT_STATE_LABELS if self.imu is not None else messages.GAIT_STATE_LABELS
         state.layout.dim = [r.MultiArrayDimension(label=label, size=1, stride=1) for label in labels]
         self._state_bytes = messages.GaitStateBytes(state, r.serialize)
         self._frame_bytes, self._frame_str = b"", ""
@@ -225,6 +253,19 @@ class GaitNode:
         self._now_ns = (lambda: clock.now().nanoseconds) if node.get_parameter("use_sim_time").value else time.time_ns
         self._diag_last = (time.monotonic(), 0, 0)
         node.create_timer(p["diagnostics_period_s"], self._diagnostics)
+
+    def _imu_config(self) -> ImuConfig:
+        """The IMU estimator's settings: the configuration file's (its [imu] table), the forward axis and
+        the sensor height of the parameters."""
+        p = self.params
+        config = ImuConfig.from_file(Path(p["config_file"])) if p["config_file"] else ImuConfig()
+        axis = p["forward_axis"]
+        changes: dict[str, Any] = {"forward_axis": AXES.index(axis[-1]), "forward_negative": axis.startswith("-")}
+        if p["sensor_height_m"] > 0:
+            changes["sensor_height_m"] = p["sensor_height_m"]
+        config = dataclasses.replace(config, **changes)
+        config.to_native()  # InputError naming the setting out of range
+        return config
 
     def _make_estimator(self, names: Sequence[str]) -> None:
         p = self.params
@@ -352,6 +393,55 @@ class GaitNode:
         self._finite(topic, positions)
         self.process(topic, t_s, self._stamp(t_s, h.stamp.sec, h.stamp.nanosec, h.frame_id), positions)
 
+    def _on_imu(self, topic: str, msg: Any) -> None:
+        """One IMU sample: specific force (m/s^2, gravity included) and angular rate (rad/s), REP 145."""
+        h = msg.header
+        t_s = self._time_of(topic, h.stamp.sec, h.stamp.nanosec, h.frame_id)
+        if t_s is None:
+            return
+        a, w = msg.linear_acceleration, msg.angular_velocity
+        acc, gyr = (a.x, a.y, a.z), (w.x, w.y, w.z)
+        if not all(math.isfinite(v) for v in (*acc, *gyr)):
+            self.counts.non_finite += 1
+            self.say(topic, "nan", "a sample with NaN or inf: ignored by the estimator (its reason NON_FINITE)")
+        assert self.imu is not None
+        verdict = self.gate.admit(t_s, time.monotonic())
+        if verdict == DROP:
+            return
+        if verdict == RESTART:
+            self.imu.reset()
+        est = self.imu.update(t_s, acc, gyr)
+        self.last_estimate = est
+        sec, nanosec, frame = self._stamp(t_s, h.stamp.sec, h.stamp.nanosec, h.frame_id)
+        # The horizontal frame of the IMU estimator: x the forward direction at the start, z up.
+        heading, twist, cov = est.heading_rad, self._twist_bytes, messages.velocity_covariance
+        c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
+        speed, vx = est.speed_mps, est.vx_mps
+        self.pub_walking.publish(
+            twist(sec, nanosec, frame, (speed * c, speed * s, 0.0), cov(_IMU_AXES, heading, est.speed_std_mps))
+        )
+        self.pub_velocity.publish(
+            twist(sec, nanosec, frame, (vx * c, vx * s, est.vz_mps), cov(_IMU_AXES, heading, math.inf))
+        )
+        self.pub_state.publish(self._state_bytes(messages.imu_gait_state_row(est)))
+        if self._imu_samples is not None:
+            self._check_imu_plausible(topic, t_s, acc, gyr)
+
+    def _check_imu_plausible(self, topic: str, t_s: float, acc: tuple, gyr: tuple) -> None:
+        assert self._imu_samples is not None
+        self._imu_samples.append((t_s, acc, gyr))
+        if t_s - self._imu_samples[0][0] < self.params["plausibility_s"]:
+            return
+        t, a, g = (np.array(column, dtype=float) for column in zip(*self._imu_samples))
+        self._imu_samples = None
+        try:
+            check_imu_plausible(ImuRecording(t, a, g, source=f"topic {topic}"))
+        except InputError as exc:
+            text = str(exc).replace(f"topic {topic}: ", "")
+            text += " (sensor_msgs/Imu is in m/s^2 and rad/s, REP 145: convert in the driver)"
+            self.implausible = text
+            self.say(topic, "plausibility", text, error=True)
+
     # ----------------------------------------------------------------------------------------- a frame
     def process(self, topic: str, t_s: float, stamp: tuple[int, int, str], positions) -> Any:
         """One frame through the gate and the estimator; the outputs published, stamped ``stamp`` (sec,
@@ -385,7 +475,7 @@ class GaitNode:
         self.pub_velocity.publish(
             twist(sec, nanosec, frame, v(axes, est.vh_a_mps, est.vh_b_mps, est.vz_mps), cov(axes, heading, math.inf))
         )
-        assert self.estimator is not None
+        assert self.estimator is not None and self.pub_predicted is not None
         horizon_s = self.params["predict_horizon_s"]
         prediction = self.estimator.predict(horizon_s)
         c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
@@ -459,7 +549,8 @@ class GaitNode:
             "latency_median_ms": f"{1e3 * statistics.median(latencies):.3f}" if latencies else "nan",
             "latency_max_ms": f"{1e3 * max(latencies):.3f}" if latencies else "nan",
             "walking": str(walking).lower(),
-            "status": str(int(est.status)) if est is not None else "",
+            # OnlineStatus of marker input; ImuReason (why not valid) of IMU input
+            "status": str(int(getattr(est, "status", getattr(est, "reason", 0)))) if est is not None else "",
         }
         for name in FrameCounts.__dataclass_fields__:
             values[name] = str(getattr(c, name))
@@ -501,7 +592,8 @@ class GaitNode:
             self.counts.repeated_points = self.assembler.repeated_points
             self.counts.incomplete_frames = self.assembler.incomplete_frames
         for pub in (self.pub_walking, self.pub_velocity, self.pub_predicted, self.pub_state):
-            pub.wait_for_all_acked(self._r.rclpy.duration.Duration(seconds=1.0))
+            if pub is not None:
+                pub.wait_for_all_acked(self._r.rclpy.duration.Duration(seconds=1.0))
         self.node.destroy_node()
 
 
@@ -592,6 +684,11 @@ def startup_line(gait: GaitNode) -> str:
     p = gait.params
     inputs = ", ".join(f"{topic} ({kind.rsplit('/', 1)[-1]})" for topic, kind in gait.inputs.items())
     base = gait.node.get_fully_qualified_name()
+    if gait.imu is not None:
+        return (
+            f"ros2: node {base} reading {inputs}, {p['time_source']} time, {p['qos']} QoS, forward "
+            f"{p['forward_axis']}; publishing {base}/walking_velocity, {base}/velocity, {base}/gait_state, /diagnostics"
+        )
     return (
         f"ros2: node {base} reading {inputs}, {p['time_source']} time, {p['qos']} QoS, up {p['up_axis']}, "
         f"{p['length_unit_m']:g} m per unit; publishing {base}/walking_velocity, {base}/velocity, "
