@@ -146,7 +146,10 @@ class GaitNode:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise InputError(f"parameter {name}: a number, not {value!r}")
             value = float(value)
-            if value <= 0 and name not in ("max_future_s", "sensor_height_m") or value < 0:
+            if name == "sensor_height_m":  # 0: the configuration's
+                if value < 0:
+                    raise InputError(f"parameter {name}: a number >= 0, not {value!r}")
+            elif value <= 0 and name != "max_future_s":
                 raise InputError(f"parameter {name}: a number > 0, not {value!r}")
         elif isinstance(default, int):
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
