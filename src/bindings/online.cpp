@@ -3,11 +3,15 @@
 
 #include <nanobind/ndarray.h>
 
+// numpy's C API, for the per-frame path (FrameView); imported in bind_online.
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#define PY_ARRAY_UNIQUE_SYMBOL yoyogait_online_ARRAY_API
+#include <numpy/arrayobject.h>
+
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -141,46 +145,39 @@ double seconds_of(nb::handle t) {
   return v;
 }
 
-// A read-only view of a frame's coordinates: the buffer of a C-contiguous float64 array as it is, else
-// the array numpy.ascontiguousarray(positions, dtype=float64) makes (lists, other dtypes, views).
+// A frame's coordinates: the data of a C-contiguous, aligned, native float64 ndarray as it is (read
+// through numpy's C API: the buffer protocol would build a format string and shape for each new array,
+// a few hundred ns, more than the update), else of the array numpy makes from it (a list, another dtype
+// or layout). The caller's reference keeps the array alive for the call, and no Python code runs in it.
 class FrameView {
  public:
   FrameView(nb::handle positions, std::size_t points) {
-    if (!take(positions.ptr())) {
-      static PyObject* convert = nullptr;  // numpy.ascontiguousarray, kept for the process' life
-      if (!convert) convert = nb::object(nb::module_::import_("numpy").attr("ascontiguousarray")).release().ptr();
-      nb::object dtype = nb::str("float64");
-      converted_ = nb::borrow(convert)(positions, "dtype"_a = dtype);
-      if (!take(converted_.ptr())) throw nb::python_error();
+    PyObject* o = positions.ptr();
+    if (!usable(o)) {
+      converted_ = nb::steal(PyArray_FROMANY(o, NPY_DOUBLE, 0, 0, NPY_ARRAY_IN_ARRAY));
+      if (!converted_.is_valid()) throw nb::python_error();
+      o = converted_.ptr();
     }
-    if (static_cast<std::size_t>(view_.len) != 3 * points * sizeof(double)) {
+    auto* a = reinterpret_cast<PyArrayObject*>(o);
+    if (static_cast<std::size_t>(PyArray_SIZE(a)) != 3 * points) {
       std::string shape = "(";
-      for (int i = 0; i < view_.ndim; ++i)  // as numpy writes a shape: (3,), (1, 3)
-        shape += std::to_string(view_.shape[i]) + (view_.ndim == 1 ? "," : i + 1 < view_.ndim ? ", " : "");
+      const int nd = PyArray_NDIM(a);
+      for (int i = 0; i < nd; ++i)  // as numpy writes a shape: (3,), (1, 3)
+        shape += std::to_string(PyArray_DIMS(a)[i]) + (nd == 1 ? "," : i + 1 < nd ? ", " : "");
       shape += ")";
-      PyBuffer_Release(&view_);
       raise_input("positions must hold " + std::to_string(points) + " x 3 coordinates, got shape " + shape);
     }
+    data_ = static_cast<const double*>(PyArray_DATA(a));
   }
-  ~FrameView() { PyBuffer_Release(&view_); }
-  FrameView(const FrameView&) = delete;
-  FrameView& operator=(const FrameView&) = delete;
-  const double* data() const { return static_cast<const double*>(view_.buf); }
+  const double* data() const { return data_; }
 
  private:
-  bool take(PyObject* o) {
-    if (PyObject_GetBuffer(o, &view_, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT) != 0) {
-      PyErr_Clear();
-      return false;
-    }
-    const char* f = view_.format ? view_.format : "B";
-    if (view_.itemsize == sizeof(double) && (std::strcmp(f, "d") == 0 || std::strcmp(f, "<d") == 0 ||
-                                              std::strcmp(f, "=d") == 0 || std::strcmp(f, "@d") == 0))
-      return true;
-    PyBuffer_Release(&view_);
-    return false;
+  static bool usable(PyObject* o) {
+    if (!PyArray_Check(o)) return false;
+    auto* a = reinterpret_cast<PyArrayObject*>(o);
+    return PyArray_TYPE(a) == NPY_DOUBLE && PyArray_ISCARRAY_RO(a) && PyArray_ISNOTSWAPPED(a);
   }
-  Py_buffer view_{};
+  const double* data_ = nullptr;
   nb::object converted_;
 };
 
@@ -292,6 +289,7 @@ nb::dict run(Guarded& est, const Times& time_s, const Positions& positions, cons
 
 // clang-format off: the bindings are macro chains
 void bind_online(nb::module_& m) {
+  if (_import_array() < 0) throw nb::python_error();
   auto config_cls = nb::class_<OnlineConfig>(m, "OnlineConfig")
       .def(nb::init<>())
       .def("validate", [](const OnlineConfig& c) -> nb::object {
