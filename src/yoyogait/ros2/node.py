@@ -2,7 +2,8 @@
 
 One frame of the input (a ``PoseStamped``, the ``PointStamped`` of every marker topic for one stamp
 (:mod:`.assembly`), or a ``mocap4r2_msgs/Markers``) goes through the frame handling shared with
-``live`` (:class:`yoyogait.estimators.frame_gate.FrameGate`) and :class:`OnlineEstimator.update`, then out:
+``live`` (:class:`yoyogait.estimators.frame_gate.FrameGate`) and :class:`OnlineEstimator.update`, then out
+(a ``sensor_msgs/Imu`` sample likewise through :class:`ImuOnlineEstimator.update`, without the predicted velocity):
 
 =============================  ====================================  =============================================
 topic (relative to the node)   type                                  what
