@@ -23,6 +23,7 @@ topic, once per topic and kind, and a count in the diagnostics; the node keeps r
 from __future__ import annotations
 
 import dataclasses
+import gc
 import math
 import signal
 import statistics
@@ -637,6 +638,11 @@ def run_node(
             raise InputError(f"parameter {exc.args[-1] if exc.args else ''}: {' '.join(str(exc).split())}") from None
         executor = make_executor()
         executor.add_node(gait.node)
+        # What the imports and the set-up made lives as long as the node: out of the cyclic collector's
+        # way, so that a full collection (which would walk every object of numpy, scipy and rclpy) does not
+        # hold up a frame.
+        gc.collect()
+        gc.freeze()
         if on_start is not None:
             on_start(gait)
         started = time.monotonic()
