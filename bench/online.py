@@ -1,9 +1,15 @@
 """Online estimator: native ns per frame and an online evaluation against the offline pipeline.
 
     python bench/online.py [--rates 30,60,100,120,200,250] [--no-real] [--timing-only] [--reference-only]
+                           [--python-cost]
 
 * ns per frame of the C++ ``OnlineEstimator::update`` (front-end and estimator), built here with
   the system compiler at -O3 (bench/bench_online.cpp), median of rounds.
+* ``--python-cost`` (alone): the per-frame cost of ``yoyogait.OnlineEstimator.update`` called from a
+  Python loop against the C++ update of the same frames in the same process (``run``, the loop in
+  C++), at 30, 60, 100 and 250 Hz: CPU time of this thread (time.thread_time_ns, so that time the
+  thread waits for a core does not count), rounds alternating the two; the ratio Python / C++ per
+  round, its median and worst (target of issue 21: <= 2).
 * Over the shared manifest and the synthetic lab at the native capture rate, and over the
   synthetic lab generated at each rate of ``--rates``: the step-frequency error (median absolute,
   Hz) within the first 3 s of walking and after them (reference: the synthetic truth, on real data
@@ -201,8 +207,81 @@ def timing(rounds=7):
     return "".join(out).strip()
 
 
+def centre_frames(rate_hz: float, duration_s: float):
+    """SYNTHETIC: the pelvis centre of the synthetic lab's straight walk (metres, z up): times, n x 3."""
+    from yoyogait import synthetic
+
+    rec = synthetic.make_walk(
+        synthetic.get_subject("synthetic-S1"), "1-straight", duration_s=duration_s, rate_hz=rate_hz
+    ).recording
+    centre = np.nanmean(rec.points(["LASI", "RASI", "LPSI", "RPSI"]), axis=1)
+    return rec.time_s, np.where(np.isfinite(centre), centre, np.nanmean(centre, axis=0))
+
+
+def python_cost(rate_hz: float, rounds: int = 15, duration_s: float = 20.0) -> dict:
+    """ns per frame of ``OnlineEstimator.update`` from a Python loop (one point, a 1 x 3 float64 frame per
+    call as a live source hands it over; and ``update_point`` with the three numbers) against the C++
+    loop (``run``) over the same frames, alternating in each round; the ratios per round."""
+    import time
+
+    t, centre = centre_frames(rate_hz, duration_s)
+    times = [float(v) for v in t]
+    frames = [np.ascontiguousarray(c.reshape(1, 3)) for c in centre]
+    coords = [tuple(float(v) for v in c) for c in centre]
+    stacked = np.ascontiguousarray(centre[:, None, :])
+    none = np.zeros(0)
+    clock = time.thread_time_ns
+    cpp, py, point = [], [], []
+    for _ in range(rounds):
+        est = OnlineEstimator(["pelvis"], "z", 1.0)
+        start = clock()
+        est._impl.run(t, stacked, none)
+        cpp.append((clock() - start) / len(t))
+        update = OnlineEstimator(["pelvis"], "z", 1.0).update
+        start = clock()
+        for t_s, frame in zip(times, frames):
+            update(t_s, frame)
+        py.append((clock() - start) / len(t))
+        update_point = OnlineEstimator(["pelvis"], "z", 1.0).update_point
+        start = clock()
+        for t_s, (x, y, z) in zip(times, coords):
+            update_point(t_s, x, y, z)
+        point.append((clock() - start) / len(t))
+    ratio = np.array(py) / np.array(cpp)
+    ratio_point = np.array(point) / np.array(cpp)
+    return {
+        "rate_hz": rate_hz,
+        "frames": len(t),
+        "cpp_ns": float(np.median(cpp)),
+        "python_ns": float(np.median(py)),
+        "point_ns": float(np.median(point)),
+        "ratio_median": float(np.median(ratio)),
+        "ratio_worst": float(np.max(ratio)),
+        "point_ratio_median": float(np.median(ratio_point)),
+        "point_ratio_worst": float(np.max(ratio_point)),
+    }
+
+
+def print_python_cost(rates=(30.0, 60.0, 100.0, 250.0), rounds: int = 15) -> None:
+    print(
+        "OnlineEstimator.update from Python against the C++ update (one point, SYNTHETIC walk of 20 s, "
+        f"{rounds} alternating rounds, thread CPU time; target <= 2x)\n"
+    )
+    print("| rate | C++ ns/frame | Python update ns | ratio median | worst | update_point ns | ratio median | worst |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for rate in rates:
+        r = python_cost(rate, rounds)
+        print(
+            f"| {rate:g} Hz | {r['cpp_ns']:.0f} | {r['python_ns']:.0f} | {r['ratio_median']:.2f} | "
+            f"{r['ratio_worst']:.2f} | {r['point_ns']:.0f} | {r['point_ratio_median']:.2f} | "
+            f"{r['point_ratio_worst']:.2f} |",
+            flush=True,
+        )
+
+
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--python-cost", action="store_true", help="only the Python against C++ update cost")
     ap.add_argument("--rates", default="30,60,100,120,200,250")
     ap.add_argument("--no-real", action="store_true")
     ap.add_argument("--timing-only", action="store_true")
@@ -223,6 +302,9 @@ def main():
     ap.add_argument("--reference-only", action="store_true", help="only the comparison with the reference input rate")
     ap.add_argument("--datasets", default=str(ROOT.parent / "shared" / "datasets"))
     args = ap.parse_args()
+    if args.python_cost:
+        print_python_cost()
+        return
     if not args.reference_only:
         print(timing())
     if args.timing_only:

@@ -3,10 +3,15 @@
 
 #include <nanobind/ndarray.h>
 
+// numpy's C API, for the per-frame path (FrameView); imported in bind_online.
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#define PY_ARRAY_UNIQUE_SYMBOL yoyogait_online_ARRAY_API
+#include <numpy/arrayobject.h>
+
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -27,6 +32,8 @@ namespace {
 struct Guarded : OnlineEstimator {
   using OnlineEstimator::OnlineEstimator;
   std::atomic<bool> busy{false};
+  // The Python objects the per-frame calls hand out, refilled when no one else holds them (below).
+  nb::object estimates[2], predictions[2];
 };
 
 // Raised (as _core.ConcurrentUse) by a call made while another one is running.
@@ -70,6 +77,154 @@ const double* frame_of(const OnlineEstimator& est, const Positions& p) {
         ("positions must hold " + std::to_string(est.points()) + " x 3 coordinates, got " + std::to_string(p.size()))
             .c_str());
   return p.data();
+}
+
+// ---------------------------------------------------------------------------------- the per-frame path
+// update_frame, update_point and predict_horizon are what yoyogait.OnlineEstimator binds as its update,
+// update_point and predict (no Python code per call): the frame read through the buffer protocol (no
+// array object made), the result handed out in a Python object that is refilled rather than allocated
+// when nothing else refers to it, and the errors raised as the package's (InputError,
+// ConcurrentUseError) with the wrapper's one-line messages.
+
+// The package's error types, given once by yoyogait.estimators.online (_core.set_online_errors);
+// ValueError and ConcurrentUse until then. Owned references, kept for the process' life.
+PyObject* g_input_error = nullptr;
+PyObject* g_busy_error = nullptr;
+
+[[noreturn]] void raise_input(const std::string& text) {
+  PyErr_SetString(g_input_error ? g_input_error : PyExc_ValueError, text.c_str());
+  throw nb::python_error();
+}
+
+// Takes the estimator's flag or raises ConcurrentUseError naming the call; released by ~Held.
+struct Held {
+  Held(Guarded& g, const char* what) : flag(g.busy) {
+    if (flag.exchange(true, std::memory_order_acquire)) {
+      if (!g_busy_error) throw ConcurrentUse("the estimator is in use");
+      PyErr_SetString(g_busy_error, (std::string("OnlineEstimator.") + what +
+                                     " called while another thread is using this estimator; use one estimator per "
+                                     "thread or serialise the calls")
+                                        .c_str());
+      throw nb::python_error();
+    }
+  }
+  ~Held() { flag.store(false, std::memory_order_release); }
+  Held(const Held&) = delete;
+  Held& operator=(const Held&) = delete;
+  std::atomic<bool>& flag;
+};
+
+// A value handed to Python in one of the estimator's two objects of its type when only the estimator
+// refers to it (so that no one can see it change: `e = est.update(...)` in a loop alternates between
+// the two), else in a new object. Same values, same type as a copy; no allocation in the usual loop.
+template <class T>
+nb::object hand_out(nb::object (&pool)[2], const T& value) {
+  for (nb::object& o : pool) {
+    if (o.is_valid() && Py_REFCNT(o.ptr()) == 1) {
+      *nb::inst_ptr<T>(o) = value;
+      return o;
+    }
+  }
+  nb::object fresh_object = nb::cast(value, nb::rv_policy::copy);
+  for (nb::object& o : pool) {
+    if (!o.is_valid() || Py_REFCNT(o.ptr()) > 1) {
+      o = fresh_object;
+      break;
+    }
+  }
+  return fresh_object;
+}
+
+double seconds_of(nb::handle t) {
+  if (PyFloat_Check(t.ptr())) return PyFloat_AS_DOUBLE(t.ptr());  // float and numpy.float64
+  const double v = PyFloat_AsDouble(t.ptr());
+  if (v == -1.0 && PyErr_Occurred()) {
+    PyErr_Clear();
+    raise_input(std::string("t_s must be a number in seconds, got ") + nb::repr(t).c_str());
+  }
+  return v;
+}
+
+// A frame's coordinates: the data of a C-contiguous, aligned, native float64 ndarray as it is (read
+// through numpy's C API: the buffer protocol would build a format string and shape for each new array,
+// a few hundred ns, more than the update), else of the array numpy makes from it (a list, another dtype
+// or layout). The caller's reference keeps the array alive for the call, and no Python code runs in it.
+class FrameView {
+ public:
+  FrameView(nb::handle positions, std::size_t points) {
+    PyObject* o = positions.ptr();
+    if (!usable(o)) {
+      converted_ = nb::steal(PyArray_FROMANY(o, NPY_DOUBLE, 0, 0, NPY_ARRAY_IN_ARRAY));
+      if (!converted_.is_valid()) throw nb::python_error();
+      o = converted_.ptr();
+    }
+    auto* a = reinterpret_cast<PyArrayObject*>(o);
+    if (static_cast<std::size_t>(PyArray_SIZE(a)) != 3 * points) {
+      std::string shape = "(";
+      const int nd = PyArray_NDIM(a);
+      for (int i = 0; i < nd; ++i)  // as numpy writes a shape: (3,), (1, 3)
+        shape += std::to_string(PyArray_DIMS(a)[i]) + (nd == 1 ? "," : i + 1 < nd ? ", " : "");
+      shape += ")";
+      raise_input("positions must hold " + std::to_string(points) + " x 3 coordinates, got shape " + shape);
+    }
+    data_ = static_cast<const double*>(PyArray_DATA(a));
+  }
+  const double* data() const { return data_; }
+
+ private:
+  static bool usable(PyObject* o) {
+    if (!PyArray_Check(o)) return false;
+    auto* a = reinterpret_cast<PyArrayObject*>(o);
+    return PyArray_TYPE(a) == NPY_DOUBLE && PyArray_ISCARRAY_RO(a) && PyArray_ISNOTSWAPPED(a);
+  }
+  const double* data_ = nullptr;
+  nb::object converted_;
+};
+
+nb::object update_frame(Guarded& est, nb::handle t_s, nb::handle positions) {
+  const double t = seconds_of(t_s);
+  const FrameView frame(positions, est.points());
+  OnlineEstimate e;
+  {
+    const Held held(est, "update");
+    e = est.update(t, frame.data());
+  }
+  return hand_out(est.estimates, e);
+}
+
+nb::object update_point(Guarded& est, nb::handle t_s, double x, double y, double z) {
+  if (est.points() != 1)
+    raise_input("update_point takes one point; this estimator follows " + std::to_string(est.points()) +
+                ": update(t_s, positions)");
+  const double t = seconds_of(t_s);
+  const double xyz[3] = {x, y, z};
+  OnlineEstimate e;
+  {
+    const Held held(est, "update_point");
+    e = est.update(t, xyz);
+  }
+  return hand_out(est.estimates, e);
+}
+
+nb::object predict_horizon(Guarded& est, nb::handle horizon_s) {
+  const double h = PyFloat_Check(horizon_s.ptr()) ? PyFloat_AS_DOUBLE(horizon_s.ptr()) : -1.0;
+  if (!(h >= 0.0 && h <= OnlineEstimator::kMaxHorizonS)) {
+    // Not a float in range: a number in range (an int, numpy's) is converted, anything else is one line.
+    double v = PyFloat_AsDouble(horizon_s.ptr());
+    if (v == -1.0 && PyErr_Occurred()) PyErr_Clear();
+    if (!(v >= 0.0 && v <= OnlineEstimator::kMaxHorizonS)) {
+      char top[32];
+      std::snprintf(top, sizeof top, "%g", OnlineEstimator::kMaxHorizonS);
+      raise_input(std::string("prediction horizons must be in [0, ") + top + "] s, got " + nb::repr(horizon_s).c_str());
+    }
+    return predict_horizon(est, nb::float_(v));
+  }
+  yoyogait::OnlinePrediction pr;
+  {
+    const Held held(est, "predict");
+    pr = est.predict(h);
+  }
+  return hand_out(est.predictions, pr);
 }
 
 // Every frame of a recording through update(), in C++: one array per field of OnlineEstimate.
@@ -134,6 +289,7 @@ nb::dict run(Guarded& est, const Times& time_s, const Positions& positions, cons
 
 // clang-format off: the bindings are macro chains
 void bind_online(nb::module_& m) {
+  if (_import_array() < 0) throw nb::python_error();
   auto config_cls = nb::class_<OnlineConfig>(m, "OnlineConfig")
       .def(nb::init<>())
       .def("validate", [](const OnlineConfig& c) -> nb::object {
@@ -164,6 +320,15 @@ void bind_online(nb::module_& m) {
       .value("NOT_MOVING", yoyogait::InvalidReason::kNotMoving);
 
   nb::exception<ConcurrentUse>(m, "ConcurrentUse", PyExc_RuntimeError);
+  m.def(
+      "set_online_errors",
+      [](nb::handle input_error, nb::handle busy_error) {
+        Py_XDECREF(g_input_error);
+        Py_XDECREF(g_busy_error);
+        g_input_error = nb::borrow(input_error).release().ptr();
+        g_busy_error = nb::borrow(busy_error).release().ptr();
+      },
+      "input_error"_a, "busy_error"_a, "The exception types the per-frame calls raise (InputError, ConcurrentUseError).");
 
   auto estimate_cls = nb::class_<OnlineEstimate>(m, "OnlineEstimate");
 #define YOYO_RO(type, name, ...) estimate_cls.def_ro(#name, &OnlineEstimate::name);
@@ -201,6 +366,13 @@ void bind_online(nb::module_& m) {
             return est.update(t_s, frame);
           },
           "t_s"_a, "positions"_a)
+      .def("update_frame", &update_frame, "t_s"_a, "positions"_a,
+           "One frame at t_s [s]: positions of the points (k x 3, in the length unit, NaN where missing). "
+           "Returns the OnlineEstimate; bad frames get a status, never an exception.")
+      .def("update_point", &update_point, "t_s"_a, "x"_a, "y"_a, "z"_a,
+           "update() of an estimator of one point, its coordinates as numbers (no array).")
+      .def("predict_horizon", &predict_horizon, "horizon_s"_a,
+           "Forward and vertical velocity horizon_s [s] after the last frame, with stds: an OnlinePrediction.")
       .def("run", &run, "time_s"_a, "positions"_a, "predict_ahead_s"_a)
       .def(
           "predict",

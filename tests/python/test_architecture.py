@@ -23,6 +23,7 @@ LATE_IMPORTS_ALLOWED = {
     "geometry_msgs",
     "diagnostic_msgs",
     "rcl_interfaces",
+    "sensor_msgs",
     "mocap4r2_msgs",
     "dask",
     "distributed",

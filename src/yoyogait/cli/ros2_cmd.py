@@ -25,6 +25,18 @@ from .options import POSITIVE, config_file_option
     help="geometry_msgs/PointStamped of one marker; repeat for each marker (averaged, as the pelvis points).",
 )
 @click.option("--markers-topic", default=None, metavar="TOPIC", help="mocap4r2_msgs/Markers (mocap4r2_msgs needed).")
+@click.option(
+    "--imu-topic", default=None, metavar="TOPIC", help="sensor_msgs/Imu of one IMU at the lower back (docs/imu.md)."
+)
+@click.option(
+    "--forward-axis",
+    type=click.Choice(["x", "y", "z", "-x", "-y", "-z"]),
+    default=None,
+    help="IMU input: the sensor axis pointing forward [x, REP 103].",
+)
+@click.option(
+    "--sensor-height-m", type=POSITIVE, metavar="METRES", default=None, help="IMU input: sensor height standing [0.95]."
+)
 @click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis of the input frame [z].")
 @click.option("--length-unit-m", type=POSITIVE, metavar="METRES", default=None, help="Metres per input unit [1].")
 @click.option(
@@ -34,19 +46,22 @@ from .options import POSITIVE, config_file_option
 @click.option(
     "--predict-horizon-s", type=POSITIVE, metavar="SECONDS", default=None, help="Horizon of ~/predicted_velocity [0.2]."
 )
-@config_file_option("Settings of the online estimator: a TOML file (docs/configuration.md).")
+@config_file_option("Settings of the online (or, IMU input, the [imu]) estimator: a TOML file (docs/configuration.md).")
 @click.option("--duration", type=POSITIVE, metavar="SECONDS", default=None, help="Stop after this many seconds.")
 @click.argument("ros_args", nargs=-1, type=click.UNPROCESSED)
 def command(
-    pose_topic, point_topics, markers_topic, up_axis, length_unit_m, time_source, qos, predict_horizon_s, config_file,
-    duration, ros_args,
+    pose_topic, point_topics, markers_topic, imu_topic, forward_axis, sensor_height_m, up_axis, length_unit_m,
+    time_source, qos, predict_horizon_s, config_file, duration, ros_args,
 ):  # fmt: skip
-    """Estimate gait from ROS 2 motion-capture topics; publish walking, current and predicted velocity, the gait
+    """Estimate gait from ROS 2 motion-capture or IMU topics; publish walking, current and predicted velocity, the gait
     state and diagnostics (docs/ros2.md). ROS_ARGS: --ros-args -p name:=value -r from:=to ..."""
     options = {
         "pose_topic": pose_topic,
         "point_topics": list(point_topics) or None,
         "markers_topic": markers_topic,
+        "imu_topic": imu_topic,
+        "forward_axis": forward_axis,
+        "sensor_height_m": sensor_height_m,
         "up_axis": up_axis,
         "length_unit_m": length_unit_m,
         "time_source": time_source,

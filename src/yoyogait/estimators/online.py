@@ -54,6 +54,10 @@ class ConcurrentUseError(YoyogaitError, RuntimeError):
     """An OnlineEstimator was called from a second thread while a call was running."""
 
 
+# The errors the native per-frame calls raise.
+_core.set_online_errors(InputError, ConcurrentUseError)
+
+
 #: The fields of the native OnlineEstimate as its C++ table declares them (YOYOGAIT_ONLINE_ESTIMATE_FIELDS,
 #: include/yoyogait/online/online_estimate.hpp): name, type, unit, doc, in the table's order.
 ONLINE_ESTIMATE_FIELDS = fields_of("OnlineEstimate")
@@ -182,11 +186,13 @@ class OnlineEstimator:
         self._impl = _core.OnlineEstimator(
             len(names), AXES.index(self.up_axis), self.length_unit_m, self.config.to_native()
         )
-        # The per-frame path, bound once (update and predict run at the capture rate); the guard
-        # against concurrent use is the native estimator's own (an atomic flag, released on every path).
-        self._coordinates = 3 * len(names)
-        self._native_update, self._native_predict = self._impl.update, self._impl.predict
-        self._max_horizon_s = float(_core.OnlineEstimator.max_horizon_s)
+        # The per-frame path: the native calls bound to this instance, no Python code per call (they
+        # read the frame without an array copy, check its size, take the estimator's flag against
+        # concurrent use and raise InputError / ConcurrentUseError as the methods below document).
+        # The methods of the class stay as the reference of the same behaviour.
+        vars(self).update(
+            update=self._impl.update_frame, update_point=self._impl.update_point, predict=self._impl.predict_horizon
+        )
 
     @classmethod
     def for_recording(cls, rec: Recording, point=None, *, up_axis: str | None = None, config=None):
@@ -208,15 +214,14 @@ class OnlineEstimator:
 
     def update(self, t_s: float, positions):
         """One frame at ``t_s`` [s]: positions of the points (k x 3, in the length unit, NaN where
-        missing). Returns the native OnlineEstimate; bad frames get a ``status``, never an exception."""
-        # An ndarray goes as it is: the binding converts another dtype or layout to contiguous float64 itself.
-        p = positions if type(positions) is np.ndarray else np.ascontiguousarray(positions, dtype=np.float64)
-        if p.size != self._coordinates:
-            raise InputError(f"positions must hold {len(self.point_names)} x 3 coordinates, got shape {p.shape}")
-        try:
-            return self._native_update(t_s if type(t_s) is float else float(t_s), p)
-        except _core.ConcurrentUse:
-            raise self._busy("update") from None
+        missing; an array of float64 is read in place, anything else converted). Returns the native
+        OnlineEstimate; bad frames get a ``status``, never an exception. (Each instance binds the native
+        call itself as ``update``: this method is what it does.)"""
+        return self._impl.update_frame(t_s, positions)
+
+    def update_point(self, t_s: float, x: float, y: float, z: float):
+        """``update`` of an estimator of one point, its coordinates as numbers (no array to build)."""
+        return self._impl.update_point(t_s, x, y, z)
 
     @property
     def max_horizon_s(self) -> float:
@@ -227,14 +232,9 @@ class OnlineEstimator:
         """Forward and vertical velocity ``horizon_s`` [s] after the last frame, with standard
         deviations (rates of speed and cadence included; docs/online.md sec. 5): a native
         OnlinePrediction (t_s, vx_mps, vz_mps, vx_std_mps, vz_std_mps, valid). ``predict(0)`` is the
-        last estimate's vx_hat_mps, vz_hat_mps."""
-        h = horizon_s
-        if not (type(h) is float and 0.0 <= h <= self._max_horizon_s):  # else checked (InputError) and converted
-            h = float(_horizons([horizon_s])[0])
-        try:
-            return self._native_predict(h)
-        except _core.ConcurrentUse:
-            raise self._busy("predict") from None
+        last estimate's vx_hat_mps, vz_hat_mps; a horizon outside [0, max_horizon_s] raises InputError.
+        (Bound natively per instance, as ``update``.)"""
+        return self._impl.predict_horizon(horizon_s)
 
     def run(
         self, recording: Recording | np.ndarray, positions=None, *, predict_ahead_s: Sequence[float] = (0.2,)

@@ -38,12 +38,14 @@ def ros() -> Any:
             import rclpy.experimental
             import rclpy.node
             import rclpy.qos
+            import rclpy.serialization
             import rclpy.signals
             from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
             from geometry_msgs.msg import PointStamped, PoseStamped, TwistWithCovarianceStamped
             from rcl_interfaces.msg import ParameterDescriptor
             from rclpy.parameter import Parameter
             from rclpy.validate_topic_name import validate_topic_name
+            from sensor_msgs.msg import Imu
             from std_msgs.msg import Float64MultiArray, Header, MultiArrayDimension
     except (ImportError, OSError, RuntimeError) as exc:
         raise YoyogaitError(f"{INSTALL_HINT} ({exc})") from None
@@ -57,8 +59,11 @@ def ros() -> Any:
         executors=rclpy.executors,
         experimental=rclpy.experimental,
         signals=rclpy.signals,
+        serialize=rclpy.serialization.serialize_message,
+        deserialize=rclpy.serialization.deserialize_message,
         PoseStamped=PoseStamped,
         PointStamped=PointStamped,
+        Imu=Imu,
         TwistWithCovarianceStamped=TwistWithCovarianceStamped,
         Header=Header,
         Float64MultiArray=Float64MultiArray,

@@ -16,17 +16,26 @@ observe (across the heading, the angular rates, a standard deviation that is not
 from __future__ import annotations
 
 import math
+import struct
+from collections.abc import Callable
+from typing import Any
 
+from ..estimators.imu import IMU_ESTIMATE_FIELDS
 from ..estimators.online import ONLINE_ESTIMATE_COLUMNS, ONLINE_ESTIMATE_FIELDS
 from ..io.recording import AXES
 
 __all__ = [
     "UNOBSERVED_VARIANCE",
     "GAIT_STATE_LABELS",
+    "IMU_GAIT_STATE_LABELS",
+    "imu_gait_state_row",
     "horizontal_axes",
     "velocity_vector",
     "velocity_covariance",
     "gait_state_row",
+    "StampedTwistBytes",
+    "GaitStateBytes",
+    "pose_of",
 ]
 
 #: The variance of what is not observed [(m/s)^2, (rad/s)^2]: large, as ROS consumers (robot_localization) expect.
@@ -44,6 +53,13 @@ GAIT_STATE_LABELS: tuple[str, ...] = ONLINE_ESTIMATE_COLUMNS + (
     "pred_vz_std_mps",
 )
 _ATTRIBUTES = tuple(f.name for f in ONLINE_ESTIMATE_FIELDS)
+
+#: The gait state of IMU input (``imu_topic``): every field of the IMU estimate's record table, in order
+#: (its ``t_s`` is ``time_s``; docs/imu.md). The IMU estimator has no prediction and no radii.
+IMU_GAIT_STATE_LABELS: tuple[str, ...] = tuple(
+    "time_s" if name == "t_s" else name for name, _, _ in IMU_ESTIMATE_FIELDS
+)
+_IMU_ATTRIBUTES = tuple(name for name, _, _ in IMU_ESTIMATE_FIELDS)
 
 
 def horizontal_axes(up_axis: str) -> tuple[int, int, int]:
@@ -99,3 +115,73 @@ def gait_state_row(estimate, radii: tuple[float, float], horizon_s: float, predi
         float(prediction.vz_std_mps),
     ]
     return row
+
+
+def imu_gait_state_row(estimate) -> list[float]:
+    """The IMU gait state's values in :data:`IMU_GAIT_STATE_LABELS` order."""
+    return [float(getattr(estimate, a)) for a in _IMU_ATTRIBUTES]
+
+
+# ------------------------------------------------------------------------------ serialized messages
+# The per-frame messages are published as their serialized bytes (rclpy's Publisher.publish(bytes)):
+# building a message object and converting it costs tens of microseconds per topic, the gait state's
+# 30 labelled dimensions most (about 60 us). Each message is serialized once by rclpy as a template;
+# per frame only its numbers are written over, at offsets that follow from the CDR layout of the
+# type (ROS 2 serializes as OMG CDR: a 4-byte encapsulation header, little endian where it is 00 01,
+# then the fields, each aligned to its size). The tests compare the bytes with rclpy's own serialization.
+
+_STAMP = struct.Struct("<iI")  # builtin_interfaces/Time: int32 sec, uint32 nanosec, right after the header
+_TWIST_DOUBLES = struct.Struct("<42d")  # TwistWithCovariance: linear, angular, covariance[36]: the message's end
+_POSE_DOUBLES = struct.Struct("<3d")  # Pose.position: the first 3 of the 7 doubles that end a PoseStamped
+_LENGTH = struct.Struct("<I")
+_CDR_LE = b"\x00\x01"
+_MAX_FRAME_IDS = 16
+
+
+class StampedTwistBytes:
+    """``geometry_msgs/TwistWithCovarianceStamped`` as bytes: the stamp, the frame and 42 numbers (linear,
+    angular, covariance) written into a template of the type serialized by ``serialize`` (one per frame id)."""
+
+    def __init__(self, msg_type: Any, serialize: Callable[[Any], bytes]):
+        self._type, self._serialize = msg_type, serialize
+        self._templates: dict[str, tuple[bytes, bytes]] = {}
+
+    def __call__(self, sec: int, nanosec: int, frame_id: str, linear, covariance) -> bytes:
+        parts = self._templates.get(frame_id)
+        if parts is None:
+            if len(self._templates) >= _MAX_FRAME_IDS:  # a source that changes its frame id each message
+                self._templates.clear()
+            msg = self._type()
+            msg.header.frame_id = frame_id
+            raw = self._serialize(msg)
+            end = 16 + _LENGTH.unpack_from(raw, 12)[0]  # the frame id's length, its NUL included
+            pad = len(raw) - _TWIST_DOUBLES.size - end  # alignment of the doubles: zeros (rclpy leaves any bytes)
+            parts = self._templates[frame_id] = (raw[:4], raw[12:end] + bytes(pad))
+        head, frame = parts
+        return head + _STAMP.pack(sec, nanosec) + frame + _TWIST_DOUBLES.pack(*linear, 0.0, 0.0, 0.0, *covariance)
+
+
+class GaitStateBytes:
+    """``std_msgs/Float64MultiArray`` with the labelled layout of :data:`GAIT_STATE_LABELS` as bytes: the
+    layout serialized once (``message``, its data any n numbers), the row written after it."""
+
+    def __init__(self, message: Any, serialize: Callable[[Any], bytes]):
+        n = len(message.layout.dim)
+        message.data = [0.0] * n
+        raw = serialize(message)
+        self._head = raw[: len(raw) - 8 * n]
+        self._row = struct.Struct(f"<{n}d")
+
+    def __call__(self, row) -> bytes:
+        return self._head + self._row.pack(*row)
+
+
+def pose_of(raw: bytes) -> tuple[int, int, bytes, float, float, float] | None:
+    """Stamp (sec, nanosec), frame id (bytes) and position of a serialized ``geometry_msgs/PoseStamped``; None
+    when it is not little-endian CDR (then deserialize it)."""
+    if raw[:2] != _CDR_LE or len(raw) < 16 + 56:
+        return None
+    sec, nanosec = _STAMP.unpack_from(raw, 4)
+    (n,) = _LENGTH.unpack_from(raw, 12)
+    x, y, z = _POSE_DOUBLES.unpack_from(raw, len(raw) - 56)
+    return sec, nanosec, raw[16 : 16 + max(0, n - 1)], x, y, z

@@ -2,7 +2,8 @@
 
 One frame of the input (a ``PoseStamped``, the ``PointStamped`` of every marker topic for one stamp
 (:mod:`.assembly`), or a ``mocap4r2_msgs/Markers``) goes through the frame handling shared with
-``live`` (:class:`yoyogait.estimators.frame_gate.FrameGate`) and :class:`OnlineEstimator.update`, then out:
+``live`` (:class:`yoyogait.estimators.frame_gate.FrameGate`) and :class:`OnlineEstimator.update`, then out
+(a ``sensor_msgs/Imu`` sample likewise through :class:`ImuOnlineEstimator.update`, without the predicted velocity):
 
 =============================  ====================================  =============================================
 topic (relative to the node)   type                                  what
@@ -21,6 +22,8 @@ topic, once per topic and kind, and a count in the diagnostics; the node keeps r
 
 from __future__ import annotations
 
+import dataclasses
+import gc
 import math
 import signal
 import statistics
@@ -39,7 +42,10 @@ from .. import _guard
 from ..errors import InputError, YoyogaitError
 from ..estimators.config import OnlineConfig
 from ..estimators.frame_gate import DROP, RESTART, FrameCounts, FrameGate
+from ..estimators.imu import ImuConfig, ImuOnlineEstimator
 from ..estimators.online import OnlineEstimator
+from ..io.imu_read import check_imu_plausible
+from ..io.imu_recording import ImuRecording
 from ..io.plausibility import check_plausible
 from ..io.recording import AXES, Recording
 from ..pipeline import points
@@ -57,6 +63,9 @@ PARAMETERS: dict[str, tuple[Any, str]] = {
     "point_topics": ([], "geometry_msgs/PointStamped topics, one per marker, averaged as the pelvis points are"),
     "markers_topic": ("", "mocap4r2_msgs/Markers (needs mocap4r2_msgs importable)"),
     "marker_names": ([], "the Markers' markers to follow by name (default: the pelvis, found by name)"),
+    "imu_topic": ("", "sensor_msgs/Imu of one IMU at the lower back (m/s^2 with gravity, rad/s: REP 145)"),
+    "forward_axis": ("x", "IMU input: the sensor axis pointing forward, x y z -x -y -z (REP 103: x)"),
+    "sensor_height_m": (0.0, "IMU input: the sensor's height above the floor standing [m] (0: the configuration's)"),
     "up_axis": ("z", "the input frame's up axis (x, y or z; ROS: z)"),
     "length_unit_m": (1.0, "metres per input length unit (ROS: 1)"),
     "time_source": ("header", "header (header.stamp) or arrival (the node's clock at arrival)"),
@@ -71,10 +80,18 @@ PARAMETERS: dict[str, tuple[Any, str]] = {
     "plausibility_s": (3.0, "input time after which the frames so far get the plausibility check of files [s]"),
     "diagnostics_period_s": (1.0, "period of /diagnostics [s]"),
 }
-_CHOICES = {"up_axis": AXES, "time_source": ("header", "arrival"), "qos": ("reliable", "sensor_data")}
+_CHOICES = {
+    "up_axis": AXES,
+    "time_source": ("header", "arrival"),
+    "qos": ("reliable", "sensor_data"),
+    "forward_axis": ("x", "y", "z", "-x", "-y", "-z"),
+}
+_INPUTS = ("pose_topic", "point_topics", "markers_topic", "imu_topic")
 _POSE = "geometry_msgs/msg/PoseStamped"
 _POINT = "geometry_msgs/msg/PointStamped"
 _MARKERS = "mocap4r2_msgs/msg/Markers"
+_IMU = "sensor_msgs/msg/Imu"
+_IMU_AXES = (0, 1, 2)  # IMU input: the outputs' x is the forward direction at the start, z up
 
 
 @dataclass
@@ -131,7 +148,10 @@ class GaitNode:
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise InputError(f"parameter {name}: a number, not {value!r}")
             value = float(value)
-            if value <= 0 and name != "max_future_s":
+            if name == "sensor_height_m":  # 0: the configuration's
+                if value < 0:
+                    raise InputError(f"parameter {name}: a number >= 0, not {value!r}")
+            elif value <= 0 and name != "max_future_s":
                 raise InputError(f"parameter {name}: a number > 0, not {value!r}")
         elif isinstance(default, int):
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
@@ -146,15 +166,20 @@ class GaitNode:
         r, node = self._r, self.node
         p = {name: self._param(name) for name in PARAMETERS}
         self.params = p
-        given = [k for k in ("pose_topic", "point_topics", "markers_topic") if p[k]]
+        given = [k for k in _INPUTS if p[k]]
         if len(given) != 1:
             raise InputError(
-                "give one input: pose_topic (PoseStamped), point_topics (PointStamped per marker) or markers_topic "
-                f"(mocap4r2_msgs/Markers); got {', '.join(given) if given else 'none'}"
+                "give one input: pose_topic (PoseStamped), point_topics (PointStamped per marker), markers_topic "
+                f"(mocap4r2_msgs/Markers) or imu_topic (sensor_msgs/Imu); got {', '.join(given) if given else 'none'}"
             )
         if p["predict_horizon_s"] > OnlineEstimator(["p"]).max_horizon_s:
             raise InputError(f"parameter predict_horizon_s: at most {OnlineEstimator(['p']).max_horizon_s:g} s")
-        self.config = OnlineConfig.from_file(Path(p["config_file"])) if p["config_file"] else None
+        self.imu: ImuOnlineEstimator | None = None
+        if p["imu_topic"]:
+            self.imu = ImuOnlineEstimator(self._imu_config())
+            self.config = None
+        else:
+            self.config = OnlineConfig.from_file(Path(p["config_file"])) if p["config_file"] else None
         self.by_arrival = p["time_source"] == "arrival"
         self.axes = messages.horizontal_axes(p["up_axis"])
         self.counts = NodeCounts()
@@ -178,7 +203,7 @@ class GaitNode:
         qos_out = r.qos.QoSProfile(
             depth=depth, reliability=r.qos.ReliabilityPolicy.RELIABLE, history=r.qos.HistoryPolicy.KEEP_LAST
         )
-        for key in ("pose_topic", "point_topics", "markers_topic"):
+        for key in _INPUTS:
             for topic in p[key] if isinstance(p[key], list) else [p[key]] if p[key] else []:
                 try:
                     r.validate_topic_name(topic)
@@ -189,7 +214,8 @@ class GaitNode:
         if p["pose_topic"]:
             topic = p["pose_topic"]
             self._make_estimator([topic])
-            node.create_subscription(r.PoseStamped, topic, lambda m: self._on_pose(topic, m), qos_in)
+            # Raw: the stamp, frame and position read from the bytes (no message object per frame).
+            node.create_subscription(r.PoseStamped, topic, lambda m: self._on_pose(topic, m), qos_in, raw=True)
             self.inputs[topic] = _POSE
         elif p["point_topics"]:
             topics = p["point_topics"]
@@ -201,6 +227,11 @@ class GaitNode:
                 node.create_subscription(r.PointStamped, topic, self._point_callback(k, topic), qos_in)
                 self.inputs[topic] = _POINT
             node.create_timer(min(0.01, p["assembly_window_s"]), self._expire)
+        elif p["imu_topic"]:
+            topic = p["imu_topic"]
+            node.create_subscription(r.Imu, topic, lambda m: self._on_imu(topic, m), qos_in)
+            self.inputs[topic] = _IMU
+            self._imu_samples: list[tuple[float, tuple, tuple]] | None = []
         else:
             topic = p["markers_topic"]
             node.create_subscription(markers_type(), topic, lambda m: self._on_markers(topic, m), qos_in)
@@ -209,16 +240,37 @@ class GaitNode:
         twist = r.TwistWithCovarianceStamped
         self.pub_walking = node.create_publisher(twist, "~/walking_velocity", qos_out)
         self.pub_velocity = node.create_publisher(twist, "~/velocity", qos_out)
-        self.pub_predicted = node.create_publisher(twist, "~/predicted_velocity", qos_out)
+        # IMU input has no prediction (ImuOnlineEstimator): no predicted velocity topic.
+        self.pub_predicted = (
+            None if self.imu is not None else node.create_publisher(twist, "~/predicted_velocity", qos_out)
+        )
         self.pub_state = node.create_publisher(r.Float64MultiArray, "~/gait_state", qos_out)
         self.pub_diagnostics = node.create_publisher(r.DiagnosticArray, "/diagnostics", 10)
-        self._walking, self._velocity, self._predicted = twist(), twist(), twist()
-        self._state_message = r.Float64MultiArray()
-        self._state_message.layout.dim = [
-            r.MultiArrayDimension(label=label, size=1, stride=1) for label in messages.GAIT_STATE_LABELS
-        ]
+        # The per-frame messages as bytes from templates (messages.py: a message object costs far more).
+        self._twist_bytes = messages.StampedTwistBytes(twist, r.serialize)
+        state = r.Float64MultiArray()
+        labels = messages.IMU_GAIT_STATE_LABELS if self.imu is not None else messages.GAIT_STATE_LABELS
+        state.layout.dim = [r.MultiArrayDimension(label=label, size=1, stride=1) for label in labels]
+        self._state_bytes = messages.GaitStateBytes(state, r.serialize)
+        self._frame_bytes, self._frame_str = b"", ""
+        # The node's clock in ns: the system clock as it is, unless use_sim_time (then the ROS clock).
+        clock = node.get_clock()
+        self._now_ns = (lambda: clock.now().nanoseconds) if node.get_parameter("use_sim_time").value else time.time_ns
         self._diag_last = (time.monotonic(), 0, 0)
         node.create_timer(p["diagnostics_period_s"], self._diagnostics)
+
+    def _imu_config(self) -> ImuConfig:
+        """The IMU estimator's settings: the configuration file's (its [imu] table), the forward axis and
+        the sensor height of the parameters."""
+        p = self.params
+        config = ImuConfig.from_file(Path(p["config_file"])) if p["config_file"] else ImuConfig()
+        axis = p["forward_axis"]
+        changes: dict[str, Any] = {"forward_axis": AXES.index(axis[-1]), "forward_negative": axis.startswith("-")}
+        if p["sensor_height_m"] > 0:
+            changes["sensor_height_m"] = p["sensor_height_m"]
+        config = dataclasses.replace(config, **changes)
+        config.to_native()  # InputError naming the setting out of range
+        return config
 
     def _make_estimator(self, names: Sequence[str]) -> None:
         p = self.params
@@ -237,20 +289,20 @@ class GaitNode:
             log.warning(f"topic {topic}: {text}")
 
     # ----------------------------------------------------------------------------------------- inputs
-    def _time_of(self, topic: str, header: Any) -> float | None:
-        """The frame time [s] of a message, or None (counted, said) when its stamp is unusable."""
-        now_s = self.node.get_clock().now().nanoseconds * 1e-9
+    def _time_of(self, topic: str, sec: int, nanosec: int, frame_id: str) -> float | None:
+        """The frame time [s] of a message stamped (sec, nanosec), or None (counted, said) when its stamp is
+        unusable."""
+        now_s = self._now_ns() * 1e-9
         self._last_message[topic] = time.monotonic()
         if not self._frame_id:
-            self._frame_id = header.frame_id
+            self._frame_id = frame_id
         if self.by_arrival:
             return now_s
-        stamp = header.stamp
-        if stamp.sec == 0 and stamp.nanosec == 0:
+        if sec == 0 and nanosec == 0:
             self.counts.zero_stamps += 1
             self.say(topic, "zero", "header.stamp is 0 (the driver does not stamp?): dropped; set time_source:=arrival")
             return None
-        t_s = _seconds(stamp)
+        t_s = sec + nanosec * 1e-9
         if t_s > now_s + self.params["max_future_s"]:
             self.counts.future_stamps += 1
             self.say(
@@ -263,33 +315,43 @@ class GaitNode:
         self.counts.latency_s.append(now_s - t_s)
         return t_s
 
-    def _header(self, t_s: float, header: Any) -> Any:
-        """The output header of a frame: the input's, or its arrival time (time_source arrival)."""
+    def _stamp(self, t_s: float, sec: int, nanosec: int, frame_id: str) -> tuple[int, int, str]:
+        """The outputs' stamp and frame: the input's, or its arrival time (time_source arrival)."""
         if not self.by_arrival:
-            return header
-        out = self._r.Header()
+            return sec, nanosec, frame_id
         ns = round(t_s * 1e9)
-        out.stamp.sec, out.stamp.nanosec = ns // 1_000_000_000, ns % 1_000_000_000
-        out.frame_id = header.frame_id
-        return out
+        return ns // 1_000_000_000, ns % 1_000_000_000, frame_id
 
     def _finite(self, topic: str, xyz: np.ndarray) -> None:
         if not np.isfinite(xyz).all():
-            self.counts.non_finite += 1
-            self.say(topic, "nan", "a message with NaN or inf coordinates: estimated with that point missing")
+            self._non_finite(topic)
 
-    def _on_pose(self, topic: str, msg: Any) -> None:
-        t_s = self._time_of(topic, msg.header)
+    def _non_finite(self, topic: str) -> None:
+        self.counts.non_finite += 1
+        self.say(topic, "nan", "a message with NaN or inf coordinates: estimated with that point missing")
+
+    def _on_pose(self, topic: str, raw: bytes) -> None:
+        pose = messages.pose_of(raw)
+        if pose is None:  # not little-endian CDR: through rclpy
+            msg = self._r.deserialize(raw, self._r.PoseStamped)
+            h, q = msg.header, msg.pose.position
+            sec, nanosec, frame, x, y, z = h.stamp.sec, h.stamp.nanosec, h.frame_id, q.x, q.y, q.z
+        else:
+            sec, nanosec, frame_bytes, x, y, z = pose
+            if frame_bytes != self._frame_bytes:
+                self._frame_bytes, self._frame_str = frame_bytes, frame_bytes.decode("utf-8", "replace")
+            frame = self._frame_str
+        t_s = self._time_of(topic, sec, nanosec, frame)
         if t_s is None:
             return
-        q = msg.pose.position
-        xyz = np.array([[q.x, q.y, q.z]])
-        self._finite(topic, xyz)
-        self.process(topic, t_s, self._header(t_s, msg.header), xyz)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+            self._non_finite(topic)
+        self.process(topic, t_s, self._stamp(t_s, sec, nanosec, frame), (x, y, z))
 
     def _point_callback(self, index: int, topic: str) -> Callable[[Any], None]:
         def on_point(msg: Any) -> None:
-            t_s = self._time_of(topic, msg.header)
+            h = msg.header
+            t_s = self._time_of(topic, h.stamp.sec, h.stamp.nanosec, h.frame_id)
             if t_s is None:
                 return
             assert self.assembler is not None
@@ -308,14 +370,12 @@ class GaitNode:
             self._assembled("point_topics", frame)
 
     def _assembled(self, topic: str, frame: Any) -> None:
-        header = self._r.Header()
-        header.frame_id = self._frame_id
-        if not self.by_arrival:
-            header.stamp.sec, header.stamp.nanosec = frame.key
-        self.process(topic, frame.t_s, self._header(frame.t_s, header), frame.positions)
+        sec, nanosec = (0, 0) if self.by_arrival else frame.key
+        self.process(topic, frame.t_s, self._stamp(frame.t_s, sec, nanosec, self._frame_id), frame.positions)
 
     def _on_markers(self, topic: str, msg: Any) -> None:
-        t_s = self._time_of(topic, msg.header)
+        h = msg.header
+        t_s = self._time_of(topic, h.stamp.sec, h.stamp.nanosec, h.frame_id)
         if t_s is None:
             return
         names = [m.marker_name or str(m.marker_index) for m in msg.markers]
@@ -336,64 +396,108 @@ class GaitNode:
                 q = msg.markers[j].translation
                 positions[k] = (q.x, q.y, q.z)
         self._finite(topic, positions)
-        self.process(topic, t_s, self._header(t_s, msg.header), positions)
+        self.process(topic, t_s, self._stamp(t_s, h.stamp.sec, h.stamp.nanosec, h.frame_id), positions)
+
+    def _on_imu(self, topic: str, msg: Any) -> None:
+        """One IMU sample: specific force (m/s^2, gravity included) and angular rate (rad/s), REP 145."""
+        h = msg.header
+        t_s = self._time_of(topic, h.stamp.sec, h.stamp.nanosec, h.frame_id)
+        if t_s is None:
+            return
+        a, w = msg.linear_acceleration, msg.angular_velocity
+        acc, gyr = (a.x, a.y, a.z), (w.x, w.y, w.z)
+        if not all(math.isfinite(v) for v in (*acc, *gyr)):
+            self.counts.non_finite += 1
+            self.say(topic, "nan", "a sample with NaN or inf: ignored by the estimator (its reason NON_FINITE)")
+        assert self.imu is not None
+        verdict = self.gate.admit(t_s, time.monotonic())
+        if verdict == DROP:
+            return
+        if verdict == RESTART:
+            self.imu.reset()
+        est = self.imu.update(t_s, acc, gyr)
+        self.last_estimate = est
+        sec, nanosec, frame = self._stamp(t_s, h.stamp.sec, h.stamp.nanosec, h.frame_id)
+        # The horizontal frame of the IMU estimator: x the forward direction at the start, z up.
+        heading, twist, cov = est.heading_rad, self._twist_bytes, messages.velocity_covariance
+        c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
+        speed, vx = est.speed_mps, est.vx_mps
+        self.pub_walking.publish(
+            twist(sec, nanosec, frame, (speed * c, speed * s, 0.0), cov(_IMU_AXES, heading, est.speed_std_mps))
+        )
+        self.pub_velocity.publish(
+            twist(sec, nanosec, frame, (vx * c, vx * s, est.vz_mps), cov(_IMU_AXES, heading, math.inf))
+        )
+        self.pub_state.publish(self._state_bytes(messages.imu_gait_state_row(est)))
+        if self._imu_samples is not None:
+            self._check_imu_plausible(topic, t_s, acc, gyr)
+
+    def _check_imu_plausible(self, topic: str, t_s: float, acc: tuple, gyr: tuple) -> None:
+        assert self._imu_samples is not None
+        self._imu_samples.append((t_s, acc, gyr))
+        if t_s - self._imu_samples[0][0] < self.params["plausibility_s"]:
+            return
+        t, a, g = (np.array(column, dtype=float) for column in zip(*self._imu_samples))
+        self._imu_samples = None
+        try:
+            check_imu_plausible(ImuRecording(t, a, g, source=f"topic {topic}"))
+        except InputError as exc:
+            text = str(exc).replace(f"topic {topic}: ", "")
+            text += " (sensor_msgs/Imu is in m/s^2 and rad/s, REP 145: convert in the driver)"
+            self.implausible = text
+            self.say(topic, "plausibility", text, error=True)
 
     # ----------------------------------------------------------------------------------------- a frame
-    def process(self, topic: str, t_s: float, header: Any, positions: np.ndarray) -> Any:
-        """One frame through the gate and the estimator; the outputs published. Returns the estimate."""
+    def process(self, topic: str, t_s: float, stamp: tuple[int, int, str], positions) -> Any:
+        """One frame through the gate and the estimator; the outputs published, stamped ``stamp`` (sec,
+        nanosec, frame id). ``positions``: k x 3, or one point's (x, y, z). Returns the estimate."""
         assert self.estimator is not None
         verdict = self.gate.admit(t_s, time.monotonic())
         if verdict == DROP:
             return None
         if verdict == RESTART:
             self.estimator.reset()
-        est = self.estimator.update(t_s, positions)
-        prediction = self.estimator.predict(self.params["predict_horizon_s"])
+        if type(positions) is tuple:
+            est = self.estimator.update_point(t_s, *positions)
+        else:
+            est = self.estimator.update(t_s, positions)
         self.last_estimate = est
-        self._publish(header, est, prediction)
+        self._publish(stamp, est)
         if self._plausibility is not None:
-            self._check_plausible(topic, t_s, positions)
+            self._check_plausible(topic, t_s, np.reshape(positions, (-1, 3)))
         return est
 
-    def _publish(self, header: Any, est: Any, prediction: Any) -> None:
-        axes, v, cov = self.axes, messages.velocity_vector, messages.velocity_covariance
+    def _publish(self, stamp: tuple[int, int, str], est: Any) -> None:
+        """The outputs of a frame, the walking velocity first (what a controller waits for), each as bytes."""
+        axes, v, cov, twist = self.axes, messages.velocity_vector, messages.velocity_covariance, self._twist_bytes
+        sec, nanosec, frame = stamp
         heading = est.heading_rad
-        self._send(
-            self.pub_walking,
-            self._walking,
-            header,
-            v(axes, est.walk_a_mps, est.walk_b_mps, 0.0),
-            cov(axes, heading, est.speed_std_mps),
+        self.pub_walking.publish(
+            twist(
+                sec, nanosec, frame, v(axes, est.walk_a_mps, est.walk_b_mps, 0.0), cov(axes, heading, est.speed_std_mps)
+            ),
         )
-        self._send(
-            self.pub_velocity,
-            self._velocity,
-            header,
-            v(axes, est.vh_a_mps, est.vh_b_mps, est.vz_mps),
-            cov(axes, heading, math.inf),
+        self.pub_velocity.publish(
+            twist(sec, nanosec, frame, v(axes, est.vh_a_mps, est.vh_b_mps, est.vz_mps), cov(axes, heading, math.inf))
         )
+        assert self.estimator is not None and self.pub_predicted is not None
+        horizon_s = self.params["predict_horizon_s"]
+        prediction = self.estimator.predict(horizon_s)
         c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
         vx = prediction.vx_mps
-        self._send(
-            self.pub_predicted,
-            self._predicted,
-            header,
-            v(axes, vx * c, vx * s, prediction.vz_mps),
-            cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps),
+        self.pub_predicted.publish(
+            twist(
+                sec,
+                nanosec,
+                frame,
+                v(axes, vx * c, vx * s, prediction.vz_mps),
+                cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps),
+            )
         )
-        gait = self.estimator.estimate if self.estimator is not None else None
-        radii = (gait.R_m, gait.r_m) if gait is not None else (math.nan, math.nan)
-        self._state_message.data = messages.gait_state_row(est, radii, self.params["predict_horizon_s"], prediction)
-        self.pub_state.publish(self._state_message)
-
-    @staticmethod
-    def _send(publisher: Any, msg: Any, header: Any, linear: tuple[float, float, float], covariance: list[float]):
-        """``msg`` (one per topic, reused: publish serialises it at once) filled and published."""
-        msg.header = header
-        t = msg.twist.twist.linear
-        t.x, t.y, t.z = linear
-        msg.twist.covariance = covariance
-        publisher.publish(msg)
+        gait = self.estimator.estimate
+        self.pub_state.publish(
+            self._state_bytes(messages.gait_state_row(est, (gait.R_m, gait.r_m), horizon_s, prediction))
+        )
 
     def _check_plausible(self, topic: str, t_s: float, positions: np.ndarray) -> None:
         assert self._plausibility is not None
@@ -450,7 +554,8 @@ class GaitNode:
             "latency_median_ms": f"{1e3 * statistics.median(latencies):.3f}" if latencies else "nan",
             "latency_max_ms": f"{1e3 * max(latencies):.3f}" if latencies else "nan",
             "walking": str(walking).lower(),
-            "status": str(int(est.status)) if est is not None else "",
+            # OnlineStatus of marker input; ImuReason (why not valid) of IMU input
+            "status": str(int(getattr(est, "status", getattr(est, "reason", 0)))) if est is not None else "",
         }
         for name in FrameCounts.__dataclass_fields__:
             values[name] = str(getattr(c, name))
@@ -492,7 +597,8 @@ class GaitNode:
             self.counts.repeated_points = self.assembler.repeated_points
             self.counts.incomplete_frames = self.assembler.incomplete_frames
         for pub in (self.pub_walking, self.pub_velocity, self.pub_predicted, self.pub_state):
-            pub.wait_for_all_acked(self._r.rclpy.duration.Duration(seconds=1.0))
+            if pub is not None:
+                pub.wait_for_all_acked(self._r.rclpy.duration.Duration(seconds=1.0))
         self.node.destroy_node()
 
 
@@ -532,6 +638,11 @@ def run_node(
             raise InputError(f"parameter {exc.args[-1] if exc.args else ''}: {' '.join(str(exc).split())}") from None
         executor = make_executor()
         executor.add_node(gait.node)
+        # What the imports and the set-up made lives as long as the node: out of the cyclic collector's
+        # way, so that a full collection (which would walk every object of numpy, scipy and rclpy) does not
+        # hold up a frame.
+        gc.collect()
+        gc.freeze()
         if on_start is not None:
             on_start(gait)
         started = time.monotonic()
@@ -583,6 +694,11 @@ def startup_line(gait: GaitNode) -> str:
     p = gait.params
     inputs = ", ".join(f"{topic} ({kind.rsplit('/', 1)[-1]})" for topic, kind in gait.inputs.items())
     base = gait.node.get_fully_qualified_name()
+    if gait.imu is not None:
+        return (
+            f"ros2: node {base} reading {inputs}, {p['time_source']} time, {p['qos']} QoS, forward "
+            f"{p['forward_axis']}; publishing {base}/walking_velocity, {base}/velocity, {base}/gait_state, /diagnostics"
+        )
     return (
         f"ros2: node {base} reading {inputs}, {p['time_source']} time, {p['qos']} QoS, up {p['up_axis']}, "
         f"{p['length_unit_m']:g} m per unit; publishing {base}/walking_velocity, {base}/velocity, "

@@ -265,10 +265,17 @@ def test_node_from_the_command_line_says_its_topics_and_stops_at_a_signal_with_1
         (["ros2"], "give one input: pose_topic (PoseStamped), point_topics"),
         (["ros2", "--pose-topic", "bad topic"], "parameter pose_topic: 'bad topic' is not a topic name"),
         (["ros2", "--markers-topic", "/markers"], "mocap4r2_msgs is not importable"),
+        (
+            ["ros2", "--ros-args", "-p", "imu_topic:=/imu", "-p", "forward_axis:=w"],
+            "parameter forward_axis: one of x, y, z, -x, -y, -z, not 'w'",
+        ),
+        (["ros2", "--imu-topic", "/imu", "--sensor-height-m", "5"], "sensor_height_m = 5.0 is outside its valid range"),
+        (["ros2", "--imu-topic", "/imu", "--pose-topic", "/p"], "got pose_topic, imu_topic"),
     ],
 )
 def test_bad_parameters_exit_2_with_one_line_naming_them(argv, message, capsys):
-    """A wrong parameter, no input, a malformed topic, Markers without mocap4r2_msgs: one line, exit 2."""
+    """A wrong parameter, no input or two, a malformed topic, Markers without mocap4r2_msgs, an IMU setting out of
+    range: one line, exit 2."""
     from yoyogait.cli import main
 
     if "--markers-topic" in argv:
