@@ -32,6 +32,7 @@ LATE_IMPORTS_ALLOWED = {
     "matplotlib",
     "PIL",
     "mobgap",
+    "h5py",
 }
 
 

@@ -22,7 +22,10 @@ __all__ = ["imu_options", "is_imu_file", "inspect_imu", "estimate_imu", "evaluat
 
 
 def imu_options(f):
-    """--acc-unit, --gyr-unit, --sensor-height-m and --trial (IMU files only)."""
+    """--acc-unit, --gyr-unit, --sensor-height-m, --trial and --sensor (IMU files only)."""
+    f = click.option("--sensor", default=None, metavar="LABEL",
+                     help="APDM .h5: the sensor, by label or id (default: the one labelled Lumbar, Lower Back, "
+                          "Sacrum, ...).")(f)  # fmt: skip
     f = click.option("--trial", default=None, metavar="TEST/TRIAL",
                      help="Mobilise-D data.mat: the trial, e.g. Test11/Trial1 (default: the first).")(f)  # fmt: skip
     f = click.option("--sensor-height-m", type=float, default=None,
@@ -34,18 +37,24 @@ def imu_options(f):
     return f
 
 
-def _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial=None):
+def _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial=None, sensor=None):
     with about_file(file):
         return read_imu(
-            file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m, trial=trial
+            file,
+            acc_unit=acc_unit,
+            gyr_unit=gyr_unit,
+            rate_hz=rate_hz,
+            sensor_height_m=sensor_height_m,
+            trial=trial,
+            sensor=sensor,
         )
 
 
 def inspect_imu(
-    file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, as_json=False
+    file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, sensor=None, as_json=False
 ) -> None:
     """Print an IMU recording's rate, duration, units, gravity, and what the online estimator finds."""
-    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial, sensor)
     res = estimator_for(rec).run_recording(rec)
     valid = res["valid"].astype(bool)
     g = float(np.median(np.linalg.norm(rec.acc_mps2, axis=1)))
@@ -71,6 +80,7 @@ def inspect_imu(
     height = f"{rec.sensor_height_m:.3f} m" if rec.sensor_height_m else "not given (default 0.95 m; --sensor-height-m)"
     lines = [
         ("file", f"{file} ({report['format']})" + (" SYNTHETIC" if rec.synthetic else "")),
+        *([("sensor", f"{rec.metadata['sensor']} ({rec.metadata['sensor_id']})")] if "sensor" in rec.metadata else []),
         (
             "rate",
             f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular",
@@ -91,13 +101,13 @@ def inspect_imu(
 
 
 def estimate_imu(file, *, out=None, force=False, config_file=None, acc_unit=None, gyr_unit=None, rate_hz=None,
-                 sensor_height_m=None, trial=None) -> None:  # fmt: skip
+                 sensor_height_m=None, trial=None, sensor=None) -> None:  # fmt: skip
     """The online IMU estimate of FILE as CSV, one row per sample (every field of ImuEstimate)."""
     config = ImuConfig.from_file(config_file) if config_file is not None else None
     target = Path(out or f"{Path(file).name}.imu.csv")
     if target.exists() and not force:
         raise OutputError(f"--out {target}: exists; use --force to overwrite it")
-    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial, sensor)
     res = estimator_for(rec, config).run_recording(rec)
     names = res.column_names()
 
