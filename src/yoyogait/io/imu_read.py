@@ -416,7 +416,7 @@ def _label_key(label: str) -> str:
 
 def _apdm_sensors(f, p: Path) -> tuple[int, dict[str, dict]]:
     """(format version, {sensor id: {label, acc, gyr, time, rate, acc_unit, gyr_unit}}) of an open APDM file:
-    format 5 (``/Sensors/<id>``) or 3/4 (``/<case id>/Calibrated``, ``/CaseIdList``, ``/MonitorLabelList``)."""
+    format 5 (``/Sensors/<id>``) or 3/4 (``/<case id>/Calibrated``, the root's ``CaseIdList``, ``MonitorLabelList``)."""
     import h5py  # the apdm extra
 
     version_attr = f.attrs.get("FileFormatVersion", f.attrs.get("File_Format_Version"))
@@ -438,15 +438,16 @@ def _apdm_sensors(f, p: Path) -> tuple[int, dict[str, dict]]:
                 "rate": conf.get("Sample Rate"),
             }
         return version or 5, sensors
-    if "CaseIdList" in f:
-        ids = [_text(v) for v in np.asarray(f["CaseIdList"]).reshape(-1)]
-        labels = [_text(v) for v in np.asarray(f["MonitorLabelList"]).reshape(-1)] if "MonitorLabelList" in f else []
+    listed = f.attrs.get("CaseIdList", f["CaseIdList"][()] if "CaseIdList" in f else None)
+    if listed is not None:
+        # Formats 3 and 4 list the cases and their labels as attributes of the root (older writers: datasets).
+        ids = [_text(v) for v in np.asarray(listed).reshape(-1)]
+        said = f.attrs.get("MonitorLabelList", f["MonitorLabelList"][()] if "MonitorLabelList" in f else [])
+        labels = [_text(v) for v in np.asarray(said).reshape(-1)]
         for i, case in enumerate(ids):
-            if case not in f or "Calibrated" not in f[case]:
+            if case not in f or "Calibrated" not in f[case] or "Accelerometers" not in f[case]["Calibrated"]:
                 continue
             g, cal = f[case], f[case]["Calibrated"]
-            if "Accelerometers" not in cal:
-                continue
             sensors[case] = {
                 "label": labels[i] if i < len(labels) else "",
                 "acc": cal["Accelerometers"],
@@ -507,7 +508,8 @@ def read_apdm_h5(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=Non
     """An APDM (Opal, Mobility Lab, Motion Studio) HDF5 file: format 5 (``/Sensors/<id>/Accelerometer``,
     ``Gyroscope``, ``Time`` in microseconds, ``/Sensors/<id>/Configuration`` attributes ``Label 0`` and
     ``Sample Rate``) or formats 3 and 4 (``/<case id>/Calibrated/Accelerometers``, ``Gyroscopes``,
-    ``/<case id>/Time``, ``/CaseIdList``, ``/MonitorLabelList``, the case's ``SampleRate``). The sensor: the
+    ``/<case id>/Time``, the root's attributes ``CaseIdList`` and ``MonitorLabelList``, the case's
+    ``SampleRate``). The sensor: the
     one labelled as the lower back (:data:`LOWER_BACK_LABELS`), the only one, or ``sensor`` (label or id).
     Units: the datasets' ``Units`` attribute, else APDM's m/s^2 and rad/s."""
     try:

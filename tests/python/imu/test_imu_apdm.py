@@ -46,14 +46,19 @@ def write_apdm_v5(
             f.create_group(f"Processed/{1000 + k}")
 
 
-def write_apdm_v4(path, rec, labels=("Sacrum", "Right Foot"), real=0):
-    """An APDM format-3/4 file: /CaseIdList, /MonitorLabelList, /<case>/Calibrated/{Accelerometers, Gyroscopes};
-    case ``real`` holds ``rec``'s signals."""
+def write_apdm_v4(path, rec, labels=("Sacrum", "Right Foot"), real=0, lists="attributes"):
+    """An APDM format-3/4 file: the root's CaseIdList and MonitorLabelList (``lists`` "attributes", or "datasets"
+    as older writers have them), /<case>/Calibrated/{Accelerometers, Gyroscopes}; case ``real`` holds ``rec``'s
+    signals."""
     with h5py.File(path, "w") as f:
         f.attrs["FileFormatVersion"] = np.int32(4)
         cases = [f"SI-{k:06d}" for k in range(len(labels))]
-        f.create_dataset("CaseIdList", data=np.array(cases, dtype="S"))
-        f.create_dataset("MonitorLabelList", data=np.array(labels, dtype="S"))
+        if lists == "attributes":
+            f.attrs["CaseIdList"] = np.array([c + "  " for c in cases], dtype="S")  # space-padded: stripped
+            f.attrs["MonitorLabelList"] = np.array(labels, dtype="S")
+        else:
+            f.create_dataset("CaseIdList", data=np.array(cases, dtype="S"))
+            f.create_dataset("MonitorLabelList", data=np.array(labels, dtype="S"))
         for k, case in enumerate(cases):
             acc, gyr = (rec.acc_mps2, rec.gyr_rad_s) if k == real else _other(rec, k)
             g = f.create_group(case)
@@ -90,10 +95,12 @@ def test_format_5_lumbar_first_equals_the_written_signals(tmp_path, walk):
         np.testing.assert_allclose(rec.gyr_rad_s, walk.gyr_rad_s)
 
 
-def test_formats_3_and_4_read_calibrated_data_by_monitor_label(tmp_path, walk):
-    """Formats 3/4: /CaseIdList and /MonitorLabelList find the Sacrum sensor; its Calibrated data and SampleRate."""
+@pytest.mark.parametrize("lists", ["attributes", "datasets"])
+def test_formats_3_and_4_read_calibrated_data_by_monitor_label(tmp_path, walk, lists):
+    """Formats 3/4: CaseIdList and MonitorLabelList (root attributes, or datasets) find the Sacrum sensor; its
+    Calibrated data, Time and SampleRate."""
     p = tmp_path / "old.h5"
-    write_apdm_v4(p, walk, labels=("Right Foot", "Sacrum"), real=1)
+    write_apdm_v4(p, walk, labels=("Right Foot", "Sacrum"), real=1, lists=lists)
     rec = read_imu(p)
     assert rec.metadata["sensor"] == "Sacrum" and rec.metadata["layout"] == "apdm v4"
     assert rec.rate_hz == pytest.approx(walk.rate_hz)
