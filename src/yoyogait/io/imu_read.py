@@ -30,6 +30,7 @@ __all__ = [
     "ACC_UNITS",
     "GYR_UNITS",
     "check_imu_plausible",
+    "clipped_ranges",
     "is_imu_file",
     "is_imu_header",
     "read_imu",
@@ -123,6 +124,9 @@ def read_imu(
             raise InputError(f"sensor_height_m must be in (0.1, 3] m, not {sensor_height_m!r}")
         rec.sensor_height_m = float(sensor_height_m)
     check_imu_plausible(rec)
+    clipped = clipped_ranges(rec)
+    if clipped:
+        rec.metadata["clipped"] = clipped
     return rec
 
 
@@ -569,6 +573,32 @@ def _check_samples(rec: ImuRecording) -> None:
         raise InputError(f"{where}: timestamps do not increase")
     if rec.rate_hz is not None and not (np.isfinite(rec.rate_hz) and 1.0 <= rec.rate_hz <= 10000.0):
         raise InputError(f"{where}: sample rate {rec.rate_hz!r} Hz is not plausible; pass rate_hz")
+
+
+#: A plateau at an axis's extreme: at least this share of the samples (and CLIP_MIN_SAMPLES) sit exactly at it.
+CLIP_SHARE = 0.005
+CLIP_MIN_SAMPLES = 5
+#: ... and the extreme is beyond what a sensor at rest reads (a coarse quantisation repeats values there).
+CLIP_MIN_ACC_MPS2 = 1.05 * GRAVITY_MPS2
+CLIP_MIN_GYR_RAD_S = 2.0
+
+
+def clipped_ranges(rec: ImuRecording) -> dict[str, tuple[float, int]]:
+    """Where a sensor's range clipped the signal: {"acc" or "gyr": (the range, in m/s^2 or rad/s; the samples at
+    it)} for the sensors one of whose axes has a plateau at its extreme |value|."""
+    out: dict[str, tuple[float, int]] = {}
+    for kind, values, floor in (("acc", rec.acc_mps2, CLIP_MIN_ACC_MPS2), ("gyr", rec.gyr_rad_s, CLIP_MIN_GYR_RAD_S)):
+        magnitude = np.abs(values)
+        for axis in range(3):
+            column = magnitude[:, axis][np.isfinite(magnitude[:, axis])]
+            if column.size == 0:
+                continue
+            top = float(column.max())
+            at = int(np.count_nonzero(column >= top))
+            if top >= floor and at >= max(CLIP_MIN_SAMPLES, CLIP_SHARE * column.size):
+                level, count = out.get(kind, (np.inf, 0))
+                out[kind] = (min(level, top), count + at)
+    return out
 
 
 def check_imu_plausible(rec: ImuRecording) -> None:

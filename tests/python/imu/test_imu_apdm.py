@@ -8,8 +8,9 @@ import pytest
 
 from yoyogait.cli import main
 from yoyogait.errors import InputError
+from yoyogait.estimators.imu import ImuReason
 from yoyogait.io.imu_read import is_imu_file, read_imu
-from yoyogait.io.imu_recording import GRAVITY_MPS2
+from yoyogait.io.imu_recording import GRAVITY_MPS2, ImuRecording
 from yoyogait.synthetic_imu import make_imu_walk
 
 h5py = pytest.importorskip("h5py")
@@ -210,3 +211,45 @@ def test_inspect_and_estimate_an_apdm_file(tmp_path, walk, capsys):
     assert rows.shape[0] == walk.n_samples and rows["valid"][-1] == 1
     assert main(["estimate", str(p), "--out", str(tmp_path / "f.csv"), "--sensor", "Chest"]) == 2
     assert "Left Foot (1000), Lower Back (1001)" in capsys.readouterr().err
+
+
+def _rest(n=1000, rate_hz=100.0):
+    """A sensor lying still (x up, the Mobilise-D convention), with sensor noise."""
+    rng = np.random.default_rng(3)
+    acc = np.tile([GRAVITY_MPS2, 0.0, 0.0], (n, 1)) + rng.normal(0, 0.02, (n, 3))
+    return ImuRecording(np.arange(n) / rate_hz, acc, rng.normal(0, 0.002, (n, 3)), rate_hz=rate_hz)
+
+
+def test_issue_22_bad_input_on_an_apdm_file_is_said_or_flagged_never_a_traceback(tmp_path, capsys):
+    """A clipped accelerometer, a sensor worn upside down, a gap, a file at rest: inspect says what it found in
+    one line each (saturated, gaps, not valid), estimate flags the samples (SATURATED, GAP, never valid at rest)
+    or estimates the walk (upside down); exit 0, no traceback."""
+    clipped = make_imu_walk(duration_s=10.0, acc_range_mps2=11.0).recording
+    upside = make_imu_walk(duration_s=10.0, upside_down=True).recording
+    walk = make_imu_walk(duration_s=10.0).recording
+    keep = (walk.time_s < 5.0) | (walk.time_s >= 5.5)
+    gap = ImuRecording(walk.time_s[keep], walk.acc_mps2[keep], walk.gyr_rad_s[keep], rate_hz=walk.rate_hz)
+    found = {}
+    for case, rec in (("clipped", clipped), ("upside", upside), ("gap", gap), ("rest", _rest())):
+        p = tmp_path / f"{case}.h5"
+        write_apdm_v5(p, rec, labels=("Lumbar",))
+        assert main(["inspect", str(p)]) == 0
+        out, err = capsys.readouterr()
+        assert "Traceback" not in out + err
+        est = tmp_path / f"{case}.csv"
+        assert main(["estimate", str(p), "--out", str(est)]) == 0
+        found[case] = (out, capsys.readouterr().err, np.genfromtxt(est, delimiter=",", names=True))
+    out, err, rows = found["clipped"]
+    assert "the accelerometer clipped at 11 m/s^2" in out and "SATURATED" in out
+    assert f"{tmp_path / 'clipped.h5'}: the accelerometer clipped at 11 m/s^2" in err
+    assert not rows["valid"].any() and (rows["reason"] == int(ImuReason.SATURATED)).any()
+    out, _, rows = found["upside"]
+    assert "steps/min" in out and rows["valid"][-1] == 1
+    out, _, rows = found["gap"]
+    assert "gaps           1 (longest 0.51 s)" in out
+    k = int(np.searchsorted(rows["time_s"], 5.5))
+    assert rows["reason"][k] == int(ImuReason.GAP)
+    out, _, rows = found["rest"]
+    assert "valid          0.00 s" in out and "walking        none found" in out and "steps/min" not in out
+    assert "not valid      ACQUIRING" in out or "not valid      NOT_WALKING" in out
+    assert not rows["valid"].any()
