@@ -10,6 +10,7 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -375,3 +376,9 @@ def test_replay_cli_plays_an_imu_file_into_an_imu_stream(datasets_dir, capsys):
     got = np.array(samples)
     np.testing.assert_array_equal(got, np.column_stack([rec.acc_mps2, rec.gyr_rad_s, rec.time_s]))
     assert f"pushed {rec.n_samples} samples" in capsys.readouterr().err
+
+
+def test_docs_list_the_imu_estimate_streams_channels_in_order():
+    """docs/live.md lists every channel of the IMU estimate stream, in the table's order."""
+    text = (Path(__file__).resolve().parents[3] / "docs" / "live.md").read_text()
+    assert ", ".join(IMU_COLUMNS) + "." in " ".join(text.split())
