@@ -21,8 +21,6 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 from ..errors import InputError
 from ..io.imu_recording import GRAVITY_MPS2
 from ._lsl import child_text, children, pylsl
@@ -82,15 +80,15 @@ EXPECTED = (
 class ImuLayout:
     """Where the accelerometer's and the gyro's axes are in a sample of an IMU stream, and their units."""
 
-    acc_channels: np.ndarray  # 3 channel indices (x, y, z)
-    gyr_channels: np.ndarray  # 3 channel indices
+    acc_channels: tuple[int, ...]  # 3 channel indices (x, y, z)
+    gyr_channels: tuple[int, ...]  # 3 channel indices
     channel_count: int
     acc_scale: float  # m/s^2 per unit of the stream
     gyr_scale: float  # rad/s per unit
     acc_unit: str  # as the stream (or the option) says it
     gyr_unit: str
     time_channel: int | None = None  # the recording's time (yoyogait's replay), else None
-    mag_channels: np.ndarray | None = None  # present, not used
+    mag_channels: tuple[int, ...] | None = None  # present, not used
     sensor_height_m: float | None = None  # setup/sensor_height_m, None when the stream does not say
 
 
@@ -164,11 +162,11 @@ def read_imu_layout(
     if missing:
         shown = ", ".join(labels[:12]) + (f", ... ({count - 12} more)" if count > 12 else "")
         raise InputError(f"stream {name!r}: no {', '.join(missing)} channel; expected {EXPECTED}; got {shown}")
-    acc = np.array([axes["acc"][i] for i in range(3)], dtype=np.intp)
-    gyr = np.array([axes["gyr"][i] for i in range(3)], dtype=np.intp)
-    mag = np.array([axes["mag"][i] for i in range(3)], dtype=np.intp) if len(axes.get("mag", {})) == 3 else None
+    acc = tuple(axes["acc"][i] for i in range(3))
+    gyr = tuple(axes["gyr"][i] for i in range(3))
+    mag = tuple(axes["mag"][i] for i in range(3)) if len(axes.get("mag", {})) == 3 else None
 
-    def units(channels: np.ndarray) -> set[str]:
+    def units(channels: tuple[int, ...]) -> set[str]:
         return {u for u in (child_text(elements[int(c)], "unit") for c in channels) if u}
 
     acc_scale, acc_said = _scale(units(acc), ACC_UNIT_NAMES, acc_unit, "acc_unit", "acceleration", name)
