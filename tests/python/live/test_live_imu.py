@@ -382,3 +382,54 @@ def test_docs_list_the_imu_estimate_streams_channels_in_order():
     """docs/live.md lists every channel of the IMU estimate stream, in the table's order."""
     text = (Path(__file__).resolve().parents[3] / "docs" / "live.md").read_text()
     assert ", ".join(IMU_COLUMNS) + "." in " ".join(text.split())
+
+
+def test_auto_waits_as_for_markers_then_takes_the_imu_path_when_an_imu_source_appears():
+    """--input auto with no source yet: live waits; an IMU stream of that name appears: its samples are estimated
+    by the IMU path and published on an IMU estimate stream (24 channels)."""
+    rec = make_imu_walk(duration_s=1.5).recording
+    name, publish = unique("imu-late"), unique("imu-late-gait")
+    live = SourceThread(name, publish=publish, resolve_timeout_s=20, max_buffer_s=10)
+    time.sleep(1.0)  # past the quick look: the marker path is waiting
+    outlet = pylsl.StreamOutlet(imu_info(name, LABELS, UNITS))
+    assert outlet.wait_for_consumers(15)
+    base = pylsl.local_clock()
+    for k in range(rec.n_samples):
+        outlet.push_sample([*rec.acc_mps2[k], *rec.gyr_rad_s[k]], base + rec.time_s[k])
+    live.wait_for(rec.n_samples)
+    live.settle(0.3)
+    found = pylsl.resolve_byprop("name", publish, 1, 5)
+    counters = live.stop()
+    assert counters.estimates == rec.n_samples
+    np.testing.assert_array_equal(np.array(live.rows), reference_rows(base + rec.time_s, rec.acc_mps2, rec.gyr_rad_s))
+    assert found and {i.channel_count() for i in found} == {len(IMU_COLUMNS)}
+
+
+def test_sigterm_ends_live_on_an_imu_stream_with_143_the_summary_and_a_complete_record(tmp_path):
+    """SIGTERM during an IMU run: exit 143, the summary line, one CSV row per sample received."""
+    rec = make_imu_walk(duration_s=1.0).recording
+    name = unique("imu-term")
+    outlet = pylsl.StreamOutlet(imu_info(name, LABELS, UNITS))
+    record = tmp_path / "est.csv"
+    live = subprocess.Popen(
+        [sys.executable, "-m", "yoyogait", "live", "--source", name, "--input", "imu", "--record", record,
+         "--max-buffer-s", "10"],
+        env=dict(os.environ),
+        stderr=subprocess.PIPE,
+        text=True,
+    )  # fmt: skip
+    try:
+        assert outlet.wait_for_consumers(30)
+        base = pylsl.local_clock()
+        for k in range(rec.n_samples):
+            outlet.push_sample([*rec.acc_mps2[k], *rec.gyr_rad_s[k]], base + rec.time_s[k])
+        time.sleep(1.0)
+        live.terminate()
+        assert live.wait(20) == 143
+        err = live.stderr.read()
+    finally:
+        if live.poll() is None:
+            live.kill()
+    assert f"live: {rec.n_samples} frames, {rec.n_samples} estimates" in err, err
+    rows = np.genfromtxt(record, delimiter=",", names=True)
+    assert rows.shape[0] == rec.n_samples and rows.dtype.names == IMU_COLUMNS
