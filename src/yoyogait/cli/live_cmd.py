@@ -75,7 +75,11 @@ from .options import POSITIVE, config_file_option, split_names
     show_default=True,
     help="Frames kept when falling behind [s].",
 )
-@click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
+@click.option(
+    "--list-points",
+    is_flag=True,
+    help="Print the source's points, unit and up axis (an IMU stream: its channels, units, sensor height), and exit.",
+)
 @config_file_option(
     "Settings of the online estimator: a TOML file with the estimator's fields and an [online] table "
     "(docs/configuration.md)."

@@ -23,7 +23,14 @@ from yoyogait.estimators.imu import ImuOnlineEstimator, ImuReason, estimator_for
 from yoyogait.io.imu_read import read_imu
 from yoyogait.io.imu_recording import GRAVITY_MPS2
 from yoyogait.live.imu_layout import imu_stream_info, is_imu_info, read_imu_layout
-from yoyogait.live.imu_live import IMU_COLUMNS, ImuLiveOptions, imu_row, imu_setup_from_info, run_live_source
+from yoyogait.live.imu_live import (
+    IMU_COLUMNS,
+    ImuLiveOptions,
+    UnitCheck,
+    imu_row,
+    imu_setup_from_info,
+    run_live_source,
+)
 from yoyogait.live.replay import replay_imu
 from yoyogait.synthetic_imu import make_imu_walk
 
@@ -433,3 +440,25 @@ def test_sigterm_ends_live_on_an_imu_stream_with_143_the_summary_and_a_complete_
     assert f"live: {rec.n_samples} frames, {rec.n_samples} estimates" in err, err
     rows = np.genfromtxt(record, delimiter=",", names=True)
     assert rows.shape[0] == rec.n_samples and rows.dtype.names == IMU_COLUMNS
+
+
+def test_the_online_unit_check_on_the_real_recordings(datasets_dir):
+    """On each real lower-back recording the online unit check passes with the right units, stops within its first
+    half second for g said as m/s^2, and within 10 s of the walk for deg/s said as rad/s."""
+    setup = imu_setup_from_info(imu_stream_info("real", 100.0))
+    files = sorted((datasets_dir / "imu_mobgap/example_data/data_csv").rglob("*.csv"))
+    assert len(files) == 9
+    for f in files:
+        rec = read_imu(f)
+        for acc_scale, gyr_scale, stops_by_s in ((1.0, 1.0, None), (1 / GRAVITY_MPS2, 1.0, 0.6), (1.0, 1 / DEG, 10.0)):
+            check = UnitCheck(setup)
+            stopped_at = None
+            try:
+                for t, a, g in zip(rec.time_s, rec.acc_mps2 * acc_scale, rec.gyr_rad_s * gyr_scale):
+                    check.check(t, list(a), list(g))
+            except InputError:
+                stopped_at = t - rec.time_s[0]
+            if stops_by_s is None:
+                assert stopped_at is None, f
+            else:
+                assert stopped_at is not None and stopped_at <= stops_by_s, (f, stopped_at)
