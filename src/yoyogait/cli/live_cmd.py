@@ -82,7 +82,7 @@ from .options import POSITIVE, config_file_option, split_names
 )
 @config_file_option(
     "Settings of the online estimator: a TOML file with the estimator's fields and an [online] table "
-    "(docs/configuration.md)."
+    "(an IMU stream: its [imu] table; docs/configuration.md)."
 )
 @click.option(
     "--acc-unit",
