@@ -1,9 +1,10 @@
 """End-to-end latency and CPU of ``yoyogait live``, on this machine over loopback (not a test).
 
-    python bench/live_latency.py [--duration 60] [--rates 100,250]
+    python bench/live_latency.py [--duration 60] [--rates 100,250] [--imu]
 
 For each rate: a SYNTHETIC walk of ``--duration`` seconds is replayed (yoyogait.live.replay, in
-this process) into a marker stream; ``yoyogait live --source ... --publish ...`` runs as a
+this process) into a marker stream (``--imu``: the SYNTHETIC lower-back IMU of that walk into an IMU
+stream, estimated by the IMU path); ``yoyogait live --source ... --publish ...`` runs as a
 subprocess; a subscriber (this process) receives the estimates. Latency of a frame: from just
 before the replayer's push (its LSL timestamp, which the estimate carries) to the arrival of its
 estimate at the subscriber, on one clock. CPU of live: user + system time from /proc/<pid>/stat
@@ -49,19 +50,28 @@ def proc_rss_mb(pid: int) -> float:
     return float("nan")
 
 
-def run_rate(rate_hz: float, duration_s: float) -> dict:
+def run_rate(rate_hz: float, duration_s: float, imu: bool = False) -> dict:
     import pylsl
 
     from yoyogait import synthetic
-    from yoyogait.live.replay import replay
+    from yoyogait.live.replay import replay, replay_imu
+    from yoyogait.synthetic_imu import make_imu_walk
 
-    rec = synthetic.make_walk(
-        synthetic.get_subject("synthetic-S1"), "1-straight", duration_s=duration_s, rate_hz=rate_hz
-    ).recording
+    if imu:
+        rec = make_imu_walk(duration_s=duration_s, rate_hz=rate_hz).recording
+        n_frames = rec.n_samples
+        play = replay_imu
+    else:
+        rec = synthetic.make_walk(
+            synthetic.get_subject("synthetic-S1"), "1-straight", duration_s=duration_s, rate_hz=rate_hz
+        ).recording
+        n_frames = rec.n_frames
+        play = replay
     tag = uuid.uuid4().hex[:8]
     source, estimates = f"bench-walk-{tag}", f"bench-gait-{tag}"
+    kind = ["--input", "imu"] if imu else []  # the estimate stream made before the source appears
     live = subprocess.Popen(
-        [sys.executable, "-m", "yoyogait", "live", "--source", source, "--publish", estimates, "--exit-on-end"],
+        [sys.executable, "-m", "yoyogait", "live", "--source", source, "--publish", estimates, "--exit-on-end", *kind],
         stderr=subprocess.PIPE,
         text=True,
     )
@@ -81,7 +91,7 @@ def run_rate(rate_hz: float, duration_s: float) -> dict:
                     time.perf_counter(),
                     proc_rss_mb(live.pid),
                 )
-            elif k == rec.n_frames - 1:
+            elif k == n_frames - 1:
                 marks["cpu1"], marks["wall1"], marks["rss1"] = (
                     proc_cpu_s(live.pid),
                     time.perf_counter(),
@@ -90,12 +100,12 @@ def run_rate(rate_hz: float, duration_s: float) -> dict:
             pushes.append(stamp)
 
         player = threading.Thread(
-            target=lambda: replay(rec, source, wait_for_consumer_s=30, on_push=on_push), daemon=True
+            target=lambda: play(rec, source, wait_for_consumer_s=30, on_push=on_push), daemon=True
         )
         player.start()
         arrivals, stamps = [], []
         try:
-            while len(arrivals) < rec.n_frames:
+            while len(arrivals) < n_frames:
                 sample, stamp = inlet.pull_sample(timeout=10)
                 now = pylsl.local_clock()
                 if sample is None:
@@ -113,7 +123,7 @@ def run_rate(rate_hz: float, duration_s: float) -> dict:
     wall = marks["wall1"] - marks["wall0"]
     return {
         "rate_hz": rate_hz,
-        "frames": rec.n_frames,
+        "frames": n_frames,
         "estimates": len(arrivals),
         "in_order": bool(np.all(np.diff(stamps) > 0)) and stamps == pushes[: len(stamps)],
         "median_ms": float(np.median(latency_ms)),
@@ -128,6 +138,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--duration", type=float, default=60.0, help="seconds of walk per rate")
     parser.add_argument("--rates", default="100,250", help="capture rates [Hz], comma-separated")
+    parser.add_argument("--imu", action="store_true", help="a lower-back IMU stream through the IMU path")
     args = parser.parse_args()
     # The replayer's thread and the subscriber share this interpreter: a short GIL switch interval
     # keeps the subscriber from waiting up to 5 ms for the replayer to yield (live runs alone).
@@ -136,8 +147,9 @@ def main() -> None:
         cfg = Path(tmp) / "lsl_api.cfg"
         cfg.write_text(CFG.format(session=uuid.uuid4().hex))
         os.environ["LSLAPICFG"] = str(cfg)  # before pylsl is first used, here and in the subprocess
-        rows = [run_rate(float(r), args.duration) for r in args.rates.split(",")]
-    print(f"yoyogait live, end to end over loopback, {args.duration:g} s per rate ({os.cpu_count()} cores)\n")
+        rows = [run_rate(float(r), args.duration, args.imu) for r in args.rates.split(",")]
+    what = "an IMU stream" if args.imu else "a marker stream"
+    print(f"yoyogait live on {what}, end to end over loopback, {args.duration:g} s per rate ({os.cpu_count()} cores)\n")
     print(
         "| rate | frames | estimates (in order) | latency median | p99 | max | live CPU (one core) "
         "| live RSS first/last frame |"

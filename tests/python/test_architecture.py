@@ -33,6 +33,7 @@ LATE_IMPORTS_ALLOWED = {
     "matplotlib",
     "PIL",
     "mobgap",
+    "h5py",
 }
 
 # The entry points, which import the commands (numpy, scipy, the core) under their Ctrl-C guard.

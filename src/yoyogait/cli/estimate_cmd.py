@@ -93,6 +93,7 @@ def command(
     gyr_unit,
     sensor_height_m,
     trial,
+    sensor,
 ):
     """Estimate gait over time from a motion-capture FILE (C3D, TRC, BVH, CSV).
 
@@ -110,14 +111,14 @@ def command(
     input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
     standing); --out defaults to FILE's name + .online.csv.
 
-    An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt) is estimated online by nature: one
+    An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, an APDM .h5) is estimated online by nature: one
     row per sample, every field of the IMU estimate (docs/imu.md), --out defaulting to FILE's name +
     .imu.csv; --config FILE's [imu] table configures it.
     """
     if is_imu_file(file):
         return estimate_imu(file, out=out, force=force, config_file=config_file, acc_unit=acc_unit,
                             gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m,
-                            trial=trial)  # fmt: skip
+                            trial=trial, sensor=sensor)  # fmt: skip
     if online:
         if belt_speed_mps is not None:
             raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")

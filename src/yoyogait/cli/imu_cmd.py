@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 import tempfile
@@ -14,7 +15,7 @@ import numpy as np
 from .._files import atomic_file, check_output_folder, install_folder
 from ..errors import InputError, OutputError, about_file
 from ..estimators.config import ImuConfig
-from ..estimators.imu import estimator_for
+from ..estimators.imu import ImuReason, estimator_for
 from ..evaluation import imu as ev
 from ..io.imu_read import is_imu_file, read_imu
 
@@ -22,7 +23,10 @@ __all__ = ["imu_options", "is_imu_file", "inspect_imu", "estimate_imu", "evaluat
 
 
 def imu_options(f):
-    """--acc-unit, --gyr-unit, --sensor-height-m and --trial (IMU files only)."""
+    """--acc-unit, --gyr-unit, --sensor-height-m, --trial and --sensor (IMU files only)."""
+    f = click.option("--sensor", default=None, metavar="LABEL",
+                     help="APDM .h5: the sensor, by label or id (default: the one labelled Lumbar, Lower Back, "
+                          "Sacrum, ...).")(f)  # fmt: skip
     f = click.option("--trial", default=None, metavar="TEST/TRIAL",
                      help="Mobilise-D data.mat: the trial, e.g. Test11/Trial1 (default: the first).")(f)  # fmt: skip
     f = click.option("--sensor-height-m", type=float, default=None,
@@ -34,20 +38,52 @@ def imu_options(f):
     return f
 
 
-def _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial=None):
+def _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial=None, sensor=None):
     with about_file(file):
         return read_imu(
-            file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m, trial=trial
+            file,
+            acc_unit=acc_unit,
+            gyr_unit=gyr_unit,
+            rate_hz=rate_hz,
+            sensor_height_m=sensor_height_m,
+            trial=trial,
+            sensor=sensor,
         )
 
 
+def _estimator(rec, config=None):
+    """The estimator for a recording; a sensor range the file shows clipped (a plateau at an axis's extreme)
+    becomes the saturation level, so that those samples are not used (reason SATURATED)."""
+    cfg = ImuConfig() if config is None else config
+    clipped = rec.metadata.get("clipped", {})
+    if "acc" in clipped:
+        cfg = dataclasses.replace(cfg, acc_saturation_mps2=min(cfg.acc_saturation_mps2, clipped["acc"][0]))
+    if "gyr" in clipped:
+        cfg = dataclasses.replace(cfg, gyr_saturation_rad_s=min(cfg.gyr_saturation_rad_s, clipped["gyr"][0]))
+    return estimator_for(rec, cfg)
+
+
+def _clipped_lines(rec) -> list[str]:
+    units = {"acc": ("the accelerometer", "m/s^2"), "gyr": ("the gyro", "rad/s")}
+    return [
+        f"{units[k][0]} clipped at {level:.4g} {units[k][1]} ({n} samples): its range; those samples and "
+        "the next second are not valid (SATURATED)"
+        for k, (level, n) in rec.metadata.get("clipped", {}).items()
+    ]
+
+
 def inspect_imu(
-    file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, as_json=False
+    file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, sensor=None, as_json=False
 ) -> None:
     """Print an IMU recording's rate, duration, units, gravity, and what the online estimator finds."""
-    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
-    res = estimator_for(rec).run_recording(rec)
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial, sensor)
+    res = _estimator(rec).run_recording(rec)
     valid = res["valid"].astype(bool)
+    dt = np.diff(rec.time_s)
+    nominal_s = 1.0 / rec.rate_hz if rec.rate_hz else float(np.median(dt))
+    gaps = dt[dt > 1.5 * nominal_s]
+    reasons = np.asarray(res["reason"])[~valid]
+    why = {ImuReason(int(r)).name: float(np.count_nonzero(reasons == r)) / len(res) for r in np.unique(reasons)}
     g = float(np.median(np.linalg.norm(rec.acc_mps2, axis=1)))
     report = {
         "file": str(file),
@@ -64,6 +100,10 @@ def inspect_imu(
         "median_cadence_spm": float(np.median(res.cadence_spm[valid])) if valid.any() else None,
         "median_speed_mps": float(np.median(res["speed_mps"][valid])) if valid.any() else None,
         "references": {k: len(v) for k, v in rec.references.items()},
+        "not_valid": why,
+        "gaps": int(gaps.size),
+        "longest_gap_s": float(gaps.max()) if gaps.size else 0.0,
+        "clipped": {k: {"range": level, "samples": n} for k, (level, n) in rec.metadata.get("clipped", {}).items()},
     }
     if as_json:
         click.echo(json.dumps(report, indent=1, default=float))
@@ -71,6 +111,7 @@ def inspect_imu(
     height = f"{rec.sensor_height_m:.3f} m" if rec.sensor_height_m else "not given (default 0.95 m; --sensor-height-m)"
     lines = [
         ("file", f"{file} ({report['format']})" + (" SYNTHETIC" if rec.synthetic else "")),
+        *([("sensor", f"{rec.metadata['sensor']} ({rec.metadata['sensor_id']})")] if "sensor" in rec.metadata else []),
         (
             "rate",
             f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular",
@@ -80,6 +121,15 @@ def inspect_imu(
         ("sensor height", height),
         ("valid", f"{report['valid_s']:.2f} s of valid online estimates (walking)"),
     ]
+    if not valid.any():
+        lines.append(("walking", "none found: the estimate never became valid (a sensor at rest, a walk too short)"))
+    if why:
+        shown = ", ".join(f"{k} {100 * v:.0f} %" for k, v in sorted(why.items(), key=lambda kv: -kv[1]))
+        lines.append(("not valid", f"{shown} of the samples"))
+    if gaps.size:
+        lines.append(("gaps", f"{gaps.size} (longest {gaps.max():.2f} s): the front-end restarts after each (GAP)"))
+    for line in _clipped_lines(rec):
+        lines.append(("saturated", line))
     if report["median_cadence_spm"] is not None:
         lines.append(("cadence", f"{report['median_cadence_spm']:.1f} steps/min (median while valid)"))
         lines.append(("speed", f"{report['median_speed_mps']:.2f} m/s (median while valid, inverted pendulum)"))
@@ -91,14 +141,14 @@ def inspect_imu(
 
 
 def estimate_imu(file, *, out=None, force=False, config_file=None, acc_unit=None, gyr_unit=None, rate_hz=None,
-                 sensor_height_m=None, trial=None) -> None:  # fmt: skip
+                 sensor_height_m=None, trial=None, sensor=None) -> None:  # fmt: skip
     """The online IMU estimate of FILE as CSV, one row per sample (every field of ImuEstimate)."""
     config = ImuConfig.from_file(config_file) if config_file is not None else None
     target = Path(out or f"{Path(file).name}.imu.csv")
     if target.exists() and not force:
         raise OutputError(f"--out {target}: exists; use --force to overwrite it")
-    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial)
-    res = estimator_for(rec, config).run_recording(rec)
+    rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial, sensor)
+    res = _estimator(rec, config).run_recording(rec)
     names = res.column_names()
 
     def write(p):
@@ -114,6 +164,8 @@ def estimate_imu(file, *, out=None, force=False, config_file=None, acc_unit=None
     atomic_file(target, write)
     valid = res["valid"].astype(bool)
     click.echo(f"wrote {target}: {len(res)} samples, {valid.mean() * 100:.0f} % valid")
+    for line in _clipped_lines(rec):
+        click.echo(f"{file}: {line}", err=True)
 
 
 def _cell(v) -> str:

@@ -169,14 +169,14 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
 @imu_options
 def command(
     file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json,
-    acc_unit, gyr_unit, sensor_height_m, trial,
+    acc_unit, gyr_unit, sensor_height_m, trial, sensor,
 ) -> None:  # fmt: skip
     """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
     mean speed, dominant step frequency and the DFT check of the Yoyo-model. An IMU file (Mobilise-D
-    data.mat, an IMU CSV, an Xsens .txt): its rate, units, gravity and the online IMU estimate."""
+    data.mat, an IMU CSV, an Xsens .txt, an APDM .h5): its rate, units, gravity and the online IMU estimate."""
     if is_imu_file(file):
         return inspect_imu(file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz,
-                           sensor_height_m=sensor_height_m, trial=trial, as_json=as_json)  # fmt: skip
+                           sensor_height_m=sensor_height_m, trial=trial, sensor=sensor, as_json=as_json)  # fmt: skip
     report = inspect_file(
         file,
         point=point,

@@ -1,4 +1,4 @@
-"""``yoyogait live --source NAME``: gait estimated live from an LSL marker stream."""
+"""``yoyogait live --source NAME``: gait estimated live from an LSL marker stream or a lower-back IMU stream."""
 
 from __future__ import annotations
 
@@ -10,16 +10,27 @@ from pathlib import Path
 import click
 
 from .._guard import Interrupted
-from ..estimators.config import OnlineConfig
+from ..errors import InputError
+from ..estimators.config import ImuConfig, OnlineConfig
 from ..estimators.online import ONLINE_CSV_COLUMNS, csv_formats
-from ..live.live import describe_source, run_live
+from ..live.imu_live import IMU_COLUMNS, INPUT_KINDS, ImuLiveOptions, ImuLiveSetup, run_live_source
+from ..live.live import describe_source
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
 from .options import POSITIVE, config_file_option, split_names
 
 
 @click.command("live")
-@click.option("--source", required=True, metavar="NAME", help="Name of the LSL marker stream to estimate from.")
+@click.option("--source", required=True, metavar="NAME", help="Name of the LSL marker or IMU stream to estimate from.")
+@click.option(
+    "--input",
+    "input_kind",
+    type=click.Choice(INPUT_KINDS),
+    default="auto",
+    show_default=True,
+    help="What the source is: markers, a lower-back IMU, or auto (an IMU by the stream's type IMU or its "
+    "acc/gyr channel labels).",
+)
 @click.option(
     "--publish", default=None, metavar="NAME", help="Name of the LSL estimate stream to publish (docs/live.md)."
 )
@@ -64,10 +75,33 @@ from .options import POSITIVE, config_file_option, split_names
     show_default=True,
     help="Frames kept when falling behind [s].",
 )
-@click.option("--list-points", is_flag=True, help="Print the source's points, unit and up axis, and exit.")
+@click.option(
+    "--list-points",
+    is_flag=True,
+    help="Print the source's points, unit and up axis (an IMU stream: its channels, units, sensor height), and exit.",
+)
 @config_file_option(
     "Settings of the online estimator: a TOML file with the estimator's fields and an [online] table "
-    "(docs/configuration.md)."
+    "(an IMU stream: its [imu] table; docs/configuration.md)."
+)
+@click.option(
+    "--acc-unit",
+    type=click.Choice(["mps2", "g"]),
+    default=None,
+    help="IMU stream: unit of the acceleration channels (default: the channels' unit).",
+)
+@click.option(
+    "--gyr-unit",
+    type=click.Choice(["rad_s", "deg_s"]),
+    default=None,
+    help="IMU stream: unit of the angular-rate channels (default: the channels' unit).",
+)
+@click.option(
+    "--sensor-height-m",
+    type=POSITIVE,
+    metavar="METRES",
+    default=None,
+    help="IMU stream: the sensor's height standing (default: the stream's setup/sensor_height_m, else [imu]).",
 )
 @click.option(
     "--ros2-topic",
@@ -76,11 +110,15 @@ from .options import POSITIVE, config_file_option, split_names
     help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).",
 )
 def command(
-    source, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout, max_buffer_s,
-    list_points, config_file, ros2_topic,
+    source, input_kind, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout,
+    max_buffer_s, list_points, config_file, acc_unit, gyr_unit, sensor_height_m, ros2_topic,
 ):  # fmt: skip
-    """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates."""
-    config = OnlineConfig.from_file(config_file) if config_file is not None else None
+    """Estimate gait live from the LSL stream SOURCE (markers, or a lower-back IMU): publish, record and show
+    the estimates."""
+    config = OnlineConfig.from_file(config_file) if config_file is not None and input_kind != "imu" else None
+    imu_config = ImuConfig.from_file(config_file) if config_file is not None and input_kind != "markers" else None
+    if input_kind == "imu" and ros2_topic:
+        raise InputError("--ros2-topic: publishes the marker path's estimates; not available with an IMU stream")
     if list_points:
         for line in describe_source(source, timeout):
             click.echo(line)
@@ -105,37 +143,59 @@ def command(
             outputs.append(f"ROS 2 topic {ros2_topic!r}")
         if record:
             outputs.append(f"recording {record}")
+        if isinstance(s, ImuLiveSetup):
+            if status is not None:
+                status.columns = IMU_COLUMNS
+            what = (
+                f"an IMU (acc in {s.layout.acc_unit}, gyr in {s.layout.gyr_unit}, "
+                f"sensor height {s.sensor_height_m:g} m)"
+            )
+        else:
+            what = f"following {s.choice.label}, up {s.up_axis}"
         click.echo(
-            f"live: {s.source!r} at {s.nominal_rate_hz:g} Hz, following {s.choice.label}, up {s.up_axis}; "
+            f"live: {s.source!r} at {s.nominal_rate_hz:g} Hz, {what}; "
             + (", ".join(outputs) if outputs else "no output but the status line (see --publish, --record)"),
             err=True,
         )
+
+    def imu_found():
+        if ros2_topic:
+            raise InputError(
+                f"stream {source!r} is an IMU stream: --ros2-topic publishes the marker path's estimates only"
+            )
 
     try:
         if ros2_topic:
             sink = Ros2Publisher(ros2_topic)
         if status is not None:  # on a terminal, so that the wait is not mistaken for a hang
             click.echo(f"live: looking for the LSL stream {source!r} (up to {timeout:g} s)", err=True)
-        counters = run_live(
+        counters = run_live_source(
             source,
+            input_kind=input_kind,
+            markers=dict(
+                point=point,
+                up_axis=up_axis,
+                length_unit_m=length_unit_m,
+                record_columns=ONLINE_CSV_COLUMNS,
+                record_formats=csv_formats(ONLINE_CSV_COLUMNS),
+                config=config,
+                on_estimate=sink.publish if sink is not None else None,
+            ),
+            imu=ImuLiveOptions(
+                acc_unit=acc_unit, gyr_unit=gyr_unit, sensor_height_m=sensor_height_m, config=imu_config
+            ),
+            on_imu=imu_found,
             publish=publish,
-            point=point,
-            up_axis=up_axis,
-            length_unit_m=length_unit_m,
             resolve_timeout_s=timeout,
             duration_s=duration,
             exit_on_end=exit_on_end,
             record=Path(record) if record else None,
-            record_columns=ONLINE_CSV_COLUMNS,
-            record_formats=csv_formats(ONLINE_CSV_COLUMNS),
             force=force,
             max_buffer_s=max_buffer_s,
             on_setup=setup,
-            on_estimate=sink.publish if sink is not None else None,
             on_status=status.show if status is not None else None,
             on_note=lambda line: click.echo(line, err=True),
             stop=stop,
-            config=config,
         )
     finally:
         if status is not None:

@@ -1,17 +1,21 @@
-"""``yoyogait replay FILE --name NAME``: a recording played into an LSL marker stream."""
+"""``yoyogait replay FILE --name NAME``: a recording played into an LSL marker stream (an IMU file into an IMU
+stream)."""
 
 from __future__ import annotations
 
 import click
 
 from .. import io
-from ..live.replay import replay
+from ..errors import about_file
+from ..io.imu_read import is_imu_file, read_imu
+from ..live.replay import replay, replay_imu
+from .imu_cmd import imu_options
 from .options import POSITIVE, read_overrides
 
 
 @click.command("replay")
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--name", required=True, metavar="NAME", help="Name of the LSL marker stream (type Mocap).")
+@click.option("--name", required=True, metavar="NAME", help="Name of the LSL stream (type Mocap; IMU for an IMU file).")
 @click.option(
     "--speed", type=POSITIVE, metavar="X", default=1.0, show_default=True, help="Playback speed (2: twice as fast)."
 )
@@ -43,13 +47,36 @@ from .options import POSITIVE, read_overrides
     default=None,
     help="Wait up to this many seconds for a consumer before the first frame (error when none comes).",
 )
-def command(file, name, speed, loop, up_axis, length_unit_m, rate_hz, wait_s):
+@imu_options
+def command(
+    file, name, speed, loop, up_axis, length_unit_m, rate_hz, wait_s, acc_unit, gyr_unit, sensor_height_m, trial, sensor
+):
     """Play a motion-capture FILE (C3D, TRC, BVH, CSV) into an LSL marker stream NAME.
 
     Channels <point>_x/_y/_z in metres (NaN where missing) and time_s (the file's time), at the
     file's rate times --speed; up axis, unit and point names in the stream's description
-    (docs/live.md).
+    (docs/live.md). An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, an APDM .h5) is
+    played into an IMU stream: acc_x/_y/_z in m/s^2, gyr_x/_y/_z in rad/s and time_s, the sensor
+    height in its description.
     """
+    if is_imu_file(file):
+        with about_file(file):
+            imu = read_imu(
+                file,
+                acc_unit=acc_unit,
+                gyr_unit=gyr_unit,
+                rate_hz=rate_hz,
+                sensor_height_m=sensor_height_m,
+                trial=trial,
+                sensor=sensor,
+            )
+
+        def imu_ready():
+            click.echo(f"replaying {imu.source}: IMU, {imu.n_samples} samples as {name!r}", err=True)
+
+        stats = replay_imu(imu, name, speed=speed, loop=loop, wait_for_consumer_s=wait_s, on_ready=imu_ready)
+        click.echo(f"pushed {stats.frames} samples in {stats.wall_s:.1f} s", err=True)
+        return
     rec = io.read(file, **read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz))
 
     def ready():

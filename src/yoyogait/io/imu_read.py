@@ -6,6 +6,7 @@
 ``.csv`` (yoyogait)    ``time_s,acc_x_mps2..,gyr_x_rad_s..``: units in the header   :func:`read_imu_csv`
 ``.csv`` (generic)     ``acc_x..``, ``gyr_x..`` with ``acc_unit``/``gyr_unit``        :func:`read_imu_csv`
 ``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z``         :func:`read_xsens_txt`
+``.h5`` (APDM/Opal)    ``/Sensors/<id>/Accelerometer`` (v5), ``/<case>/Calibrated``   :func:`read_apdm_h5`
 =====================  ==========================================================  ========================
 
 Every reader checks the units against physics (:func:`check_imu_plausible`): the accelerometer
@@ -29,13 +30,16 @@ __all__ = [
     "ACC_UNITS",
     "GYR_UNITS",
     "check_imu_plausible",
+    "clipped_ranges",
     "is_imu_file",
     "is_imu_header",
     "read_imu",
     "read_imu_csv",
     "read_mobilised_mat",
+    "read_apdm_h5",
     "read_mobilised_trials",
     "read_xsens_txt",
+    "LOWER_BACK_LABELS",
 ]
 
 #: Accelerometer units: name -> m/s^2 per unit.
@@ -82,10 +86,11 @@ def _first_data_header(path: Path) -> list[str] | None:
 
 
 def is_imu_file(path) -> bool:
-    """True for a file the IMU readers read: a Mobilise-D data.mat, an IMU CSV, an Xsens .txt export."""
+    """True for a file the IMU readers read: a Mobilise-D data.mat, an IMU CSV, an Xsens .txt export,
+    an APDM .h5."""
     p = Path(path)
     ext = p.suffix.lower()
-    if ext == ".mat":
+    if ext in (".mat", ".h5"):
         return True
     if ext in (".csv", ".txt"):
         header = _first_data_header(p)
@@ -93,8 +98,11 @@ def is_imu_file(path) -> bool:
     return False
 
 
-def read_imu(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None) -> ImuRecording:
-    """Read an IMU file (see the module's table); the options override what the file says or lacks."""
+def read_imu(
+    path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, sensor=None
+) -> ImuRecording:
+    """Read an IMU file (see the module's table); the options override what the file says or lacks
+    (``sensor``: the sensor of a multi-sensor APDM file, by label or id)."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: no such file")
@@ -105,13 +113,20 @@ def read_imu(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_
         rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".csv":
         rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+    elif ext == ".h5":
+        rec = read_apdm_h5(p, sensor=sensor, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     else:
-        raise InputError(f"{p}: not an IMU file yoyogait reads (.mat, .csv, .txt)")
+        raise InputError(f"{p}: not an IMU file yoyogait reads (.mat, .csv, .txt, .h5)")
+    if sensor is not None and ext != ".h5":
+        raise InputError(f"{p}: sensor= (--sensor) chooses among the sensors of an APDM .h5 file only")
     if sensor_height_m is not None:
         if not (np.isfinite(sensor_height_m) and 0.1 < sensor_height_m <= 3.0):
             raise InputError(f"sensor_height_m must be in (0.1, 3] m, not {sensor_height_m!r}")
         rec.sensor_height_m = float(sensor_height_m)
     check_imu_plausible(rec)
+    clipped = clipped_ranges(rec)
+    if clipped:
+        rec.metadata["clipped"] = clipped
     return rec
 
 
@@ -381,6 +396,171 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
     return rec
 
 
+# ------------------------------------------------------------------------------------------- APDM
+
+#: Monitor labels of a lower-back sensor (lower case, spaces and underscores removed), tried in order.
+LOWER_BACK_LABELS = ("lumbar", "lowerback", "sacrum", "sacral", "pelvis", "l5", "l4l5", "waist", "lowback")
+
+_APDM_ACC_UNITS = {"m/s^2": 1.0, "m/s2": 1.0, "m/s/s": 1.0, "g": GRAVITY_MPS2}
+_APDM_GYR_UNITS = {"rad/s": 1.0, "rad/sec": 1.0, "deg/s": np.pi / 180.0, "deg/sec": np.pi / 180.0}
+
+
+def _text(value) -> str:
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", errors="replace")
+    elif isinstance(value, np.ndarray):
+        value = value.reshape(-1)[0] if value.size else ""
+        return _text(value)
+    return str(value).strip().strip("\x00").strip()
+
+
+def _label_key(label: str) -> str:
+    return re.sub(r"[\s_\-]+", "", label.lower())
+
+
+def _apdm_sensors(f, p: Path) -> tuple[int, dict[str, dict]]:
+    """(format version, {sensor id: {label, acc, gyr, time, rate, acc_unit, gyr_unit}}) of an open APDM file:
+    format 5 (``/Sensors/<id>``) or 3/4 (``/<case id>/Calibrated``, the root's ``CaseIdList``, ``MonitorLabelList``)."""
+    import h5py  # the apdm extra
+
+    version_attr = f.attrs.get("FileFormatVersion", f.attrs.get("File_Format_Version"))
+    try:
+        version = int(float(_text(version_attr))) if version_attr is not None else 0
+    except ValueError:
+        version = 0
+    sensors: dict[str, dict] = {}
+    if "Sensors" in f and isinstance(f["Sensors"], h5py.Group):
+        for sid, g in f["Sensors"].items():
+            if not isinstance(g, h5py.Group) or "Accelerometer" not in g:
+                continue
+            conf = g["Configuration"].attrs if "Configuration" in g else {}
+            sensors[str(sid)] = {
+                "label": _text(conf.get("Label 0", "")),
+                "acc": g["Accelerometer"],
+                "gyr": g.get("Gyroscope"),
+                "time": g.get("Time"),
+                "rate": conf.get("Sample Rate"),
+            }
+        return version or 5, sensors
+    listed = f.attrs.get("CaseIdList", f["CaseIdList"][()] if "CaseIdList" in f else None)
+    if listed is not None:
+        # Formats 3 and 4 list the cases and their labels as attributes of the root (older writers: datasets).
+        ids = [_text(v) for v in np.asarray(listed).reshape(-1)]
+        said = f.attrs.get("MonitorLabelList", f["MonitorLabelList"][()] if "MonitorLabelList" in f else [])
+        labels = [_text(v) for v in np.asarray(said).reshape(-1)]
+        for i, case in enumerate(ids):
+            if case not in f or "Calibrated" not in f[case] or "Accelerometers" not in f[case]["Calibrated"]:
+                continue
+            g, cal = f[case], f[case]["Calibrated"]
+            sensors[case] = {
+                "label": labels[i] if i < len(labels) else "",
+                "acc": cal["Accelerometers"],
+                "gyr": cal.get("Gyroscopes"),
+                "time": g.get("Time"),
+                "rate": g.attrs.get("SampleRate"),
+            }
+        return version or 4, sensors
+    raise InputError(f"{p}: no /Sensors group (APDM format 5) nor /CaseIdList (formats 3, 4): not an APDM .h5 file")
+
+
+def _choose_sensor(sensors: dict[str, dict], sensor, p: Path) -> str:
+    present = ", ".join(f"{s['label'] or '(no label)'} ({sid})" for sid, s in sensors.items())
+    if not sensors:
+        raise InputError(f"{p}: no sensor with an accelerometer in the file")
+    if sensor is not None:
+        want = _label_key(str(sensor))
+        for sid, s in sensors.items():
+            if want in (_label_key(sid), _label_key(s["label"])):
+                return sid
+        raise InputError(f"{p}: no sensor {sensor!r} (sensor=, --sensor); the file has {present}")
+    for name in LOWER_BACK_LABELS:
+        for sid, s in sensors.items():
+            if _label_key(s["label"]) == name:
+                return sid
+    if len(sensors) == 1:
+        return next(iter(sensors))
+    raise InputError(
+        f"{p}: no lower-back sensor by label (Lumbar, Lower Back, Sacrum, ...); choose one with sensor= (--sensor): "
+        f"the file has {present}"
+    )
+
+
+def _vectors(ds, what: str, n: int | None, p: Path) -> np.ndarray:
+    a = np.asarray(ds[()], dtype=float)
+    if a.ndim == 2 and a.shape[1] != 3 and a.shape[0] == 3:
+        a = a.T  # stored 3 x N
+    if a.ndim != 2 or a.shape[1] != 3 or (n is not None and a.shape[0] != n):
+        raise InputError(f"{p}: {what} is {'x'.join(map(str, a.shape))}, expected N x 3 (N samples, x y z)")
+    return a
+
+
+def _apdm_unit(ds, table: dict, override, option: str, default: float, p: Path) -> float:
+    if override is not None:
+        units = ACC_UNITS if option == "acc_unit" else GYR_UNITS
+        return _unit(override, units, option, p)
+    said = _text(ds.attrs.get("Units", ds.attrs.get("Unit", ""))) if ds is not None else ""
+    if not said:
+        return default
+    key = said.lower().replace(" ", "").replace("\u00b2", "^2")
+    if key not in table:
+        flag = "--" + option.replace("_", "-")
+        raise InputError(f"{p}: unit {said!r} of {ds.name} not understood; pass {option} ({flag})")
+    return table[key]
+
+
+def read_apdm_h5(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+    """An APDM (Opal, Mobility Lab, Motion Studio) HDF5 file: format 5 (``/Sensors/<id>/Accelerometer``,
+    ``Gyroscope``, ``Time`` in microseconds, ``/Sensors/<id>/Configuration`` attributes ``Label 0`` and
+    ``Sample Rate``) or formats 3 and 4 (``/<case id>/Calibrated/Accelerometers``, ``Gyroscopes``,
+    ``/<case id>/Time``, the root's attributes ``CaseIdList`` and ``MonitorLabelList``, the case's
+    ``SampleRate``). The sensor: the
+    one labelled as the lower back (:data:`LOWER_BACK_LABELS`), the only one, or ``sensor`` (label or id).
+    Units: the datasets' ``Units`` attribute, else APDM's m/s^2 and rad/s."""
+    try:
+        import h5py  # the apdm extra
+    except ImportError:
+        raise InputError(f"{path}: reading APDM .h5 files needs h5py: pip install 'yoyogait[apdm]'") from None
+    p = Path(path)
+    try:
+        f = h5py.File(p, "r")
+    except OSError as exc:
+        raise InputError(f"{p}: not an HDF5 file ({str(exc).splitlines()[0]})") from None
+    with f:
+        version, sensors = _apdm_sensors(f, p)
+        sid = _choose_sensor(sensors, sensor, p)
+        s = sensors[sid]
+        name = s["label"] or sid
+        if s["gyr"] is None:
+            raise InputError(f"{p}: sensor {name!r} has no gyroscope data (Gyroscope / Calibrated/Gyroscopes)")
+        acc = _vectors(s["acc"], f"sensor {name!r}: its accelerometer", None, p)
+        gyr = _vectors(s["gyr"], f"sensor {name!r}: its gyroscope", acc.shape[0], p)
+        acc = acc * _apdm_unit(s["acc"], _APDM_ACC_UNITS, acc_unit, "acc_unit", 1.0, p)
+        gyr = gyr * _apdm_unit(s["gyr"], _APDM_GYR_UNITS, gyr_unit, "gyr_unit", 1.0, p)
+        try:
+            rate = float(rate_hz) if rate_hz else (float(_text(s["rate"])) if s["rate"] is not None else None)
+        except ValueError:
+            rate = None
+        if s["time"] is not None:
+            stamps = np.asarray(s["time"][()], dtype=np.float64).reshape(-1)
+            if stamps.shape[0] != acc.shape[0]:
+                raise InputError(f"{p}: sensor {name!r}: {stamps.shape[0]} times for {acc.shape[0]} samples")
+            time_s = (stamps - stamps[0]) * 1e-6  # microseconds since 1970
+        elif rate:
+            time_s = np.arange(acc.shape[0]) / rate
+        else:
+            raise InputError(f"{p}: sensor {name!r} has neither Time nor a sample rate; pass rate_hz (--rate-hz)")
+    rec = ImuRecording(
+        time_s=time_s,
+        acc_mps2=acc,
+        gyr_rad_s=gyr,
+        rate_hz=rate,
+        source=str(p),
+        metadata={"layout": f"apdm v{version}", "sensor": name, "sensor_id": sid},
+    )
+    _check_samples(rec)
+    return rec
+
+
 # ------------------------------------------------------------------------------------ plausibility
 
 
@@ -393,6 +573,32 @@ def _check_samples(rec: ImuRecording) -> None:
         raise InputError(f"{where}: timestamps do not increase")
     if rec.rate_hz is not None and not (np.isfinite(rec.rate_hz) and 1.0 <= rec.rate_hz <= 10000.0):
         raise InputError(f"{where}: sample rate {rec.rate_hz!r} Hz is not plausible; pass rate_hz")
+
+
+#: A plateau at an axis's extreme: at least this share of the samples (and CLIP_MIN_SAMPLES) sit exactly at it.
+CLIP_SHARE = 0.005
+CLIP_MIN_SAMPLES = 5
+#: ... and the extreme is beyond what a sensor at rest reads (a coarse quantisation repeats values there).
+CLIP_MIN_ACC_MPS2 = 1.05 * GRAVITY_MPS2
+CLIP_MIN_GYR_RAD_S = 2.0
+
+
+def clipped_ranges(rec: ImuRecording) -> dict[str, tuple[float, int]]:
+    """Where a sensor's range clipped the signal: {"acc" or "gyr": (the range, in m/s^2 or rad/s; the samples at
+    it)} for the sensors one of whose axes has a plateau at its extreme |value|."""
+    out: dict[str, tuple[float, int]] = {}
+    for kind, values, floor in (("acc", rec.acc_mps2, CLIP_MIN_ACC_MPS2), ("gyr", rec.gyr_rad_s, CLIP_MIN_GYR_RAD_S)):
+        magnitude = np.abs(values)
+        for axis in range(3):
+            column = magnitude[:, axis][np.isfinite(magnitude[:, axis])]
+            if column.size == 0:
+                continue
+            top = float(column.max())
+            at = int(np.count_nonzero(column >= top))
+            if top >= floor and at >= max(CLIP_MIN_SAMPLES, CLIP_SHARE * column.size):
+                level, count = out.get(kind, (np.inf, 0))
+                out[kind] = (min(level, top), count + at)
+    return out
 
 
 def check_imu_plausible(rec: ImuRecording) -> None:

@@ -48,6 +48,7 @@ from ..estimators.online import ONLINE_ESTIMATE_FIELDS, OnlineConfig, OnlineEsti
 from ..io.recording import Recording
 from ..pipeline import points
 from ._lsl import pylsl
+from .imu_layout import describe_imu, is_imu_info
 from .layout import MarkerLayout, read_layout
 
 ESTIMATE_STREAM_TYPE = "GaitEstimate"
@@ -108,6 +109,10 @@ class LiveSetup:
 
 class _Stopped(Exception):
     """``stop`` was set while waiting."""
+
+
+class ImuSourceFound(Exception):
+    """The source is an IMU stream, not markers (run_live with ``detect_imu``): run the IMU path instead."""
 
 
 def resolve_all(name: str, timeout_s: float, stop: threading.Event | None = None, twins_s: float = 0.5) -> list[Any]:
@@ -237,6 +242,8 @@ def describe_source(name: str, timeout_s: float) -> list[str]:
     """What ``live`` would make of the marker stream ``name``: its layout, unit, up axis and pelvis."""
     lsl = pylsl()
     info = lsl.StreamInlet(resolve_source(name, timeout_s)).info(timeout_s)
+    if is_imu_info(info):
+        return describe_imu(info)
     layout = read_layout(info)
     rate = info.nominal_srate()
     lines = [
@@ -294,12 +301,13 @@ class CsvRecord:
         columns: Sequence[str] = ESTIMATE_COLUMNS,
         formats: Sequence[str] | None = None,
         force: bool = False,
+        channels: Sequence[str] = ESTIMATE_COLUMNS,
     ):
         self.path = Path(path)
-        unknown = [c for c in columns if c not in ESTIMATE_COLUMNS]
+        unknown = [c for c in columns if c not in channels]
         if unknown:
-            raise InputError(f"no estimate channel {', '.join(unknown)}; channels: {', '.join(ESTIMATE_COLUMNS)}")
-        self._index = [ESTIMATE_COLUMNS.index(c) for c in columns]
+            raise InputError(f"no estimate channel {', '.join(unknown)}; channels: {', '.join(channels)}")
+        self._index = [list(channels).index(c) for c in columns]
         self._formats = list(formats) if formats is not None else ["%r"] * len(columns)
         check_output_file(self.path, "--record", force)
         self._absent = not os.path.lexists(self.path)
@@ -355,6 +363,7 @@ def run_live(
     status_interval_s: float = 0.5,
     stop: threading.Event | None = None,
     config: OnlineConfig | None = None,
+    detect_imu: bool = False,
 ) -> LiveCounters:
     """Estimate gait live from the marker stream ``source`` until ``duration_s``, its end (with
     ``exit_on_end``) or ``stop``. Returns the counters.
@@ -377,12 +386,16 @@ def run_live(
     recorder = CsvRecord(record, record_columns, record_formats, force) if record is not None else None
     counters = LiveCounters()
     started = time.monotonic()
+    make_setup = functools.partial(
+        _marker_setup, point=point, up_axis=up_axis, length_unit_m=length_unit_m, detect_imu=detect_imu
+    )
     try:
         outlet = lsl.StreamOutlet(estimate_stream_info(publish), 1, 10) if publish else None
         try:
             inlet, setup = _connect(
-                source, resolve_timeout_s, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note
-            )
+                source, resolve_timeout_s, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note,
+                make_setup=make_setup,
+            )  # fmt: skip
         except _Stopped:
             inlet = None
         if inlet is not None:
@@ -390,8 +403,9 @@ def run_live(
             if on_setup is not None:
                 on_setup(setup)
             reconnect = functools.partial(
-                _connect, source, None, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note
-            )
+                _connect, source, None, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note,
+                make_setup=make_setup,
+            )  # fmt: skip
             _loop(
                 inlet, outlet, recorder, setup, functools.partial(OnlineEstimator, config=config), counters,
                 started, duration_s, reacquire_after_s, stop, None if exit_on_end else reconnect,
@@ -413,6 +427,21 @@ def run_live(
     return counters
 
 
+def _marker_setup(
+    info: Any,
+    *,
+    point: str | Sequence[str] | None,
+    up_axis: str | None,
+    length_unit_m: float | None,
+    detect_imu: bool,
+) -> LiveSetup:
+    if is_imu_info(info):
+        if detect_imu:
+            raise ImuSourceFound(info.name())
+        raise InputError(f"stream {info.name()!r}: an IMU stream (type {info.type()!r}), not markers; pass --input imu")
+    return setup_from_info(info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
+
+
 def _connect(
     source: str,
     timeout_s: float | None,
@@ -425,9 +454,11 @@ def _connect(
     note: Callable[[str], None],
     exclude: frozenset[str] = frozenset(),
     deadline: float | None = None,
-) -> tuple[Any, LiveSetup]:
-    """An open inlet on the newest usable stream called ``source`` and its setup. ``timeout_s`` None: wait
-    (until ``deadline``, a monotonic time, if given) for a stream whose uid is not in ``exclude``."""
+    make_setup: Callable[[Any], Any] | None = None,
+) -> tuple[Any, Any]:
+    """An open inlet on the newest usable stream called ``source`` and its setup (``make_setup(info)``, by
+    default the marker stream's). ``timeout_s`` None: wait (until ``deadline``, a monotonic time, if given)
+    for a stream whose uid is not in ``exclude``."""
     lsl = pylsl()
     while True:
         wait_s = (
@@ -467,7 +498,11 @@ def _connect(
                 raise InputError(_unreadable(source, info)) from None
             what = f"stream {source!r}"
             full_info = _sliced(inlet.info, timeout_s if timeout_s is not None else 10.0, stop, what)
-            setup = setup_from_info(full_info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
+            setup: Any = (
+                make_setup(full_info)
+                if make_setup is not None
+                else setup_from_info(full_info, point=point, up_axis=up_axis, length_unit_m=length_unit_m)
+            )
             _sliced(inlet.open_stream, timeout_s if timeout_s is not None else 10.0, stop, what)
         except InputError as exc:
             if first_error is None:
@@ -486,7 +521,7 @@ def _connect(
         note(f"live: {first_error}; waiting for another stream named {source!r}")
         return _connect(
             source, None, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note,
-            exclude | {i.uid() for i in infos}, deadline,
+            exclude | {i.uid() for i in infos}, deadline, make_setup,
         )  # fmt: skip
     raise first_error
 

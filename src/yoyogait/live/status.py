@@ -3,22 +3,21 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from typing import TextIO
 
 import numpy as np
 
 from .live import ESTIMATE_COLUMNS, LiveCounters
 
-_F = ESTIMATE_COLUMNS.index("step_frequency_hz")
-_V = ESTIMATE_COLUMNS.index("speed_mps")
-_W = ESTIMATE_COLUMNS.index("walking")
-
 
 class StatusLine:
-    """Rewrites one line of ``stream`` (a terminal) in place."""
+    """Rewrites one line of ``stream`` (a terminal) in place. ``columns``: the estimate rows' channel names
+    (the marker path's by default; the IMU path's are set once its stream is found)."""
 
-    def __init__(self, stream: TextIO):
+    def __init__(self, stream: TextIO, columns: Sequence[str] = ESTIMATE_COLUMNS):
         self.stream = stream
+        self.columns = tuple(columns)
         self._last_time = time.monotonic()
         self._last_frames = 0
         self._width = 0
@@ -29,9 +28,14 @@ class StatusLine:
         self._last_time, self._last_frames = now, counters.frames
         latency = counters.latency_s
         latency_ms = f"{1e3 * float(np.median(latency)):.2f} ms" if latency else "-"
+        at = self.columns.index
+        valid = ""
+        if "reason" in self.columns:  # the IMU path: its validity and reason (ImuReason) shown
+            valid = "valid | " if row[at("valid")] else f"not valid ({int(row[at('reason')])}) | "
         text = (
-            f"{rate:6.1f} frames/s | step {row[_F]:4.2f} Hz | speed {row[_V]:4.2f} m/s | "
-            f"{'walking ' if row[_W] else 'standing'} | latency {latency_ms} | "
+            f"{rate:6.1f} frames/s | step {row[at('step_frequency_hz')]:4.2f} Hz | "
+            f"speed {row[at('speed_mps')]:4.2f} m/s | "
+            f"{'walking ' if row[at('walking')] else 'standing'} | {valid}latency {latency_ms} | "
             f"dropped {counters.dropped_not_increasing} missing {counters.missing_frames}"
         )
         self.stream.write("\r" + text.ljust(self._width))

@@ -1,0 +1,424 @@
+"""An LSL stream of a lower-back IMU through the online IMU estimator, into an estimate stream, a CSV and a
+status line (docs/live.md, "An IMU stream").
+
+:func:`run_live_imu` resolves the stream by name, reads its layout (:mod:`.imu_layout`: the acc and gyro
+channels by label, their units), and feeds every sample to :class:`yoyogait.ImuOnlineEstimator`. Each
+estimate is published as one sample of the IMU estimate stream (its channels: the fields of the IMU
+record table, ``t_s`` as ``time_s``), stamped with its input sample's LSL timestamp.
+
+The unruly-source handling is the marker path's (:mod:`.live`, :class:`~yoyogait.estimators.frame_gate.FrameGate`):
+late or repeated stamps dropped and counted, samples missing by the nominal rate counted, a bounded
+inlet buffer, a source that stops and comes back resolved again with its layout read again, twins, and
+``stop`` within 0.1 s in every state. On top, the units are checked against physics as the files' are:
+over the first half second the median norm of the acceleration must be about 9.81 m/s^2 (a stream in g
+said to be in m/s^2 reads 1), and the angular rate must stay below what a walk produces (15 rad/s; a
+stream in deg/s said to be in rad/s exceeds it as soon as the person walks): else the run ends with one
+line naming the stream and the option that fixes it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import operator
+import threading
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..estimators.config import ImuConfig
+from ..estimators.frame_gate import DROP, RESTART, FrameGate
+from ..estimators.imu import IMU_ESTIMATE_FIELDS, ImuOnlineEstimator
+from ..io.imu_recording import GRAVITY_MPS2
+from ._lsl import pylsl
+from .imu_layout import IMU_TYPES, ImuLayout, read_imu_layout
+from .live import (
+    _INTEGER_FORMATS,
+    MAX_BUFFER_S,
+    CsvRecord,
+    ImuSourceFound,
+    LiveCounters,
+    _connect,
+    _format_name,
+    _Stopped,
+    check_rate,
+    resolve_all,
+    run_live,
+)
+
+IMU_ESTIMATE_STREAM_TYPE = "GaitEstimate"
+
+#: The IMU estimate stream's channels, in order: (name, attribute of the native ImuEstimate), one per field
+#: of the C++ table of ImuEstimate (its ``t_s`` is the ``time_s`` channel).
+IMU_CHANNELS: tuple[tuple[str, str], ...] = tuple(("time_s" if n == "t_s" else n, n) for n, _, _ in IMU_ESTIMATE_FIELDS)
+IMU_COLUMNS = tuple(name for name, _ in IMU_CHANNELS)
+_ATTRIBUTES = tuple(attr for _, attr in IMU_CHANNELS)
+_UNITS = {("time_s" if n == "t_s" else n): unit for n, unit, _ in IMU_ESTIMATE_FIELDS}
+
+#: Over the first UNIT_CHECK_S (and at least UNIT_CHECK_SAMPLES samples) the acceleration's median norm is
+#: checked; the angular rate's bound is checked throughout.
+UNIT_CHECK_S = 0.5
+UNIT_CHECK_SAMPLES = 20
+MAX_WALKING_RATE_RAD_S = 15.0
+
+
+_FIELDS_OF = operator.attrgetter(*_ATTRIBUTES)
+
+
+def imu_row(estimate: Any) -> list[float]:
+    """One ImuEstimate as the IMU estimate stream's channel values (floats, in IMU_COLUMNS order)."""
+    return [float(v) for v in _FIELDS_OF(estimate)]
+
+
+@functools.cache
+def _integer_columns() -> frozenset[str]:
+    # Which fields are flags or enumerations: as the native estimate types them.
+    probe = ImuOnlineEstimator().update(0.0, [0.0, 0.0, GRAVITY_MPS2], [0.0, 0.0, 0.0])
+    return frozenset(c for c, a in IMU_CHANNELS if not isinstance(getattr(probe, a), float))
+
+
+def imu_csv_formats(columns: Sequence[str] = IMU_COLUMNS) -> list[str]:
+    """printf formats of the IMU columns as ``yoyogait estimate FILE`` writes them for an IMU file
+    (flags and reasons as integers, the rest with 6 significant digits)."""
+    integers = _integer_columns()
+    return ["%d" if c in integers else "%.6g" for c in columns]
+
+
+def imu_estimate_stream_info(name: str) -> Any:
+    """StreamInfo of the IMU estimate stream: irregular rate (one sample per input sample), double64."""
+    lsl = pylsl()
+    info = lsl.StreamInfo(
+        name,
+        IMU_ESTIMATE_STREAM_TYPE,
+        len(IMU_COLUMNS),
+        lsl.IRREGULAR_RATE,
+        lsl.cf_double64,
+        f"yoyogait-live-imu-{name}",
+    )
+    desc = info.desc()
+    desc.append_child("acquisition").append_child_value("manufacturer", "yoyogait").append_child_value(
+        "model", "ImuOnlineEstimator"
+    )
+    channels = desc.append_child("channels")
+    for column in IMU_COLUMNS:
+        channels.append_child("channel").append_child_value("label", column).append_child_value("unit", _UNITS[column])
+    return info
+
+
+@dataclass
+class ImuLiveOptions:
+    """What the IMU path takes besides the stream: unit overrides (mps2, g / rad_s, deg_s), the sensor height
+    (over the stream's setup/sensor_height_m), the estimator's settings, the record's columns and formats."""
+
+    acc_unit: str | None = None
+    gyr_unit: str | None = None
+    sensor_height_m: float | None = None
+    config: ImuConfig | None = None
+    record_columns: Sequence[str] = IMU_COLUMNS
+    record_formats: Sequence[str] | None = None
+
+
+@dataclass
+class ImuLiveSetup:
+    """What the run resolved before the first sample of an IMU stream."""
+
+    source: str
+    layout: ImuLayout
+    nominal_rate_hz: float
+    config: ImuConfig
+    uid: str = ""
+
+    @property
+    def sensor_height_m(self) -> float:
+        """The inverted pendulum's length the estimator uses."""
+        return float(self.config.sensor_height_m)
+
+    def same_layout(self, other: ImuLiveSetup) -> bool:
+        """The same channels, units and time base."""
+        a, b = self.layout, other.layout
+        return (
+            a.channel_count == b.channel_count
+            and a.acc_channels == b.acc_channels
+            and a.gyr_channels == b.gyr_channels
+            and a.time_channel == b.time_channel
+            and (a.acc_scale, a.gyr_scale) == (b.acc_scale, b.gyr_scale)
+        )
+
+
+def imu_setup_from_info(info: Any, options: ImuLiveOptions | None = None) -> ImuLiveSetup:
+    """Layout, units and the estimator's settings of an IMU stream; InputError saying what is missing."""
+    opts = options if options is not None else ImuLiveOptions()
+    if opts.sensor_height_m is not None and not (
+        math.isfinite(opts.sensor_height_m) and 0.1 < opts.sensor_height_m <= 3.0
+    ):
+        raise InputError(f"--sensor-height-m must be in (0.1, 3] m, not {opts.sensor_height_m!r}")
+    check_rate(info)
+    layout = read_imu_layout(info, acc_unit=opts.acc_unit, gyr_unit=opts.gyr_unit, sensor_height_m=opts.sensor_height_m)
+    fmt = _format_name(info.channel_format())
+    if layout.time_channel is not None and fmt in _INTEGER_FORMATS:
+        raise InputError(
+            f"stream {info.name()!r}: its time_s channel is in an integer format ({fmt[3:]}), which cannot hold "
+            "sample times; send float32 or double64 channels, or no time_s channel (the LSL timestamps are used then)"
+        )
+    config = opts.config if opts.config is not None else ImuConfig()
+    if layout.sensor_height_m is not None:
+        config = dataclasses.replace(config, sensor_height_m=float(layout.sensor_height_m))
+    return ImuLiveSetup(info.name(), layout, float(info.nominal_srate()), config)
+
+
+class UnitCheck:
+    """The units against physics, sample by sample: the acceleration's median norm over the first
+    UNIT_CHECK_S must be about 9.81 m/s^2; more than 1 % of the samples (and at least 10) beyond
+    MAX_WALKING_RATE_RAD_S means deg/s said as rad/s. InputError naming the stream and the option."""
+
+    def __init__(self, setup: ImuLiveSetup):
+        self.setup = setup
+        self._norms: list[float] = []
+        self._acc_checked = False
+        self._first_t: float | None = None
+        self._samples = 0
+        self._fast = 0
+
+    def check(self, t_s: float, acc_mps2: Sequence[float], gyr_rad_s: Sequence[float]) -> None:
+        # Plain floats: this runs for every sample (numpy on 3 values costs ten times more).
+        name, layout = self.setup.source, self.setup.layout
+        self._samples += 1
+        ax, ay, az = acc_mps2
+        if not self._acc_checked and math.isfinite(ax) and math.isfinite(ay) and math.isfinite(az):
+            if self._first_t is None:
+                self._first_t = t_s
+            self._norms.append(math.sqrt(ax * ax + ay * ay + az * az))
+            if len(self._norms) >= UNIT_CHECK_SAMPLES and t_s - self._first_t >= UNIT_CHECK_S:
+                g = float(np.median(self._norms))
+                self._acc_checked, self._norms = True, []  # checked once
+                said = f"read as {layout.acc_unit}" if layout.acc_unit else ""
+                if 0.5 < g < 2.0:
+                    raise InputError(
+                        f"stream {name!r}: the acceleration's median norm over the first {UNIT_CHECK_S:g} s is {g:.2f} "
+                        f"m/s^2 ({said}), not 9.81 at rest: in g? pass --acc-unit g"
+                    )
+                if not (0.6 * GRAVITY_MPS2 < g < 1.4 * GRAVITY_MPS2):
+                    raise InputError(
+                        f"stream {name!r}: the acceleration's median norm over the first {UNIT_CHECK_S:g} s is "
+                        f"{g:.3g} m/s^2 ({said}), not about 9.81: pass --acc-unit (mps2 or g)"
+                    )
+        fastest = max(abs(gyr_rad_s[0]), abs(gyr_rad_s[1]), abs(gyr_rad_s[2]))
+        if fastest > MAX_WALKING_RATE_RAD_S and math.isfinite(fastest):
+            self._fast += 1
+            if self._fast >= 10 and self._fast > 0.01 * self._samples:
+                said = f" read as {layout.gyr_unit}" if layout.gyr_unit else ""
+                raise InputError(
+                    f"stream {name!r}: the angular rate{said} exceeds {MAX_WALKING_RATE_RAD_S:g} rad/s in "
+                    f"{self._fast} of {self._samples} samples, beyond any walk: in deg/s? pass --gyr-unit deg_s"
+                )
+
+
+def run_live_imu(
+    source: str,
+    *,
+    publish: str | None = None,
+    imu: ImuLiveOptions | None = None,
+    resolve_timeout_s: float = 10.0,
+    duration_s: float | None = None,
+    exit_on_end: bool = False,
+    record: Path | None = None,
+    force: bool = False,
+    max_buffer_s: float = 1.0,
+    reacquire_after_s: float = 2.0,
+    on_setup: Callable[[ImuLiveSetup], None] | None = None,
+    on_estimate: Callable[[list[float], float], None] | None = None,
+    on_status: Callable[[LiveCounters, list[float]], None] | None = None,
+    on_note: Callable[[str], None] | None = None,
+    status_interval_s: float = 0.5,
+    stop: threading.Event | None = None,
+) -> LiveCounters:
+    """Estimate gait live from the IMU stream ``source`` until ``duration_s``, its end (with ``exit_on_end``)
+    or ``stop``, as :func:`yoyogait.live.live.run_live` does for a marker stream; ``imu``: units, sensor
+    height, settings and the record's columns (:class:`ImuLiveOptions`). Returns the counters."""
+    lsl = pylsl()
+    opts = imu if imu is not None else ImuLiveOptions()
+    if publish is not None and publish == source:
+        raise InputError(f"--publish {publish!r}: the estimate stream needs a name other than the source's")
+    if not (math.isfinite(max_buffer_s) and 0 < max_buffer_s <= MAX_BUFFER_S):
+        raise InputError(f"--max-buffer-s must be a number of seconds in (0, {MAX_BUFFER_S:g}], not {max_buffer_s!r}")
+    if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
+        raise InputError(f"--duration must be a positive number of seconds, not {duration_s!r}")
+    if opts.sensor_height_m is not None and not (
+        math.isfinite(opts.sensor_height_m) and 0.1 < opts.sensor_height_m <= 3.0
+    ):
+        raise InputError(f"--sensor-height-m must be in (0.1, 3] m, not {opts.sensor_height_m!r}")
+    note = on_note if on_note is not None else (lambda line: None)
+    formats = opts.record_formats if opts.record_formats is not None else imu_csv_formats(opts.record_columns)
+    recorder = (
+        CsvRecord(record, opts.record_columns, formats, force, channels=IMU_COLUMNS) if record is not None else None
+    )
+    counters = LiveCounters()
+    started = time.monotonic()
+    make_setup = functools.partial(imu_setup_from_info, options=opts)
+    try:
+        outlet = lsl.StreamOutlet(imu_estimate_stream_info(publish), 1, 10) if publish else None
+        try:
+            inlet, setup = _connect(
+                source, resolve_timeout_s, stop, None, None, None, max_buffer_s, exit_on_end, note,
+                make_setup=make_setup,
+            )  # fmt: skip
+        except _Stopped:
+            inlet = None
+        if inlet is not None:
+            counters.connected = True
+            if on_setup is not None:
+                on_setup(setup)
+            reconnect = functools.partial(
+                _connect, source, None, stop, None, None, None, max_buffer_s, exit_on_end, note, make_setup=make_setup
+            )
+            _loop(
+                inlet, outlet, recorder, setup, counters, started, duration_s, reacquire_after_s, stop,
+                None if exit_on_end else reconnect, on_estimate, on_status, note, status_interval_s,
+            )  # fmt: skip
+    except BaseException:
+        if recorder is not None:
+            # A live run ended by an error keeps what it recorded (whole rows); a failed setup leaves nothing.
+            if recorder.rows > 0:
+                recorder.close()
+            else:
+                recorder.discard()
+        raise
+    if recorder is not None:
+        if counters.connected:
+            recorder.close()
+        else:
+            recorder.discard()
+    return counters
+
+
+def _loop(
+    inlet: Any,
+    outlet: Any,
+    recorder: CsvRecord | None,
+    setup: ImuLiveSetup,
+    counters: LiveCounters,
+    started: float,
+    duration_s: float | None,
+    reacquire_after_s: float,
+    stop: threading.Event | None,
+    reconnect: Callable[..., tuple[Any, Any]] | None,
+    on_estimate: Callable[[list[float], float], None] | None,
+    on_status: Callable[[LiveCounters, list[float]], None] | None,
+    note: Callable[[str], None],
+    status_interval_s: float,
+) -> None:
+    lsl = pylsl()
+    lost_error = lsl.util.LostError
+    gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
+    estimator = ImuOnlineEstimator(setup.config)
+    units = UnitCheck(setup)
+    next_status = started + status_interval_s
+    row: list[float] = []
+    while True:
+        now = time.monotonic()
+        if stop is not None and stop.is_set():
+            break
+        if duration_s is not None and now - started >= duration_s:
+            break
+        wait_s = 0.1 if duration_s is None else max(0.0, min(0.1, started + duration_s - now))
+        try:
+            sample, stamp = inlet.pull_sample(timeout=wait_s)
+        except lost_error:
+            if reconnect is None:
+                counters.source_ended = True
+                break
+            old = setup
+            deadline = None if duration_s is None else started + duration_s
+            try:
+                inlet, setup = reconnect(exclude=frozenset({old.uid}), deadline=deadline)
+            except _Stopped:
+                break
+            counters.reconnects += 1
+            if not setup.same_layout(old):
+                note(
+                    f"live: stream {setup.source!r} came back with another layout ({setup.layout.channel_count} "
+                    f"channels, was {old.layout.channel_count}): read again"
+                )
+            gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
+            estimator = ImuOnlineEstimator(setup.config)
+            units = UnitCheck(setup)
+            if counters.estimates > 0:
+                counters.restarts += 1
+            continue
+        if sample is None:
+            continue
+        arrival = time.monotonic()
+        layout = setup.layout
+        t_s = float(sample[layout.time_channel]) if layout.time_channel is not None else stamp
+        verdict = gate.admit(t_s, arrival)
+        if verdict == DROP:
+            continue
+        if verdict == RESTART:
+            estimator.reset()  # the source came back: start over rather than bridge the gap
+        a, w = layout.acc_channels, layout.gyr_channels
+        acc = [float(sample[a[0]]) * layout.acc_scale, float(sample[a[1]]) * layout.acc_scale,
+               float(sample[a[2]]) * layout.acc_scale]  # fmt: skip
+        gyr = [float(sample[w[0]]) * layout.gyr_scale, float(sample[w[1]]) * layout.gyr_scale,
+               float(sample[w[2]]) * layout.gyr_scale]  # fmt: skip
+        units.check(t_s, acc, gyr)
+        row = imu_row(estimator.update(t_s, acc, gyr))
+        if outlet is not None:
+            outlet.push_sample(row, stamp)
+        if recorder is not None:
+            recorder.write(row)
+        if on_estimate is not None:
+            on_estimate(row, stamp)
+        if on_status is not None:
+            counters.latency_s.append(lsl.local_clock() - stamp)
+            if arrival >= next_status:
+                on_status(counters, row)
+                counters.latency_s.clear()
+                next_status = arrival + status_interval_s
+
+
+#: ``input_kind``: what the source is; "auto" decides from the stream (type IMU, or acc/gyr labels).
+INPUT_KINDS = ("auto", "markers", "imu")
+#: How long "auto" looks for the source before it starts the marker path's wait [s].
+AUTO_PEEK_S = 0.3
+
+
+def run_live_source(
+    source: str,
+    *,
+    input_kind: str = "auto",
+    imu: ImuLiveOptions | None = None,
+    markers: dict[str, Any] | None = None,
+    on_imu: Callable[[], None] | None = None,
+    **common: Any,
+) -> LiveCounters:
+    """``run_live`` (``markers``: its marker-only options) or ``run_live_imu`` (``imu``) as ``input_kind`` says.
+    "auto": a source already there (within AUTO_PEEK_S) of type IMU takes the IMU path at once; else the marker
+    path, until the stream found is an IMU's (by type or labels), then the IMU path (its estimate stream replaces
+    the marker one; ``on_imu()`` first: it may refuse with an InputError). ``common``: the options both take
+    (publish, record, stop, ...)."""
+    if input_kind not in INPUT_KINDS:
+        raise InputError(f"--input must be one of {', '.join(INPUT_KINDS)}, not {input_kind!r}")
+    if input_kind == "auto":
+        # A source already there says its type at once: the right estimate stream is made from the start.
+        try:
+            seen = resolve_all(source, AUTO_PEEK_S, common.get("stop"), twins_s=0)
+        except InputError:
+            seen = []
+        except _Stopped:
+            return LiveCounters()
+        if seen and seen[0].type().strip().lower() in IMU_TYPES:
+            input_kind = "imu"
+    if input_kind != "imu":
+        try:
+            return run_live(source, detect_imu=input_kind == "auto", **(markers or {}), **common)
+        except ImuSourceFound:
+            pass
+    if on_imu is not None:
+        on_imu()
+    return run_live_imu(source, imu=imu, **common)
