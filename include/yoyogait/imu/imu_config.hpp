@@ -41,6 +41,10 @@ namespace yoyogait {
   X(double, gravity_tolerance, 0.25, "", "(", 0.0, 1.0, ")",                                                         \
     "valid is 0 while that norm is further than this fraction from 9.81 m/s^2 (a wrong unit, a broken sensor)")  \
   X(double, max_speed_mps, 3.0, "m/s", "(", 0.0, 1e100, "]", "a walking speed above this is not reported as valid") \
+  X(double, mag_kp_per_s, 0.2, "1/s", "[", 0.0, 100.0, "]",                                                         \
+    "magnetometer (when given): gain of the heading correction towards the tilt-compensated magnetic heading (0: not used)") \
+  X(double, mag_norm_tolerance, 0.15, "", "(", 0.0, 10.0, "]",                                                       \
+    "a magnetometer sample whose norm is further than this fraction from its low-passed norm (iron nearby) is not used") \
   X(double, latency_f_hz, 2.0, "Hz", "(", 0.0, 1e100, "]", "frequency at which the reported input latency is evaluated")
 
 

@@ -31,6 +31,8 @@ namespace yoyogait {
 class ImuOnlineEstimator {
  public:
   static constexpr double kGravityMps2 = 9.80665;
+  /// A magnetometer norm rejected this long on end becomes the reference norm [s].
+  static constexpr double kMagAdaptS = 30.0;
 
   explicit ImuOnlineEstimator(const ImuConfig& config = ImuConfig{})
       : config_(checked(config)),
@@ -63,11 +65,19 @@ class ImuOnlineEstimator {
     t_saturated_s_ = -std::numeric_limits<double>::infinity();
     gap_restart_ = false;
     acc_norm_lp_ = kGravityMps2;
+    mag_norm_lp_ = 0.0;
+    mag_rejected_since_s_ = 0.0;
+    heading_absolute_ = false;
   }
 
   /// One sample: t_s [s], acc[3] the specific force [m/s^2] and gyr[3] the angular rate [rad/s],
   /// both in the sensor frame. Never throws; the state stays finite.
-  ImuEstimate update(double t_s, const double* acc, const double* gyr) noexcept {
+  ImuEstimate update(double t_s, const double* acc, const double* gyr) noexcept { return update(t_s, acc, gyr, nullptr); }
+
+  /// As update(t_s, acc, gyr), with mag[3] the magnetic field in the sensor frame (any unit: only its
+  /// direction and its norm's steadiness are used; nullptr or a non-finite value: none): the heading
+  /// becomes absolute, from magnetic north (docs/imu.md).
+  ImuEstimate update(double t_s, const double* acc, const double* gyr, const double* mag) noexcept {
     ImuEstimate& o = out_;
     o.estimator_fed = false;
     bool finite = std::isfinite(t_s);
@@ -100,13 +110,49 @@ class ImuOnlineEstimator {
 
     const double a_norm = imu::Mahony::norm(a);
     const bool restart = !started_ || dt_s > config_.max_gap_s;
+    // The magnetometer's sample, when given, finite and not disturbed (its norm near its low-passed norm).
+    bool mag_ok = false;
+    imu::Vec3 m{};
+    if (mag != nullptr && config_.mag_kp_per_s > 0.0) {
+      m = {mag[0], mag[1], mag[2]};
+      const double mn = imu::Mahony::norm(m);
+      if (std::isfinite(mn) && mn > 0.0) {
+        if (!(mag_norm_lp_ > 0.0)) {
+          mag_norm_lp_ = mn;
+          mag_rejected_since_s_ = t_s;
+        }
+        mag_ok = std::fabs(mn - mag_norm_lp_) <= config_.mag_norm_tolerance * mag_norm_lp_;
+        // The norm follows accepted samples (over gravity_tau_s); a field rejected for kMagAdaptS
+        // on end is a new place's, not a passing disturbance: it becomes the reference.
+        if (mag_ok) {
+          mag_rejected_since_s_ = t_s;
+          if (dt_s > 0.0) mag_norm_lp_ += (1.0 - std::exp(-dt_s / config_.gravity_tau_s)) * (mn - mag_norm_lp_);
+        } else if (t_s - mag_rejected_since_s_ > kMagAdaptS) {
+          mag_norm_lp_ = mn;
+        }
+      }
+    }
     if (restart) {
       gap_restart_ = started_;
       start_front_end(t_s, a);
+      if (mag_ok && !heading_absolute_) {
+        mahony_.align_yaw(m);
+        heading_absolute_ = true;
+      }
       acc_norm_lp_ = started_before_ ? acc_norm_lp_ : a_norm;
       started_before_ = true;
     } else {
-      mahony_.step(a, w, dt_s, !saturated);
+      double yaw_error = 0.0;
+      if (mag_ok) {
+        yaw_error = mahony_.field_angle(m);
+        if (!std::isfinite(yaw_error)) yaw_error = 0.0;
+        else if (!heading_absolute_) {  // the first usable field after a start without one: at once
+          mahony_.align_yaw(m);
+          yaw_error = 0.0;
+          heading_absolute_ = true;
+        }
+      }
+      mahony_.step(a, w, dt_s, !saturated, yaw_error, config_.mag_kp_per_s);
       if (dt_s != gravity_dt_s_) {
         gravity_dt_s_ = dt_s;
         gravity_alpha_ = 1.0 - std::exp(-dt_s / config_.gravity_tau_s);
@@ -121,6 +167,7 @@ class ImuOnlineEstimator {
     if (hn > 0.2) heading_ = {x_w[0] / hn, x_w[1] / hn};  // held while the axis is near vertical
     o.heading_rad = std::atan2(heading_[1], heading_[0]);
     o.tilt_rad = std::atan2(x_w[2], hn);
+    o.heading_absolute = heading_absolute_;
     // A saturated sample is no measurement: the integrators get the last unsaturated values.
     if (!saturated || restart) {
       az_last_ = f_w[2] - kGravityMps2;
@@ -292,6 +339,8 @@ class ImuOnlineEstimator {
   Estimate est_{};
   ImuEstimate out_{};
   bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;
+  bool heading_absolute_ = false;
+  double mag_norm_lp_ = 0.0, mag_rejected_since_s_ = 0.0;
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
