@@ -113,7 +113,7 @@ def real(data: Path, peer: bool, peer_cache: Path | None = None) -> list[str]:
     wrong = [c["confidently_wrong"] for _, _, c in cover]
     out += ["", f"Worst recording: coverage {100 * min(cov):.0f} % (target >= 90 %: {_mark(min(cov) >= 0.9)}), "
             f"confidently wrong {100 * max(wrong):.1f} % (target <= 1 %: {_mark(max(wrong) <= 0.01)})."]  # fmt: skip
-    out += ["", "## Real data: start-up (the first bout of each recording: from standing), in steps from the first initial contact",
+    out += ["", "## Real data: start-up (each recording's first bout: from standing), in steps from the first contact",
             "", "| recording | reference | bout start [s] | to valid | to valid and within 5 % of the cadence |",
             "|---|---|---|---|---|"]  # fmt: skip
     for s in starts:
@@ -122,7 +122,8 @@ def real(data: Path, peer: bool, peer_cache: Path | None = None) -> list[str]:
     v = np.array([s["valid_steps"] for s in starts])
     w = np.array([s["within5_steps"] for s in starts])
     out += ["", f"Median (worst) to valid {np.nanmedian(v):.1f} ({np.nanmax(v):.1f}) steps, to within 5 % "
-            f"{np.nanmedian(w):.1f} ({np.nanmax(w):.1f}) steps (target <= 2 steps: {_mark(np.nanmedian(w) <= 2)})."]  # fmt: skip
+            f"{np.nanmedian(w):.1f} ({np.nanmax(w):.1f}) steps "
+            f"(target <= 2 steps: {_mark(np.nanmedian(w) <= 2)})."]  # fmt: skip
     return out
 
 

@@ -8,7 +8,8 @@ Per sample it reports the specific force ``R^T (a + g e_z)`` in m/s^2 (at rest u
 and the angular rate in its own frame in rad/s, each with a constant bias, white noise and the
 range of the sensor (saturation); on request (``magnetometer=True``) also the earth's magnetic
 field ``R^T b`` in microtesla (``SyntheticImuWalk.mag_ut``; world x is magnetic north, the field
-dips below the horizon), with white noise and optionally a disturbance (iron nearby) over a span.  Kinematics are differentiated at four times the output rate
+dips below the horizon), with white noise and optionally a disturbance (iron nearby) over a span.
+Kinematics are differentiated at four times the output rate
 (central differences) and then decimated, so the derivative error is far below the noise.
 
 The walker is not a pendulum; so that the inverted-pendulum speed of the IMU estimator has a

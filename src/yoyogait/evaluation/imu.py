@@ -372,8 +372,9 @@ def coverage(rec: ImuRecording, result: ImuResult) -> dict[str, dict[str, float]
 
 
 def startup(rec: ImuRecording, result: ImuResult) -> list[dict]:
-    """On the first bout of each reference (the walk starts from standing): the time from its first initial contact to the first valid estimate, and to the first
-    valid estimate within 5 % of the reference's cadence, in the bout's steps (60 / its cadence)."""
+    """On the first bout of each reference (the walk starts from standing): the time from its first
+    initial contact to the first valid estimate, and to the first valid estimate within 5 % of the
+    reference's cadence, in the bout's steps (60 / its cadence)."""
     t = result.time_s
     valid = result["valid"].astype(bool)
     cad = 60.0 * result["step_frequency_hz"]

@@ -1,4 +1,4 @@
-"""The optional magnetometer of the IMU estimator on the SYNTHETIC IMU lab: absolute heading, gating, no change without it."""
+"""The optional magnetometer of the IMU estimator on the SYNTHETIC IMU lab: absolute heading, gating."""
 
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ def _run(walk, mag=True, config=None):
 
 @pytest.mark.parametrize("walk_type", ["1-straight", "3-rectangle", "4-figure-eight"])
 def test_heading_is_absolute_with_a_magnetometer(walk_type):
-    """With the magnetometer the heading is from magnetic north within 10 deg (median 5), turns and 1 deg/s gyro bias included."""
+    """With the magnetometer the heading is within 10 deg of magnetic north (median 5): turns, 1 deg/s gyro bias."""
     walk = _walk(walk_type)
     res = _run(walk)
     err = _heading_error_deg(res, walk)
@@ -47,7 +47,7 @@ def test_heading_is_absolute_with_a_magnetometer(walk_type):
 
 
 def test_without_magnetometer_the_heading_is_relative_and_drifts():
-    """Without it the heading is not absolute and drifts with the vertical gyro bias (more than with the magnetometer)."""
+    """Without it the heading is not absolute and drifts with the vertical gyro bias (more than with it)."""
     walk = _walk("1-straight")
     res = _run(walk, mag=False)
     assert not res["heading_absolute"].any()
