@@ -29,8 +29,8 @@ from .synthetic import SUBJECTS, SyntheticSubject, SyntheticTruth, make_walk
 
 __all__ = ["SyntheticImuWalk", "make_imu_walk", "pendulum_length_m", "imu_lab", "STEP_LENGTH_FACTOR"]
 
-#: Zijlstra & Hof (2003)'s correction of the inverted-pendulum step length (the estimator's default).
-STEP_LENGTH_FACTOR = 1.25
+#: The correction K of the inverted-pendulum step length: the estimator's default (``step_length_factor``).
+STEP_LENGTH_FACTOR = 1.05
 
 _OVERSAMPLE = 4
 # Sensor axes (x up, y right, z forward) in the body frame (forward, left, up): columns.

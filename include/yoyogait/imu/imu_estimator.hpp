@@ -67,7 +67,7 @@ class ImuOnlineEstimator {
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
     excursion_m_ = 0.0;
-    pendulum_speed_mps_ = target_speed_mps_ = 0.0;
+    pendulum_speed_mps_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
     step_length_m_ = 0.0;
     heading_ = {1.0, 0.0};
     t_saturated_s_ = -std::numeric_limits<double>::infinity();
@@ -191,7 +191,7 @@ class ImuOnlineEstimator {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
-    o.vx_mps = pendulum_speed_mps_ + o.vx_osc_mps;
+    o.vx_mps = fed_speed_mps_ + o.vx_osc_mps;
     o.input_latency_s = int_z_.delay_s(config_.latency_f_hz);
 
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
@@ -266,7 +266,7 @@ class ImuOnlineEstimator {
       restart_estimate();
       est_ = Estimate{};
       fed_ = false;
-      pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
+      pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
     }
     started_ = true;
     start_t_s_ = t_s;
@@ -316,7 +316,8 @@ class ImuOnlineEstimator {
     // uncertain as the pendulum's own estimate of where it goes.
     const double gap = target_speed_mps_ - (pendulum_speed_mps_ > 0.0 ? pendulum_speed_mps_ : est_.speed_mps);
     s_var += gap * gap;
-    if (harmonic_off_ || est_.acquiring) s_var += kSpeedPriorStdMps * kSpeedPriorStdMps;
+    // Not locked: nothing is known of the speed within what is plausible.
+    if (harmonic_off_ || est_.acquiring) s_var += config_.max_speed_mps * config_.max_speed_mps;
     f_std_ = std::sqrt(f_var);
     s_std_ = std::sqrt(s_var);
   }
@@ -335,7 +336,7 @@ class ImuOnlineEstimator {
     bool off = false;
     if (est_.walking && !est_.acquiring && f > 0.0 && dt_s > 0.0) {
       const double lag = 1.0 / (f * dt_s);
-      if (lag + kCheckWindow < static_cast<double>(ring_n_)) {
+      if (lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(ring_n_)) {
         const double r_full = autocorrelation(lag), r_half = autocorrelation(0.5 * lag);
         off = r_half > kHalfLagMax || r_full < kFullLagMin;
       }
@@ -343,12 +344,12 @@ class ImuOnlineEstimator {
     if (off && !harmonic_off_) harmonic_off_s_ = 0.0;
     harmonic_off_ = off;
     if (off) {
-      harmonic_off_s_ += kCheckTicks * dt_s;
+      harmonic_off_s_ += static_cast<double>(kCheckTicks) * dt_s;
       if (harmonic_off_s_ >= kHarmonicRestartS) {  // it stays there: acquire afresh
         estimator_.reset();
         restart_estimate();
         harmonic_off_ = true;  // not valid until the check has run again
-        pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
+        pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
       }
     }
   }
@@ -380,7 +381,8 @@ class ImuOnlineEstimator {
     const GaitState& x = est_.gait_state;
     const double omega = x[gait::kW];
     if (!(est_.walking && !est_.acquiring && omega > 0.0)) {
-      if (!est_.walking) pendulum_speed_mps_ = excursion_m_ = step_length_m_ = target_speed_mps_ = 0.0;
+      if (!est_.walking)
+        pendulum_speed_mps_ = excursion_m_ = step_length_m_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
       return;
     }
     // At most a fifth of the pendulum's length: no walker's pelvis rises more per step; a larger
@@ -388,16 +390,23 @@ class ImuOnlineEstimator {
     const double h = std::fmin(2.0 * std::sqrt(x[gait::kZ1] * x[gait::kZ1] + x[gait::kZ2] * x[gait::kZ2]) / omega,
                                0.2 * config_.sensor_height_m);
     if (!std::isfinite(h)) return;
-    // From 0 at the start of a walk: a step of the forward velocity fed to the estimator would
-    // disturb its phase and frequency while they lock.
-    excursion_m_ += (1.0 - std::exp(-dt_s / config_.excursion_tau_s)) * (h - excursion_m_);
-    const double l = config_.sensor_height_m, he = std::fmin(excursion_m_, l);
-    step_length_m_ = config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * he - he * he));
-    const double f = omega * 0.15915494309189533576888376337251;
+    // Fed to the estimator from 0 at the start of a walk (a step of the forward velocity it is fed
+    // would disturb its phase and frequency while they lock); reported from the first value on.
+    const double g = 1.0 - std::exp(-dt_s / config_.excursion_tau_s);
+    ramp_excursion_m_ += g * (h - ramp_excursion_m_);
+    excursion_m_ = excursion_m_ > 0.0 ? excursion_m_ + g * (h - excursion_m_) : h;
+    const double l = config_.sensor_height_m, f = omega * 0.15915494309189533576888376337251;
+    fed_speed_mps_ = std::fmin(step_length(ramp_excursion_m_) * f, 2.0 * config_.max_speed_mps);
+    step_length_m_ = step_length(excursion_m_);
     pendulum_speed_mps_ = std::fmin(step_length_m_ * f, 2.0 * config_.max_speed_mps);
     const double hm = std::fmin(h, l);
-    target_speed_mps_ = std::fmin(config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * hm - hm * hm)) * f,
-                                  2.0 * config_.max_speed_mps);
+    target_speed_mps_ = std::fmin(step_length(hm) * f, 2.0 * config_.max_speed_mps);
+  }
+
+  // The inverted pendulum's step length for a vertical excursion h per step [m].
+  double step_length(double h) const noexcept {
+    const double l = config_.sensor_height_m, he = std::fmin(h, l);
+    return config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * he - he * he));
   }
 
   // The estimator's last estimate carried to t_s by its own forecast (as OnlineEstimator does).
@@ -468,14 +477,15 @@ class ImuOnlineEstimator {
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
   double excursion_m_ = 0.0, step_length_m_ = 0.0, pendulum_speed_mps_ = 0.0, target_speed_mps_ = 0.0;
+  double fed_speed_mps_ = 0.0, ramp_excursion_m_ = 0.0;  ///< the pendulum speed fed to the estimator, ramped
   online::Validity validity_{};
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
   /// The harmonic check: the last kRing fed v_z means, every kCheckTicks over kCheckWindow of them.
   static constexpr std::size_t kRing = 128, kCheckWindow = 50, kCheckTicks = 5;
   /// r(P / 2) above this or r(P) below it: a wrong harmonic. Held this long, the estimator restarts [s].
   static constexpr double kHalfLagMax = 0.0, kFullLagMin = 0.0, kHarmonicRestartS = 1.0;
-  /// The frequency std at a bound of the range, at least [Hz]; the speed's std while not locked [m/s].
-  static constexpr double kPinnedStdHz = 0.5, kSpeedPriorStdMps = 0.4;
+  /// The frequency std at a bound of the range, at least [Hz].
+  static constexpr double kPinnedStdHz = 0.5;
   std::array<double, kRing> vz_ring_{};
   std::size_t ring_n_ = 0, ring_next_ = 0, ticks_since_check_ = 0;
   bool harmonic_off_ = false;
