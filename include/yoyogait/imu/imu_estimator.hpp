@@ -31,6 +31,10 @@ namespace yoyogait {
 /// The IMU gait estimator. update() is noexcept and allocates nothing; the constructor throws
 /// std::invalid_argument for an unusable configuration.
 class ImuOnlineEstimator {
+  /// The harmonic check: the last kRing fed v_z means, every kCheckTicks over kCheckWindow of them.
+  static constexpr std::size_t kRing = 128, kCheckWindow = 50, kCheckTicks = 5;
+  static_assert((kRing & (kRing - 1)) == 0, "the ring's length is a power of 2");
+
  public:
   static constexpr double kGravityMps2 = 9.80665;
   /// A magnetometer norm rejected this long on end becomes the reference norm [s].
@@ -328,7 +332,7 @@ class ImuOnlineEstimator {
   // cadence r(P) < 0. Every kCheckTicks samples over the last kCheckWindow; held kHarmonicHoldS.
   void check_harmonic(double vz, double dt_s) noexcept {
     vz_ring_[ring_next_] = vz;
-    ring_next_ = (ring_next_ + 1) % kRing;
+    ring_next_ = (ring_next_ + 1) & (kRing - 1);
     if (ring_n_ < kRing) ++ring_n_;
     if (++ticks_since_check_ < kCheckTicks) return;
     ticks_since_check_ = 0;
@@ -337,7 +341,10 @@ class ImuOnlineEstimator {
     if (est_.walking && !est_.acquiring && f > 0.0 && dt_s > 0.0) {
       const double lag = 1.0 / (f * dt_s);
       if (lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(ring_n_)) {
-        const double r_full = autocorrelation(lag), r_half = autocorrelation(0.5 * lag);
+        // The ring newest first, in order: the correlations then index it without wrapping.
+        std::array<double, kRing> x;
+        for (std::size_t i = 0; i < ring_n_; ++i) x[i] = vz_ring_[(ring_next_ + kRing - 1 - i) & (kRing - 1)];
+        const double r_full = autocorrelation(x, lag), r_half = autocorrelation(x, 0.5 * lag);
         off = r_half > kHalfLagMax || r_full < kFullLagMin;
       }
     }
@@ -354,15 +361,16 @@ class ImuOnlineEstimator {
     }
   }
 
-  // The normalised autocorrelation of the newest kCheckWindow values of the ring at a (fractional) lag.
-  double autocorrelation(double lag) const noexcept {
+  // The normalised autocorrelation of the first kCheckWindow values of x (newest first) at a
+  // (fractional) lag.
+  static double autocorrelation(const std::array<double, kRing>& x, double lag) noexcept {
     const std::size_t l0 = static_cast<std::size_t>(lag);
     const double w = lag - static_cast<double>(l0);
     double sxy = 0.0, sxx = 0.0, syy = 0.0;
     for (std::size_t i = 0; i < kCheckWindow; ++i) {
-      const double x = at(i), y = (1.0 - w) * at(i + l0) + w * at(i + l0 + 1);
-      sxy += x * y;
-      sxx += x * x;
+      const double y = (1.0 - w) * x[i + l0] + w * x[i + l0 + 1];
+      sxy += x[i] * y;
+      sxx += x[i] * x[i];
       syy += y * y;
     }
     const double d = sxx * syy;
@@ -372,8 +380,6 @@ class ImuOnlineEstimator {
     vz_ring_.fill(0.0);
     ring_n_ = ring_next_ = 0;
   }
-  // The ring's value i samples before the newest.
-  double at(std::size_t i) const noexcept { return vz_ring_[(ring_next_ + kRing - 1 - i) % kRing]; }
 
   // The inverted pendulum's speed from the estimator's vertical phasor: h = 2 |Z| / w per step,
   // low-passed while walking; the step length K 2 sqrt(2 l h - h^2), the speed that times f.
@@ -480,8 +486,6 @@ class ImuOnlineEstimator {
   double fed_speed_mps_ = 0.0, ramp_excursion_m_ = 0.0;  ///< the pendulum speed fed to the estimator, ramped
   online::Validity validity_{};
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
-  /// The harmonic check: the last kRing fed v_z means, every kCheckTicks over kCheckWindow of them.
-  static constexpr std::size_t kRing = 128, kCheckWindow = 50, kCheckTicks = 5;
   /// r(P / 2) above this or r(P) below it: a wrong harmonic. Held this long, the estimator restarts [s].
   static constexpr double kHalfLagMax = 0.0, kFullLagMin = 0.0, kHarmonicRestartS = 1.0;
   /// The frequency std at a bound of the range, at least [Hz].
