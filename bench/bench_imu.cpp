@@ -1,10 +1,12 @@
 // ns per sample of yoyogait::ImuOnlineEstimator::update at 100 Hz on a synthetic walking signal
-// (a tilted sensor, a Yoyo-model walker): median over rounds. Used by bench/imu.py.
+// (a tilted sensor, a Yoyo-model walker): median over rounds; with a third argument "mag" the
+// update with a magnetometer (a constant field). Used by bench/imu.py.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "yoyogait/imu.hpp"
@@ -12,6 +14,8 @@
 int main(int argc, char** argv) {
   const std::size_t n = argc > 1 ? static_cast<std::size_t>(std::atol(argv[1])) : 60000;
   const int rounds = argc > 2 ? std::atoi(argv[2]) : 9;
+  const bool with_mag = argc > 3 && std::string(argv[3]) == "mag";
+  const double mag[3] = {-44.0, 3.0, 20.0};
   const double kPi = 3.14159265358979323846, g = 9.80665, f = 1.8, r = 0.022, tilt = 0.2;
   std::vector<double> t(n), acc(3 * n), gyr(3 * n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -28,7 +32,10 @@ int main(int argc, char** argv) {
   for (int k = 0; k < rounds; ++k) {
     yoyogait::ImuOnlineEstimator est;
     const auto t0 = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < n; ++i) sink += est.update(t[i], &acc[3 * i], &gyr[3 * i]).speed_mps;
+    if (with_mag)
+      for (std::size_t i = 0; i < n; ++i) sink += est.update(t[i], &acc[3 * i], &gyr[3 * i], mag).speed_mps;
+    else
+      for (std::size_t i = 0; i < n; ++i) sink += est.update(t[i], &acc[3 * i], &gyr[3 * i]).speed_mps;
     const auto t1 = std::chrono::steady_clock::now();
     ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / static_cast<double>(n));
   }

@@ -2,9 +2,11 @@
 #include "imu.hpp"
 
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -37,13 +39,18 @@ const double* three(const Samples& s, const char* what) {
   return s.data();
 }
 
-// Every sample through update(), in C++: one array per field of ImuEstimate.
-nb::dict run(ImuOnlineEstimator& est, const Times& time_s, const Samples& acc, const Samples& gyr) {
+// Every sample through update(), in C++: one array per field of ImuEstimate. mag: none or n x 3.
+nb::dict run(ImuOnlineEstimator& est, const Times& time_s, const Samples& acc, const Samples& gyr,
+             std::optional<Samples> mag) {
   const std::size_t n = time_s.shape(0);
   if (acc.size() != 3 * n || gyr.size() != 3 * n)
     throw nb::value_error(("acc and gyr must be " + std::to_string(n) + " x 3 like time_s, got " +
                            std::to_string(acc.size()) + " and " + std::to_string(gyr.size()) + " values")
                               .c_str());
+  if (mag && mag->size() != 3 * n)
+    throw nb::value_error(
+        ("mag must be " + std::to_string(n) + " x 3 like time_s, got " + std::to_string(mag->size()) + " values").c_str());
+  const double* mg = mag ? mag->data() : nullptr;
 #define YOYO_ARRAY(type, name, ...) auto col_##name = fresh<Stored<type>>(n);
   YOYOGAIT_IMU_ESTIMATE_FIELDS(YOYO_ARRAY)
 #undef YOYO_ARRAY
@@ -53,7 +60,7 @@ nb::dict run(ImuOnlineEstimator& est, const Times& time_s, const Samples& acc, c
     const double* a = acc.data();
     const double* g = gyr.data();
     for (std::size_t i = 0; i < n; ++i) {
-      const ImuEstimate e = est.update(t[i], a + 3 * i, g + 3 * i);
+      const ImuEstimate e = est.update(t[i], a + 3 * i, g + 3 * i, mg ? mg + 3 * i : nullptr);
 #define YOYO_STORE(type, name, ...) col_##name.first[i] = static_cast<Stored<type>>(e.name);
       YOYOGAIT_IMU_ESTIMATE_FIELDS(YOYO_STORE)
 #undef YOYO_STORE
@@ -122,7 +129,13 @@ void bind_imu(nb::module_& m) {
             return est.update(t_s, three(acc, "acc"), three(gyr, "gyr"));
           },
           "t_s"_a, "acc"_a, "gyr"_a)
-      .def("run", &run, "time_s"_a, "acc"_a, "gyr"_a)
+      .def(
+          "update",
+          [](ImuOnlineEstimator& est, double t_s, const Samples& acc, const Samples& gyr, const Samples& mag) {
+            return est.update(t_s, three(acc, "acc"), three(gyr, "gyr"), three(mag, "mag"));
+          },
+          "t_s"_a, "acc"_a, "gyr"_a, "mag"_a)
+      .def("run", &run, "time_s"_a, "acc"_a, "gyr"_a, "mag"_a = nb::none())
       .def("reset", &ImuOnlineEstimator::reset)
       .def_prop_ro("config", &ImuOnlineEstimator::config)
       .def_prop_ro("estimate", &ImuOnlineEstimator::estimate)

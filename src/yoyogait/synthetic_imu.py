@@ -6,7 +6,10 @@ Mobilise-D lower-back convention: x up, y to the right, z forward (a right-hande
 
 Per sample it reports the specific force ``R^T (a + g e_z)`` in m/s^2 (at rest upright: +9.81 on x)
 and the angular rate in its own frame in rad/s, each with a constant bias, white noise and the
-range of the sensor (saturation).  Kinematics are differentiated at four times the output rate
+range of the sensor (saturation); on request (``magnetometer=True``) also the earth's magnetic
+field ``R^T b`` in microtesla (``SyntheticImuWalk.mag_ut``; world x is magnetic north, the field
+dips below the horizon), with white noise and optionally a disturbance (iron nearby) over a span.
+Kinematics are differentiated at four times the output rate
 (central differences) and then decimated, so the derivative error is far below the noise.
 
 The walker is not a pendulum; so that the inverted-pendulum speed of the IMU estimator has a
@@ -26,8 +29,8 @@ from .synthetic import SUBJECTS, SyntheticSubject, SyntheticTruth, make_walk
 
 __all__ = ["SyntheticImuWalk", "make_imu_walk", "pendulum_length_m", "imu_lab", "STEP_LENGTH_FACTOR"]
 
-#: Zijlstra & Hof (2003)'s correction of the inverted-pendulum step length (the estimator's default).
-STEP_LENGTH_FACTOR = 1.25
+#: The correction K of the inverted-pendulum step length: the estimator's default (``step_length_factor``).
+STEP_LENGTH_FACTOR = 1.05
 
 _OVERSAMPLE = 4
 # Sensor axes (x up, y right, z forward) in the body frame (forward, left, up): columns.
@@ -44,11 +47,23 @@ def pendulum_length_m(subject: SyntheticSubject, factor: float = STEP_LENGTH_FAC
 class SyntheticImuWalk:
     """A SYNTHETIC IMU recording and the truth of the walk behind it."""
 
-    def __init__(self, recording: ImuRecording, truth: SyntheticTruth, subject: SyntheticSubject, walk_type: str):
+    def __init__(
+        self,
+        recording: ImuRecording,
+        truth: SyntheticTruth,
+        subject: SyntheticSubject,
+        walk_type: str,
+        mag_ut: np.ndarray | None = None,
+        forward_heading_rad: np.ndarray | None = None,
+    ):
         self.recording = recording
         self.truth = truth
         self.subject = subject
         self.walk_type = walk_type
+        #: SYNTHETIC magnetometer, N x 3 in the sensor frame [uT]; None unless asked for.
+        self.mag_ut = mag_ut
+        #: The true heading of the sensor's forward axis from magnetic north (world x), counter-clockwise [rad].
+        self.forward_heading_rad = forward_heading_rad
 
     @property
     def name(self) -> str:
@@ -85,6 +100,11 @@ def make_imu_walk(
     acc_range_mps2: float = 16.0 * GRAVITY_MPS2,
     gyr_range_rad_s: float = np.deg2rad(2000.0),
     upside_down: bool = False,
+    magnetometer: bool = False,
+    mag_field_ut=(20.0, 0.0, -44.0),
+    mag_noise_ut: float = 0.3,
+    mag_disturbance_ut=(0.0, 0.0, 0.0),
+    mag_disturbance_s=(0.0, 0.0),
     **walk_options,
 ) -> SyntheticImuWalk:
     """One SYNTHETIC lower-back IMU walk (deterministic for a seed).
@@ -92,8 +112,10 @@ def make_imu_walk(
     ``tilt_pitch_deg`` tilts the sensor forward about its right axis, ``tilt_roll_deg`` sideways
     about its forward axis (mounting errors).  ``upside_down`` turns it half a turn about its
     forward axis.  Biases are constant, in the sensor frame; the noise is white, per sample.
-    Values beyond ``acc_range_mps2`` / ``gyr_range_rad_s`` are clipped (saturation).  Other
-    keywords go to :func:`yoyogait.synthetic.make_walk`.
+    Values beyond ``acc_range_mps2`` / ``gyr_range_rad_s`` are clipped (saturation).
+    ``magnetometer``: also the field ``mag_field_ut`` (world frame: x magnetic north, z up) in the
+    sensor frame with white noise ``mag_noise_ut``, plus ``mag_disturbance_ut`` (world frame) from
+    ``mag_disturbance_s[0]`` to ``[1]`` s.  Other keywords go to :func:`yoyogait.synthetic.make_walk`.
     """
     subject = SUBJECTS[0] if subject is None else subject
     if not (np.isfinite(rate_hz) and rate_hz > 0):
@@ -142,6 +164,16 @@ def make_imu_walk(
     gyr = gyr + np.asarray(gyro_bias_rad_s, dtype=float) + rng.normal(0.0, gyr_noise_rad_s, gyr.shape)
     acc = np.clip(acc, -acc_range_mps2, acc_range_mps2)
     gyr = np.clip(gyr, -gyr_range_rad_s, gyr_range_rad_s)
+    r_out = r_ws[keep]
+    fwd_w = r_out[:, :, 2]  # the sensor's forward axis (z) in the world frame
+    forward_heading = np.arctan2(fwd_w[:, 1], fwd_w[:, 0])
+    mag = None
+    if magnetometer:
+        b_w = np.tile(np.asarray(mag_field_ut, dtype=float), (time_s.size, 1))
+        t0, t1 = (float(v) for v in mag_disturbance_s)
+        b_w[(time_s >= t0) & (time_s < t1)] += np.asarray(mag_disturbance_ut, dtype=float)
+        mag_rng = np.random.default_rng(np.random.SeedSequence([int(seed), 22, 7]))
+        mag = np.einsum("nji,nj->ni", r_out, b_w) + mag_rng.normal(0.0, mag_noise_ut, (time_s.size, 3))
 
     options = dict(
         rate_hz=float(rate_hz),
@@ -154,6 +186,7 @@ def make_imu_walk(
         acc_range_mps2=float(acc_range_mps2),
         gyr_range_rad_s=float(gyr_range_rad_s),
         upside_down=bool(upside_down),
+        magnetometer=bool(magnetometer),
     )
     recording = ImuRecording(
         time_s=time_s,
@@ -172,7 +205,7 @@ def make_imu_walk(
             **options,
         },
     )
-    return SyntheticImuWalk(recording, truth.at(time_s), subject, walk_type)
+    return SyntheticImuWalk(recording, truth.at(time_s), subject, walk_type, mag, forward_heading)
 
 
 def imu_lab(seed: int = 0, rate_hz: float = 100.0) -> list[SyntheticImuWalk]:

@@ -28,9 +28,9 @@ struct SyntheticImu {
   double f_hz = 1.8, speed_mps = 1.3, r_m = 0.022, pitch_rad = 0.0, roll_rad = 0.0, bias_rad_s = 0.0;
   double noise_mps2 = 0.02, scale = 1.0;
   std::mt19937 rng{3};
-  // The pendulum length for which K 2 sqrt(2 l h - h^2) is the step length v / f (h = 2 r, K = 1.25).
+  // The pendulum length for which K 2 sqrt(2 l h - h^2) is the step length v / f (h = 2 r, K the default).
   double pendulum_length_m() const {
-    const double half = 0.5 * speed_mps / f_hz / 1.25, h = 2.0 * r_m;
+    const double half = 0.5 * speed_mps / f_hz / ImuConfig{}.step_length_factor, h = 2.0 * r_m;
     return (half * half + h * h) / (2.0 * h);
   }
   // The specific force and angular rate in the sensor frame at t (walking when walk).
@@ -228,6 +228,28 @@ TEST(Imu, MahonyFindsGravityFromAnyStart) {
     const double n = imu::Mahony::norm(a);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(up[i], a[i] / n, 1e-12);
   }
+}
+
+TEST(Imu, MagnetometerMakesTheHeadingAbsoluteDespiteAGyroBias) {
+  // A sensor at rest facing 60 deg from magnetic north, 1 deg/s of bias on every gyro axis: with the
+  // field the heading is within 2 deg of 60 deg after 60 s; without it it is relative (0 at the start) and drifts.
+  ImuConfig c;
+  ImuOnlineEstimator with(c), without(c);
+  const double psi = 60.0 * kPi / 180.0, bias = kPi / 180.0;
+  // World (north, west, up) field of 20 uT north, 44 uT down; the sensor's axes: x up, y right, z forward
+  // with forward at psi: sensor z = (cos psi, sin psi, 0), y (right) = (sin psi, -cos psi, 0), x = up.
+  const double bn = 20.0, bu = -44.0;
+  const double mag[3] = {bu, bn * std::sin(psi), bn * std::cos(psi)};
+  const double acc[3] = {kG, 0.0, 0.0}, gyr[3] = {bias, bias, bias};
+  ImuEstimate a{}, b{};
+  for (int k = 0; k <= 6000; ++k) {
+    a = with.update(0.01 * k, acc, gyr, mag);
+    b = without.update(0.01 * k, acc, gyr);
+  }
+  EXPECT_TRUE(a.heading_absolute);
+  EXPECT_FALSE(b.heading_absolute);
+  EXPECT_NEAR(std::remainder(a.heading_rad - psi, 2.0 * kPi), 0.0, 2.0 * kPi / 180.0);
+  EXPECT_GT(std::fabs(std::remainder(b.heading_rad, 2.0 * kPi)), 20.0 * kPi / 180.0);
 }
 
 TEST(Imu, LeakyIntegratorDoesNotDrift) {

@@ -25,11 +25,11 @@ namespace yoyogait {
   X(bool, forward_negative, false, "", "[", 0, 1, "]", "the forward direction is minus that axis")                 \
   X(double, sensor_height_m, 0.95, "m", "(", 0.1, 3.0, "]",                                                         \
     "the sensor's height above the floor standing: the inverted pendulum's length l")                             \
-  X(double, step_length_factor, 1.25, "", "(", 0.0, 5.0, "]",                                                       \
-    "K of the step length K 2 sqrt(2 l h - h^2) (Zijlstra & Hof 2003 use 1.25)")                                  \
+  X(double, step_length_factor, 1.05, "", "(", 0.0, 5.0, "]",                                                       \
+    "K of the step length K 2 sqrt(2 l h - h^2) (Zijlstra & Hof 2003: 1.25; 1.05 calibrated on one participant, docs/imu.md)") \
   X(double, excursion_tau_s, 0.5, "s", "(", 0.0, 1e100, "]", "low-pass of the vertical excursion h per step")       \
-  X(double, speed_rel_std, 0.1, "", "[", 0.0, 10.0, "]",                                                             \
-    "relative standard deviation of the pendulum speed (model error), added to the estimator's speed std")       \
+  X(double, speed_rel_std, 0.2, "", "[", 0.0, 10.0, "]",                                                             \
+    "relative standard deviation of the pendulum speed (its model error; calibrated on one participant, docs/imu.md)") \
   X(double, settle_s, 2.0, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long after a (re)start (2 highpass_tau_s: the integrators' start transient decays)") \
   X(double, max_gap_s, 0.1, "s", "(", 0.0, 1e100, "]", "a longer interval between samples restarts the front-end") \
   X(double, acc_saturation_mps2, 78.0, "m/s^2", "(", 0.0, 1e100, "]",                                                \
@@ -41,6 +41,10 @@ namespace yoyogait {
   X(double, gravity_tolerance, 0.25, "", "(", 0.0, 1.0, ")",                                                         \
     "valid is 0 while that norm is further than this fraction from 9.81 m/s^2 (a wrong unit, a broken sensor)")  \
   X(double, max_speed_mps, 3.0, "m/s", "(", 0.0, 1e100, "]", "a walking speed above this is not reported as valid") \
+  X(double, mag_kp_per_s, 0.2, "1/s", "[", 0.0, 100.0, "]",                                                         \
+    "magnetometer (when given): gain of the heading correction towards the tilt-compensated magnetic heading (0: not used)") \
+  X(double, mag_norm_tolerance, 0.15, "", "(", 0.0, 10.0, "]",                                                       \
+    "a magnetometer sample whose norm is further than this fraction from its low-passed norm (iron nearby) is not used") \
   X(double, latency_f_hz, 2.0, "Hz", "(", 0.0, 1e100, "]", "frequency at which the reported input latency is evaluated")
 
 

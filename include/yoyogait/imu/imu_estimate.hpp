@@ -31,7 +31,7 @@ enum class ImuReason : std::uint8_t {
   X(double, vz_mps, 0.0, "m/s", kAll, "front-end: vertical velocity (high-passed, leaky integral of az)")         \
   X(double, vx_osc_mps, 0.0, "m/s", kAll, "front-end: forward oscillation (high-passed, leaky integral)")         \
   X(double, vx_mps, 0.0, "m/s", kAll, "front-end: forward velocity fed to the estimator, pendulum speed + vx_osc") \
-  X(double, heading_rad, 0.0, "rad", kAll, "heading of the forward axis from the rate gyro, relative to the start") \
+  X(double, heading_rad, 0.0, "rad", kAll, "heading of the forward axis (counter-clockwise from above): from the rate gyro, relative to the start; from magnetic north once heading_absolute") \
   X(double, tilt_rad, 0.0, "rad", kAll, "angle between the sensor's forward axis and the horizontal plane")      \
   X(double, vx_hat_mps, 0.0, "m/s", kAll, "the estimator's reconstruction of v_x at t_s (before it is fed: vx_mps)") \
   X(double, vz_hat_mps, 0.0, "m/s", kAll, "the estimator's reconstruction of v_z at t_s (before it is fed: vz_mps)") \
@@ -49,6 +49,7 @@ enum class ImuReason : std::uint8_t {
   X(::yoyogait::Status, estimator_status, ::yoyogait::Status::kUpdated, "", kAll, "Status of the estimator's last sample") \
   X(bool, valid, false, "", kAll, "the estimate may be used: walking, settled, in range (reason 0)")              \
   X(bool, walking, false, "", kAll, "the estimator's walking/standing detector")                                  \
+  X(bool, heading_absolute, false, "", kAll, "heading_rad is from magnetic north: a magnetometer sample has been used since the first sample (reset)") \
   X(bool, estimator_fed, false, "", kAll, "this sample completed an interval and fed the estimator")
 
 /// One estimate, at the time of one sample (YOYOGAIT_IMU_ESTIMATE_FIELDS).

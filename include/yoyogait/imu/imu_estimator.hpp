@@ -23,14 +23,22 @@
 #include "yoyogait/imu/imu_config.hpp"
 #include "yoyogait/imu/imu_estimate.hpp"
 #include "yoyogait/imu/mahony.hpp"
+#include "yoyogait/math.hpp"
+#include "yoyogait/online/validity.hpp"
 
 namespace yoyogait {
 
 /// The IMU gait estimator. update() is noexcept and allocates nothing; the constructor throws
 /// std::invalid_argument for an unusable configuration.
 class ImuOnlineEstimator {
+  /// The harmonic check: the last kRing fed v_z means, every kCheckTicks over kCheckWindow of them.
+  static constexpr std::size_t kRing = 128, kCheckWindow = 50, kCheckTicks = 5;
+  static_assert((kRing & (kRing - 1)) == 0, "the ring's length is a power of 2");
+
  public:
   static constexpr double kGravityMps2 = 9.80665;
+  /// A magnetometer norm rejected this long on end becomes the reference norm [s].
+  static constexpr double kMagAdaptS = 30.0;
 
   explicit ImuOnlineEstimator(const ImuConfig& config = ImuConfig{})
       : config_(checked(config)),
@@ -42,12 +50,18 @@ class ImuOnlineEstimator {
     // A frequency at a bound of the estimator's range is a filter that has not locked.
     f_locked_min_hz_ = 1.02 * config_.estimator.gait_filter.f_min_hz;
     f_locked_max_hz_ = 0.98 * config_.estimator.gait_filter.f_max_hz;
+    online::Validity::Settings vs;
+    vs.f_min_hz = config_.estimator.gait_filter.f_min_hz;
+    vs.f_max_hz = config_.estimator.gait_filter.f_max_hz;
+    validity_ = online::Validity(vs);
     reset();
   }
 
   /// Back to the state before the first sample.
   void reset() noexcept {
     estimator_.reset();
+    restart_estimate();
+    clear_ring();
     est_ = Estimate{};
     out_ = ImuEstimate{};
     have_time_ = false;
@@ -57,17 +71,25 @@ class ImuOnlineEstimator {
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
     excursion_m_ = 0.0;
-    pendulum_speed_mps_ = 0.0;
+    pendulum_speed_mps_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
     step_length_m_ = 0.0;
     heading_ = {1.0, 0.0};
     t_saturated_s_ = -std::numeric_limits<double>::infinity();
     gap_restart_ = false;
     acc_norm_lp_ = kGravityMps2;
+    mag_norm_lp_ = 0.0;
+    mag_rejected_since_s_ = 0.0;
+    heading_absolute_ = false;
   }
 
   /// One sample: t_s [s], acc[3] the specific force [m/s^2] and gyr[3] the angular rate [rad/s],
   /// both in the sensor frame. Never throws; the state stays finite.
-  ImuEstimate update(double t_s, const double* acc, const double* gyr) noexcept {
+  ImuEstimate update(double t_s, const double* acc, const double* gyr) noexcept { return update(t_s, acc, gyr, nullptr); }
+
+  /// As update(t_s, acc, gyr), with mag[3] the magnetic field in the sensor frame (any unit: only its
+  /// direction and its norm's steadiness are used; nullptr or a non-finite value: none): the heading
+  /// becomes absolute, from magnetic north (docs/imu.md).
+  ImuEstimate update(double t_s, const double* acc, const double* gyr, const double* mag) noexcept {
     ImuEstimate& o = out_;
     o.estimator_fed = false;
     bool finite = std::isfinite(t_s);
@@ -100,13 +122,49 @@ class ImuOnlineEstimator {
 
     const double a_norm = imu::Mahony::norm(a);
     const bool restart = !started_ || dt_s > config_.max_gap_s;
+    // The magnetometer's sample, when given, finite and not disturbed (its norm near its low-passed norm).
+    bool mag_ok = false;
+    imu::Vec3 m{};
+    if (mag != nullptr && config_.mag_kp_per_s > 0.0) {
+      m = {mag[0], mag[1], mag[2]};
+      const double mn = imu::Mahony::norm(m);
+      if (std::isfinite(mn) && mn > 0.0) {
+        if (!(mag_norm_lp_ > 0.0)) {
+          mag_norm_lp_ = mn;
+          mag_rejected_since_s_ = t_s;
+        }
+        mag_ok = std::fabs(mn - mag_norm_lp_) <= config_.mag_norm_tolerance * mag_norm_lp_;
+        // The norm follows accepted samples (over gravity_tau_s); a field rejected for kMagAdaptS
+        // on end is a new place's, not a passing disturbance: it becomes the reference.
+        if (mag_ok) {
+          mag_rejected_since_s_ = t_s;
+          if (dt_s > 0.0) mag_norm_lp_ += (1.0 - std::exp(-dt_s / config_.gravity_tau_s)) * (mn - mag_norm_lp_);
+        } else if (t_s - mag_rejected_since_s_ > kMagAdaptS) {
+          mag_norm_lp_ = mn;
+        }
+      }
+    }
     if (restart) {
       gap_restart_ = started_;
       start_front_end(t_s, a);
+      if (mag_ok && !heading_absolute_) {
+        mahony_.align_yaw(m);
+        heading_absolute_ = true;
+      }
       acc_norm_lp_ = started_before_ ? acc_norm_lp_ : a_norm;
       started_before_ = true;
     } else {
-      mahony_.step(a, w, dt_s, !saturated);
+      double yaw_error = 0.0;
+      if (mag_ok) {
+        yaw_error = mahony_.field_angle(m);
+        if (!std::isfinite(yaw_error)) yaw_error = 0.0;
+        else if (!heading_absolute_) {  // the first usable field after a start without one: at once
+          mahony_.align_yaw(m);
+          yaw_error = 0.0;
+          heading_absolute_ = true;
+        }
+      }
+      mahony_.step(a, w, dt_s, !saturated, yaw_error, config_.mag_kp_per_s);
       if (dt_s != gravity_dt_s_) {
         gravity_dt_s_ = dt_s;
         gravity_alpha_ = 1.0 - std::exp(-dt_s / config_.gravity_tau_s);
@@ -121,6 +179,7 @@ class ImuOnlineEstimator {
     if (hn > 0.2) heading_ = {x_w[0] / hn, x_w[1] / hn};  // held while the axis is near vertical
     o.heading_rad = std::atan2(heading_[1], heading_[0]);
     o.tilt_rad = std::atan2(x_w[2], hn);
+    o.heading_absolute = heading_absolute_;
     // A saturated sample is no measurement: the integrators get the last unsaturated values.
     if (!saturated || restart) {
       az_last_ = f_w[2] - kGravityMps2;
@@ -136,7 +195,7 @@ class ImuOnlineEstimator {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
-    o.vx_mps = pendulum_speed_mps_ + o.vx_osc_mps;
+    o.vx_mps = fed_speed_mps_ + o.vx_osc_mps;
     o.input_latency_s = int_z_.delay_s(config_.latency_f_hz);
 
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
@@ -149,8 +208,11 @@ class ImuOnlineEstimator {
       const double T = config_.estimator.sample_time_s;
       if (span_s_ + 0.5 * dt_s >= T * (1.0 - 1e-9)) {
         const double step_dt_s = fed_ ? t_s - t_tick_s_ : T;
-        est_ = estimator_.step(sum_vx_ / span_s_, sum_vz_ / span_s_, step_dt_s);
+        const GaitState prior = est_.gait_state;
+        const double vz_mean = sum_vz_ / span_s_;
+        est_ = estimator_.step(sum_vx_ / span_s_, vz_mean, step_dt_s);
         fed_ = true;
+        sampled(prior, step_dt_s, vz_mean);
         o.estimator_fed = true;
         t_tick_s_ = t_s;
         tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
@@ -166,7 +228,8 @@ class ImuOnlineEstimator {
       o.reason = ImuReason::kGap;
     else if (std::fabs(acc_norm_lp_ - kGravityMps2) > config_.gravity_tolerance * kGravityMps2)
       o.reason = ImuReason::kGravity;
-    else if (!fed_ || est_.acquiring || !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
+    else if (!fed_ || est_.acquiring || harmonic_off_ ||
+             !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
       o.reason = ImuReason::kAcquiring;
     else if (!o.walking)
       o.reason = ImuReason::kNotWalking;
@@ -201,15 +264,121 @@ class ImuOnlineEstimator {
   // a jump of phase and amplitude), and so does the pendulum speed.
   void start_front_end(double t_s, const imu::Vec3& a) noexcept {
     if (!started_) mahony_.start(a);
+    clear_ring();
     if (started_) {
       estimator_.reset();
+      restart_estimate();
       est_ = Estimate{};
       fed_ = false;
-      pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
+      pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
     }
     started_ = true;
     start_t_s_ = t_s;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+  }
+
+  // The estimator (re)starts: what its outputs' stds know goes too (the v_z ring stays: it is the
+  // front-end's, cleared by clear_ring at a start of the front-end).
+  void restart_estimate() noexcept {
+    validity_.reset();
+    ticks_since_check_ = 0;
+    harmonic_off_ = false;
+    harmonic_off_s_ = 0.0;
+    f_std_ = s_std_ = std::numeric_limits<double>::infinity();
+  }
+
+  // After each estimator sample: its stds made honest (as OnlineEstimator does: scaled by the
+  // innovations' excess, plus what a transient adds, at least kPinnedStdHz at a bound of the range,
+  // plus the pendulum's model error for the speed) and the harmonic check on the fed v_z.
+  void sampled(const GaitState& prior, double dt_s, double vz_mean) noexcept {
+    const double p1 = prior[gait::kZ1], p2 = prior[gait::kZ2];
+    const double q1 = est_.gait_state[gait::kZ1], q2 = est_.gait_state[gait::kZ2];
+    const double correction =
+        est_.walking && !est_.acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8
+            ? atan2_fast(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2) - prior[gait::kW] * dt_s
+            : std::numeric_limits<double>::quiet_NaN();
+    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
+    check_harmonic(vz_mean, dt_s);
+    const double k = validity_.std_inflation();
+    const double sp = est_.speed_mps > 0.3 ? est_.speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
+    const double tv_s = validity_.transient_var_speed();
+    double f_var = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() +
+                   fs * fs * tv_s;
+    if (est_.walking && validity_.pinned(est_.step_frequency_hz) && f_var < kPinnedStdHz * kPinnedStdHz)
+      f_var = kPinnedStdHz * kPinnedStdHz;
+    // Locked on a wrong harmonic: the truth is f / 2 or 2 f away.
+    if (harmonic_off_) f_var += 0.25 * est_.step_frequency_hz * est_.step_frequency_hz;
+    // The bank still choosing: any of its members may win; the range's half-width.
+    if (est_.acquiring) {
+      const double half = 0.5 * (config_.estimator.gait_filter.f_max_hz - config_.estimator.gait_filter.f_min_hz);
+      f_var += half * half;
+    }
+    const double model_std = config_.speed_rel_std * pendulum_speed_mps_;
+    double s_var = (pendulum_speed_mps_ > 0.0 ? 0.0 : k * k * est_.speed_std_mps * est_.speed_std_mps) + tv_s +
+                   model_std * model_std;
+    // While the pendulum speed rises from 0 (excursion_tau_s) or the lock is off, the speed is as
+    // uncertain as the pendulum's own estimate of where it goes.
+    const double gap = target_speed_mps_ - (pendulum_speed_mps_ > 0.0 ? pendulum_speed_mps_ : est_.speed_mps);
+    s_var += gap * gap;
+    // Not locked: nothing is known of the speed within what is plausible.
+    if (harmonic_off_ || est_.acquiring) s_var += config_.max_speed_mps * config_.max_speed_mps;
+    f_std_ = std::sqrt(f_var);
+    s_std_ = std::sqrt(s_var);
+  }
+
+  // Whether the estimator sits on a wrong harmonic of the step, from the fed v_z's normalised
+  // autocorrelation at its period P = 1 / f and at P / 2: on the step, r(P) > 0 > r(P / 2); on the
+  // stride (f half the cadence, the second harmonic taking the step) r(P / 2) > 0; on twice the
+  // cadence r(P) < 0. Every kCheckTicks samples over the last kCheckWindow; held kHarmonicHoldS.
+  void check_harmonic(double vz, double dt_s) noexcept {
+    vz_ring_[ring_next_] = vz;
+    ring_next_ = (ring_next_ + 1) & (kRing - 1);
+    if (ring_n_ < kRing) ++ring_n_;
+    if (++ticks_since_check_ < kCheckTicks) return;
+    ticks_since_check_ = 0;
+    const double f = est_.step_frequency_hz;
+    bool off = false;
+    if (est_.walking && !est_.acquiring && f > 0.0 && dt_s > 0.0) {
+      const double lag = 1.0 / (f * dt_s);
+      if (lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(ring_n_)) {
+        // The ring newest first, in order: the correlations then index it without wrapping.
+        std::array<double, kRing> x;
+        for (std::size_t i = 0; i < ring_n_; ++i) x[i] = vz_ring_[(ring_next_ + kRing - 1 - i) & (kRing - 1)];
+        const double r_full = autocorrelation(x, lag), r_half = autocorrelation(x, 0.5 * lag);
+        off = r_half > kHalfLagMax || r_full < kFullLagMin;
+      }
+    }
+    if (off && !harmonic_off_) harmonic_off_s_ = 0.0;
+    harmonic_off_ = off;
+    if (off) {
+      harmonic_off_s_ += static_cast<double>(kCheckTicks) * dt_s;
+      if (harmonic_off_s_ >= kHarmonicRestartS) {  // it stays there: acquire afresh
+        estimator_.reset();
+        restart_estimate();
+        harmonic_off_ = true;  // not valid until the check has run again
+        pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
+      }
+    }
+  }
+
+  // The normalised autocorrelation of the first kCheckWindow values of x (newest first) at a
+  // (fractional) lag.
+  static double autocorrelation(const std::array<double, kRing>& x, double lag) noexcept {
+    const std::size_t l0 = static_cast<std::size_t>(lag);
+    const double w = lag - static_cast<double>(l0);
+    double sxy = 0.0, sxx = 0.0, syy = 0.0;
+    for (std::size_t i = 0; i < kCheckWindow; ++i) {
+      const double y = (1.0 - w) * x[i + l0] + w * x[i + l0 + 1];
+      sxy += x[i] * y;
+      sxx += x[i] * x[i];
+      syy += y * y;
+    }
+    const double d = sxx * syy;
+    return d > 0.0 ? sxy / std::sqrt(d) : 0.0;
+  }
+  void clear_ring() noexcept {
+    vz_ring_.fill(0.0);
+    ring_n_ = ring_next_ = 0;
   }
 
   // The inverted pendulum's speed from the estimator's vertical phasor: h = 2 |Z| / w per step,
@@ -218,7 +387,8 @@ class ImuOnlineEstimator {
     const GaitState& x = est_.gait_state;
     const double omega = x[gait::kW];
     if (!(est_.walking && !est_.acquiring && omega > 0.0)) {
-      if (!est_.walking) pendulum_speed_mps_ = excursion_m_ = step_length_m_ = 0.0;
+      if (!est_.walking)
+        pendulum_speed_mps_ = excursion_m_ = step_length_m_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
       return;
     }
     // At most a fifth of the pendulum's length: no walker's pelvis rises more per step; a larger
@@ -226,13 +396,23 @@ class ImuOnlineEstimator {
     const double h = std::fmin(2.0 * std::sqrt(x[gait::kZ1] * x[gait::kZ1] + x[gait::kZ2] * x[gait::kZ2]) / omega,
                                0.2 * config_.sensor_height_m);
     if (!std::isfinite(h)) return;
-    // From 0 at the start of a walk: a step of the forward velocity fed to the estimator would
-    // disturb its phase and frequency while they lock.
-    excursion_m_ += (1.0 - std::exp(-dt_s / config_.excursion_tau_s)) * (h - excursion_m_);
-    const double l = config_.sensor_height_m, he = std::fmin(excursion_m_, l);
-    step_length_m_ = config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * he - he * he));
-    const double f = omega * 0.15915494309189533576888376337251;
+    // Fed to the estimator from 0 at the start of a walk (a step of the forward velocity it is fed
+    // would disturb its phase and frequency while they lock); reported from the first value on.
+    const double g = 1.0 - std::exp(-dt_s / config_.excursion_tau_s);
+    ramp_excursion_m_ += g * (h - ramp_excursion_m_);
+    excursion_m_ = excursion_m_ > 0.0 ? excursion_m_ + g * (h - excursion_m_) : h;
+    const double l = config_.sensor_height_m, f = omega * 0.15915494309189533576888376337251;
+    fed_speed_mps_ = std::fmin(step_length(ramp_excursion_m_) * f, 2.0 * config_.max_speed_mps);
+    step_length_m_ = step_length(excursion_m_);
     pendulum_speed_mps_ = std::fmin(step_length_m_ * f, 2.0 * config_.max_speed_mps);
+    const double hm = std::fmin(h, l);
+    target_speed_mps_ = std::fmin(step_length(hm) * f, 2.0 * config_.max_speed_mps);
+  }
+
+  // The inverted pendulum's step length for a vertical excursion h per step [m].
+  double step_length(double h) const noexcept {
+    const double l = config_.sensor_height_m, he = std::fmin(h, l);
+    return config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * he - he * he));
   }
 
   // The estimator's last estimate carried to t_s by its own forecast (as OnlineEstimator does).
@@ -240,10 +420,15 @@ class ImuOnlineEstimator {
     ImuEstimate& o = out_;
     const Estimate& e = est_;
     o.step_frequency_hz = e.step_frequency_hz;
-    o.step_frequency_std_hz = e.step_frequency_std_hz;
-    o.speed_mps = e.speed_mps;
-    const double model_std = config_.speed_rel_std * pendulum_speed_mps_;
-    o.speed_std_mps = std::sqrt(e.speed_std_mps * e.speed_std_mps + model_std * model_std);
+    // The speed is the pendulum's, once it runs: the estimator's A0 follows the fed speed only over
+    // seconds (its random walk), too slowly for a walk of a few steps.
+    o.speed_mps = pendulum_speed_mps_ > 0.0 ? pendulum_speed_mps_ : e.speed_mps;
+    if (!fed_) {  // nothing is known of the estimator's outputs yet
+      o.step_frequency_std_hz = o.speed_std_mps = std::numeric_limits<double>::infinity();
+    } else {
+      o.step_frequency_std_hz = f_std_;
+      o.speed_std_mps = s_std_;
+    }
     o.excursion_m = excursion_m_;
     o.step_length_m = step_length_m_;
     o.pendulum_speed_mps = pendulum_speed_mps_;
@@ -292,10 +477,23 @@ class ImuOnlineEstimator {
   Estimate est_{};
   ImuEstimate out_{};
   bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;
+  bool heading_absolute_ = false;
+  double mag_norm_lp_ = 0.0, mag_rejected_since_s_ = 0.0;
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
-  double excursion_m_ = 0.0, step_length_m_ = 0.0, pendulum_speed_mps_ = 0.0;
+  double excursion_m_ = 0.0, step_length_m_ = 0.0, pendulum_speed_mps_ = 0.0, target_speed_mps_ = 0.0;
+  double fed_speed_mps_ = 0.0, ramp_excursion_m_ = 0.0;  ///< the pendulum speed fed to the estimator, ramped
+  online::Validity validity_{};
+  double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
+  /// r(P / 2) above this or r(P) below it: a wrong harmonic. Held this long, the estimator restarts [s].
+  static constexpr double kHalfLagMax = 0.0, kFullLagMin = 0.0, kHarmonicRestartS = 1.0;
+  /// The frequency std at a bound of the range, at least [Hz].
+  static constexpr double kPinnedStdHz = 0.5;
+  std::array<double, kRing> vz_ring_{};
+  std::size_t ring_n_ = 0, ring_next_ = 0, ticks_since_check_ = 0;
+  bool harmonic_off_ = false;
+  double harmonic_off_s_ = 0.0;
   std::array<double, 2> heading_{1.0, 0.0};
   double t_saturated_s_ = 0.0, acc_norm_lp_ = kGravityMps2, gravity_dt_s_ = -1.0, gravity_alpha_ = 0.0;
 };

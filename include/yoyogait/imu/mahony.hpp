@@ -1,14 +1,18 @@
 /// @file imu/mahony.hpp
-/// @brief Mahony's complementary filter (Mahony, Hamel & Pflimlin 2008) without magnetometer: the
-/// sensor's orientation relative to gravity from the rate gyro, corrected towards the measured
-/// specific force; its integral term estimates the gyro bias about the horizontal axes.
+/// @brief Mahony's complementary filter (Mahony, Hamel & Pflimlin 2008): the sensor's orientation
+/// relative to gravity from the rate gyro, corrected towards the measured specific force; its
+/// integral term estimates the gyro bias about the horizontal axes. With a magnetometer, the yaw is
+/// corrected too, towards the tilt-compensated magnetic heading (about the vertical only, so that a
+/// disturbed field cannot tilt the estimate), and the integral then takes in the vertical bias.
 ///
-/// q is the unit quaternion (w, x, y, z) of the rotation world <- sensor, world z up. Yaw (the
-/// rotation about the vertical) is the gyro's integral: relative, drifting with the vertical bias.
+/// q is the unit quaternion (w, x, y, z) of the rotation world <- sensor, world z up; with a
+/// magnetometer world x is magnetic north (y west). Without one the yaw (the rotation about the
+/// vertical) is the gyro's integral: relative, drifting with the vertical bias.
 #pragma once
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace yoyogait::imu {
 
@@ -39,14 +43,51 @@ class Mahony {
     normalise();
   }
 
+  /// Turns the estimate about the vertical so that the horizontal part of mag (any unit, sensor
+  /// frame) points along world x: the yaw from the magnetometer at once (a start).
+  void align_yaw(const Vec3& mag) noexcept {
+    const double a = field_angle(mag);
+    if (!std::isfinite(a)) return;
+    // q <- (cos(-a/2), 0, 0, sin(-a/2)) q: a rotation about the world's vertical.
+    const double c = std::cos(-0.5 * a), s = std::sin(-0.5 * a);
+    const double qw = q_[0], qx = q_[1], qy = q_[2], qz = q_[3];
+    q_ = {c * qw - s * qz, c * qx - s * qy, c * qy + s * qx, c * qz + s * qw};
+    normalise();
+  }
+
+  /// The angle of the horizontal part of mag (sensor frame) in the world frame from world x
+  /// (counter-clockwise seen from above) [rad]: the yaw error against magnetic north. NaN when the
+  /// field is (nearly) vertical.
+  double field_angle(const Vec3& mag) const noexcept {
+    const Vec3 h = to_world(mag);
+    const double hh = h[0] * h[0] + h[1] * h[1];
+    if (!(hh > 1e-6 * (hh + h[2] * h[2]))) return std::numeric_limits<double>::quiet_NaN();
+    return std::atan2(h[1], h[0]);
+  }
+
   /// One sample dt_s after the previous one. correct: use acc (false while it is saturated).
-  void step(const Vec3& acc, const Vec3& gyr, double dt_s, bool correct) noexcept {
+  /// yaw_error_rad (field_angle of a magnetometer sample, 0 without one) is corrected with gain
+  /// yaw_kp_per_s about the vertical; its share of the integral term is yaw_kp / kp of it.
+  void step(const Vec3& acc, const Vec3& gyr, double dt_s, bool correct, double yaw_error_rad = 0.0,
+            double yaw_kp_per_s = 0.0) noexcept {
     Vec3 w = gyr;
     const double n = norm(acc);
-    if (correct && n > 0.0) {
+    const bool use_acc = correct && n > 0.0, use_mag = yaw_kp_per_s > 0.0 && yaw_error_rad != 0.0;
+    if (use_acc || use_mag) {
       const Vec3 v = up_in_sensor();
-      const double ax = acc[0] / n, ay = acc[1] / n, az = acc[2] / n;
-      const Vec3 e{ay * v[2] - az * v[1], az * v[0] - ax * v[2], ax * v[1] - ay * v[0]};  // a x v
+      Vec3 e{0.0, 0.0, 0.0};
+      if (use_acc) {
+        const double ax = acc[0] / n, ay = acc[1] / n, az = acc[2] / n;
+        e = {ay * v[2] - az * v[1], az * v[0] - ax * v[2], ax * v[1] - ay * v[0]};  // a x v
+      }
+      if (use_mag) {
+        // A turn about the world's vertical by -yaw_error (the vertical in the sensor frame is v),
+        // in units of the accelerometer's error so that kp and ki act on it as yaw_kp / kp.
+        const double k = -yaw_error_rad * (kp_ > 0.0 ? yaw_kp_per_s / kp_ : 0.0);
+        for (int i = 0; i < 3; ++i) e[i] += k * v[i];
+        if (!(kp_ > 0.0))
+          for (int i = 0; i < 3; ++i) w[i] -= yaw_kp_per_s * yaw_error_rad * v[i];
+      }
       for (int i = 0; i < 3; ++i) {
         if (ki_ > 0.0) {
           bias_[i] += ki_ * e[i] * dt_s;

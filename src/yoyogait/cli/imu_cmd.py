@@ -216,7 +216,8 @@ def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, p
         with open(tmp / "bouts.csv", "w", newline="", encoding="utf-8") as f:
             w = csv.writer(f)
             keys = ["recording", "reference", "bout", "estimator", "start_s", "end_s", "ref_cadence_spm",
-                    "cadence_spm", "ref_speed_mps", "speed_mps", "ref_stride_time_s", "stride_time_s"]  # fmt: skip
+                    "cadence_spm", "ref_speed_mps", "speed_mps", "ref_stride_time_s", "stride_time_s", "strides",
+                    "ref_strides"]  # fmt: skip
             w.writerow(keys + ["cadence_error_spm", "speed_error_mps", "stride_time_error_s"])
             for row in rows:
                 vals = [getattr(row, k) for k in keys]

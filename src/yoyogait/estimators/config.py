@@ -637,6 +637,8 @@ class ImuConfig(_ConfigFile):
     gravity_tau_s: float = _field(IMU_SECTION, "gravity_tau_s")
     gravity_tolerance: float = _field(IMU_SECTION, "gravity_tolerance")
     max_speed_mps: float = _field(IMU_SECTION, "max_speed_mps")
+    mag_kp_per_s: float = _field(IMU_SECTION, "mag_kp_per_s")
+    mag_norm_tolerance: float = _field(IMU_SECTION, "mag_norm_tolerance")
     latency_f_hz: float = _field(IMU_SECTION, "latency_f_hz")
 
     def _own(self):

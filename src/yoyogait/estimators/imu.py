@@ -4,7 +4,8 @@
 the orientation relative to gravity (Mahony's filter), the drift-free vertical velocity and forward
 oscillation (high-pass and leaky integration of the gravity-free acceleration), the heading from
 the rate gyro (relative), and the default gait estimator fed every 40 ms with (inverted-pendulum
-speed + forward oscillation, vertical velocity).  No output at time t depends on a sample after t.
+speed + forward oscillation, vertical velocity).  With a magnetometer (``mag``, optional) the
+heading is absolute, from magnetic north.  No output at time t depends on a sample after t.
 """
 
 from __future__ import annotations
@@ -83,25 +84,30 @@ class ImuOnlineEstimator:
             raise ConcurrentUseError("ImuOnlineEstimator is in use by another thread; use one per thread")
         return self._lock
 
-    def update(self, t_s: float, acc, gyr):
-        """One sample; returns the native ImuEstimate (fields as in IMU_ESTIMATE_FIELDS)."""
+    def update(self, t_s: float, acc, gyr, mag=None):
+        """One sample; returns the native ImuEstimate (fields as in IMU_ESTIMATE_FIELDS). ``mag``: the
+        magnetic field in the sensor frame (any unit), optional: the heading becomes absolute."""
         a, g = _three("acc", acc), _three("gyr", gyr)
+        m = None if mag is None else _three("mag", mag)
         lock = self._locked()
         try:
-            return self._native.update(float(t_s), a, g)
+            return self._native.update(float(t_s), a, g) if m is None else self._native.update(float(t_s), a, g, m)
         finally:
             lock.release()
 
-    def run(self, time_s, acc, gyr, *, source: str = "", synthetic: bool = False) -> ImuResult:
-        """Every sample through ``update``, in C++; one row per sample."""
+    def run(self, time_s, acc, gyr, mag=None, *, source: str = "", synthetic: bool = False) -> ImuResult:
+        """Every sample through ``update``, in C++; one row per sample (``mag``: N x 3 or None)."""
         t = np.ascontiguousarray(time_s, dtype=float).reshape(-1)
         a = np.ascontiguousarray(acc, dtype=float)
         g = np.ascontiguousarray(gyr, dtype=float)
+        m = None if mag is None else np.ascontiguousarray(mag, dtype=float)
         if a.shape != (t.size, 3) or g.shape != (t.size, 3):
             raise InputError(f"acc and gyr must be {t.size} x 3 like time_s, got {a.shape} and {g.shape}")
+        if m is not None and m.shape != (t.size, 3):
+            raise InputError(f"mag must be {t.size} x 3 like time_s, got {m.shape}")
         lock = self._locked()
         try:
-            cols = self._native.run(t, a, g)
+            cols = self._native.run(t, a, g, m)
         finally:
             lock.release()
         columns = {k: np.asarray(v) for k, v in cols.items()}

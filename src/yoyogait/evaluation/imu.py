@@ -1,9 +1,22 @@
 """Evaluation of the lower-back IMU estimator against the reference systems of a data set.
 
-Per walking bout of a reference system (``ImuRecording.references``: INDIP, Stereophoto), the
-cadence (steps/min), walking speed (m/s) and stride time (s) of each estimator are the means of
-its valid estimates inside the bout; the error is that minus the reference's value.  A bout in
-which an estimator has no valid estimate counts as missed (NaN error, listed).
+Per walking bout of a reference system (``ImuRecording.references``: INDIP, Stereophoto), like
+with like: the reference's cadence and stride time of a bout are means over its strides (initial
+contact k to k + 2) of 120 / stride duration and of the stride duration (that is how the
+Mobilise-D standards define ``Cadence`` and ``Stride_Duration``; the two differ from each other
+where the cadence changes within a bout).  The online estimate is taken over the same strides: a
+stride counts when the estimate is valid over at least half of it, its cadence is the mean of
+60 f and its stride time 2 / the mean of f over the stride's valid samples, and the bout's values
+are the means over the strides that count, against the reference's means over those same
+strides.  The speed is the mean over those strides against the bout's ``WalkingSpeed`` (the
+reference's per-stride speeds are not read).  A bout in which no stride counts is missed (NaN
+error, listed).
+
+Coverage and confidently-wrong time follow the online evaluation's definitions
+(:mod:`yoyogait.evaluation.metrics`): over every sample inside the reference's bouts, valid or
+not, the share within 2 reported standard deviations of the reference (the step frequency of the
+strides under way; the bout's speed), and the share that is valid and off by more than 0.15 Hz
+or 0.15 m/s and more than 2 standard deviations.
 
 Estimators: ``yoyogait-imu`` (:class:`ImuOnlineEstimator`, online), ``oscillator-imu`` (the
 adaptive oscillator fed the IMU front-end's vertical and forward velocity, 25 Hz means), and
@@ -27,8 +40,21 @@ from ..estimators.imu import ImuResult, estimator_for
 from ..estimators.oscillator import run_oscillator
 from ..io.imu_read import read_mobilised_trials
 from ..io.imu_recording import ImuBout, ImuRecording
+from . import metrics
+from .online import WRONG_F_HZ, WRONG_SPEED_MPS
 
-__all__ = ["BoutRow", "imu_recordings", "evaluate_recording", "summary", "imu_figure", "run_mobgap"]
+__all__ = [
+    "BoutRow",
+    "bout_strides",
+    "coverage",
+    "evaluate_recording",
+    "imu_figure",
+    "imu_recordings",
+    "reference_at",
+    "run_mobgap",
+    "startup",
+    "summary",
+]
 
 ESTIMATORS = ("yoyogait-imu", "oscillator-imu", "mobgap")
 
@@ -49,6 +75,8 @@ class BoutRow:
     cadence_spm: float
     speed_mps: float
     stride_time_s: float
+    strides: int = 0  # the reference's strides the values are taken over
+    ref_strides: int = 0  # the reference's strides in the bout
 
     @property
     def cadence_error_spm(self) -> float:
@@ -75,12 +103,40 @@ def imu_recordings(root) -> list[ImuRecording]:
     return out
 
 
-def _bout_means(time_s, f_hz, speed, valid, bout: ImuBout) -> tuple[float, float, float]:
-    m = (time_s >= bout.start_s) & (time_s <= bout.end_s) & valid & (f_hz > 0)
-    if not np.any(m):
-        return math.nan, math.nan, math.nan
-    f = float(np.mean(f_hz[m]))
-    return 60.0 * f, float(np.mean(speed[m])), 2.0 / f
+def bout_strides(bout: ImuBout) -> tuple[np.ndarray, np.ndarray]:
+    """The reference's strides of a bout: (start_s, end_s) of initial contact k to k + 2, both known."""
+    ic = np.asarray(bout.contact_times_s, dtype=float).reshape(-1)
+    if ic.size < 3:
+        return np.zeros(0), np.zeros(0)
+    a, e = ic[:-2], ic[2:]
+    with np.errstate(invalid="ignore"):
+        ok = np.isfinite(a) & np.isfinite(e) & (e > a)
+    return a[ok], e[ok]
+
+
+def _bout_values(time_s, f_hz, speed, valid, bout: ImuBout, min_valid: float = 0.5):
+    """(cadence, speed, stride time, reference cadence, reference stride time, strides counted,
+    strides) of an estimate over the reference's strides of a bout (the module's text)."""
+    a, e = bout_strides(bout)
+    ok = np.asarray(valid, dtype=bool) & (np.asarray(f_hz) > 0)
+    cad, spd, stride, ref_cad, ref_stride = [], [], [], [], []
+    for s0, s1 in zip(a, e):
+        i0, i1 = np.searchsorted(time_s, [s0, s1])
+        if i1 <= i0:
+            continue
+        m = ok[i0:i1]
+        if m.mean() < min_valid:
+            continue
+        f = float(np.mean(f_hz[i0:i1][m]))
+        cad.append(60.0 * f)
+        stride.append(2.0 / f)
+        spd.append(float(np.mean(speed[i0:i1][m])))
+        ref_cad.append(120.0 / (s1 - s0))
+        ref_stride.append(s1 - s0)
+    if not cad:
+        return (math.nan,) * 5 + (0, a.size)
+    return (float(np.mean(cad)), float(np.mean(spd)), float(np.mean(stride)), float(np.mean(ref_cad)),
+            float(np.mean(ref_stride)), len(cad), a.size)  # fmt: skip
 
 
 def _oscillator(result: ImuResult):
@@ -115,13 +171,20 @@ def evaluate_recording(rec: ImuRecording, config: ImuConfig | None = None, mobga
                 ref_speed_mps=b.speed_mps,
                 ref_stride_time_s=b.stride_time_s,
             )
-            c, v, s = _bout_means(t, result["step_frequency_hz"], result["speed_mps"], result["valid"], b)
-            rows.append(BoutRow(estimator="yoyogait-imu", cadence_spm=c, speed_mps=v, stride_time_s=s, **base))
-            c, v, s = _bout_means(osc_t, osc_f, osc_v, np.ones(osc_t.size, bool), b)
-            rows.append(BoutRow(estimator="oscillator-imu", cadence_spm=c, speed_mps=v, stride_time_s=s, **base))
+            for name, tt, f, v, ok in (
+                ("yoyogait-imu", t, result["step_frequency_hz"], result["speed_mps"], result["valid"]),
+                ("oscillator-imu", osc_t, osc_f, osc_v, np.ones(osc_t.size, bool)),
+            ):
+                c, sp, st, rc, rs, n, nref = _bout_values(tt, f, v, ok, b)
+                row = {**base, "ref_cadence_spm": rc, "ref_stride_time_s": rs}
+                rows.append(BoutRow(estimator=name, cadence_spm=c, speed_mps=sp, stride_time_s=st, strides=n,
+                                    ref_strides=nref, **row))  # fmt: skip
             if mobgap is not None:
+                # The peer's values are per its own walking bouts: against the reference's whole bout.
                 c, v, s = _peer_bout(mobgap, b)
-                rows.append(BoutRow(estimator="mobgap", cadence_spm=c, speed_mps=v, stride_time_s=s, **base))
+                n = bout_strides(b)[0].size
+                rows.append(BoutRow(estimator="mobgap", cadence_spm=c, speed_mps=v, stride_time_s=s, strides=n,
+                                    ref_strides=n, **base))  # fmt: skip
     return rows, result
 
 
@@ -265,31 +328,70 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
     fig.savefig(path, dpi=90)
 
 
+def reference_at(rec: ImuRecording, reference: str, time_s) -> tuple[np.ndarray, np.ndarray]:
+    """(step frequency [Hz], speed [m/s]) of a reference system at each time: inside its bouts the
+    mean of 2 / duration of the strides under way (a stride-averaged step frequency: left-right
+    asymmetry averaged out) and the bout's speed; NaN outside them."""
+    t = np.asarray(time_s, dtype=float)
+    f_sum, f_n = np.zeros(t.size), np.zeros(t.size)
+    speed = np.full(t.size, np.nan)
+    for b in rec.references.get(reference, []):
+        i0, i1 = np.searchsorted(t, [b.start_s, b.end_s], side="left")
+        speed[i0:i1] = b.speed_mps
+        for s0, s1 in zip(*bout_strides(b)):
+            j0, j1 = np.searchsorted(t, [s0, s1])
+            f_sum[j0:j1] += 2.0 / (s1 - s0)
+            f_n[j0:j1] += 1.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f = np.where(f_n > 0, f_sum / f_n, np.nan)
+    return f, np.where(np.isfinite(f), speed, np.nan)
+
+
 def coverage(rec: ImuRecording, result: ImuResult) -> dict[str, dict[str, float]]:
-    """Per reference system, over the valid online estimates inside its walking bouts (the bout's
-    mean as the truth): the fraction within 2 standard deviations of the reference (cadence, speed),
-    and the confidently-wrong fraction (valid, and more than 3 standard deviations off in either)."""
+    """Per reference system, over every sample inside its walking bouts with a stride under way
+    (valid or not, as the online evaluation counts): the share within 2 standard deviations of the
+    reference (step frequency, speed: :func:`reference_at`), the confidently-wrong share (valid,
+    and off by more than 0.15 Hz or 0.15 m/s and more than 2 standard deviations) and the valid share."""
     t = result.time_s
     valid = result["valid"].astype(bool)
+    f, f_std = result["step_frequency_hz"], result["step_frequency_std_hz"]
+    v, v_std = result["speed_mps"], result["speed_std_mps"]
     out = {}
-    for ref, bouts in rec.references.items():
-        ref_cad = np.full(t.size, np.nan)
-        ref_spd = np.full(t.size, np.nan)
-        for b in bouts:
-            m = (t >= b.start_s) & (t <= b.end_s)
-            ref_cad[m], ref_spd[m] = b.cadence_spm, b.speed_mps
-        m = valid & np.isfinite(ref_cad)
-        if not m.any():
-            out[ref] = {"samples": 0, "cadence_2std": math.nan, "speed_2std": math.nan, "confidently_wrong": math.nan}
-            continue
-        ec = np.abs(60.0 * result["step_frequency_hz"][m] - ref_cad[m])
-        sc = 60.0 * result["step_frequency_std_hz"][m]
-        es = np.abs(result["speed_mps"][m] - ref_spd[m])
-        ss = result["speed_std_mps"][m]
+    for ref in rec.references:
+        f_ref, v_ref = reference_at(rec, ref, t)
+        m = np.isfinite(f_ref)
+        quantities = ((f, f_std, f_ref, WRONG_F_HZ), (v, v_std, v_ref, WRONG_SPEED_MPS))
         out[ref] = {
             "samples": int(m.sum()),
-            "cadence_2std": float(np.mean(ec <= 2 * sc)),
-            "speed_2std": float(np.mean(es <= 2 * ss)),
-            "confidently_wrong": float(np.mean((ec > 3 * sc) | (es > 3 * ss))),
+            "cadence_2std": metrics.coverage_fraction(f, f_std, f_ref, m),
+            "speed_2std": metrics.coverage_fraction(v, v_std, v_ref, m),
+            "confidently_wrong": metrics.confidently_wrong_fraction(quantities, valid, m),
+            "valid": metrics.flag_fraction(valid, m),
         }
+    return out
+
+
+def startup(rec: ImuRecording, result: ImuResult) -> list[dict]:
+    """On the first bout of each reference (the walk starts from standing): the time from its first
+    initial contact to the first valid estimate, and to the first valid estimate within 5 % of the
+    reference's cadence, in the bout's steps (60 / its cadence)."""
+    t = result.time_s
+    valid = result["valid"].astype(bool)
+    cad = 60.0 * result["step_frequency_hz"]
+    out = []
+    for ref, bouts in rec.references.items():
+        for b in bouts[:1]:
+            step_s = 60.0 / b.cadence_spm
+            m = (t >= b.start_s) & (t <= b.end_s)
+            first = np.flatnonzero(m & valid)
+            close = np.flatnonzero(m & valid & (np.abs(cad - b.cadence_spm) <= 0.05 * b.cadence_spm))
+            out.append(
+                {
+                    "recording": rec.source,
+                    "reference": ref,
+                    "start_s": b.start_s,
+                    "valid_steps": (t[first[0]] - b.start_s) / step_s if first.size else math.nan,
+                    "within5_steps": (t[close[0]] - b.start_s) / step_s if close.size else math.nan,
+                }
+            )
     return out

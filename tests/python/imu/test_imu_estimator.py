@@ -171,3 +171,10 @@ def test_recording_checks_its_shapes():
     """An ImuRecording with acc not N x 3 is an InputError."""
     with pytest.raises(ValueError, match="3"):
         ImuRecording(time_s=np.arange(3.0), acc_mps2=np.zeros((3, 2)), gyr_rad_s=np.zeros((3, 3)))
+
+
+def test_synthetic_pendulum_length_uses_the_estimators_default_factor():
+    """The SYNTHETIC walker's pendulum length is computed with the estimator's default step_length_factor."""
+    from yoyogait.synthetic_imu import STEP_LENGTH_FACTOR
+
+    assert STEP_LENGTH_FACTOR == ImuConfig().step_length_factor

@@ -1,0 +1,103 @@
+"""The IMU evaluation's metrics: per reference stride like with like, coverage over every sample, start-up."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from yoyogait.estimators.imu import ImuResult
+from yoyogait.evaluation import imu as ev
+from yoyogait.io.imu_read import read_mobilised_trials
+from yoyogait.io.imu_recording import ImuBout, ImuRecording
+
+MOBGAP = "imu_mobgap/example_data"
+
+
+def _bout(contacts, speed=1.0) -> ImuBout:
+    c = np.asarray(contacts, dtype=float)
+    d = c[2:] - c[:-2]
+    return ImuBout(float(c[0]), float(c[-1]), float(np.mean(120.0 / d)), speed, float(np.mean(d)), c)
+
+
+def _result(t, f_hz, speed, valid, f_std=0.05, speed_std=0.05) -> ImuResult:
+    n = t.size
+    cols = {
+        "time_s": t,
+        "step_frequency_hz": np.broadcast_to(np.asarray(f_hz, dtype=float), (n,)).copy(),
+        "step_frequency_std_hz": np.full(n, f_std),
+        "speed_mps": np.broadcast_to(np.asarray(speed, dtype=float), (n,)).copy(),
+        "speed_std_mps": np.full(n, speed_std),
+        "valid": np.broadcast_to(np.asarray(valid, dtype=bool), (n,)).copy(),
+    }
+    return ImuResult(columns=cols)
+
+
+def test_a_cadence_change_within_a_bout_compares_like_with_like():
+    """An estimate that follows the strides' cadence has almost no cadence or stride-time error, although
+    its time average differs from the strides' average cadence when the cadence changes within the bout."""
+    steps = np.r_[np.full(6, 0.5), np.full(6, 0.8)]  # 120 then 75 steps/min
+    contacts = np.r_[1.0, 1.0 + np.cumsum(steps)]
+    b = _bout(contacts)
+    rec = ImuRecording(np.arange(0.0, 12.0, 0.01), np.zeros((1200, 3)), np.zeros((1200, 3)))
+    rec.references = {"R": [b]}
+    t = rec.time_s
+    f = np.nan_to_num(ev.reference_at(rec, "R", t)[0])  # the strides under way
+    cad, _, stride, ref_cad, ref_stride, n, nref = ev._bout_values(t, f, np.ones(t.size), np.ones(t.size, bool), b)
+    assert n == nref == contacts.size - 2
+    assert ref_cad == pytest.approx(b.cadence_spm) and ref_stride == pytest.approx(b.stride_time_s)
+    assert abs(cad - ref_cad) < 1.0 and abs(stride - ref_stride) < 0.02
+    # The old metric: the time average of the cadence over the bout against the strides' average.
+    assert abs(60.0 * np.mean(f[(t >= b.start_s) & (t <= b.end_s)]) - b.cadence_spm) > 3.0
+
+
+def test_strides_not_valid_are_left_out_and_the_reference_follows():
+    """Strides where the estimate is not valid are left out on both sides; none valid: the bout is missed."""
+    contacts = np.arange(1.0, 8.0, 0.5)
+    b = _bout(contacts)
+    t = np.arange(0.0, 9.0, 0.01)
+    half = t > 4.0
+    out = ev._bout_values(t, np.full(t.size, 2.0), np.ones(t.size), half, b)
+    assert 0 < out[5] < out[6]
+    none = ev._bout_values(t, np.full(t.size, 2.0), np.ones(t.size), np.zeros(t.size, bool), b)
+    assert none[5] == 0 and math.isnan(none[0])
+
+
+def test_coverage_counts_every_sample_inside_the_bouts():
+    """An invalid estimate with a small std counts against coverage; an infinite std is covered; a valid
+    estimate 0.3 Hz off with a small std is confidently wrong."""
+    contacts = np.arange(1.0, 9.0, 0.5)  # 2 Hz
+    rec = ImuRecording(np.arange(0.0, 10.0, 0.01), np.zeros((1000, 3)), np.zeros((1000, 3)))
+    rec.references = {"R": [_bout(contacts)]}
+    t = rec.time_s
+    f = np.where(t < 5.0, 1.0, 2.0)
+    off = ev.coverage(rec, _result(t, f, 1.0, t >= 5.0))["R"]
+    assert 0.4 < off["cadence_2std"] < 0.6 and off["confidently_wrong"] == 0.0
+    inf = ev.coverage(rec, _result(t, f, 1.0, t >= 5.0, f_std=np.inf))["R"]
+    assert inf["cadence_2std"] == 1.0
+    wrong = ev.coverage(rec, _result(t, 2.3, 1.0, True))["R"]
+    assert wrong["confidently_wrong"] > 0.9 and wrong["cadence_2std"] == 0.0
+
+
+def test_startup_in_steps_from_the_first_contact():
+    """Valid 1.2 s after the first contact of a 2 Hz walk: 2.4 steps; within 5 % at the same time."""
+    contacts = np.arange(2.0, 9.0, 0.5)
+    rec = ImuRecording(np.arange(0.0, 10.0, 0.01), np.zeros((1000, 3)), np.zeros((1000, 3)))
+    rec.references = {"R": [_bout(contacts)]}
+    t = rec.time_s
+    (s,) = ev.startup(rec, _result(t, 2.0, 1.0, t >= 3.2))
+    assert s["valid_steps"] == pytest.approx(2.4, abs=0.03) and s["within5_steps"] == pytest.approx(2.4, abs=0.03)
+
+
+def test_reference_strides_reproduce_the_mobilised_cadence_and_stride_time(datasets_dir):
+    """On the straight walks (every stride known) the strides from the initial contacts give each
+    Mobilise-D bout's Cadence and mean Stride_Duration."""
+    for rec in read_mobilised_trials(datasets_dir / MOBGAP / "data/lab/HA/001/data.mat"):
+        if rec.metadata["test"] != "Test5":
+            continue
+        for bouts in rec.references.values():
+            for b in bouts:
+                a, e = ev.bout_strides(b)
+                assert np.mean(120.0 / (e - a)) == pytest.approx(b.cadence_spm, abs=0.05)
+                assert np.mean(e - a) == pytest.approx(b.stride_time_s, abs=0.005)
