@@ -62,13 +62,13 @@ std::pair<T*, nb::object> fresh(std::size_t n) {
   return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(data, {n}, owner))};
 }
 
-// Positions of one frame: k x 3 or 3k values.
+// Positions of one frame: k x 3 or 3k values (k: the points, then the feet).
 const double* frame_of(const OnlineEstimator& est, const Positions& p) {
-  const std::size_t need = 3 * est.points();
+  const std::size_t need = 3 * (est.points() + est.feet());
   if (p.size() != need)
-    throw nb::value_error(
-        ("positions must hold " + std::to_string(est.points()) + " x 3 coordinates, got " + std::to_string(p.size()))
-            .c_str());
+    throw nb::value_error(("positions must hold " + std::to_string(est.points() + est.feet()) +
+                           " x 3 coordinates, got " + std::to_string(p.size()))
+                              .c_str());
   return p.data();
 }
 
@@ -77,7 +77,7 @@ const double* frame_of(const OnlineEstimator& est, const Positions& p) {
 // (arrays n x m, row-major).
 nb::dict run(Guarded& est, const Times& time_s, const Positions& positions, const Times& predict_ahead_s) {
   const Busy busy(est);
-  const std::size_t n = time_s.shape(0), k = est.points(), m = predict_ahead_s.shape(0);
+  const std::size_t n = time_s.shape(0), k = est.points() + est.feet(), m = predict_ahead_s.shape(0);
   for (std::size_t j = 0; j < m; ++j) {
     const double h = predict_ahead_s.data()[j];
     if (!(h >= 0.0 && h <= OnlineEstimator::kMaxHorizonS))
@@ -191,8 +191,8 @@ void bind_online(nb::module_& m) {
       });
 
   nb::class_<Guarded>(m, "OnlineEstimator")
-      .def(nb::init<std::size_t, int, double, const OnlineConfig&>(), "n_points"_a, "up_axis"_a,
-           "length_unit_m"_a = 1.0, "config"_a = OnlineConfig{})
+      .def(nb::init<std::size_t, int, double, const OnlineConfig&, std::size_t>(), "n_points"_a, "up_axis"_a,
+           "length_unit_m"_a = 1.0, "config"_a = OnlineConfig{}, "n_feet"_a = 0)
       .def(
           "update",
           [](Guarded& est, double t_s, const Positions& p) {
@@ -216,6 +216,15 @@ void bind_online(nb::module_& m) {
              est.reset();
            })
       .def_prop_ro("ignored_frames", [](const Guarded& e) { return e.ignored_frames(); })
+      .def(
+          "set_belt_speed_mps",
+          [](Guarded& est, double v) {
+            const Busy busy(est);
+            est.set_belt_speed_mps(v);
+          },
+          "speed_mps"_a)
+      .def_prop_ro("belt_speed_mps", [](const Guarded& e) { return e.belt_speed_mps(); })
+      .def_prop_ro("feet", [](const Guarded& e) { return e.feet(); })
       .def_prop_ro("points", [](const Guarded& e) { return e.points(); })
       .def_prop_ro("up_axis", [](const Guarded& e) { return e.up_axis(); })
       .def_prop_ro("length_unit_m", [](const Guarded& e) { return e.length_unit_m(); })
