@@ -77,7 +77,10 @@ class BeltTracker {
       for (std::size_t j = 0; j < n_; ++j) feet_[j].prev = false;
       return;
     }
-    const double g = dt_s >= s_.tau_s ? 1.0 : dt_s / (s_.tau_s + dt_s), inv_dt = 1.0 / dt_s;
+    // Over the first tau of stance time the step shrinks as 1 / the time measured (a mean's start):
+    // the first stance gives the belt at once.
+    const double span_s = measured_s_ < s_.tau_s ? measured_s_ : s_.tau_s;
+    const double g = dt_s / (span_s + dt_s), inv_dt = 1.0 / dt_s;
     for (std::size_t j = 0; j < n_; ++j) {
       Foot& f = feet_[j];
       const double* p = feet_xyz + 3 * j;
