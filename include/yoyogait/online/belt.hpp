@@ -9,8 +9,9 @@
 /// velocity is the running median of the feet's horizontal velocities (frame to frame) over the
 /// stance frames, over about belt_tau_s of stance time (the median: the frames where the heel lands
 /// or lifts, moving on the belt, count no more than the others). The walking
-/// velocity is then the pelvis's less the belt's (online_estimator.hpp). Below treadmill_min_belt_mps
-/// no belt is taken: overground, the stance feet stand still and nothing changes. A known belt speed
+/// velocity is then the pelvis's less the belt's (online_estimator.hpp). Below treadmill_min_belt_mps,
+/// or while the pelvis travels (its horizontal velocity low-passed over 1 s above
+/// treadmill_max_pelvis_mps or half the belt's), no belt is taken: overground nothing changes. A known belt speed
 /// (set_known_mps) replaces the estimate's length; the direction is the estimate's while there is
 /// one, else opposite to treadmill_heading_rad. A few comparisons and one division per frame; no allocation.
 #pragma once
@@ -32,6 +33,7 @@ class BeltTracker {
     double stance_band_m = 0.02;   ///< a foot this close to its lowest height is in stance [m]
     double heading_rad = 0.0;      ///< the walking direction, atan2(b, a), for a known speed without estimate
     double max_belt_mps = 6.0;     ///< a stance velocity beyond this is no belt (a jump, a swap) [m/s]
+    double max_pelvis_mps = 0.3;   ///< the belt is taken only while the pelvis's low-passed speed is below this [m/s]
   };
 
   /// Feet at most (the frame's last points).
@@ -43,6 +45,13 @@ class BeltTracker {
   /// The deviation the median starts with (its first steps) [m/s]; the stance time over which the
   /// velocities are taken as correlated, for the std [s].
   static constexpr double kDev0Mps = 0.5, kIndependentS = 0.1;
+  /// The low-pass of the pelvis's horizontal velocity (over a few steps: the oscillation out) [s];
+  /// the pelvis stays while its speed is below this fraction of the belt's too.
+  static constexpr double kPelvisTauS = 1.0, kPelvisFraction = 0.5;
+  /// Below this low-passed speed the pelvis's direction tells nothing (a treadmill's sway) [m/s].
+  static constexpr double kPelvisStillMps = 0.1;
+  /// A foot whose height changes faster than this is landing or lifting, not in stance [m/s].
+  static constexpr double kMaxStanceVzMps = 0.3;
 
   BeltTracker() noexcept = default;
   /// n_feet: 0..kMaxFeet; axes: the up axis and the horizontal ones (a, b); length_unit_m, max_abs_m
@@ -59,6 +68,7 @@ class BeltTracker {
     for (Foot& f : feet_) f = Foot{};
     va_ = vb_ = measured_s_ = 0.0;
     dev_a_ = dev_b_ = kDev0Mps;
+    pelvis_a_ = pelvis_b_ = 0.0;
     have_t_ = false;
   }
 
@@ -98,11 +108,27 @@ class BeltTracker {
         f.low_m += kLowRiseMps * dt_s;
       }
       const bool stance = h <= f.low_m + s_.stance_band_m;
-      if (stance && f.prev) measure((pa - f.a_m) * inv_dt, (pb - f.b_m) * inv_dt, g, dt_s);
+      // A foot in stance keeps its height: one that lands or lifts within the band is not (yet) on the belt.
+      if (stance && f.prev && std::fabs(h - f.h_m) <= kMaxStanceVzMps * dt_s)
+        measure((pa - f.a_m) * inv_dt, (pb - f.b_m) * inv_dt, g, dt_s);
       f.prev = stance;  // the next frame's velocity needs this one in stance too
       f.a_m = pa;
       f.b_m = pb;
+      f.h_m = h;
     }
+  }
+
+  /// The pelvis's horizontal velocity in the lab (before the belt's is taken out), dt_s after the
+  /// previous one: a treadmill keeps the pelvis in place, overground walking does not (the offline
+  /// check's condition: stance feet that seem to move while the pelvis travels are no belt).
+  void pelvis(double va_mps, double vb_mps, double dt_s) noexcept {
+    if (!(dt_s > 0.0)) return;
+    if (dt_s != pelvis_dt_s_) {  // one division per change of the frame interval
+      pelvis_dt_s_ = dt_s;
+      pelvis_g_ = dt_s / (kPelvisTauS + dt_s);
+    }
+    pelvis_a_ += pelvis_g_ * (va_mps - pelvis_a_);
+    pelvis_b_ += pelvis_g_ * (vb_mps - pelvis_b_);
   }
 
   /// Whether a belt is taken: a known speed, or an estimate at least min_belt_mps.
@@ -126,7 +152,7 @@ class BeltTracker {
  private:
   struct Foot {
     bool have_low = false, prev = false;  ///< a lowest height; the last frame seen and in stance
-    double low_m = 0.0, a_m = 0.0, b_m = 0.0;  ///< the lowest height, the last horizontal position [m]
+    double low_m = 0.0, a_m = 0.0, b_m = 0.0, h_m = 0.0;  ///< the lowest height, the last position [m]
   };
 
   /// One stance frame's velocity (ma, mb): each axis's running median (a step of g times the mean
@@ -143,8 +169,13 @@ class BeltTracker {
   }
 
   bool estimated() const noexcept {
-    return measured_s_ >= kMinMeasuredFraction * s_.tau_s &&
-           va_ * va_ + vb_ * vb_ >= s_.min_belt_mps * s_.min_belt_mps;
+    const double belt2 = va_ * va_ + vb_ * vb_, pelvis2 = pelvis_a_ * pelvis_a_ + pelvis_b_ * pelvis_b_;
+    const double stays2 = kPelvisFraction * kPelvisFraction * belt2;
+    // The belt runs against the walking: stance feet that seem to move along a pelvis that travels are
+    // a start, a stop or a turn overground.
+    const bool along = va_ * pelvis_a_ + vb_ * pelvis_b_ > 0.0 && pelvis2 > kPelvisStillMps * kPelvisStillMps;
+    return measured_s_ >= kMinMeasuredFraction * s_.tau_s && belt2 >= s_.min_belt_mps * s_.min_belt_mps &&
+           pelvis2 <= s_.max_pelvis_mps * s_.max_pelvis_mps && pelvis2 <= stays2 && !along;
   }
 
   double belt(bool first) const noexcept {
@@ -171,6 +202,8 @@ class BeltTracker {
   double va_ = 0.0, vb_ = 0.0, measured_s_ = 0.0;  ///< the belt's velocity [m/s], stance time measured [s]
   double dev_a_ = kDev0Mps, dev_b_ = kDev0Mps;     ///< mean absolute deviations of the stance velocities [m/s]
   double known_mps_ = -1.0;
+  double pelvis_a_ = 0.0, pelvis_b_ = 0.0;  ///< the pelvis's low-passed horizontal velocity [m/s]
+  double pelvis_dt_s_ = -1.0, pelvis_g_ = 1.0;  ///< its gain at that frame interval
   double t_s_ = 0.0;
   bool have_t_ = false;
 };

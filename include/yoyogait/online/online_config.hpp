@@ -52,7 +52,9 @@ namespace yoyogait {
   X(double, stance_band_m, 0.02, "m", "(", 0.0, 1e100, "]",                                                        \
     "treadmill: a foot point this close to its lowest height is in stance")                                       \
   X(double, treadmill_heading_rad, 0.0, "rad", "[", -1e100, 1e100, "]",                                           \
-    "treadmill: the walking direction, atan2(b, a), for a known belt speed without stance feet to tell it")
+    "treadmill: the walking direction, atan2(b, a), for a known belt speed without stance feet to tell it") \
+  X(double, treadmill_max_pelvis_mps, 0.3, "m/s", "(", 0.0, 1e100, "]",                                          \
+    "treadmill: stance feet give a belt only while the pelvis's speed (low-passed over 1 s) is below this and half the belt's")
 
 
 /// Settings of OnlineEstimator: the gait estimator behind it and YOYOGAIT_ONLINE_FIELDS.

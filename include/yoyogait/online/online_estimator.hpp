@@ -73,6 +73,7 @@ class OnlineEstimator {
     validity_.reset();
     belt_.reset();
     belt_a_m_ = belt_b_m_ = 0.0;
+    belt_seen_ = false;
     est_ = Estimate{};
     out_ = OnlineEstimate{};
     have_time_ = false;
@@ -255,7 +256,18 @@ class OnlineEstimator {
     const std::array<double, 3> v = diff_.velocity_mps();
     double va = v[axes_.a], vb = v[axes_.b];
     std::array<double, 3> pos = diff_.position_m();
-    if (belt_.active()) {  // on a treadmill: the pelvis relative to the belt, and its travel on it
+    if (belt_.has_feet()) belt_.pelvis(va, vb, gap_s);
+    const bool belt_on = belt_.active();
+    if (belt_on && !belt_seen_) {
+      // The first belt found: what the estimator took so far was the sway, not the walking; it starts
+      // again (once: a belt that comes and goes near treadmill_min_belt_mps restarts nothing more).
+      belt_seen_ = true;
+      estimator_.reset();
+      latency_.reset();
+      decimator_.restart();
+      est_ = Estimate{};
+    }
+    if (belt_on) {  // on a treadmill: the pelvis relative to the belt, and its travel on it
       const double ba = belt_.va_mps(), bb = belt_.vb_mps();
       va -= ba;
       vb -= bb;
@@ -410,6 +422,7 @@ class OnlineEstimator {
   online::BeltTracker belt_;
   std::size_t feet_ = 0;
   double belt_a_m_ = 0.0, belt_b_m_ = 0.0;  ///< the belt's travel since the reset (a treadmill) [m]
+  bool belt_seen_ = false;                   ///< a belt was taken since the reset
   Estimate est_{};
   OnlineEstimate out_{};
   bool have_time_ = false, have_seen_ = false;

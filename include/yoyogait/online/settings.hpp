@@ -73,13 +73,14 @@ inline Validity::Settings validity_settings(const OnlineConfig& c) noexcept {
 }
 
 /// The belt tracker's settings (belt_tau_s, treadmill_min_belt_mps, stance_band_m,
-/// treadmill_heading_rad; a stance velocity beyond max_plausible_speed_mps is none).
+/// treadmill_heading_rad, treadmill_max_pelvis_mps; a stance velocity beyond max_plausible_speed_mps is none).
 inline BeltTracker::Settings belt_settings(const OnlineConfig& c) noexcept {
   BeltTracker::Settings s;
   s.tau_s = c.belt_tau_s;
   s.min_belt_mps = c.treadmill_min_belt_mps;
   s.stance_band_m = c.stance_band_m;
   s.heading_rad = c.treadmill_heading_rad;
+  s.max_pelvis_mps = c.treadmill_max_pelvis_mps;
   s.max_belt_mps = c.max_plausible_speed_mps;
   return s;
 }

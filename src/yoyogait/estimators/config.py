@@ -468,6 +468,7 @@ class OnlineConfig(_ConfigFile):
     treadmill_min_belt_mps: float = _field(ONLINE_SECTION, "treadmill_min_belt_mps")
     stance_band_m: float = _field(ONLINE_SECTION, "stance_band_m")
     treadmill_heading_rad: float = _field(ONLINE_SECTION, "treadmill_heading_rad")
+    treadmill_max_pelvis_mps: float = _field(ONLINE_SECTION, "treadmill_max_pelvis_mps")
 
     def _own(self):
         return [f for f in fields(self) if f.name != "estimator"]
