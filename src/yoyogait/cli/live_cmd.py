@@ -10,9 +10,10 @@ from pathlib import Path
 import click
 
 from .._guard import Interrupted
+from ..errors import InputError
 from ..estimators.config import OnlineConfig
 from ..estimators.online import ONLINE_CSV_COLUMNS, csv_formats
-from ..live.live import describe_source, run_live
+from ..live.live import BeltSpeedStream, describe_source, run_live
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
 from .options import POSITIVE, config_file_option, split_names
@@ -37,6 +38,20 @@ from .options import POSITIVE, config_file_option, split_names
     callback=split_names,
     help="Point to follow: 'pelvis' (default: the pelvis centre, found by name), 'hand', "
     "or point names separated by commas (averaged).",
+)
+@click.option(
+    "--feet",
+    metavar="NAME,NAME",
+    default=None,
+    callback=split_names,
+    help="Foot points of the stream (heels) for a treadmill: the belt speed from the stance feet.",
+)
+@click.option("--belt-speed-mps", type=float, default=None, metavar="M/S", help="Treadmill belt speed (known, fixed).")
+@click.option(
+    "--belt-speed-source",
+    default=None,
+    metavar="NAME",
+    help="LSL stream of the treadmill's belt speed (first channel, m/s; it may change at any time).",
 )
 @click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis (default: the stream's).")
 @click.option(
@@ -76,11 +91,20 @@ from .options import POSITIVE, config_file_option, split_names
     help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).",
 )
 def command(
-    source, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout, max_buffer_s,
-    list_points, config_file, ros2_topic,
+    source, publish, record, force, point, feet, belt_speed_mps, belt_speed_source, up_axis, length_unit_m,
+    duration, exit_on_end, timeout, max_buffer_s, list_points, config_file, ros2_topic,
 ):  # fmt: skip
-    """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates."""
+    """Estimate gait live from the LSL marker stream SOURCE: publish, record and show the estimates.
+
+    On a treadmill: --feet NAME,NAME (the belt speed from the stance feet), --belt-speed-mps (known) or
+    --belt-speed-source NAME (an LSL stream of the belt speed, which may change); without any of them a
+    treadmill walk is marked not valid (not moving).
+    """
     config = OnlineConfig.from_file(config_file) if config_file is not None else None
+    if belt_speed_mps is not None and belt_speed_source is not None:
+        raise InputError("give --belt-speed-mps or --belt-speed-source, not both")
+    if belt_speed_source is not None and belt_speed_source == source:
+        raise InputError(f"--belt-speed-source {belt_speed_source!r}: the marker stream is not a belt speed")
     if list_points:
         for line in describe_source(source, timeout):
             click.echo(line)
@@ -114,6 +138,7 @@ def command(
     try:
         if ros2_topic:
             sink = Ros2Publisher(ros2_topic)
+        belt_input = BeltSpeedStream(belt_speed_source, timeout, stop) if belt_speed_source is not None else None
         counters = run_live(
             source,
             publish=publish,
@@ -134,6 +159,9 @@ def command(
             on_note=lambda line: click.echo(line, err=True),
             stop=stop,
             config=config,
+            feet=feet,
+            belt_speed_mps=belt_speed_mps,
+            belt_speed=belt_input,
         )
     finally:
         if status is not None:

@@ -42,6 +42,7 @@ __all__ = [
     "ConcurrentUseError",
     "MAX_POINTS",
     "MAX_FEET",
+    "MAX_BELT_SPEED_MPS",
 ]
 
 OnlineStatus = _core.OnlineStatus
@@ -54,6 +55,14 @@ MAX_POINTS = 16
 MAX_FEET = 4
 #: The highest known belt speed accepted [m/s].
 MAX_BELT_SPEED_MPS = 10.0
+
+
+def check_belt_speed(speed_mps: float | None, what: str = "belt speed") -> None:
+    """InputError naming ``what`` unless ``speed_mps`` is None or a belt speed in [0, MAX_BELT_SPEED_MPS] m/s."""
+    if speed_mps is not None and not (
+        isinstance(speed_mps, (int, float)) and math.isfinite(speed_mps) and 0.0 <= speed_mps <= MAX_BELT_SPEED_MPS
+    ):
+        raise InputError(f"{what} must be a speed in m/s in [0, {MAX_BELT_SPEED_MPS:g}], not {speed_mps!r}")
 
 
 class ConcurrentUseError(YoyogaitError, RuntimeError):
@@ -93,6 +102,7 @@ ONLINE_CSV_COLUMNS = (
     "next_step_in_s",
     "valid",
     "invalid_reason",
+    "belt_speed_mps",
 )
 
 
@@ -240,7 +250,10 @@ class OnlineEstimator:
         # An ndarray goes as it is: the binding converts another dtype or layout to contiguous float64 itself.
         p = positions if type(positions) is np.ndarray else np.ascontiguousarray(positions, dtype=np.float64)
         if p.size != self._coordinates:
-            raise InputError(f"positions must hold {len(self.point_names)} x 3 coordinates, got shape {p.shape}")
+            k = len(self.point_names) + len(self.feet)
+            raise InputError(
+                f"positions must hold {k} x 3 coordinates (the points, then the feet), got shape {p.shape}"
+            )
         try:
             return self._native_update(t_s if type(t_s) is float else float(t_s), p)
         except _core.ConcurrentUse:
@@ -306,11 +319,11 @@ class OnlineEstimator:
         live loop's callback); ``None`` or NaN: unknown again (the stance feet's estimate, if there are
         feet). Its direction: the stance feet's, else against ``treadmill_heading_rad``. The estimate's
         ``belt_speed_mps`` reports the speed in use."""
-        v = math.nan if speed_mps is None else speed_mps
-        if not (isinstance(v, (int, float)) and (math.isnan(v) or 0.0 <= v <= MAX_BELT_SPEED_MPS)):
-            raise InputError(f"belt speed must be a speed in m/s in [0, {MAX_BELT_SPEED_MPS:g}] (or None), got {v!r}")
+        if isinstance(speed_mps, float) and math.isnan(speed_mps):
+            speed_mps = None
+        check_belt_speed(speed_mps)
         try:
-            self._impl.set_belt_speed_mps(float(v))
+            self._impl.set_belt_speed_mps(math.nan if speed_mps is None else float(speed_mps))
         except _core.ConcurrentUse:
             raise self._busy("set_belt_speed_mps") from None
 
