@@ -70,10 +70,14 @@ class BeltTracker {
     dev_a_ = dev_b_ = kDev0Mps;
     pelvis_a_ = pelvis_b_ = 0.0;
     have_t_ = false;
+    refresh();
   }
 
   /// A known belt speed [m/s] (>= 0); NaN or negative: unknown again (the feet's estimate, if any).
-  void set_known_mps(double speed_mps) noexcept { known_mps_ = speed_mps >= 0.0 && speed_mps <= 1e3 ? speed_mps : -1.0; }
+  void set_known_mps(double speed_mps) noexcept {
+    known_mps_ = speed_mps >= 0.0 && speed_mps <= 1e3 ? speed_mps : -1.0;
+    refresh();
+  }
   /// The known belt speed, NaN when none is given.
   double known_mps() const noexcept { return known_mps_ >= 0.0 ? known_mps_ : std::nan(""); }
   bool has_feet() const noexcept { return n_ > 0; }
@@ -88,9 +92,14 @@ class BeltTracker {
       return;
     }
     // Over the first tau of stance time the step shrinks as 1 / the time measured (a mean's start):
-    // the first stance gives the belt at once.
-    const double span_s = measured_s_ < s_.tau_s ? measured_s_ : s_.tau_s;
-    const double g = dt_s / (span_s + dt_s), inv_dt = 1.0 / dt_s;
+    // the first stance gives the belt at once. After it the gains change only with the frame interval.
+    if (dt_s != gains_dt_s_ || measured_s_ < s_.tau_s) {
+      const double span_s = measured_s_ < s_.tau_s ? measured_s_ : s_.tau_s;
+      gains_dt_s_ = dt_s;
+      g_ = dt_s / (span_s + dt_s);
+      inv_dt_ = 1.0 / dt_s;
+    }
+    const double g = g_, inv_dt = inv_dt_;
     for (std::size_t j = 0; j < n_; ++j) {
       Foot& f = feet_[j];
       const double* p = feet_xyz + 3 * j;
@@ -120,7 +129,8 @@ class BeltTracker {
 
   /// The pelvis's horizontal velocity in the lab (before the belt's is taken out), dt_s after the
   /// previous one: a treadmill keeps the pelvis in place, overground walking does not (the offline
-  /// check's condition: stance feet that seem to move while the pelvis travels are no belt).
+  /// check's condition: stance feet that seem to move while the pelvis travels are no belt). The
+  /// belt in use is updated here, once per frame with a centre (after update()).
   void pelvis(double va_mps, double vb_mps, double dt_s) noexcept {
     if (!(dt_s > 0.0)) return;
     if (dt_s != pelvis_dt_s_) {  // one division per change of the frame interval
@@ -129,25 +139,21 @@ class BeltTracker {
     }
     pelvis_a_ += pelvis_g_ * (va_mps - pelvis_a_);
     pelvis_b_ += pelvis_g_ * (vb_mps - pelvis_b_);
+    refresh();
   }
 
+  // What is in use, kept from the last change of the state (the frame's cost without feet: loads).
   /// Whether a belt is taken: a known speed, or an estimate at least min_belt_mps.
-  bool active() const noexcept { return known_mps_ >= 0.0 || estimated(); }
+  bool active() const noexcept { return active_; }
   /// The belt's horizontal velocity on the axes a, b (backwards: the stance feet's) [m/s]; 0 when not active.
-  double va_mps() const noexcept { return belt(true); }
-  double vb_mps() const noexcept { return belt(false); }
+  double va_mps() const noexcept { return use_a_; }
+  double vb_mps() const noexcept { return use_b_; }
   /// The belt speed in use [m/s] (0 when not active).
-  double speed_mps() const noexcept {
-    if (known_mps_ >= 0.0) return known_mps_;
-    return estimated() ? sqrt1(va_ * va_ + vb_ * vb_) : 0.0;
-  }
+  double speed_mps() const noexcept { return use_speed_; }
   /// Its standard deviation [m/s]: 0 when known; estimated: the spread of the stance velocities
   /// (1.25 x their mean absolute deviation) over the sqrt of the independent ones averaged (one per
   /// kIndependentS of stance over tau).
-  double std_mps() const noexcept {
-    if (known_mps_ >= 0.0 || !estimated()) return 0.0;
-    return 1.25 * sqrt1((dev_a_ * dev_a_ + dev_b_ * dev_b_) * (kIndependentS / s_.tau_s));
-  }
+  double std_mps() const noexcept { return use_std_; }
 
  private:
   struct Foot {
@@ -178,20 +184,28 @@ class BeltTracker {
            pelvis2 <= s_.max_pelvis_mps * s_.max_pelvis_mps && pelvis2 <= stays2 && !along;
   }
 
-  double belt(bool first) const noexcept {
+  /// The belt in use from the state: known (its direction the estimate's, else against heading_rad),
+  /// estimated, or none.
+  void refresh() noexcept {
+    const bool est = estimated();
+    active_ = known_mps_ >= 0.0 || est;
+    use_a_ = use_b_ = use_speed_ = use_std_ = 0.0;
     if (known_mps_ >= 0.0) {
-      double ua, ub;
-      if (estimated()) {
+      double ua = ua0_, ub = ub0_;  // the belt runs against the walking direction
+      if (est) {
         const double k = 1.0 / sqrt1(va_ * va_ + vb_ * vb_);
         ua = va_ * k;
         ub = vb_ * k;
-      } else {  // the belt runs against the walking direction
-        ua = ua0_;
-        ub = ub0_;
       }
-      return known_mps_ * (first ? ua : ub);
+      use_a_ = known_mps_ * ua;
+      use_b_ = known_mps_ * ub;
+      use_speed_ = known_mps_;
+    } else if (est) {
+      use_a_ = va_;
+      use_b_ = vb_;
+      use_speed_ = sqrt1(va_ * va_ + vb_ * vb_);
+      use_std_ = 1.25 * sqrt1((dev_a_ * dev_a_ + dev_b_ * dev_b_) * (kIndependentS / s_.tau_s));
     }
-    return estimated() ? (first ? va_ : vb_) : 0.0;
   }
 
   Settings s_;
@@ -204,6 +218,9 @@ class BeltTracker {
   double known_mps_ = -1.0;
   double pelvis_a_ = 0.0, pelvis_b_ = 0.0;  ///< the pelvis's low-passed horizontal velocity [m/s]
   double pelvis_dt_s_ = -1.0, pelvis_g_ = 1.0;  ///< its gain at that frame interval
+  double gains_dt_s_ = -1.0, g_ = 1.0, inv_dt_ = 1.0;  ///< the median's gain and 1 / dt at that interval
+  bool active_ = false;                          ///< the belt in use (refresh())
+  double use_a_ = 0.0, use_b_ = 0.0, use_speed_ = 0.0, use_std_ = 0.0;
   double t_s_ = 0.0;
   bool have_t_ = false;
 };
