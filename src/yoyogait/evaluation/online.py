@@ -419,9 +419,9 @@ def evaluate_item_online(
     point = item.pelvis if item.pelvis else None
     ref_point = ref_item.pelvis if ref_item.pelvis else None
     vel = gait_velocities(ref_recording, point=ref_point, rate_hz=RATE_HZ, up_axis=ref_item.up_axis)
-    estimator = OnlineEstimator.for_recording(
-        recording, point, up_axis=vel.up_axis, config=config, feet=(item.feet or True) if feet else None
-    )
+    # The feet only when asked for: without them the call is the one it has always been.
+    with_feet = {"feet": item.feet or True} if feet else {}
+    estimator = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis, config=config, **with_feet)
     if belt_speed_mps is not None:
         estimator.set_belt_speed_mps(belt_speed_mps)
     res = estimator.run(recording, predict_ahead_s=(PREDICT_AHEAD_S,))
