@@ -200,8 +200,9 @@ def timing(rounds=7):
         )
         out = [
             subprocess.run(
-                [str(exe), str(rounds), "0.04", str(rate)], check=True, capture_output=True, text=True
+                [str(exe), str(rounds), "0.04", str(rate), *mode], check=True, capture_output=True, text=True
             ).stdout
+            for mode in ((), ("treadmill",))
             for rate in (30, 100, 250)
         ]
     return "".join(out).strip()

@@ -19,7 +19,9 @@ Printed, as Markdown, the median AND the worst recording of: the 2-std coverage 
 and speed, the confidently-wrong share of walking (error above 0.15 Hz or 0.15 m/s while valid and
 more than 2 std), the valid share of steady walking (after the first 3 s); on the markerless
 re-renderings the step-frequency error after 3 s and the front-end's highest horizontal speed while
-walking; on the treadmill renderings (and the manifest's treadmill recordings) the online speed error;
+walking; on the treadmill renderings (and the manifest's treadmill recordings) the online speed error
+without feet or belt, with the heels in the frames (the belt from the stance feet) and with the belt
+speed given;
 on the not-walking renderings the share of their time reported as walking. The targets are
 printed beside them, fixed here. "valid" is the online result's ``valid`` where it has one, else
 ``walking`` (:func:`yoyogait.evaluation.online.validity`). A benchmark, not a test.
@@ -47,6 +49,10 @@ from yoyogait.evaluation.parallel import TaskFailure, run_tasks
 ROOT = Path(__file__).resolve().parents[1]
 MARKERLESS_RATE_HZ = 60.0
 STANDING_MARKERLESS = "SYNTHETIC standing-sway, markerless noise at 30 Hz"
+TREADMILL_FEET = "SYNTHETIC treadmill, heels in the frames"
+TREADMILL_KNOWN = "SYNTHETIC treadmill, belt speed given"
+TREADMILL_REAL_FEET = "manifest treadmill recordings, heels in the frames"
+MANIFEST_FEET = "manifest, heels in the frames (the recordings with feet)"
 
 # (column, label, target, higher is better)
 HONESTY = (
@@ -68,10 +74,11 @@ def markerless_item(item, seed: int):
     )
 
 
-def score(item, reference=None) -> dict:
+def score(item, reference=None, options=None) -> dict:
     """One recording's online columns, and the walking and valid shares of its whole time and of its
-    walking time (the reference's walking on the frames)."""
-    r = evaluate_item_online(item, reference=reference)
+    walking time (the reference's walking on the frames). ``options``: evaluate_item_online's treadmill
+    inputs (feet, belt_speed_mps)."""
+    r = evaluate_item_online(item, reference=reference, **(options or {}))
     res = r.results["online"]
     t = np.asarray(res.time_s, dtype=float)
     ref_walk = np.interp(t, r.velocities.time_s, r.walking.astype(float), left=0, right=0) > 0.5
@@ -83,9 +90,9 @@ def score(item, reference=None) -> dict:
     return row
 
 
-def task(group: str, item, reference):
+def task(group: str, item, reference, options=None):
     try:
-        return group, item.name, score(item, reference), ""
+        return group, item.name, score(item, reference, options), ""
     except (InputError, ValueError) as exc:
         return group, item.name, None, str(exc)
 
@@ -174,17 +181,23 @@ def main():
         for item in items:
             tasks.append(("manifest", item, None))
             tasks.append(("markerless re-rendering of the manifest", markerless_item(item, args.seed), item))
+            if item.feet:  # overground the heels must change nothing; on a treadmill they give the belt
+                tasks.append((MANIFEST_FEET, item, None, {"feet": True}))
             if item.walk == "treadmill" and item.feet:
                 treadmill_real.add(item.name)
     for walk in sc.condition_walks(seed=args.seed):
         tasks.append((f"SYNTHETIC {walk.walk_type}", synthetic_item(walk), None))
+        if walk.walk_type == "treadmill":  # the same walks with the heels in the frames, and with the belt given
+            tasks.append((TREADMILL_FEET, synthetic_item(walk), None, {"feet": True}))
+            belt = {"belt_speed_mps": float(walk.recording.metadata["belt_speed_mps"])}
+            tasks.append((TREADMILL_KNOWN, synthetic_item(walk), None, belt))
         if walk.walk_type == "standing-sway":  # standing seen by a markerless camera at 30 Hz
             rec = sc.markerless_noise(walk.recording, seed=args.seed, rate_hz=30.0)
             noisy = dataclasses.replace(walk, recording=rec, truth=walk.truth.at(rec.time_s))
             tasks.append((STANDING_MARKERLESS, synthetic_item(noisy), None))
     outcomes = run_tasks(task, tasks, jobs=args.jobs)
     by_group: dict[str, list] = {}
-    for (group, item, _), out in zip(tasks, outcomes):
+    for (group, item, *_), out in zip(tasks, outcomes):
         if isinstance(out, TaskFailure):
             print(f"  failed {item.name}: {out.message}")
             continue
@@ -193,9 +206,11 @@ def main():
             print(f"  skipped {name}: {problem}")
             continue
         by_group.setdefault(group, []).append((name, row))
-    walking_groups = ["manifest", "markerless re-rendering of the manifest"] + [
-        f"SYNTHETIC {c}" for c in sc.CONDITIONS if c not in sc.NOT_WALKING
-    ]
+    walking_groups = (
+        ["manifest", "markerless re-rendering of the manifest"]
+        + [f"SYNTHETIC {c}" for c in sc.CONDITIONS if c not in sc.NOT_WALKING]
+        + [MANIFEST_FEET, TREADMILL_FEET, TREADMILL_KNOWN]
+    )
     groups = by_group
     print(f"{sum(len(r) for r in groups.values())} recordings in {time.perf_counter() - start:.0f} s\n")
     print("## Honesty (online estimate; the synthetic renderings: 3 subjects each)\n")
@@ -217,17 +232,23 @@ def main():
         )
     )
     print("(f error: median <= 0.04 Hz; front-end speed: never above 3 m/s, on every recording)\n")
-    treadmill = [("SYNTHETIC treadmill", groups.get("SYNTHETIC treadmill", []))]
     real_treadmill = [(n, r) for n, r in groups.get("manifest", []) if n in treadmill_real]
-    treadmill.append(("manifest treadmill recordings", real_treadmill))
+    treadmill = [
+        ("SYNTHETIC treadmill, neither feet nor belt", groups.get("SYNTHETIC treadmill", [])),
+        (TREADMILL_FEET, groups.get(TREADMILL_FEET, [])),
+        (TREADMILL_KNOWN, groups.get(TREADMILL_KNOWN, [])),
+        ("manifest treadmill recordings, neither feet nor belt", real_treadmill),
+        (TREADMILL_REAL_FEET, [(n, r) for n, r in groups.get(MANIFEST_FEET, []) if n in treadmill_real]),
+    ]
     print(
         "\n".join(
             simple_table(
-                "## Treadmill: online speed error (belt not given)",
+                "## Treadmill: online speed error (without feet or belt the speed is not valid: NOT_MOVING)",
                 treadmill,
                 (
                     ("speed_err_median_mps", "speed error, whole walking, m/s", 0.05, False),
                     ("speed_err_after3s_median_mps", "speed error after 3 s, m/s", None, False),
+                    ("valid_after3s_fraction", "valid after 3 s", None, True),
                 ),
             )
         )

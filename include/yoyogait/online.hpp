@@ -2,6 +2,7 @@
 /// @brief The online front-end and OnlineEstimator (docs/online.md).
 #pragma once
 
+#include "yoyogait/online/belt.hpp"
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"

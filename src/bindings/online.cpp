@@ -69,13 +69,13 @@ std::pair<T*, nb::object> fresh(std::size_t n) {
   return {data, nb::cast(nb::ndarray<nb::numpy, T, nb::ndim<1>>(data, {n}, owner))};
 }
 
-// Positions of one frame: k x 3 or 3k values.
+// Positions of one frame: k x 3 or 3k values (k: the points, then the feet).
 const double* frame_of(const OnlineEstimator& est, const Positions& p) {
-  const std::size_t need = 3 * est.points();
+  const std::size_t need = 3 * (est.points() + est.feet());
   if (p.size() != need)
-    throw nb::value_error(
-        ("positions must hold " + std::to_string(est.points()) + " x 3 coordinates, got " + std::to_string(p.size()))
-            .c_str());
+    throw nb::value_error(("positions must hold " + std::to_string(est.points() + est.feet()) +
+                           " x 3 coordinates, got " + std::to_string(p.size()))
+                              .c_str());
   return p.data();
 }
 
@@ -151,7 +151,8 @@ double seconds_of(nb::handle t) {
 // or layout). The caller's reference keeps the array alive for the call, and no Python code runs in it.
 class FrameView {
  public:
-  FrameView(nb::handle positions, std::size_t points) {
+  // points: every point of the frame (the followed points, then the feet, of which there are `feet`).
+  FrameView(nb::handle positions, std::size_t points, std::size_t feet) {
     PyObject* o = positions.ptr();
     if (!usable(o)) {
       converted_ = nb::steal(PyArray_FROMANY(o, NPY_DOUBLE, 0, 0, NPY_ARRAY_IN_ARRAY));
@@ -165,7 +166,8 @@ class FrameView {
       for (int i = 0; i < nd; ++i)  // as numpy writes a shape: (3,), (1, 3)
         shape += std::to_string(PyArray_DIMS(a)[i]) + (nd == 1 ? "," : i + 1 < nd ? ", " : "");
       shape += ")";
-      raise_input("positions must hold " + std::to_string(points) + " x 3 coordinates, got shape " + shape);
+      raise_input("positions must hold " + std::to_string(points) + " x 3 coordinates" +
+                  (feet > 0 ? " (the points, then the feet)" : "") + ", got shape " + shape);
     }
     data_ = static_cast<const double*>(PyArray_DATA(a));
   }
@@ -183,7 +185,7 @@ class FrameView {
 
 nb::object update_frame(Guarded& est, nb::handle t_s, nb::handle positions) {
   const double t = seconds_of(t_s);
-  const FrameView frame(positions, est.points());
+  const FrameView frame(positions, est.points() + est.feet(), est.feet());
   OnlineEstimate e;
   {
     const Held held(est, "update");
@@ -193,9 +195,9 @@ nb::object update_frame(Guarded& est, nb::handle t_s, nb::handle positions) {
 }
 
 nb::object update_point(Guarded& est, nb::handle t_s, double x, double y, double z) {
-  if (est.points() != 1)
-    raise_input("update_point takes one point; this estimator follows " + std::to_string(est.points()) +
-                ": update(t_s, positions)");
+  if (est.points() + est.feet() != 1)
+    raise_input("update_point takes one point; this estimator's frames hold " +
+                std::to_string(est.points() + est.feet()) + ": update(t_s, positions)");
   const double t = seconds_of(t_s);
   const double xyz[3] = {x, y, z};
   OnlineEstimate e;
@@ -232,7 +234,7 @@ nb::object predict_horizon(Guarded& est, nb::handle horizon_s) {
 // (arrays n x m, row-major).
 nb::dict run(Guarded& est, const Times& time_s, const Positions& positions, const Times& predict_ahead_s) {
   const Busy busy(est);
-  const std::size_t n = time_s.shape(0), k = est.points(), m = predict_ahead_s.shape(0);
+  const std::size_t n = time_s.shape(0), k = est.points() + est.feet(), m = predict_ahead_s.shape(0);
   for (std::size_t j = 0; j < m; ++j) {
     const double h = predict_ahead_s.data()[j];
     if (!(h >= 0.0 && h <= OnlineEstimator::kMaxHorizonS))
@@ -356,8 +358,8 @@ void bind_online(nb::module_& m) {
       });
 
   nb::class_<Guarded>(m, "OnlineEstimator")
-      .def(nb::init<std::size_t, int, double, const OnlineConfig&>(), "n_points"_a, "up_axis"_a,
-           "length_unit_m"_a = 1.0, "config"_a = OnlineConfig{})
+      .def(nb::init<std::size_t, int, double, const OnlineConfig&, std::size_t>(), "n_points"_a, "up_axis"_a,
+           "length_unit_m"_a = 1.0, "config"_a = OnlineConfig{}, "n_feet"_a = 0)
       .def(
           "update",
           [](Guarded& est, double t_s, const Positions& p) {
@@ -388,6 +390,15 @@ void bind_online(nb::module_& m) {
              est.reset();
            })
       .def_prop_ro("ignored_frames", [](const Guarded& e) { return e.ignored_frames(); })
+      .def(
+          "set_belt_speed_mps",
+          [](Guarded& est, double v) {
+            const Busy busy(est);
+            est.set_belt_speed_mps(v);
+          },
+          "speed_mps"_a)
+      .def_prop_ro("belt_speed_mps", [](const Guarded& e) { return e.belt_speed_mps(); })
+      .def_prop_ro("feet", [](const Guarded& e) { return e.feet(); })
       .def_prop_ro("points", [](const Guarded& e) { return e.points(); })
       .def_prop_ro("up_axis", [](const Guarded& e) { return e.up_axis(); })
       .def_prop_ro("length_unit_m", [](const Guarded& e) { return e.length_unit_m(); })

@@ -399,3 +399,110 @@ TEST(OnlineEstimator, ValidInSteadyWalkingNotAfterTheWalkerVanishes) {
   EXPECT_GT(e.step_frequency_std_hz, 5.0 * f_std);
   EXPECT_GT(e.speed_std_mps, 5.0 * s_std);
 }
+
+namespace {
+
+// A treadmill walk: the pelvis of SyntheticPelvis held in place (speed 0 in the lab) and two heels
+// on a belt at belt_mps: stance for 60 % of the stride (moving back with the belt), swing forward.
+struct SyntheticTreadmill {
+  SyntheticPelvis pelvis;
+  double belt_mps = 1.2, noise_m = 0.001;
+  std::mt19937 rng{11};
+  SyntheticTreadmill() { pelvis.speed_mps = 0.0; }
+  // 6 points: the pelvis's 4, then the two heels.
+  void frame(double t, double* p) {
+    pelvis.markers(t, p);
+    std::normal_distribution<double> n(0.0, noise_m);
+    const double stride_s = 2.0 / pelvis.f_hz, len = belt_mps * 0.6 * stride_s;
+    for (int j = 0; j < 2; ++j) {
+      const double s = std::fmod(t / stride_s + 0.5 * static_cast<double>(j), 1.0), w = (s - 0.6) / 0.4;
+      double* q = p + 12 + 3 * j;
+      q[0] = (s < 0.6 ? 0.5 * len - belt_mps * s * stride_s : -0.5 * len + len * w) + n(rng);
+      q[1] = (j ? 0.1 : -0.1) + n(rng);
+      q[2] = 0.05 + (s < 0.6 ? 0.0 : 0.1 * std::sin(kPi * w)) + n(rng);
+    }
+  }
+};
+
+}  // namespace
+
+// With two heels in the frames, the belt is found from the stance feet and the speed is belt plus
+// pelvis, at 30 to 250 Hz; valid once walking has settled.
+TEST(OnlineEstimator, TreadmillBeltFromTheStanceFeet) {
+  for (double rate : {30.0, 60.0, 100.0, 250.0}) {
+    SyntheticTreadmill walk;
+    OnlineEstimator est(4, 2, 1.0, OnlineConfig{}, 2);
+    EXPECT_EQ(est.feet(), 2u);
+    double p[18];
+    OnlineEstimate e;
+    for (int k = 0; k < static_cast<int>(20.0 * rate); ++k) {
+      walk.frame(k / rate, p);
+      e = est.update(k / rate, p);
+      ASSERT_TRUE(all_finite(e));
+    }
+    EXPECT_NEAR(e.belt_speed_mps, walk.belt_mps, 0.05) << rate << " Hz";
+    EXPECT_NEAR(e.speed_mps, walk.belt_mps, 0.05) << rate << " Hz";
+    EXPECT_GT(e.belt_speed_std_mps, 0.0);
+    EXPECT_TRUE(e.valid) << rate << " Hz, reason " << static_cast<int>(e.invalid_reason);
+  }
+}
+
+// Without feet or a belt speed the same walk is not valid (the pelvis does not travel: NOT_MOVING);
+// a known belt speed (set at any time) gives the walking speed.
+TEST(OnlineEstimator, TreadmillWithoutFeetIsNotValidAndAKnownBeltServes) {
+  SyntheticTreadmill walk;
+  OnlineEstimator unknown(4, 2, 1.0), known(4, 2, 1.0);
+  known.set_belt_speed_mps(walk.belt_mps);
+  EXPECT_EQ(known.belt_speed_mps(), walk.belt_mps);
+  EXPECT_TRUE(std::isnan(unknown.belt_speed_mps()));
+  double p[18];
+  OnlineEstimate a, b;
+  for (int k = 0; k < 2000; ++k) {
+    walk.frame(k / 100.0, p);
+    a = unknown.update(k / 100.0, p);  // the pelvis's 4 points only
+    b = known.update(k / 100.0, p);
+    if (k > 1000 && a.walking) {
+      EXPECT_FALSE(a.valid);
+    }
+  }
+  EXPECT_TRUE(a.invalid_reason & static_cast<std::uint8_t>(InvalidReason::kNotMoving));
+  EXPECT_NEAR(b.speed_mps, walk.belt_mps, 0.05);
+  EXPECT_EQ(b.belt_speed_mps, walk.belt_mps);
+  EXPECT_TRUE(b.valid);
+  known.set_belt_speed_mps(kNaN);  // unknown again
+  EXPECT_TRUE(std::isnan(known.belt_speed_mps()));
+}
+
+// Heels overground (the pelvis travels, stance feet still): every output equals the run without them.
+TEST(OnlineEstimator, HeelsOvergroundChangeNothing) {
+  SyntheticTreadmill walk;
+  walk.pelvis.speed_mps = walk.belt_mps;
+  OnlineEstimator without(4, 2, 1.0), with(4, 2, 1.0, OnlineConfig{}, 2);
+  double p[18];
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k / 100.0;
+    walk.frame(t, p);
+    for (int j = 0; j < 2; ++j) p[12 + 3 * j] += walk.belt_mps * t;  // the belt's travel undone: feet still in stance
+    const OnlineEstimate a = without.update(t, p), b = with.update(t, p);
+    ASSERT_EQ(a.speed_mps, b.speed_mps);
+    ASSERT_EQ(a.vx_mps, b.vx_mps);
+    ASSERT_EQ(a.valid, b.valid);
+    ASSERT_EQ(b.belt_speed_mps, 0.0);
+  }
+}
+
+// update() with feet makes no heap allocation; more than 4 feet are refused.
+TEST(OnlineEstimator, TreadmillUpdateDoesNotAllocate) {
+  EXPECT_THROW(OnlineEstimator(4, 2, 1.0, OnlineConfig{}, 5), std::invalid_argument);
+  SyntheticTreadmill walk;
+  OnlineEstimator est(4, 2, 1.0, OnlineConfig{}, 2);
+  double p[18];
+  const long before = g_allocations.load();
+  for (int k = 0; k < 3000; ++k) {
+    walk.frame(k / 100.0, p);
+    if (k % 29 == 0) p[12] = p[13] = p[14] = kNaN;  // a heel missing
+    est.update(k / 100.0, p);
+    if (k == 1500) est.set_belt_speed_mps(1.0);
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+}

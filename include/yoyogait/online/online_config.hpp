@@ -44,7 +44,17 @@ namespace yoyogait {
   X(double, max_input_noise_m, 0.01, "m", "(", 0.0, 1e100, "]",                                                    \
     "a higher marker noise, estimated from the differentiator's innovations, makes the estimates not valid")      \
   X(double, max_mean_nis, 6.0, "", "(", 0.0, 1e100, "]",                                                           \
-    "the estimator's NIS averaged over about a second above this: the model does not hold (not valid; stds scaled)")
+    "the estimator's NIS averaged over about a second above this: the model does not hold (not valid; stds scaled)") \
+  X(double, belt_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                            \
+    "treadmill (with foot points): low-pass of the stance feet's velocities, over stance time, for the belt's")    \
+  X(double, treadmill_min_belt_mps, 0.2, "m/s", "[", 0.0, 1e100, "]",                                             \
+    "treadmill: stance feet slower than this are no belt (overground: nothing changes)")                          \
+  X(double, stance_band_m, 0.02, "m", "(", 0.0, 1e100, "]",                                                        \
+    "treadmill: a foot point this close to its lowest height is in stance")                                       \
+  X(double, treadmill_heading_rad, 0.0, "rad", "[", -1e100, 1e100, "]",                                           \
+    "treadmill: the walking direction, atan2(b, a), for a known belt speed without stance feet to tell it") \
+  X(double, treadmill_max_pelvis_mps, 0.3, "m/s", "(", 0.0, 1e100, "]",                                          \
+    "treadmill: stance feet give a belt only while the pelvis's speed (low-passed over 1 s) is below this and half the belt's")
 
 
 /// Settings of OnlineEstimator: the gait estimator behind it and YOYOGAIT_ONLINE_FIELDS.

@@ -68,7 +68,10 @@ enum class InvalidReason : std::uint8_t {
   X(::std::uint8_t, points_seen, 0, "", kAll, "points used on this frame")                                        \
   X(bool, valid, false, "", kAll, "the estimate can be used as it is: invalid_reason is 0")                       \
   X(::std::uint8_t, invalid_reason, 1, "", kAll, "why not valid: a set of InvalidReason bits (0: valid)")         \
-  X(double, input_noise_m, 0.0, "m", kAll, "the marker noise estimated from the differentiator's innovations")
+  X(double, input_noise_m, 0.0, "m", kAll, "the marker noise estimated from the differentiator's innovations") \
+  X(double, belt_speed_mps, 0.0, "m/s", kAll,                                                                     \
+    "treadmill belt speed in the walking speed (known, or from the stance feet; 0: none, overground)")            \
+  X(double, belt_speed_std_mps, 0.0, "m/s", kAll, "its standard deviation (0 when known; in speed_std_mps too)")
 
 /// One estimate, at the time of one frame (YOYOGAIT_ONLINE_ESTIMATE_FIELDS).
 struct OnlineEstimate {

@@ -7,7 +7,9 @@
 /// velocity along it (online/heading.hpp); every EstimatorConfig::sample_time_s the mean velocity
 /// over that interval (online/decimator.hpp) feeds the gait Estimator, whose estimate is carried to
 /// each frame's time by its own forecast over the delays behind it (online/latency.hpp), with the
-/// gait phase (online/gait_phase.hpp); whether it is valid, and why not (online/validity.hpp).
+/// gait phase (online/gait_phase.hpp); whether it is valid, and why not (online/validity.hpp). With
+/// foot points after the centre's (a treadmill), the belt's velocity (online/belt.hpp) is taken out
+/// of the centre's: the walking velocity is the pelvis's relative to the belt.
 #pragma once
 
 #include <array>
@@ -18,6 +20,7 @@
 #include <stdexcept>
 
 #include "yoyogait/estimator.hpp"
+#include "yoyogait/online/belt.hpp"
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
@@ -37,10 +40,11 @@ namespace yoyogait {
 class OnlineEstimator {
  public:
   /// n_points: 1..16 points per frame; up_axis: 0, 1, 2 (x, y, z); length_unit_m: metres per
-  /// coordinate unit (1 for metres, 0.001 for millimetres).
+  /// coordinate unit (1 for metres, 0.001 for millimetres); n_feet: 0..4 foot points (heels, for a
+  /// treadmill's belt: online/belt.hpp) that follow the n_points in each frame.
   OnlineEstimator(std::size_t n_points, int up_axis, double length_unit_m = 1.0,
-                  const OnlineConfig& config = OnlineConfig{})
-      : config_(checked(config, n_points, up_axis, length_unit_m)),
+                  const OnlineConfig& config = OnlineConfig{}, std::size_t n_feet = 0)
+      : config_(checked(config, n_points, up_axis, length_unit_m, n_feet)),
         frame_(n_points, length_unit_m, config_.max_abs_position_m),
         axes_(up_axis),
         estimator_(config_.estimator),
@@ -50,6 +54,9 @@ class OnlineEstimator {
         decimator_(online::decimator_settings(config_)),
         latency_(online::latency_settings(config_)),
         validity_(online::validity_settings(config_)),
+        belt_(n_feet, axes_.up, axes_.a, axes_.b, length_unit_m, config_.max_abs_position_m,
+              online::belt_settings(config_)),
+        feet_(n_feet),
         q_f_(config_.estimator.gait_filter.q_omega_rad2_per_s3 * kInvTwoPi * kInvTwoPi) {
     reset();
   }
@@ -64,6 +71,9 @@ class OnlineEstimator {
     latency_.reset();
     phase_.reset();
     validity_.reset();
+    belt_.reset();
+    belt_a_m_ = belt_b_m_ = 0.0;
+    belt_seen_ = false;
     est_ = Estimate{};
     out_ = OnlineEstimate{};
     have_time_ = false;
@@ -74,8 +84,8 @@ class OnlineEstimator {
     ignored_frames_ = 0;
   }
 
-  /// One frame: t_s [s], positions_xyz: n_points x 3 coordinates (x, y, z of each point, in the
-  /// length unit), NaN where a point is missing. Never throws; the state stays finite.
+  /// One frame: t_s [s], positions_xyz: (n_points + n_feet) x 3 coordinates (x, y, z of each point,
+  /// in the length unit; the feet last), NaN where a point is missing. Never throws; the state stays finite.
   OnlineEstimate update(double t_s, const double* positions_xyz) noexcept {
     OnlineEstimate& o = out_;
     o.estimator_fed = false;
@@ -87,6 +97,7 @@ class OnlineEstimator {
       return o;
     }
     const online::PointFrame::Count seen = frame_.read(positions_xyz);
+    if (belt_.has_feet()) belt_.update(t_s, positions_xyz + 3 * frame_.size());
     o.points_seen = static_cast<std::uint8_t>(seen.seen);
     validity_.frame(frame_dt_s, seen.seen);
     if (seen.seen == 0) return carried(t_s, seen.bad ? OnlineStatus::kNonFinite : OnlineStatus::kAllMissing);
@@ -144,6 +155,14 @@ class OnlineEstimator {
     return p;
   }
 
+  /// A known treadmill belt speed [m/s] from now on (it may change at any frame); NaN: unknown again
+  /// (the feet's estimate, if there are feet). Its direction: the stance feet's, else against
+  /// treadmill_heading_rad.
+  void set_belt_speed_mps(double speed_mps) noexcept { belt_.set_known_mps(speed_mps); }
+  /// The known belt speed, NaN when none is given.
+  double belt_speed_mps() const noexcept { return belt_.known_mps(); }
+  std::size_t feet() const noexcept { return feet_; }
+
   const OnlineConfig& config() const noexcept { return config_; }
   /// The estimator's last estimate (at its last sample, estimate_age_s ago).
   const Estimate& estimate() const noexcept { return est_; }
@@ -158,9 +177,10 @@ class OnlineEstimator {
   std::uint64_t ignored_frames() const noexcept { return ignored_frames_; }
 
  private:
-  static const OnlineConfig& checked(const OnlineConfig& c, std::size_t n, int up, double unit) {
+  static const OnlineConfig& checked(const OnlineConfig& c, std::size_t n, int up, double unit, std::size_t feet) {
     if (const char* e = c.validate()) throw std::invalid_argument(e);
     if (n < 1 || n > online::kMaxPoints) throw std::invalid_argument("n_points must be in [1, 16]");
+    if (feet > online::BeltTracker::kMaxFeet) throw std::invalid_argument("n_feet must be in [0, 4]");
     if (up < 0 || up > 2) throw std::invalid_argument("up_axis must be 0, 1 or 2 (x, y, z)");
     if (!(std::isfinite(unit) && unit > 0.0)) throw std::invalid_argument("length_unit_m must be finite and > 0");
     return c;
@@ -235,6 +255,26 @@ class OnlineEstimator {
     OnlineEstimate& o = out_;
     const std::array<double, 3> v = diff_.velocity_mps();
     double va = v[axes_.a], vb = v[axes_.b];
+    std::array<double, 3> pos = diff_.position_m();
+    if (belt_.has_feet()) belt_.pelvis(va, vb, gap_s);
+    const bool belt_on = belt_.active();
+    if (belt_on && !belt_seen_) {
+      // The first belt found: what the estimator took so far was the sway, not the walking; it starts
+      // again (once: a belt that comes and goes near treadmill_min_belt_mps restarts nothing more).
+      belt_seen_ = true;
+      estimator_.reset();
+      latency_.reset();
+      decimator_.restart();
+      est_ = Estimate{};
+    }
+    if (belt_on) {  // on a treadmill: the pelvis relative to the belt, and its travel on it
+      const double ba = belt_.va_mps(), bb = belt_.vb_mps();
+      va -= ba;
+      vb -= bb;
+      belt_a_m_ += ba * gap_s;
+      belt_b_m_ += bb * gap_s;
+    }
+    const double va0 = va, vb0 = vb;  // before any cut
     // While walking, a horizontal velocity beyond max_walking_speed_mps that has lasted less than a
     // step is a jump, a swap or noise, not the person: cut to that speed.
     const double lim = config_.max_walking_speed_mps, vh2 = va * va + vb * vb;
@@ -251,9 +291,8 @@ class OnlineEstimator {
     o.vh_a_mps = va;
     o.vh_b_mps = vb;
     o.vz_mps = v[axes_.up];
-    const std::array<double, 3> pos = diff_.position_m();
-    validity_.front_end(o.t_s, gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), pos[axes_.a], pos[axes_.b],
-                        v[axes_.a], v[axes_.b], o.vz_mps);  // the velocity before any cut
+    validity_.front_end(o.t_s, gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), pos[axes_.a] - belt_a_m_,
+                        pos[axes_.b] - belt_b_m_, va0, vb0, o.vz_mps);  // the velocity before any cut
     if (settled) heading_.update(va, vb, gap_s);
     o.heading_rad = heading_.heading_rad();
     o.vx_mps = heading_.forward_mps(va, vb);
@@ -310,6 +349,8 @@ class OnlineEstimator {
     o.walk_a_mps = o.speed_mps * heading_.unit()[0];
     o.walk_b_mps = o.speed_mps * heading_.unit()[1];
     o.input_noise_m = validity_.input_noise_m();
+    o.belt_speed_mps = belt_.speed_mps();
+    o.belt_speed_std_mps = belt_.std_mps();
     online::Validity::Inputs in;
     in.fed = fed;
     in.walking = o.walking;
@@ -339,6 +380,8 @@ class OnlineEstimator {
     if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < kPinnedStdHz)
       o.step_frequency_std_hz = kPinnedStdHz;
     o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
+    if (o.belt_speed_std_mps > 0.0)  // the belt's uncertainty is the walking speed's too
+      o.speed_std_mps = sqrt1(o.speed_std_mps * o.speed_std_mps + o.belt_speed_std_mps * o.belt_speed_std_mps);
     const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false);
     o.vx_hat_mps = bounded(f.vx_mps);
     o.vz_hat_mps = bounded(f.vz_mps);
@@ -376,6 +419,10 @@ class OnlineEstimator {
   online::Latency latency_;
   online::GaitPhase phase_;
   online::Validity validity_;
+  online::BeltTracker belt_;
+  std::size_t feet_ = 0;
+  double belt_a_m_ = 0.0, belt_b_m_ = 0.0;  ///< the belt's travel since the reset (a treadmill) [m]
+  bool belt_seen_ = false;                   ///< a belt was taken since the reset
   Estimate est_{};
   OnlineEstimate out_{};
   bool have_time_ = false, have_seen_ = false;

@@ -3,6 +3,7 @@
 /// OnlineEstimator's constructor builds its parts from).
 #pragma once
 
+#include "yoyogait/online/belt.hpp"
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
@@ -68,6 +69,19 @@ inline Validity::Settings validity_settings(const OnlineConfig& c) noexcept {
   s.stale_s = c.max_gap_s + 2.0 * c.estimator.sample_time_s;
   s.f_min_hz = c.estimator.gait_filter.f_min_hz;
   s.f_max_hz = c.estimator.gait_filter.f_max_hz;
+  return s;
+}
+
+/// The belt tracker's settings (belt_tau_s, treadmill_min_belt_mps, stance_band_m,
+/// treadmill_heading_rad, treadmill_max_pelvis_mps; a stance velocity beyond max_plausible_speed_mps is none).
+inline BeltTracker::Settings belt_settings(const OnlineConfig& c) noexcept {
+  BeltTracker::Settings s;
+  s.tau_s = c.belt_tau_s;
+  s.min_belt_mps = c.treadmill_min_belt_mps;
+  s.stance_band_m = c.stance_band_m;
+  s.heading_rad = c.treadmill_heading_rad;
+  s.max_pelvis_mps = c.treadmill_max_pelvis_mps;
+  s.max_belt_mps = c.max_plausible_speed_mps;
   return s;
 }
 

@@ -12,7 +12,7 @@ from .._files import atomic_files, check_distinct, check_output_file
 from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError, about_file
 from ..estimators.config import EstimatorConfig, OnlineConfig
-from ..estimators.online import InvalidReason, OnlineEstimator
+from ..estimators.online import InvalidReason, OnlineEstimator, check_belt_speed
 from ..estimators.registry import estimators, preset_runner
 from ..evaluation import figures as plots
 from ..pipeline import events
@@ -109,7 +109,10 @@ def command(
     step_frequency_std_hz, speed_mps, speed_std_mps, heading_rad, gait_phase, walking, status (0
     used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite),
     input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
-    standing); --out defaults to FILE's name + .online.csv.
+    standing), valid, invalid_reason and belt_speed_mps; --out defaults to FILE's name + .online.csv.
+    On a treadmill, --feet NAME,NAME puts those foot points into the frames (the belt speed is then
+    estimated from the stance feet) and --belt-speed-mps gives the belt speed; without either a
+    treadmill walk is marked not valid (not moving: the pelvis stays in place).
 
     An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, an APDM .h5) is estimated online by nature: one
     row per sample, every field of the IMU estimate (docs/imu.md), --out defaulting to FILE's name +
@@ -120,9 +123,10 @@ def command(
                             gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m,
                             trial=trial, sensor=sensor)  # fmt: skip
     if online:
-        if belt_speed_mps is not None:
-            raise InputError("--belt-speed-mps is not available with --online (the online front-end knows no belt)")
-        return online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file)
+        return online_estimate(
+            file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file,
+            feet=feet, belt_speed_mps=belt_speed_mps,
+        )  # fmt: skip
     run = estimators()[preset]
     resample_hz = RESAMPLE_RATE_HZ
     if config_file is not None:
@@ -178,9 +182,14 @@ def command(
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))
 
 
-def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file=None):
+def online_estimate(
+    file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file=None, *, feet=None,
+    belt_speed_mps=None,
+):  # fmt: skip
     """``estimate --online``: one CSV row per capture frame from yoyogait.OnlineEstimator (ONLINE_CSV_COLUMNS;
-    status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite, 5 time jump)."""
+    status: 0 used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite, 5 time jump).
+    ``feet``: foot points in the frames (a treadmill's belt from the stance feet); ``belt_speed_mps``: a known
+    belt speed."""
     if preset != "default":
         raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
     if figure not in (None, "none"):
@@ -188,13 +197,16 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
     stem = Path(file).name
     out = Path(out or f"{stem}.online.csv")
     check_output_file(out, "--out", force, inputs=(file, config_file))
+    check_belt_speed(belt_speed_mps, "--belt-speed-mps")
     config = OnlineConfig.from_file(config_file) if config_file is not None else None
     overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     with about_file(file):
         recording = io.read(file, **overrides)
-        check_points(recording, point)
+        check_points(recording, point, feet)
         check_point_motion(recording, point)  # the check `estimate` makes (offline pipeline), here too
-        est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis, config=config)
+        est = OnlineEstimator.for_recording(recording, point, up_axis=up_axis, config=config, feet=feet)
+        if belt_speed_mps is not None:
+            est.set_belt_speed_mps(belt_speed_mps)
         res = est.run(recording)
     res.to_csv(out)
     walking = res.walking
@@ -205,7 +217,37 @@ def online_estimate(file, point, up_axis, length_unit_m, rate_hz, preset, out, f
         f"front-end latency {1e3 * float(np.median(res.input_latency_s)):.1f} ms"
     )
     click.echo(validity_line(res))
+    if est.feet or belt_speed_mps is not None:
+        click.echo(belt_line(res, est.feet, belt_speed_mps))
+    elif treadmill_like(res):
+        click.echo(
+            "the pelvis stays in place while the estimator says walking (a treadmill?): its speed is marked "
+            "not valid; give --feet NAME,NAME (heels) or --belt-speed-mps for the walking speed"
+        )
     click.echo(f"wrote {out}")
+
+
+def treadmill_like(res) -> bool:
+    """Whether most of the walking frames are marked not moving (the pelvis stays in place: a treadmill)."""
+    walking = np.asarray(res.walking, dtype=bool)
+    if not walking.any():
+        return False
+    still = (np.asarray(res.invalid_reason, dtype=int) & int(InvalidReason.NOT_MOVING)) != 0
+    return float(still[walking].mean()) > 0.5
+
+
+def belt_line(res, feet, belt_speed_mps) -> str:
+    """One line on the treadmill belt: given, or found from the stance feet (the share of frames, its median)."""
+    if belt_speed_mps is not None:
+        return f"treadmill belt {belt_speed_mps:.2f} m/s (--belt-speed-mps) added to the pelvis's own speed"
+    belt = np.asarray(res.belt_speed_mps, dtype=float)
+    on = belt > 0
+    if not on.any():
+        return f"no treadmill belt found from the stance feet ({', '.join(feet)}): overground"
+    return (
+        f"treadmill belt found from the stance feet ({', '.join(feet)}) on {100.0 * on.mean():.0f} % of the frames, "
+        f"median {float(np.median(belt[on])):.2f} m/s, added to the pelvis's own speed"
+    )
 
 
 def validity_line(res) -> str:

@@ -14,7 +14,7 @@ from ..errors import InputError
 from ..estimators.config import ImuConfig, OnlineConfig
 from ..estimators.online import ONLINE_CSV_COLUMNS, csv_formats
 from ..live.imu_live import IMU_COLUMNS, INPUT_KINDS, ImuLiveOptions, ImuLiveSetup, run_live_source
-from ..live.live import describe_source
+from ..live.live import BeltSpeedStream, describe_source
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
 from .options import POSITIVE, config_file_option, split_names
@@ -48,6 +48,20 @@ from .options import POSITIVE, config_file_option, split_names
     callback=split_names,
     help="Point to follow: 'pelvis' (default: the pelvis centre, found by name), 'hand', "
     "or point names separated by commas (averaged).",
+)
+@click.option(
+    "--feet",
+    metavar="NAME,NAME",
+    default=None,
+    callback=split_names,
+    help="Foot points of the stream (heels) for a treadmill: the belt speed from the stance feet.",
+)
+@click.option("--belt-speed-mps", type=float, default=None, metavar="M/S", help="Treadmill belt speed (known, fixed).")
+@click.option(
+    "--belt-speed-source",
+    default=None,
+    metavar="NAME",
+    help="LSL stream of the treadmill's belt speed (first channel, m/s; it may change at any time).",
 )
 @click.option("--up-axis", type=click.Choice(["x", "y", "z"]), default=None, help="Up axis (default: the stream's).")
 @click.option(
@@ -110,15 +124,27 @@ from .options import POSITIVE, config_file_option, split_names
     help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).",
 )
 def command(
-    source, input_kind, publish, record, force, point, up_axis, length_unit_m, duration, exit_on_end, timeout,
-    max_buffer_s, list_points, config_file, acc_unit, gyr_unit, sensor_height_m, ros2_topic,
+    source, input_kind, publish, record, force, point, feet, belt_speed_mps, belt_speed_source, up_axis,
+    length_unit_m, duration, exit_on_end, timeout, max_buffer_s, list_points, config_file, acc_unit, gyr_unit,
+    sensor_height_m, ros2_topic,
 ):  # fmt: skip
     """Estimate gait live from the LSL stream SOURCE (markers, or a lower-back IMU): publish, record and show
-    the estimates."""
+    the estimates.
+
+    On a treadmill: --feet NAME,NAME (the belt speed from the stance feet), --belt-speed-mps (known) or
+    --belt-speed-source NAME (an LSL stream of the belt speed, which may change); without any of them a
+    treadmill walk is marked not valid (not moving).
+    """
     config = OnlineConfig.from_file(config_file) if config_file is not None and input_kind != "imu" else None
     imu_config = ImuConfig.from_file(config_file) if config_file is not None and input_kind != "markers" else None
     if input_kind == "imu" and ros2_topic:
         raise InputError("--ros2-topic: publishes the marker path's estimates; not available with an IMU stream")
+    if input_kind == "imu" and (feet or belt_speed_mps is not None or belt_speed_source is not None):
+        raise InputError("--feet, --belt-speed-mps, --belt-speed-source: for a marker stream, not an IMU stream")
+    if belt_speed_mps is not None and belt_speed_source is not None:
+        raise InputError("give --belt-speed-mps or --belt-speed-source, not both")
+    if belt_speed_source is not None and belt_speed_source == source:
+        raise InputError(f"--belt-speed-source {belt_speed_source!r}: the marker stream is not a belt speed")
     if list_points:
         for line in describe_source(source, timeout):
             click.echo(line)
@@ -167,6 +193,7 @@ def command(
     try:
         if ros2_topic:
             sink = Ros2Publisher(ros2_topic)
+        belt_input = BeltSpeedStream(belt_speed_source, timeout, stop) if belt_speed_source is not None else None
         if status is not None:  # on a terminal, so that the wait is not mistaken for a hang
             click.echo(f"live: looking for the LSL stream {source!r} (up to {timeout:g} s)", err=True)
         counters = run_live_source(
@@ -180,6 +207,9 @@ def command(
                 record_formats=csv_formats(ONLINE_CSV_COLUMNS),
                 config=config,
                 on_estimate=sink.publish if sink is not None else None,
+                feet=feet,
+                belt_speed_mps=belt_speed_mps,
+                belt_speed=belt_input,
             ),
             imu=ImuLiveOptions(
                 acc_unit=acc_unit, gyr_unit=gyr_unit, sensor_height_m=sensor_height_m, config=imu_config

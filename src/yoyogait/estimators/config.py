@@ -464,6 +464,11 @@ class OnlineConfig(_ConfigFile):
     max_walking_speed_mps: float = _field(ONLINE_SECTION, "max_walking_speed_mps")
     max_input_noise_m: float = _field(ONLINE_SECTION, "max_input_noise_m")
     max_mean_nis: float = _field(ONLINE_SECTION, "max_mean_nis")
+    belt_tau_s: float = _field(ONLINE_SECTION, "belt_tau_s")
+    treadmill_min_belt_mps: float = _field(ONLINE_SECTION, "treadmill_min_belt_mps")
+    stance_band_m: float = _field(ONLINE_SECTION, "stance_band_m")
+    treadmill_heading_rad: float = _field(ONLINE_SECTION, "treadmill_heading_rad")
+    treadmill_max_pelvis_mps: float = _field(ONLINE_SECTION, "treadmill_max_pelvis_mps")
 
     def _own(self):
         return [f for f in fields(self) if f.name != "estimator"]

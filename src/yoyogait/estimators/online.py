@@ -16,6 +16,7 @@ thread, or serialise the calls yourself.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,7 +27,7 @@ from .. import _core
 from .._files import atomic_file
 from ..errors import InputError, YoyogaitError
 from ..io.recording import AXES, Recording
-from ..pipeline import points
+from ..pipeline import events, points
 from .config import OnlineConfig
 from .records import fields_of
 
@@ -40,6 +41,8 @@ __all__ = [
     "InvalidReason",
     "ConcurrentUseError",
     "MAX_POINTS",
+    "MAX_FEET",
+    "MAX_BELT_SPEED_MPS",
 ]
 
 OnlineStatus = _core.OnlineStatus
@@ -48,6 +51,18 @@ InvalidReason = _core.InvalidReason
 """What ``update`` did with a frame: USED, ALL_MISSING, TIME_NOT_INCREASING, GAP_RESTART, NON_FINITE."""
 
 MAX_POINTS = 16
+#: The most foot points an estimator takes (for a treadmill's belt).
+MAX_FEET = 4
+#: The highest known belt speed accepted [m/s].
+MAX_BELT_SPEED_MPS = 10.0
+
+
+def check_belt_speed(speed_mps: float | None, what: str = "belt speed") -> None:
+    """InputError naming ``what`` unless ``speed_mps`` is None or a belt speed in [0, MAX_BELT_SPEED_MPS] m/s."""
+    if speed_mps is not None and not (
+        isinstance(speed_mps, (int, float)) and math.isfinite(speed_mps) and 0.0 <= speed_mps <= MAX_BELT_SPEED_MPS
+    ):
+        raise InputError(f"{what} must be a speed in m/s in [0, {MAX_BELT_SPEED_MPS:g}], not {speed_mps!r}")
 
 
 class ConcurrentUseError(YoyogaitError, RuntimeError):
@@ -91,6 +106,7 @@ ONLINE_CSV_COLUMNS = (
     "next_step_in_s",
     "valid",
     "invalid_reason",
+    "belt_speed_mps",
 )
 
 
@@ -135,6 +151,9 @@ class OnlineResult:
     invalid_reason: np.ndarray
     """Why not: a set of :class:`InvalidReason` bits."""
     input_noise_m: np.ndarray
+    belt_speed_mps: np.ndarray
+    """The treadmill belt speed in ``speed_mps`` (known, or from the stance feet; 0 overground)."""
+    belt_speed_std_mps: np.ndarray
     predict_ahead_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
     """The horizons of the predictions (m) [s]."""
     pred_vx_mps: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
@@ -163,6 +182,11 @@ class OnlineEstimator:
     >>> e = est.update(0.01, frame)          # frame: 4 x 3 coordinates (mm), NaN where missing
     >>> est = OnlineEstimator.for_recording(rec)   # the pelvis points of a Recording, found by name
     >>> result = est.run(rec)                # every frame, replayed in C++: an OnlineResult
+
+    Treadmills (docs/online.md, "Treadmills"): ``feet`` names foot points (heels, at most
+    :data:`MAX_FEET`) that follow the pelvis points in every frame; the belt's velocity is then
+    estimated from the feet in stance and the walking speed is the belt's plus the pelvis's own.
+    :meth:`set_belt_speed_mps` gives a known belt speed instead, at any time (a callback of a live loop).
     """
 
     def __init__(
@@ -171,11 +195,17 @@ class OnlineEstimator:
         up_axis: str = "z",
         length_unit_m: float = 1.0,
         config: OnlineConfig | None = None,
+        *,
+        feet: Sequence[str] = (),
     ):
         names = [point_names] if isinstance(point_names, str) else [str(n) for n in point_names]
         if not 1 <= len(names) <= MAX_POINTS:
             raise InputError(f"point_names must name 1 to {MAX_POINTS} points, got {len(names)}")
+        foot_names = [feet] if isinstance(feet, str) else [str(n) for n in feet]
+        if len(foot_names) > MAX_FEET:
+            raise InputError(f"feet must name at most {MAX_FEET} points, got {len(foot_names)}")
         self.point_names: tuple[str, ...] = tuple(names)
+        self.feet: tuple[str, ...] = tuple(foot_names)
         self.up_axis = AXES[points.axis_index(up_axis)]
         if not (isinstance(length_unit_m, (int, float)) and np.isfinite(length_unit_m) and length_unit_m > 0):
             raise InputError(f"length_unit_m must be a finite number > 0, got {length_unit_m!r}")
@@ -184,7 +214,7 @@ class OnlineEstimator:
         if not isinstance(self.config, OnlineConfig):
             raise InputError(f"config must be an OnlineConfig, got {type(self.config).__name__}")
         self._impl = _core.OnlineEstimator(
-            len(names), AXES.index(self.up_axis), self.length_unit_m, self.config.to_native()
+            len(names), AXES.index(self.up_axis), self.length_unit_m, self.config.to_native(), len(foot_names)
         )
         # The per-frame path: the native calls bound to this instance, no Python code per call (they
         # read the frame without an array copy, check its size, take the estimator's flag against
@@ -195,15 +225,23 @@ class OnlineEstimator:
         )
 
     @classmethod
-    def for_recording(cls, rec: Recording, point=None, *, up_axis: str | None = None, config=None):
+    def for_recording(cls, rec: Recording, point=None, *, up_axis: str | None = None, config=None, feet=None):
         """An estimator for ``rec``'s points: the pelvis markers found by name (``point=None``), or
         ``point`` as :func:`yoyogait.pipeline.points.choose_point` takes it; the up axis from the
-        file, else detected (:func:`yoyogait.pipeline.points.resolve_up_axis`). Recordings are in metres."""
+        file, else detected (:func:`yoyogait.pipeline.points.resolve_up_axis`). Recordings are in metres.
+        ``feet``: foot points for a treadmill's belt, as :func:`yoyogait.pipeline.events.feet_of` takes
+        them (``True``: found by name); None: none."""
         choice = points.choose_point(rec, point)
         if len(choice.names) > MAX_POINTS:
             raise InputError(f"{rec.source or 'recording'}: {len(choice.names)} points, at most {MAX_POINTS}")
         up, _ = points.resolve_up_axis(rec, up_axis)
-        return cls(choice.names, up, 1.0, config)
+        foot_names: list[str] = []
+        if feet is not None and feet is not False:
+            found = events.feet_of(rec, None if feet is True else feet) if rec.point_names else {}
+            if not found:
+                raise InputError(f"{rec.source or 'recording'}: no foot points found (give them by name)")
+            foot_names = list(found.values())
+        return cls(choice.names, up, 1.0, config, feet=foot_names)
 
     @staticmethod
     def _busy(what: str) -> ConcurrentUseError:
@@ -251,7 +289,7 @@ class OnlineEstimator:
             if positions is not None:
                 raise InputError("run(recording) takes no positions")
             t = np.asarray(recording.time_s, dtype=np.float64)
-            p = recording.points(list(self.point_names)) / self.length_unit_m
+            p = recording.points(list(self.point_names) + list(self.feet)) / self.length_unit_m
         else:
             if positions is None:
                 raise InputError("run(time_s, positions) needs positions")
@@ -259,11 +297,9 @@ class OnlineEstimator:
             p = np.asarray(positions, dtype=np.float64)
         if t.ndim != 1:
             raise InputError(f"time_s must be one-dimensional, got shape {t.shape}")
-        if p.shape != (len(t), len(self.point_names), 3):
-            raise InputError(
-                f"positions must be frames x {len(self.point_names)} x 3 = ({len(t)}, {len(self.point_names)}, 3), "
-                f"got {p.shape}"
-            )
+        k = len(self.point_names) + len(self.feet)
+        if p.shape != (len(t), k, 3):
+            raise InputError(f"positions must be frames x {k} x 3 = ({len(t)}, {k}, 3), got {p.shape}")
         t = np.ascontiguousarray(t)
         p = np.ascontiguousarray(p)
         try:
@@ -275,8 +311,27 @@ class OnlineEstimator:
             out[key] = out[key].reshape(len(t), m)
         return OnlineResult(**out, predict_ahead_s=horizons)
 
+    def set_belt_speed_mps(self, speed_mps: float | None) -> None:
+        """A known treadmill belt speed [m/s] from the next frame on (it may change at any time: a
+        live loop's callback); ``None`` or NaN: unknown again (the stance feet's estimate, if there are
+        feet). Its direction: the stance feet's, else against ``treadmill_heading_rad``. The estimate's
+        ``belt_speed_mps`` reports the speed in use."""
+        if isinstance(speed_mps, float) and math.isnan(speed_mps):
+            speed_mps = None
+        check_belt_speed(speed_mps)
+        try:
+            self._impl.set_belt_speed_mps(math.nan if speed_mps is None else float(speed_mps))
+        except _core.ConcurrentUse:
+            raise self._busy("set_belt_speed_mps") from None
+
+    @property
+    def belt_speed_mps(self) -> float | None:
+        """The known belt speed given by :meth:`set_belt_speed_mps` [m/s]; None when none is."""
+        v = float(self._impl.belt_speed_mps)
+        return None if math.isnan(v) else v
+
     def reset(self) -> None:
-        """Back to the state before the first frame."""
+        """Back to the state before the first frame (a known belt speed is kept: it is an input)."""
         try:
             self._impl.reset()
         except _core.ConcurrentUse:

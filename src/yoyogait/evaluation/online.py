@@ -395,7 +395,14 @@ def _run_oscillator(vel) -> dict[str, np.ndarray]:
     return out
 
 
-def evaluate_item_online(item: Item, config: OnlineConfig | None = None, reference: Item | None = None) -> ItemResult:
+def evaluate_item_online(
+    item: Item,
+    config: OnlineConfig | None = None,
+    reference: Item | None = None,
+    *,
+    feet: bool = False,
+    belt_speed_mps: float | None = None,
+) -> ItemResult:
     """Replay one item frame by frame through the online estimator (``config``: its settings, else the
     defaults) and score it, with the adaptive oscillator beside it (a top-level function: it runs in
     worker processes too).
@@ -403,6 +410,8 @@ def evaluate_item_online(item: Item, config: OnlineConfig | None = None, referen
     ``reference``: the item whose recording gives the offline velocities, the gait events and the
     walking reference (default: ``item`` itself), e.g. the clean recording of which ``item`` is a
     noisier rendering on the same clock. The oscillator runs on those reference velocities.
+    ``feet``: the item's foot points go into the frames (a treadmill's belt from the stance feet);
+    ``belt_speed_mps``: a known belt speed (OnlineEstimator.set_belt_speed_mps).
     """
     recording = item.load()
     ref_item = item if reference is None else reference
@@ -410,7 +419,11 @@ def evaluate_item_online(item: Item, config: OnlineConfig | None = None, referen
     point = item.pelvis if item.pelvis else None
     ref_point = ref_item.pelvis if ref_item.pelvis else None
     vel = gait_velocities(ref_recording, point=ref_point, rate_hz=RATE_HZ, up_axis=ref_item.up_axis)
-    estimator = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis, config=config)
+    # The feet only when asked for: without them the call is the one it has always been.
+    with_feet = {"feet": item.feet or True} if feet else {}
+    estimator = OnlineEstimator.for_recording(recording, point, up_axis=vel.up_axis, config=config, **with_feet)
+    if belt_speed_mps is not None:
+        estimator.set_belt_speed_mps(belt_speed_mps)
     res = estimator.run(recording, predict_ahead_s=(PREDICT_AHEAD_S,))
     t = np.asarray(res.time_s, dtype=float)
     dt = np.diff(t)

@@ -44,7 +44,14 @@ import numpy as np
 from .._files import check_output_file, commit, give_default_mode, temporary_beside
 from ..errors import InputError
 from ..estimators.frame_gate import DROP, RESTART, FrameCounts, FrameGate
-from ..estimators.online import ONLINE_ESTIMATE_FIELDS, OnlineConfig, OnlineEstimator, column_of
+from ..estimators.online import (
+    MAX_BELT_SPEED_MPS,
+    ONLINE_ESTIMATE_FIELDS,
+    OnlineConfig,
+    OnlineEstimator,
+    check_belt_speed,
+    column_of,
+)
 from ..io.recording import Recording
 from ..pipeline import points
 from ._lsl import pylsl
@@ -364,9 +371,17 @@ def run_live(
     stop: threading.Event | None = None,
     config: OnlineConfig | None = None,
     detect_imu: bool = False,
+    feet: Sequence[str] | None = None,
+    belt_speed_mps: float | None = None,
+    belt_speed: Callable[[], float | None] | None = None,
 ) -> LiveCounters:
     """Estimate gait live from the marker stream ``source`` until ``duration_s``, its end (with
     ``exit_on_end``) or ``stop``. Returns the counters.
+
+    Treadmills (docs/online.md, "Treadmills"): ``feet`` names foot points of the stream (heels) that go
+    into the frames after the followed points (the belt from the stance feet); ``belt_speed_mps`` a
+    known belt speed; ``belt_speed()``, called before each frame, the belt speed at that frame (None:
+    unknown), e.g. :class:`BeltSpeedStream` or a treadmill controller's reading: it may change at any time.
 
     ``publish``: name of the estimate stream (created first, before the source is resolved, so a
     subscriber can connect before the first estimate); ``record``: CSV of the estimates (the channels
@@ -383,6 +398,7 @@ def run_live(
     if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"--duration must be a positive number of seconds, not {duration_s!r}")
     note = on_note if on_note is not None else (lambda line: None)
+    check_belt_speed(belt_speed_mps, "--belt-speed-mps")
     recorder = CsvRecord(record, record_columns, record_formats, force) if record is not None else None
     counters = LiveCounters()
     started = time.monotonic()
@@ -406,10 +422,11 @@ def run_live(
                 _connect, source, None, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note,
                 make_setup=make_setup,
             )  # fmt: skip
+            belt = _Belt(tuple(feet or ()), belt_speed_mps, belt_speed)
             _loop(
                 inlet, outlet, recorder, setup, functools.partial(OnlineEstimator, config=config), counters,
                 started, duration_s, reacquire_after_s, stop, None if exit_on_end else reconnect,
-                on_estimate, on_status, note, status_interval_s,
+                on_estimate, on_status, note, status_interval_s, belt,
             )  # fmt: skip
     except BaseException:
         if recorder is not None:
@@ -542,18 +559,18 @@ def _loop(
     on_status: Callable[[LiveCounters, list[float]], None] | None,
     note: Callable[[str], None],
     status_interval_s: float,
+    belt: _Belt | None = None,
 ) -> None:
     lsl = pylsl()
+    belt = belt if belt is not None else _Belt()
     lost_error = lsl.util.LostError
     gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
 
     def mapping(s: LiveSetup) -> tuple[np.ndarray, int | None, Any]:
-        chosen = [s.layout.point_names.index(n) for n in s.choice.names]
-        return (
-            s.layout.position_channels[chosen].ravel(),
-            s.layout.time_channel,
-            estimator_type(s.choice.names, s.up_axis, s.length_unit_m),
-        )
+        chosen = [s.layout.point_names.index(n) for n in s.choice.names] + belt.feet_of(s)
+        estimator = estimator_type(s.choice.names, s.up_axis, s.length_unit_m, feet=belt.feet)
+        belt.start(estimator)
+        return s.layout.position_channels[chosen].ravel(), s.layout.time_channel, estimator
 
     channels, time_channel, estimator = mapping(setup)
     next_status = started + status_interval_s
@@ -598,6 +615,7 @@ def _loop(
         if verdict == RESTART:
             estimator.reset()  # the source came back: start over rather than bridge the gap
         positions = np.asarray(sample)[channels]
+        belt.before_frame(estimator)
         row = estimate_row(estimator.update(t_s, positions))
         if outlet is not None:
             outlet.push_sample(row, stamp)
@@ -611,3 +629,77 @@ def _loop(
                 on_status(counters, row)
                 counters.latency_s.clear()
                 next_status = arrival + status_interval_s
+
+
+class _Belt:
+    """The treadmill inputs of a live run: foot points, a known belt speed, a belt speed that may change."""
+
+    def __init__(
+        self,
+        feet: tuple[str, ...] = (),
+        speed_mps: float | None = None,
+        speed: Callable[[], float | None] | None = None,
+    ):
+        self.feet, self._fixed, self._speed = feet, speed_mps, speed
+        self._last: float | None = None
+
+    def feet_of(self, s: LiveSetup) -> list[int]:
+        """The feet's indices among the stream's points; InputError naming a missing one."""
+        names = list(s.layout.point_names)
+        missing = [f for f in self.feet if f not in names]
+        if missing:
+            raise InputError(f"stream {s.source!r}: --feet {', '.join(missing)}: not among its points")
+        return [names.index(f) for f in self.feet]
+
+    def start(self, estimator: Any) -> None:
+        """A new estimator (the start, a source that came back): the known belt speed."""
+        self._last = self._fixed
+        if self._fixed is not None:
+            estimator.set_belt_speed_mps(self._fixed)
+
+    def before_frame(self, estimator: Any) -> None:
+        """The belt speed of this frame from ``speed()``, given to the estimator when it changed."""
+        if self._speed is None:
+            return
+        v = self._speed()
+        if v is not None and not (math.isfinite(v) and 0 <= v <= MAX_BELT_SPEED_MPS):
+            v = None  # not a speed: unknown
+        if v != self._last:
+            estimator.set_belt_speed_mps(v)
+            self._last = v
+
+
+class BeltSpeedStream:
+    """The belt speed of a treadmill from an LSL stream (its first channel, m/s), as ``run_live``'s
+    ``belt_speed``: each call takes the newest sample without waiting; a value that is not a speed
+    (negative, NaN), no sample yet, or the stream gone is None (unknown)."""
+
+    def __init__(self, name: str, timeout_s: float = 10.0, stop: threading.Event | None = None):
+        lsl = pylsl()
+        self.name = name
+        self._lost = lsl.util.LostError
+        self._value: float | None = None
+        self._inlet: Any = None
+        try:
+            try:
+                infos = resolve_all(name, timeout_s, stop)
+            except InputError as exc:
+                raise InputError(f"--belt-speed-source: {exc}") from None
+            inlet = lsl.StreamInlet(infos[0], max_buflen=1, recover=False, processing_flags=0)
+            _sliced(inlet.open_stream, timeout_s, stop, f"--belt-speed-source {name!r}")
+        except _Stopped:  # stopped while waiting: the run that follows ends at once
+            return
+        self._inlet = inlet
+
+    def __call__(self) -> float | None:
+        if self._inlet is None:
+            return None
+        try:
+            chunk, _ = self._inlet.pull_chunk(timeout=0.0)
+        except self._lost:
+            self._inlet, self._value = None, None
+            return None
+        if chunk:
+            v = float(chunk[-1][0]) if len(chunk[-1]) else math.nan
+            self._value = v if math.isfinite(v) and v >= 0 else None
+        return self._value
