@@ -18,7 +18,15 @@ namespace yoyogait {
     "Butterworth low-pass (2nd order) of the forward and vertical velocity before the decimation, delay compensated (0: only the interval mean)") \
   X(double, q_jerk_m2_per_s5, 1000.0, "m^2/s^5", "(", 0.0, 1e100, "]",                                            \
     "white-jerk noise density of the constant-acceleration Kalman differentiator")                                \
-  X(double, meas_position_std_m, 0.001, "m", "(", 0.0, 1e100, "]", "noise of the centre's position (marker noise)") \
+  X(double, meas_position_std_m, 0.001, "m", "(", 0.0, 1e100, "]",                                                \
+    "noise of the centre's position (marker noise); with adapt_to_noise the least the differentiator is given")   \
+  X(bool, adapt_to_noise, true, "", "[", 0, 1, "]",                                                                \
+    "the differentiator's position noise and the estimator's velocity noise follow the marker noise estimated online") \
+  X(double, noise_tau_s, 1.0, "s", "(", 0.0, 1e100, "]", "low-pass of the marker-noise estimate (input_noise_m)")  \
+  X(double, outlier_gate_nis, 25.0, "", "(", 0.0, 1e100, "]",                                                      \
+    "a centre whose innovation's NIS (over the three axes) exceeds this is an outlier: not differentiated")       \
+  X(double, max_outlier_s, 0.1, "s", "[", 0.0, 1e100, "]",                                                        \
+    "outliers for longer than this are taken: the input has moved (a jump, not a swap)")                          \
   X(double, initial_velocity_std_mps, 1.0, "m/s", "(", 0.0, 1e100, "]", "velocity uncertainty after a (re)start") \
   X(double, initial_accel_std_mps2, 10.0, "m/s^2", "(", 0.0, 1e100, "]", "acceleration uncertainty after a (re)start") \
   X(double, settle_s, 0.1, "s", "[", 0.0, 1e100, "]",                                                              \

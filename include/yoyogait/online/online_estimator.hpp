@@ -24,6 +24,7 @@
 #include "yoyogait/online/frame.hpp"
 #include "yoyogait/online/gait_phase.hpp"
 #include "yoyogait/online/heading.hpp"
+#include "yoyogait/online/input_noise.hpp"
 #include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
@@ -46,6 +47,7 @@ class OnlineEstimator {
         estimator_(config_.estimator),
         centre_(n_points, online::centre_settings(config_)),
         diff_(online::differentiator_settings(config_)),
+        noise_(online::input_noise_settings(config_)),
         heading_(online::heading_settings(config_)),
         decimator_(online::decimator_settings(config_)),
         latency_(online::latency_settings(config_)),
@@ -59,6 +61,9 @@ class OnlineEstimator {
     estimator_.reset();
     centre_.reset();
     diff_.stop();
+    noise_.reset();
+    outlier_s_ = 0.0;
+    estimator_.set_extra_measurement_variance(0.0, 0.0);
     heading_.reset();
     decimator_.restart();
     latency_.reset();
@@ -213,8 +218,16 @@ class OnlineEstimator {
     if (restart) {
       start_front_end(t_s, c.centre_m);
     } else {
+      // The noise estimated so far is the measurement's; a centre beyond the gate is not
+      // differentiated, unless the outliers last longer than max_outlier_s (the input has moved).
       diff_.predict(gap_s);
-      diff_.update(c.centre_m);
+      const double r2 = noise_.meas_var_m2();
+      diff_.set_meas_var(r2);
+      const bool gated = outlier_s_ < config_.max_outlier_s;
+      const bool taken = diff_.update(c.centre_m, gated ? noise_.gate_nis() : 1e300, kMinOutlierM);
+      outlier_s_ = taken ? 0.0 : outlier_s_ + gap_s;
+      // Neither an outlier nor the jump taken after them is noise.
+      if (taken && gated) noise_.update(gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), r2);
       if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
     }
     have_seen_ = true;
@@ -223,7 +236,9 @@ class OnlineEstimator {
   }
 
   void start_front_end(double t_s, const std::array<double, 3>& centre_m) noexcept {
+    diff_.set_meas_var(noise_.meas_var_m2());
     diff_.start(centre_m);
+    outlier_s_ = 0.0;
     start_t_s_ = t_s;
     decimator_.restart();
     validity_.restart_travel();
@@ -252,8 +267,8 @@ class OnlineEstimator {
     o.vh_b_mps = vb;
     o.vz_mps = v[axes_.up];
     const std::array<double, 3> pos = diff_.position_m();
-    validity_.front_end(o.t_s, gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), pos[axes_.a], pos[axes_.b],
-                        v[axes_.a], v[axes_.b], o.vz_mps);  // the velocity before any cut
+    validity_.front_end(o.t_s, gap_s, noise_.var_m2(), pos[axes_.a], pos[axes_.b], v[axes_.a], v[axes_.b],
+                        o.vz_mps);  // the velocity before any cut
     if (settled) heading_.update(va, vb, gap_s);
     o.heading_rad = heading_.heading_rad();
     o.vx_mps = heading_.forward_mps(va, vb);
@@ -269,6 +284,10 @@ class OnlineEstimator {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
     const GaitState prior = est_.gait_state;
+    // The velocity variance that the input noise above meas_position_std_m adds (0 at clean input)
+    // is the estimator's measurement noise too.
+    const double extra = noise_.excess_share() * diff_.covariance()[1][1];
+    estimator_.set_extra_measurement_variance(extra, extra);
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     // The vertical phasor's turn from the last posterior to this one, less the w dt the model turns
     // it by: the update's phase correction.
@@ -348,6 +367,11 @@ class OnlineEstimator {
     o.gait_phase = phase_.phase();
   }
 
+  /// A centre closer than this to its prediction is never an outlier [m]: no walker's centre leaves a
+  /// constant-acceleration prediction by 2 cm within a frame (a 100 m/s^3 jerk: 0.6 mm at 30 Hz),
+  /// while the blend of a change of the visible markers (online/centre.hpp) moves it by millimetres.
+  static constexpr double kMinOutlierM = 0.02;
+
   /// The frequency std at a bound of the range, at least [Hz].
   static constexpr double kPinnedStdHz = 0.5;
 
@@ -371,6 +395,7 @@ class OnlineEstimator {
   Estimator estimator_;
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
+  online::InputNoise noise_;
   online::HeadingTracker heading_;
   online::Decimator decimator_;
   online::Latency latency_;
@@ -385,6 +410,7 @@ class OnlineEstimator {
   double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
   double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
   double q_f_ = 0.0;  ///< the random walk of f [Hz^2/s]
+  double outlier_s_ = 0.0;  ///< how long the centre has been an outlier [s]
   double fast_s_ = 0.0;     ///< how long the horizontal velocity has exceeded max_walking_speed_mps [s]
   double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
   int jump_n_ = 0;          ///< frames in a row that followed it

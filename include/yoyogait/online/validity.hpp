@@ -37,8 +37,8 @@ class Validity {
   static constexpr double kImplausibleHoldS = 2.0, kTravelWindowS = 2.0, kJumpSpeedMps = 50.0;
   /// Less travel than this over the window is no walking that can be told from noise [m] (0.125 m/s).
   static constexpr double kMinTravelM = 0.25;
-  /// Low-pass time constants: frame rate, noise, speed, changes of the visible set [s].
-  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kSetTauS = 1.0;
+  /// Low-pass time constants: frame rate, speed, changes of the visible set [s].
+  static constexpr double kRateTauS = 1.0, kSpeedTauS = 0.25, kSetTauS = 1.0;
   /// Changes of the set of visible points per second above which the input counts as missing.
   static constexpr double kMaxSetChangesPerS = 4.0;
   /// The lag of the estimates behind a change of cadence or speed, for their stds [s]; the low-pass
@@ -74,7 +74,6 @@ class Validity {
         gains_dt_s_ = dt_s;
         g_rate_ = gain(dt_s, kRateTauS);
         g_set_ = gain(dt_s, kSetTauS);
-        g_noise_ = gain(dt_s, kNoiseTauS);
         g_speed_ = gain(dt_s, kSpeedTauS);
       }
       dt_lp_s_ = dt_lp_s_ < 0.0 ? dt_s : dt_lp_s_ + g_rate_ * (dt_s - dt_lp_s_);
@@ -92,14 +91,14 @@ class Validity {
   }
 
   /// The differentiator's update at t_s, dt_s after the previous frame with a point (the frame of
-  /// frame()): innovation, position and velocity. The speed is low-passed as its square (an RMS).
-  void front_end(double t_s, double dt_s, double innovation2_m2, double predicted_var_m2, double pa_m, double pb_m,
-                 double va_mps, double vb_mps, double vz_mps) noexcept {
+  /// frame()): the input-noise estimate (online/input_noise.hpp), position and velocity. The speed
+  /// is low-passed as its square (an RMS).
+  void front_end(double t_s, double dt_s, double noise2_m2, double pa_m, double pb_m, double va_mps, double vb_mps,
+                 double vz_mps) noexcept {
+    noise2_lp_m2_ = noise2_m2;
     if (dt_s > 0.0) {
       const bool same = near_gains_dt(dt_s);
-      const double gn = same ? g_noise_ : gain(dt_s, kNoiseTauS), gs = same ? g_speed_ : gain(dt_s, kSpeedTauS);
-      const double n2 = innovation2_m2 - predicted_var_m2;
-      noise2_lp_m2_ += gn * ((n2 > 0.0 ? n2 : 0.0) - noise2_lp_m2_);
+      const double gs = same ? g_speed_ : gain(dt_s, kSpeedTauS);
       const double v2 = va_mps * va_mps + vb_mps * vb_mps + vz_mps * vz_mps;
       speed2_lp_ += gs * ((v2 <= 1e300 ? v2 : 1e300) - speed2_lp_);
       const double lim = s_.max_plausible_speed_mps;
@@ -178,7 +177,7 @@ class Validity {
     return r;
   }
 
-  /// The marker noise estimated from the differentiator's innovations [m].
+  /// The marker noise estimated from the differentiator's innovations (the last front_end's) [m].
   double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
   /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
   double std_inflation() const noexcept { return nis_lp_ > 2.0 ? sqrt1(0.5 * nis_lp_) : 1.0; }
@@ -212,7 +211,7 @@ class Validity {
 
   Settings s_;
   double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed2_lp_ = 0.0, nis_lp_ = 2.0, set_changes_lp_ = 0.0;
-  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_noise_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
+  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
   std::size_t last_seen_ = 0;
   double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
   bool steady_ = false, have_last_ = false;
