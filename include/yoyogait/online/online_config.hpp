@@ -36,6 +36,10 @@ namespace yoyogait {
   X(double, centre_forget_s, 2.0, "s", "(", 0.0, 1e100, "]", "a marker unseen this long leaves the centre's set") \
   X(double, max_abs_position_m, 1e5, "m", "(", 0.0, 1e100, "]", "a coordinate beyond this counts as missing")     \
   X(double, max_gap_s, 0.25, "s", "(", 0.0, 1e100, "]", "no point seen for longer than this restarts the front-end") \
+  X(double, gait_bob_m, 0.01, "m", "(", 0.0, 1e100, "]",                                                          \
+    "a rise or fall of the centre counted as a step's (at least 3 std of the input noise); walking needs two within gait_window_s") \
+  X(double, gait_window_s, 2.5, "s", "(", 0.0, 1e100, "]",                                                         \
+    "walking is reported only while the centre's last two vertical extrema lie within this")                    \
   X(double, heading_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                         \
     "low-pass of the horizontal velocity for the heading (its lag in turns is compensated)")                      \
   X(double, heading_min_speed_mps, 0.1, "m/s", "[", 0.0, 1e100, "]", "below this low-passed speed the heading is held") \

@@ -22,6 +22,7 @@
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
 #include "yoyogait/online/frame.hpp"
+#include "yoyogait/online/gait_evidence.hpp"
 #include "yoyogait/online/gait_phase.hpp"
 #include "yoyogait/online/heading.hpp"
 #include "yoyogait/online/input_noise.hpp"
@@ -48,6 +49,7 @@ class OnlineEstimator {
         centre_(n_points, online::centre_settings(config_)),
         diff_(online::differentiator_settings(config_)),
         noise_(online::input_noise_settings(config_)),
+        gait_(online::gait_evidence_settings(config_)),
         heading_(online::heading_settings(config_)),
         decimator_(online::decimator_settings(config_)),
         latency_(online::latency_settings(config_)),
@@ -62,6 +64,7 @@ class OnlineEstimator {
     centre_.reset();
     diff_.stop();
     noise_.reset();
+    gait_.reset();
     outlier_s_ = 0.0;
     estimator_.set_extra_measurement_variance(0.0, 0.0);
     heading_.reset();
@@ -226,6 +229,7 @@ class OnlineEstimator {
       const bool gated = outlier_s_ < config_.max_outlier_s;
       const bool taken = diff_.update(c.centre_m, gated ? noise_.gate_nis() : 1e300, kMinOutlierM);
       outlier_s_ = taken ? 0.0 : outlier_s_ + gap_s;
+      if (!taken) validity_.outlier(t_s, std::sqrt(3.0 * diff_.innovation2_m2()), gap_s);
       // Neither an outlier nor the jump taken after them is noise.
       if (taken && gated) noise_.update(gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), r2);
       if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
@@ -267,6 +271,7 @@ class OnlineEstimator {
     o.vh_b_mps = vb;
     o.vz_mps = v[axes_.up];
     const std::array<double, 3> pos = diff_.position_m();
+    gait_.update(o.t_s, pos[axes_.up], noise_.var_m2());
     validity_.front_end(o.t_s, gap_s, noise_.var_m2(), pos[axes_.a], pos[axes_.b], v[axes_.a], v[axes_.b],
                         o.vz_mps);  // the velocity before any cut
     if (settled) heading_.update(va, vb, gap_s);
@@ -324,14 +329,17 @@ class OnlineEstimator {
     const bool stale = o.estimate_age_s > validity_stale_s();
     o.step_frequency_hz = e.step_frequency_hz;
     o.speed_mps = bounded(e.speed_mps);
-    o.walking = fed && e.walking && !stale;
+    // The estimator's detector, where the centre rises and falls as in gait (online/gait_evidence.hpp).
+    const bool detected = fed && e.walking && !stale;
+    o.walking = detected && gait_.gait(t_s);
     o.estimator_status = e.status;
     o.walk_a_mps = o.speed_mps * heading_.unit()[0];
     o.walk_b_mps = o.speed_mps * heading_.unit()[1];
     o.input_noise_m = validity_.input_noise_m();
     online::Validity::Inputs in;
     in.fed = fed;
-    in.walking = o.walking;
+    in.walking = detected;
+    in.gait = o.walking;
     in.acquiring = e.acquiring;
     in.estimate_age_s = o.estimate_age_s;
     in.speed_mps = e.speed_mps;
@@ -396,6 +404,7 @@ class OnlineEstimator {
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
   online::InputNoise noise_;
+  online::GaitEvidence gait_;
   online::HeadingTracker heading_;
   online::Decimator decimator_;
   online::Latency latency_;

@@ -6,6 +6,7 @@
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/gait_evidence.hpp"
 #include "yoyogait/online/heading.hpp"
 #include "yoyogait/online/input_noise.hpp"
 #include "yoyogait/online/latency.hpp"
@@ -41,6 +42,14 @@ inline InputNoise::Settings input_noise_settings(const OnlineConfig& c) noexcept
   s.adapt = c.adapt_to_noise;
   s.tau_s = c.noise_tau_s;
   s.gate_nis = c.outlier_gate_nis;
+  return s;
+}
+
+/// The gait evidence's settings (gait_bob_m, gait_window_s).
+inline GaitEvidence::Settings gait_evidence_settings(const OnlineConfig& c) noexcept {
+  GaitEvidence::Settings s;
+  s.bob_m = c.gait_bob_m;
+  s.window_s = c.gait_window_s;
   return s;
 }
 

@@ -115,6 +115,12 @@ class Validity {
     }
   }
 
+  /// An outlier at t_s that moved the centre dist_m within dt_s (not differentiated): a jump faster
+  /// than kJumpSpeedMps is implausible input as a differentiated one would be.
+  void outlier(double t_s, double dist_m, double dt_s) noexcept {
+    if (!(dist_m <= kJumpSpeedMps * dt_s)) implausible_until_s_ = t_s + kImplausibleHoldS;
+  }
+
   /// The estimator's sample dt_s after the previous one: its NIS (NaN: nothing updated), step
   /// frequency and speed (their rates of change, low-passed, measure how far a transient is off).
   /// correction_rad: the phase correction of the vertical phasor by the update (the posterior's
@@ -153,6 +159,7 @@ class Validity {
   /// What the estimator reports, at t_s.
   struct Inputs {
     bool fed = false, walking = false, acquiring = true, frame_ignored = false;
+    bool gait = true;  ///< walking and the centre moves as in gait (online/gait_evidence.hpp)
     double estimate_age_s = 0.0, speed_mps = 0.0, step_frequency_hz = 0.0;
   };
 
@@ -163,7 +170,7 @@ class Validity {
     if (steady && !steady_) steady_since_s_ = t_s;
     steady_ = steady;
     if (!in.fed || in.acquiring || (steady && t_s - steady_since_s_ < s_.valid_after_s)) r |= bit(InvalidReason::kAcquiring);
-    if (in.fed && !in.walking) r |= bit(InvalidReason::kNotWalking);
+    if (in.fed && !(in.walking && in.gait)) r |= bit(InvalidReason::kNotWalking);
     if (noise2_lp_m2_ > s_.max_input_noise_m * s_.max_input_noise_m) r |= bit(InvalidReason::kInputNoisy);
     if (in.frame_ignored || in.estimate_age_s > s_.stale_s || set_changes_lp_ > kMaxSetChangesPerS)
       r |= bit(InvalidReason::kInputMissing);

@@ -458,6 +458,8 @@ class OnlineConfig(_ConfigFile):
     centre_forget_s: float = _field(ONLINE_SECTION, "centre_forget_s")
     max_abs_position_m: float = _field(ONLINE_SECTION, "max_abs_position_m")
     max_gap_s: float = _field(ONLINE_SECTION, "max_gap_s")
+    gait_bob_m: float = _field(ONLINE_SECTION, "gait_bob_m")
+    gait_window_s: float = _field(ONLINE_SECTION, "gait_window_s")
     heading_tau_s: float = _field(ONLINE_SECTION, "heading_tau_s")
     heading_min_speed_mps: float = _field(ONLINE_SECTION, "heading_min_speed_mps")
     latency_f_hz: float = _field(ONLINE_SECTION, "latency_f_hz")
