@@ -254,12 +254,15 @@ class OnlineEstimator {
     OnlineEstimate& o = out_;
     const std::array<double, 3> v = diff_.velocity_mps();
     double va = v[axes_.a], vb = v[axes_.b];
-    // While walking, a horizontal velocity beyond max_walking_speed_mps that has lasted less than a
-    // step is a jump, a swap or noise, not the person: cut to that speed.
+    // A horizontal velocity beyond max_walking_speed_mps that has lasted less than a step (at the
+    // estimated step frequency while walking, else at f_min_hz: the longest step) is a jump, a swap,
+    // noise or the differentiator's start, not the person: cut to that speed.
     const double lim = config_.max_walking_speed_mps, vh2 = va * va + vb * vb;
     if (vh2 > lim * lim) {
       fast_s_ += gap_s;
-      if (est_.walking && est_.step_frequency_hz > 0.0 && fast_s_ * est_.step_frequency_hz < 1.0) {
+      const double f_hz = est_.walking && est_.step_frequency_hz > 0.0 ? est_.step_frequency_hz
+                                                                        : config_.estimator.gait_filter.f_min_hz;
+      if (fast_s_ * f_hz < 1.0) {
         const double k = lim / sqrt1(vh2);
         va *= k;
         vb *= k;
