@@ -48,6 +48,8 @@ class InputNoise {
     var_m2_ += g * ((x > 0.0 ? x : 0.0) - var_m2_);
   }
 
+  /// Whether the running mean of the first frames is over (the estimate is known; the gate applies).
+  bool known() const noexcept { return g_ * static_cast<double>(n_) >= 1.0; }
   /// The estimated noise variance of the centre per axis [m^2].
   double var_m2() const noexcept { return var_m2_; }
   /// The measurement variance for the differentiator [m^2]: the estimate, at least floor_m^2.

@@ -66,6 +66,7 @@ class OnlineEstimator {
     noise_.reset();
     gait_.reset();
     outlier_s_ = 0.0;
+    blend_until_s_ = ungated_until_s_ = -1e300;
     estimator_.set_extra_measurement_variance(0.0, 0.0);
     heading_.reset();
     decimator_.restart();
@@ -226,12 +227,24 @@ class OnlineEstimator {
       diff_.predict(gap_s);
       const double r2 = noise_.meas_var_m2();
       diff_.set_meas_var(r2);
-      const bool gated = outlier_s_ < config_.max_outlier_s;
+      // Until the noise is known (its first noise_tau_s) nothing is an outlier.
+      const bool known = noise_.known();
+      const bool gated = known && outlier_s_ < config_.max_outlier_s && t_s > ungated_until_s_;
+      const bool coasted = outlier_s_ > 0.0;  // the prediction ran over outliers: its innovation is not noise
       const bool taken = diff_.update(c.centre_m, gated ? noise_.gate_nis() : 1e300, kMinOutlierM);
-      outlier_s_ = taken ? 0.0 : outlier_s_ + gap_s;
-      if (!taken) validity_.outlier(t_s, std::sqrt(3.0 * diff_.innovation2_m2()), gap_s);
-      // Neither an outlier nor the jump taken after them is noise.
-      if (taken && gated) noise_.update(gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), r2);
+      if (!taken) {
+        outlier_s_ += gap_s;
+        validity_.outlier(t_s, std::sqrt(3.0 * diff_.innovation2_m2()), gap_s);
+      } else {
+        // A jump taken after outliers: the filter catches up ungated over centre_blend_tau_s (else its
+        // shrunk covariance would gate the next frames again, and it would never reach the input).
+        if (outlier_s_ > 0.0 && known && !gated) ungated_until_s_ = t_s + config_.centre_blend_tau_s;
+        outlier_s_ = 0.0;
+      }
+      // Neither an outlier, nor a jump taken and the filter's catching up, nor the centre's blend
+      // after a change of the visible markers (a correction the model does not know) is noise.
+      if (c.set_changed || (known && !gated) || coasted) blend_until_s_ = t_s + config_.centre_blend_tau_s;
+      if (taken && (!known || t_s > blend_until_s_)) noise_.update(gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), r2);
       if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
     }
     have_seen_ = true;
@@ -423,6 +436,8 @@ class OnlineEstimator {
   double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
   double q_f_ = 0.0;  ///< the random walk of f [Hz^2/s]
   double outlier_s_ = 0.0;  ///< how long the centre has been an outlier [s]
+  double blend_until_s_ = -1e300;  ///< the centre blends a change of the visible markers until then [s]
+  double ungated_until_s_ = -1e300;  ///< after a jump taken, the outlier gate is off until then [s]
   double fast_s_ = 0.0;     ///< how long the horizontal velocity has exceeded max_walking_speed_mps [s]
   double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
   int jump_n_ = 0;          ///< frames in a row that followed it
