@@ -244,7 +244,8 @@ class OnlineEstimator {
       // Neither an outlier, nor a jump taken and the filter's catching up, nor the centre's blend
       // after a change of the visible markers (a correction the model does not know) is noise.
       if (c.set_changed || (known && !gated) || coasted) blend_until_s_ = t_s + config_.centre_blend_tau_s;
-      if (taken && (!known || t_s > blend_until_s_)) noise_.update(gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), r2);
+      // (Nor the differentiator's own start: its innovations hold the velocity it starts without.)
+      if (taken && t_s - start_t_s_ >= config_.settle_s && (!known || t_s > blend_until_s_)) noise_.update(gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), r2);
       if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
     }
     have_seen_ = true;
