@@ -56,6 +56,12 @@ class Estimator {
     return gait_estimate(gait_.step(vx_mps, vz_mps, dt_s));
   }
 
+  /// Variances added to the measurement noise of v_x and v_z from the next sample on [(m/s)^2]
+  /// (gait: GaitFilter::set_extra_measurement_variance; paper: not used). 0 until set.
+  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2) noexcept {
+    if (!is_paper_) gait_.set_extra_measurement_variance(vx_m2_per_s2, vz_m2_per_s2);
+  }
+
   /// step() over n samples; out[i] is the estimate after sample i. Same results as n calls of step().
   /// dt_s: the time since the previous sample of each one [s], or nullptr for sample_time_s.
   void run(const double* vx_mps, const double* vz_mps, std::size_t n, Estimate* out,

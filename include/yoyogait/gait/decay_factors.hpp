@@ -53,6 +53,15 @@ class DecayFactors {
   /// Forget the cached dt: the next at() computes.
   void reset() noexcept { values_.dt = -1.0; }
 
+  /// Variances added to R of v_x and v_z [(m/s)^2] from now on (0 by default: R is the density's;
+  /// the online front-end adds what its input noise puts on the velocities). No exp.
+  void set_extra_variance(double vx_m2_per_s2, double vz_m2_per_s2) noexcept {
+    if (vx_m2_per_s2 == extra_vx_ && vz_m2_per_s2 == extra_vz_) return;
+    extra_vx_ = vx_m2_per_s2;
+    extra_vz_ = vz_m2_per_s2;
+    if (values_.dt >= 0.0) noise_at(values_);
+  }
+
   const Values& at(double dt) noexcept {
     // Regular sampling repeats dt (up to rounding of timestamp differences): no exp then.
     if (std::fabs(dt - values_.dt) <= 1e-9 * dt) return values_;
@@ -68,16 +77,21 @@ class DecayFactors {
     f.radii_gain = 1.0 - std::exp(-dt / tau_.radii_tau_s);
     f.cadence_gain = dt > 0.0 ? 1.0 - std::exp(-dt / tau_.cadence_change_tau_s) : 0.0;
     f.cadence_noise_gain = dt > 0.0 ? 1.0 - std::exp(-dt / tau_.cadence_change_noise_tau_s) : 0.0;
-    f.r_vx = meas_.r_vx(dt);
-    f.r_vz = meas_.r_vz(dt);
-    f.info = 2.0 / f.r_vx + 1.0 / f.r_vz;
+    noise_at(f);
     return f;
   }
 
  private:
+  void noise_at(Values& f) const noexcept {
+    f.r_vx = meas_.r_vx(f.dt) + extra_vx_;
+    f.r_vz = meas_.r_vz(f.dt) + extra_vz_;
+    f.info = 2.0 / f.r_vx + 1.0 / f.r_vz;
+  }
+
   TimeConstants tau_;
   MeasurementNoise meas_;
   Values values_;
+  double extra_vx_ = 0.0, extra_vz_ = 0.0;
 };
 
 }  // namespace yoyogait::gait

@@ -202,6 +202,13 @@ class GaitFilter {
   }
   bool walking() const noexcept { return detector_.walking(); }
   bool acquiring() const noexcept { return acquiring_; }
+  /// Variances added to the measurement noise of v_x and v_z from the next step on [(m/s)^2]
+  /// (gait/decay_factors.hpp; 0 unless set: the online front-end's noisy input); the walking
+  /// detector does not count the v_z part in RMS(v_z).
+  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2) noexcept {
+    factors_.set_extra_variance(vx_m2_per_s2, vz_m2_per_s2);
+    detector_.set_vz_noise_variance(vz_m2_per_s2);
+  }
   double std_scale() const noexcept { return scale_.value(); }
 
  private:

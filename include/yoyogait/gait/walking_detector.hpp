@@ -48,8 +48,9 @@ class WalkingDetector {
   void update(double vx, double vz, bool use_x, bool use_z, double gain) noexcept {
     if (use_x) ema_vx_ += gain * (vx - ema_vx_);
     if (use_z) ema_vz2_ += gain * (vz * vz - ema_vz2_);
-    // RMS(v_z) = sqrt(LP(v_z^2)) compared through its square (no square root per step).
-    const double ms = detail::py_max(ema_vz2_, 0.0);
+    // RMS(v_z) = sqrt(LP(v_z^2)) compared through its square (no square root per step), less the
+    // variance the input noise is known to add (0 unless set).
+    const double ms = detail::py_max(ema_vz2_ - noise_vz2_, 0.0);
     if (walking_) {
       if (ema_vx_ < speed_off_ && ms < vz_rms_off2_) walking_ = false;
     } else if (ema_vx_ > speed_on_ || ms > vz_rms_on2_) {
@@ -67,9 +68,13 @@ class WalkingDetector {
 
   bool walking() const noexcept { return walking_; }
 
+  /// The variance of v_z that is input noise [(m/s)^2] (0 by default; the online front-end's): not
+  /// counted in RMS(v_z).
+  void set_vz_noise_variance(double v_m2_per_s2) noexcept { noise_vz2_ = v_m2_per_s2; }
+
  private:
   double tau_s_ = 0.3, speed_on_ = 0.2, speed_off_ = 0.15, vz_rms_on2_ = 0.0025, vz_rms_off2_ = 0.000625;
-  double ema_vx_ = 0.0, ema_vz2_ = 0.0;
+  double ema_vx_ = 0.0, ema_vz2_ = 0.0, noise_vz2_ = 0.0;
   bool walking_ = false;
 };
 

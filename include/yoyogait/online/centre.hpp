@@ -34,6 +34,7 @@ class CausalCentre {
     Vec3 centre_m{};                  ///< the centre (valid only when ok)
     bool ok = false;                  ///< at least one marker with a known offset was visible
     std::uint8_t visible_points = 0;  ///< markers used on this frame
+    bool set_changed = false;         ///< the set of visible markers changed: a correction starts blending
   };
 
   struct Settings {
@@ -147,6 +148,7 @@ class CausalCentre {
       }
       for (int a = 0; a < 3; ++a) correction_[a] *= decay_;
     }
+    r.set_changed = set_changed && have_prev_;
     if (set_changed && have_prev_) {
       // How far the markers seen on this frame and the previous one moved: what the centre moves
       // on a frame where the set changes (only then: prev_pos_ is still the previous frame's).

@@ -30,6 +30,8 @@ class KalmanDifferentiator {
   explicit KalmanDifferentiator(const Settings& s) noexcept
       : q_(s.q_jerk_m2_per_s5),
         r2_(s.meas_std_m * s.meas_std_m),
+        q0_(q_),
+        r20_(r2_),
         v0_var_(s.v0_std_mps * s.v0_std_mps),
         a0_var_(s.a0_std_mps2 * s.a0_std_mps2) {}
 
@@ -84,25 +86,42 @@ class KalmanDifferentiator {
     P_ = N;
   }
 
-  /// Measurement update with position p_m; returns the gain used (for the latency).
-  void update(const std::array<double, 3>& p_m) noexcept {
+  /// The noise of the measured position from now on [m^2] (> 0): the input-noise estimate's. The
+  /// jerk density scales with it (q / r^2 fixed: the same gains and bandwidth, so that the noise the
+  /// derivative lifts stays above the gait's band), so that only the covariance follows the noise.
+  void set_meas_var(double r2_m2) noexcept {
+    q_ = q0_ * (r2_m2 / r20_);
+    r2_ = r2_m2;
+  }
+  double meas_var_m2() const noexcept { return r2_; }
+
+  /// Measurement update with position p_m, unless its normalised innovation squared (summed over the
+  /// three axes) exceeds gate_nis and the innovation is longer than min_outlier_m: then the frame is
+  /// a prediction only (an outlier, not differentiated) and false is returned. Either way the
+  /// innovation is kept (innovation2_m2).
+  bool update(const std::array<double, 3>& p_m, double gate_nis = 1e300, double min_outlier_m = 0.0) noexcept {
     const double S = P_[0][0] + r2_;
-    const double K0 = P_[0][0] / S, K1 = P_[1][0] / S, K2 = P_[2][0] / S;
+    std::array<double, 3> nu{};
     double nu2 = 0.0;
     for (int k = 0; k < 3; ++k) {
-      const double nu = p_m[k] - x_[k][kP];
-      nu2 += nu * nu;
-      x_[k][kP] += K0 * nu;
-      x_[k][kV] += K1 * nu;
-      x_[k][kA] += K2 * nu;
+      nu[k] = p_m[k] - x_[k][kP];
+      nu2 += nu[k] * nu[k];
+    }
+    innovation2_m2_ = nu2 / 3.0;
+    predicted_var_m2_ = P_[0][0];
+    if (!(nu2 <= gate_nis * S) && !(nu2 <= min_outlier_m * min_outlier_m)) return false;
+    const double K0 = P_[0][0] / S, K1 = P_[1][0] / S, K2 = P_[2][0] / S;
+    for (int k = 0; k < 3; ++k) {
+      x_[k][kP] += K0 * nu[k];
+      x_[k][kV] += K1 * nu[k];
+      x_[k][kA] += K2 * nu[k];
     }
     const std::array<double, 3> row0 = P_[0];
     const double K[3] = {K0, K1, K2};
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) P_[i][j] -= K[i] * row0[j];
     gain_ = {K0, K1, K2};
-    innovation2_m2_ = nu2 / 3.0;
-    predicted_var_m2_ = S - r2_;
+    return true;
   }
 
   /// The last update's mean squared position innovation over the axes [m^2] and the part of it the
@@ -155,7 +174,7 @@ class KalmanDifferentiator {
   }
 
  private:
-  double q_ = 1e3, r2_ = 1e-6, v0_var_ = 1.0, a0_var_ = 100.0;
+  double q_ = 1e3, r2_ = 1e-6, q0_ = 1e3, r20_ = 1e-6, v0_var_ = 1.0, a0_var_ = 100.0;
   std::array<Axis, 3> x_{};
   std::array<std::array<double, 3>, 3> P_{};
   std::array<double, 3> gain_{};

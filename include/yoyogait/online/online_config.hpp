@@ -18,7 +18,15 @@ namespace yoyogait {
     "Butterworth low-pass (2nd order) of the forward and vertical velocity before the decimation, delay compensated (0: only the interval mean)") \
   X(double, q_jerk_m2_per_s5, 1000.0, "m^2/s^5", "(", 0.0, 1e100, "]",                                            \
     "white-jerk noise density of the constant-acceleration Kalman differentiator")                                \
-  X(double, meas_position_std_m, 0.001, "m", "(", 0.0, 1e100, "]", "noise of the centre's position (marker noise)") \
+  X(double, meas_position_std_m, 0.001, "m", "(", 0.0, 1e100, "]",                                                \
+    "noise of the centre's position (marker noise); with adapt_to_noise the least the differentiator is given")   \
+  X(bool, adapt_to_noise, true, "", "[", 0, 1, "]",                                                                \
+    "the differentiator's position noise and the estimator's velocity noise follow the marker noise estimated online") \
+  X(double, noise_tau_s, 1.0, "s", "(", 0.0, 1e100, "]", "low-pass of the marker-noise estimate (input_noise_m)")  \
+  X(double, outlier_gate_nis, 25.0, "", "(", 0.0, 1e100, "]",                                                      \
+    "a centre whose innovation's NIS (over the three axes) exceeds this is an outlier: not differentiated")       \
+  X(double, max_outlier_s, 0.1, "s", "[", 0.0, 1e100, "]",                                                        \
+    "outliers for longer than this are taken: the input has moved (a jump, not a swap)")                          \
   X(double, initial_velocity_std_mps, 1.0, "m/s", "(", 0.0, 1e100, "]", "velocity uncertainty after a (re)start") \
   X(double, initial_accel_std_mps2, 10.0, "m/s^2", "(", 0.0, 1e100, "]", "acceleration uncertainty after a (re)start") \
   X(double, settle_s, 0.1, "s", "[", 0.0, 1e100, "]",                                                              \
@@ -28,6 +36,10 @@ namespace yoyogait {
   X(double, centre_forget_s, 2.0, "s", "(", 0.0, 1e100, "]", "a marker unseen this long leaves the centre's set") \
   X(double, max_abs_position_m, 1e5, "m", "(", 0.0, 1e100, "]", "a coordinate beyond this counts as missing")     \
   X(double, max_gap_s, 0.25, "s", "(", 0.0, 1e100, "]", "no point seen for longer than this restarts the front-end") \
+  X(double, gait_bob_m, 0.01, "m", "(", 0.0, 1e100, "]",                                                          \
+    "a rise or fall of the centre counted as a step's (at least 3 std of the input noise); walking needs two within gait_window_s") \
+  X(double, gait_window_s, 2.5, "s", "(", 0.0, 1e100, "]",                                                         \
+    "walking is reported only while the centre's last two vertical extrema lie within this")                    \
   X(double, heading_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                         \
     "low-pass of the horizontal velocity for the heading (its lag in turns is compensated)")                      \
   X(double, heading_min_speed_mps, 0.1, "m/s", "[", 0.0, 1e100, "]", "below this low-passed speed the heading is held") \
@@ -41,7 +53,7 @@ namespace yoyogait {
     "input moving faster (low-passed over 0.25 s; or 50 m/s in one frame) is implausible; estimates bounded by it") \
   X(double, max_walking_speed_mps, 3.0, "m/s", "(", 0.0, 1e100, "]",                                              \
     "while walking, a faster front-end horizontal velocity is cut to this unless it lasts longer than a step")      \
-  X(double, max_input_noise_m, 0.01, "m", "(", 0.0, 1e100, "]",                                                    \
+  X(double, max_input_noise_m, 0.005, "m", "(", 0.0, 1e100, "]",                                                    \
     "a higher marker noise, estimated from the differentiator's innovations, makes the estimates not valid")      \
   X(double, max_mean_nis, 6.0, "", "(", 0.0, 1e100, "]",                                                           \
     "the estimator's NIS averaged over about a second above this: the model does not hold (not valid; stds scaled)") \

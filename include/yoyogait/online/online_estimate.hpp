@@ -63,7 +63,7 @@ enum class InvalidReason : std::uint8_t {
   X(double, estimate_age_s, 0.0, "s", kAll, "time since the estimator's last sample")                            \
   X(::yoyogait::OnlineStatus, status, ::yoyogait::OnlineStatus::kUsed, "", kAll, "what update() did with the frame (OnlineStatus)")     \
   X(::yoyogait::Status, estimator_status, ::yoyogait::Status::kUpdated, "", kAll, "Status of the estimator's last sample")               \
-  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector (0 once the estimate is stale)")                                  \
+  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector, while the centre rises and falls as in gait (0 once the estimate is stale)")                                  \
   X(bool, estimator_fed, false, "", kAll, "this frame completed an interval and fed the estimator")              \
   X(::std::uint8_t, points_seen, 0, "", kAll, "points used on this frame")                                        \
   X(bool, valid, false, "", kAll, "the estimate can be used as it is: invalid_reason is 0")                       \

@@ -25,8 +25,10 @@
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
 #include "yoyogait/online/frame.hpp"
+#include "yoyogait/online/gait_evidence.hpp"
 #include "yoyogait/online/gait_phase.hpp"
 #include "yoyogait/online/heading.hpp"
+#include "yoyogait/online/input_noise.hpp"
 #include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
@@ -50,6 +52,8 @@ class OnlineEstimator {
         estimator_(config_.estimator),
         centre_(n_points, online::centre_settings(config_)),
         diff_(online::differentiator_settings(config_)),
+        noise_(online::input_noise_settings(config_)),
+        gait_(online::gait_evidence_settings(config_)),
         heading_(online::heading_settings(config_)),
         decimator_(online::decimator_settings(config_)),
         latency_(online::latency_settings(config_)),
@@ -66,6 +70,11 @@ class OnlineEstimator {
     estimator_.reset();
     centre_.reset();
     diff_.stop();
+    noise_.reset();
+    gait_.reset();
+    outlier_s_ = 0.0;
+    blend_until_s_ = ungated_until_s_ = -1e300;
+    estimator_.set_extra_measurement_variance(0.0, 0.0);
     heading_.reset();
     decimator_.restart();
     latency_.reset();
@@ -233,8 +242,30 @@ class OnlineEstimator {
     if (restart) {
       start_front_end(t_s, c.centre_m);
     } else {
+      // The noise estimated so far is the measurement's; a centre beyond the gate is not
+      // differentiated, unless the outliers last longer than max_outlier_s (the input has moved).
       diff_.predict(gap_s);
-      diff_.update(c.centre_m);
+      const double r2 = noise_.meas_var_m2();
+      diff_.set_meas_var(r2);
+      // Until the noise is known (its first noise_tau_s) nothing is an outlier.
+      const bool known = noise_.known();
+      const bool gated = known && outlier_s_ < config_.max_outlier_s && t_s > ungated_until_s_;
+      const bool coasted = outlier_s_ > 0.0;  // the prediction ran over outliers: its innovation is not noise
+      const bool taken = diff_.update(c.centre_m, gated ? noise_.gate_nis() : 1e300, kMinOutlierM);
+      if (!taken) {
+        outlier_s_ += gap_s;
+        validity_.outlier(t_s, std::sqrt(3.0 * diff_.innovation2_m2()), gap_s);
+      } else {
+        // A jump taken after outliers: the filter catches up ungated over centre_blend_tau_s (else its
+        // shrunk covariance would gate the next frames again, and it would never reach the input).
+        if (outlier_s_ > 0.0 && known && !gated) ungated_until_s_ = t_s + config_.centre_blend_tau_s;
+        outlier_s_ = 0.0;
+      }
+      // Neither an outlier, nor a jump taken and the filter's catching up, nor the centre's blend
+      // after a change of the visible markers (a correction the model does not know) is noise.
+      if (c.set_changed || (known && !gated) || coasted) blend_until_s_ = t_s + config_.centre_blend_tau_s;
+      // (Nor the differentiator's own start: its innovations hold the velocity it starts without.)
+      if (taken && t_s - start_t_s_ >= config_.settle_s && (!known || t_s > blend_until_s_)) noise_.update(gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), r2);
       if (!diff_.finite()) start_front_end(t_s, c.centre_m);  // cannot happen with in-range data
     }
     have_seen_ = true;
@@ -243,7 +274,9 @@ class OnlineEstimator {
   }
 
   void start_front_end(double t_s, const std::array<double, 3>& centre_m) noexcept {
+    diff_.set_meas_var(noise_.meas_var_m2());
     diff_.start(centre_m);
+    outlier_s_ = 0.0;
     start_t_s_ = t_s;
     decimator_.restart();
     validity_.restart_travel();
@@ -275,12 +308,15 @@ class OnlineEstimator {
       belt_b_m_ += bb * gap_s;
     }
     const double va0 = va, vb0 = vb;  // before any cut
-    // While walking, a horizontal velocity beyond max_walking_speed_mps that has lasted less than a
-    // step is a jump, a swap or noise, not the person: cut to that speed.
+    // A horizontal velocity beyond max_walking_speed_mps that has lasted less than a step (at the
+    // estimated step frequency while walking, else at f_min_hz: the longest step) is a jump, a swap,
+    // noise or the differentiator's start, not the person: cut to that speed.
     const double lim = config_.max_walking_speed_mps, vh2 = va * va + vb * vb;
     if (vh2 > lim * lim) {
       fast_s_ += gap_s;
-      if (est_.walking && est_.step_frequency_hz > 0.0 && fast_s_ * est_.step_frequency_hz < 1.0) {
+      const double f_hz = est_.walking && est_.step_frequency_hz > 0.0 ? est_.step_frequency_hz
+                                                                        : config_.estimator.gait_filter.f_min_hz;
+      if (fast_s_ * f_hz < 1.0) {
         const double k = lim / sqrt1(vh2);
         va *= k;
         vb *= k;
@@ -291,8 +327,9 @@ class OnlineEstimator {
     o.vh_a_mps = va;
     o.vh_b_mps = vb;
     o.vz_mps = v[axes_.up];
-    validity_.front_end(o.t_s, gap_s, diff_.innovation2_m2(), diff_.predicted_var_m2(), pos[axes_.a] - belt_a_m_,
-                        pos[axes_.b] - belt_b_m_, va0, vb0, o.vz_mps);  // the velocity before any cut
+    gait_.update(o.t_s, pos[axes_.up], noise_.var_m2());
+    validity_.front_end(o.t_s, gap_s, noise_.var_m2(), pos[axes_.a] - belt_a_m_, pos[axes_.b] - belt_b_m_, va0, vb0,
+                        o.vz_mps);  // the velocity before any cut
     if (settled) heading_.update(va, vb, gap_s);
     o.heading_rad = heading_.heading_rad();
     o.vx_mps = heading_.forward_mps(va, vb);
@@ -308,6 +345,10 @@ class OnlineEstimator {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
     const GaitState prior = est_.gait_state;
+    // The velocity variance that the input noise above meas_position_std_m adds (0 at clean input)
+    // is the estimator's measurement noise too.
+    const double extra = noise_.excess_share() * diff_.covariance()[1][1];
+    estimator_.set_extra_measurement_variance(extra, extra);
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     // The vertical phasor's turn from the last posterior to this one, less the w dt the model turns
     // it by: the update's phase correction.
@@ -344,7 +385,9 @@ class OnlineEstimator {
     const bool stale = o.estimate_age_s > validity_stale_s();
     o.step_frequency_hz = e.step_frequency_hz;
     o.speed_mps = bounded(e.speed_mps);
-    o.walking = fed && e.walking && !stale;
+    // The estimator's detector, where the centre rises and falls as in gait (online/gait_evidence.hpp).
+    const bool detected = fed && e.walking && !stale;
+    o.walking = detected && gait_.gait(t_s);
     o.estimator_status = e.status;
     o.walk_a_mps = o.speed_mps * heading_.unit()[0];
     o.walk_b_mps = o.speed_mps * heading_.unit()[1];
@@ -353,7 +396,8 @@ class OnlineEstimator {
     o.belt_speed_std_mps = belt_.std_mps();
     online::Validity::Inputs in;
     in.fed = fed;
-    in.walking = o.walking;
+    in.walking = detected;
+    in.gait = o.walking;
     in.acquiring = e.acquiring;
     in.estimate_age_s = o.estimate_age_s;
     in.speed_mps = e.speed_mps;
@@ -391,6 +435,11 @@ class OnlineEstimator {
     o.gait_phase = phase_.phase();
   }
 
+  /// A centre closer than this to its prediction is never an outlier [m]: no walker's centre leaves a
+  /// constant-acceleration prediction by 2 cm within a frame (a 100 m/s^3 jerk: 0.6 mm at 30 Hz),
+  /// while the blend of a change of the visible markers (online/centre.hpp) moves it by millimetres.
+  static constexpr double kMinOutlierM = 0.02;
+
   /// The frequency std at a bound of the range, at least [Hz].
   static constexpr double kPinnedStdHz = 0.5;
 
@@ -414,6 +463,8 @@ class OnlineEstimator {
   Estimator estimator_;
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
+  online::InputNoise noise_;
+  online::GaitEvidence gait_;
   online::HeadingTracker heading_;
   online::Decimator decimator_;
   online::Latency latency_;
@@ -432,6 +483,9 @@ class OnlineEstimator {
   double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
   double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
   double q_f_ = 0.0;  ///< the random walk of f [Hz^2/s]
+  double outlier_s_ = 0.0;  ///< how long the centre has been an outlier [s]
+  double blend_until_s_ = -1e300;  ///< the centre blends a change of the visible markers until then [s]
+  double ungated_until_s_ = -1e300;  ///< after a jump taken, the outlier gate is off until then [s]
   double fast_s_ = 0.0;     ///< how long the horizontal velocity has exceeded max_walking_speed_mps [s]
   double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
   int jump_n_ = 0;          ///< frames in a row that followed it

@@ -7,7 +7,9 @@
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/gait_evidence.hpp"
 #include "yoyogait/online/heading.hpp"
+#include "yoyogait/online/input_noise.hpp"
 #include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/validity.hpp"
@@ -30,6 +32,25 @@ inline KalmanDifferentiator::Settings differentiator_settings(const OnlineConfig
   s.meas_std_m = c.meas_position_std_m;
   s.v0_std_mps = c.initial_velocity_std_mps;
   s.a0_std_mps2 = c.initial_accel_std_mps2;
+  return s;
+}
+
+/// The input-noise estimate's settings (meas_position_std_m, adapt_to_noise, noise_tau_s,
+/// outlier_gate_nis).
+inline InputNoise::Settings input_noise_settings(const OnlineConfig& c) noexcept {
+  InputNoise::Settings s;
+  s.floor_m = c.meas_position_std_m;
+  s.adapt = c.adapt_to_noise;
+  s.tau_s = c.noise_tau_s;
+  s.gate_nis = c.outlier_gate_nis;
+  return s;
+}
+
+/// The gait evidence's settings (gait_bob_m, gait_window_s).
+inline GaitEvidence::Settings gait_evidence_settings(const OnlineConfig& c) noexcept {
+  GaitEvidence::Settings s;
+  s.bob_m = c.gait_bob_m;
+  s.window_s = c.gait_window_s;
   return s;
 }
 

@@ -25,7 +25,7 @@ class Validity {
     double valid_after_s = 2.0;           ///< walking (bank collapsed) this long before an estimate is valid [s]
     double min_rate_hz = 10.0;            ///< a lower mean frame rate flags kRateTooLow [Hz]
     double max_plausible_speed_mps = 6.0;  ///< a front-end RMS speed (over ~0.25 s) above it: kImplausibleInput [m/s]
-    double max_input_noise_m = 0.01;      ///< estimated marker noise above it: kInputNoisy [m]
+    double max_input_noise_m = 0.005;     ///< estimated marker noise above it: kInputNoisy [m]
     double max_nis = 6.0;                 ///< mean NIS of the estimator over about a second above it: kModelNotHolding
     double stale_s = 0.35;                ///< an estimate older than this: kInputMissing [s]
     double min_travel_ratio = 0.5;        ///< distance travelled / (speed x time) below it: kNotMoving
@@ -37,8 +37,8 @@ class Validity {
   static constexpr double kImplausibleHoldS = 2.0, kTravelWindowS = 2.0, kJumpSpeedMps = 50.0;
   /// Less travel than this over the window is no walking that can be told from noise [m] (0.125 m/s).
   static constexpr double kMinTravelM = 0.25;
-  /// Low-pass time constants: frame rate, noise, speed, changes of the visible set [s].
-  static constexpr double kRateTauS = 1.0, kNoiseTauS = 1.0, kSpeedTauS = 0.25, kSetTauS = 1.0;
+  /// Low-pass time constants: frame rate, speed, changes of the visible set [s].
+  static constexpr double kRateTauS = 1.0, kSpeedTauS = 0.25, kSetTauS = 1.0;
   /// Changes of the set of visible points per second above which the input counts as missing.
   static constexpr double kMaxSetChangesPerS = 4.0;
   /// The lag of the estimates behind a change of cadence or speed, for their stds [s]; the low-pass
@@ -74,7 +74,6 @@ class Validity {
         gains_dt_s_ = dt_s;
         g_rate_ = gain(dt_s, kRateTauS);
         g_set_ = gain(dt_s, kSetTauS);
-        g_noise_ = gain(dt_s, kNoiseTauS);
         g_speed_ = gain(dt_s, kSpeedTauS);
       }
       dt_lp_s_ = dt_lp_s_ < 0.0 ? dt_s : dt_lp_s_ + g_rate_ * (dt_s - dt_lp_s_);
@@ -92,14 +91,14 @@ class Validity {
   }
 
   /// The differentiator's update at t_s, dt_s after the previous frame with a point (the frame of
-  /// frame()): innovation, position and velocity. The speed is low-passed as its square (an RMS).
-  void front_end(double t_s, double dt_s, double innovation2_m2, double predicted_var_m2, double pa_m, double pb_m,
-                 double va_mps, double vb_mps, double vz_mps) noexcept {
+  /// frame()): the input-noise estimate (online/input_noise.hpp), position and velocity. The speed
+  /// is low-passed as its square (an RMS).
+  void front_end(double t_s, double dt_s, double noise2_m2, double pa_m, double pb_m, double va_mps, double vb_mps,
+                 double vz_mps) noexcept {
+    noise2_lp_m2_ = noise2_m2;
     if (dt_s > 0.0) {
       const bool same = near_gains_dt(dt_s);
-      const double gn = same ? g_noise_ : gain(dt_s, kNoiseTauS), gs = same ? g_speed_ : gain(dt_s, kSpeedTauS);
-      const double n2 = innovation2_m2 - predicted_var_m2;
-      noise2_lp_m2_ += gn * ((n2 > 0.0 ? n2 : 0.0) - noise2_lp_m2_);
+      const double gs = same ? g_speed_ : gain(dt_s, kSpeedTauS);
       const double v2 = va_mps * va_mps + vb_mps * vb_mps + vz_mps * vz_mps;
       speed2_lp_ += gs * ((v2 <= 1e300 ? v2 : 1e300) - speed2_lp_);
       const double lim = s_.max_plausible_speed_mps;
@@ -114,6 +113,12 @@ class Validity {
       pa_m_ = pa_m;
       pb_m_ = pb_m;
     }
+  }
+
+  /// An outlier at t_s that moved the centre dist_m within dt_s (not differentiated): a jump faster
+  /// than kJumpSpeedMps is implausible input as a differentiated one would be.
+  void outlier(double t_s, double dist_m, double dt_s) noexcept {
+    if (!(dist_m <= kJumpSpeedMps * dt_s)) implausible_until_s_ = t_s + kImplausibleHoldS;
   }
 
   /// The estimator's sample dt_s after the previous one: its NIS (NaN: nothing updated), step
@@ -154,6 +159,7 @@ class Validity {
   /// What the estimator reports, at t_s.
   struct Inputs {
     bool fed = false, walking = false, acquiring = true, frame_ignored = false;
+    bool gait = true;  ///< walking and the centre moves as in gait (online/gait_evidence.hpp)
     double estimate_age_s = 0.0, speed_mps = 0.0, step_frequency_hz = 0.0;
   };
 
@@ -164,7 +170,7 @@ class Validity {
     if (steady && !steady_) steady_since_s_ = t_s;
     steady_ = steady;
     if (!in.fed || in.acquiring || (steady && t_s - steady_since_s_ < s_.valid_after_s)) r |= bit(InvalidReason::kAcquiring);
-    if (in.fed && !in.walking) r |= bit(InvalidReason::kNotWalking);
+    if (in.fed && !(in.walking && in.gait)) r |= bit(InvalidReason::kNotWalking);
     if (noise2_lp_m2_ > s_.max_input_noise_m * s_.max_input_noise_m) r |= bit(InvalidReason::kInputNoisy);
     if (in.frame_ignored || in.estimate_age_s > s_.stale_s || set_changes_lp_ > kMaxSetChangesPerS)
       r |= bit(InvalidReason::kInputMissing);
@@ -178,7 +184,7 @@ class Validity {
     return r;
   }
 
-  /// The marker noise estimated from the differentiator's innovations [m].
+  /// The marker noise estimated from the differentiator's innovations (the last front_end's) [m].
   double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
   /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
   double std_inflation() const noexcept { return nis_lp_ > 2.0 ? sqrt1(0.5 * nis_lp_) : 1.0; }
@@ -212,7 +218,7 @@ class Validity {
 
   Settings s_;
   double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed2_lp_ = 0.0, nis_lp_ = 2.0, set_changes_lp_ = 0.0;
-  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_noise_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
+  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
   std::size_t last_seen_ = 0;
   double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
   bool steady_ = false, have_last_ = false;

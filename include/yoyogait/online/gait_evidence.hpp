@@ -1,0 +1,77 @@
+/// @file online/gait_evidence.hpp
+/// @brief Whether the centre moves as a walker's does: the pelvis rises and falls once per step, so
+/// walking shows alternating vertical extrema of the centre, a step apart (docs/online.md, "Walking").
+///
+/// The estimator's detector (sec. 2.4) says walking on a low-passed speed or RMS of v_z, which a
+/// single transient also exceeds: rising from a chair, sitting down, a push. Here the vertical
+/// position of the differentiated centre is followed with a hysteresis of bob_m (at least three
+/// standard deviations of the input noise, so that noise does not make extrema): a maximum or a minimum
+/// counts once the centre has moved bob_m back from it. Gait is seen while the last two extrema lie
+/// within window_s (a rise and a fall: one step of the slowest walker, none of a sit-to-stand). No allocation, no division.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace yoyogait::online {
+
+class GaitEvidence {
+ public:
+  struct Settings {
+    double bob_m = 0.01;     ///< the least vertical excursion counted [m]
+    double window_s = 2.5;   ///< two extrema within this: gait [s]
+  };
+
+  GaitEvidence() noexcept = default;
+  explicit GaitEvidence(const Settings& s) noexcept : s_(s) { reset(); }
+
+  void reset() noexcept {
+    dir_ = 0;
+    have_ = false;
+    n_ = 0;
+    next_ = 0;
+  }
+
+  /// The centre's vertical position z_m at t_s and the variance of the input noise [m^2].
+  void update(double t_s, double z_m, double z_var_m2) noexcept {
+    if (!have_) {
+      hi_ = lo_ = z_m;
+      have_ = true;
+      return;
+    }
+    const double h2 = 9.0 * z_var_m2, b2 = s_.bob_m * s_.bob_m;
+    const double h = h2 > b2 ? std::sqrt(h2) : s_.bob_m;
+    if (z_m > hi_) hi_ = z_m;
+    if (z_m < lo_) lo_ = z_m;
+    if (dir_ >= 0 && z_m < hi_ - h) {  // a maximum, left downwards
+      if (dir_ > 0) turn(t_s);
+      dir_ = -1;
+      lo_ = z_m;
+    } else if (dir_ <= 0 && z_m > lo_ + h) {  // a minimum, left upwards
+      if (dir_ < 0) turn(t_s);
+      dir_ = 1;
+      hi_ = z_m;
+    }
+  }
+
+  /// Whether the last two extrema lie within window_s of t_s.
+  bool gait(double t_s) const noexcept { return n_ >= kN && t_s - ring_[next_] <= s_.window_s; }
+
+ private:
+  static constexpr std::size_t kN = 2;
+  void turn(double t_s) noexcept {
+    ring_[next_] = t_s;
+    next_ = (next_ + 1) % kN;
+    if (n_ < kN) ++n_;
+  }
+
+  Settings s_;
+  int dir_ = 0;  ///< +1 rising, -1 falling, 0 not yet known
+  bool have_ = false;
+  double hi_ = 0.0, lo_ = 0.0;  ///< the extremes since the last turn
+  std::array<double, kN> ring_{};  ///< the times of the last extrema (next_: the oldest of a full ring)
+  std::size_t n_ = 0, next_ = 0;
+};
+
+}  // namespace yoyogait::online
