@@ -33,7 +33,6 @@ import numpy as np
 
 from ..errors import InputError
 from ..estimators.config import ImuConfig
-from ..estimators.frame_gate import DROP, RESTART, FrameGate
 from ..estimators.imu import IMU_ESTIMATE_FIELDS, ImuOnlineEstimator
 from ..io.imu_recording import GRAVITY_MPS2
 from ._lsl import pylsl
@@ -48,6 +47,7 @@ from .live import (
     _format_name,
     _Stopped,
     check_rate,
+    pump,
     resolve_all,
     run_live,
 )
@@ -277,8 +277,8 @@ def run_live_imu(
             reconnect = functools.partial(
                 _connect, source, None, stop, None, None, None, max_buffer_s, exit_on_end, note, make_setup=make_setup
             )
-            _loop(
-                inlet, outlet, recorder, setup, counters, started, duration_s, reacquire_after_s, stop,
+            pump(
+                inlet, outlet, recorder, setup, _ImuPath(), counters, started, duration_s, reacquire_after_s, stop,
                 None if exit_on_end else reconnect, on_estimate, on_status, note, status_interval_s,
             )  # fmt: skip
     except BaseException:
@@ -297,89 +297,34 @@ def run_live_imu(
     return counters
 
 
-def _loop(
-    inlet: Any,
-    outlet: Any,
-    recorder: CsvRecord | None,
-    setup: ImuLiveSetup,
-    counters: LiveCounters,
-    started: float,
-    duration_s: float | None,
-    reacquire_after_s: float,
-    stop: threading.Event | None,
-    reconnect: Callable[..., tuple[Any, Any]] | None,
-    on_estimate: Callable[[list[float], float], None] | None,
-    on_status: Callable[[LiveCounters, list[float]], None] | None,
-    note: Callable[[str], None],
-    status_interval_s: float,
-) -> None:
-    lsl = pylsl()
-    lost_error = lsl.util.LostError
-    gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
-    estimator = ImuOnlineEstimator(setup.config)
-    units = UnitCheck(setup)
-    next_status = started + status_interval_s
-    row: list[float] = []
-    while True:
-        now = time.monotonic()
-        if stop is not None and stop.is_set():
-            break
-        if duration_s is not None and now - started >= duration_s:
-            break
-        wait_s = 0.1 if duration_s is None else max(0.0, min(0.1, started + duration_s - now))
-        try:
-            sample, stamp = inlet.pull_sample(timeout=wait_s)
-        except lost_error:
-            if reconnect is None:
-                counters.source_ended = True
-                break
-            old = setup
-            deadline = None if duration_s is None else started + duration_s
-            try:
-                inlet, setup = reconnect(exclude=frozenset({old.uid}), deadline=deadline)
-            except _Stopped:
-                break
-            counters.reconnects += 1
-            if not setup.same_layout(old):
-                note(
-                    f"live: stream {setup.source!r} came back with another layout ({setup.layout.channel_count} "
-                    f"channels, was {old.layout.channel_count}): read again"
-                )
-            gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
-            estimator = ImuOnlineEstimator(setup.config)
-            units = UnitCheck(setup)
-            if counters.estimates > 0:
-                counters.restarts += 1
-            continue
-        if sample is None:
-            continue
-        arrival = time.monotonic()
-        layout = setup.layout
-        t_s = float(sample[layout.time_channel]) if layout.time_channel is not None else stamp
-        verdict = gate.admit(t_s, arrival)
-        if verdict == DROP:
-            continue
-        if verdict == RESTART:
-            estimator.reset()  # the source came back: start over rather than bridge the gap
+class _ImuPath:
+    """The IMU path of :func:`~yoyogait.live.live.pump`: each sample's acceleration and rate, in SI units
+    and checked, into an ImuOnlineEstimator."""
+
+    def __init__(self) -> None:
+        self.time_channel: int | None = None
+
+    def start(self, setup: ImuLiveSetup) -> None:
+        self.estimator = ImuOnlineEstimator(setup.config)
+        self._units = UnitCheck(setup)
+        self._layout = setup.layout
+        self.time_channel = setup.layout.time_channel
+
+    def reset(self) -> None:
+        self.estimator.reset()
+
+    def row(self, t_s: float, sample: Sequence[float]) -> list[float]:
+        layout = self._layout
         a, w = layout.acc_channels, layout.gyr_channels
         acc = [float(sample[a[0]]) * layout.acc_scale, float(sample[a[1]]) * layout.acc_scale,
                float(sample[a[2]]) * layout.acc_scale]  # fmt: skip
         gyr = [float(sample[w[0]]) * layout.gyr_scale, float(sample[w[1]]) * layout.gyr_scale,
                float(sample[w[2]]) * layout.gyr_scale]  # fmt: skip
-        units.check(t_s, acc, gyr)
-        row = imu_row(estimator.update(t_s, acc, gyr))
-        if outlet is not None:
-            outlet.push_sample(row, stamp)
-        if recorder is not None:
-            recorder.write(row)
-        if on_estimate is not None:
-            on_estimate(row, stamp)
-        if on_status is not None:
-            counters.latency_s.append(lsl.local_clock() - stamp)
-            if arrival >= next_status:
-                on_status(counters, row)
-                counters.latency_s.clear()
-                next_status = arrival + status_interval_s
+        self._units.check(t_s, acc, gyr)
+        return imu_row(self.estimator.update(t_s, acc, gyr))
+
+    def layout_note(self, setup: ImuLiveSetup) -> str:
+        return ""
 
 
 #: ``input_kind``: what the source is; "auto" decides from the stream (type IMU, or acc/gyr labels).

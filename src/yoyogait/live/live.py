@@ -37,7 +37,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, Protocol, TextIO
 
 import numpy as np
 
@@ -423,10 +423,10 @@ def run_live(
                 make_setup=make_setup,
             )  # fmt: skip
             belt = _Belt(tuple(feet or ()), belt_speed_mps, belt_speed)
-            _loop(
-                inlet, outlet, recorder, setup, functools.partial(OnlineEstimator, config=config), counters,
-                started, duration_s, reacquire_after_s, stop, None if exit_on_end else reconnect,
-                on_estimate, on_status, note, status_interval_s, belt,
+            path = _MarkerPath(functools.partial(OnlineEstimator, config=config), belt)
+            pump(
+                inlet, outlet, recorder, setup, path, counters, started, duration_s, reacquire_after_s, stop,
+                None if exit_on_end else reconnect, on_estimate, on_status, note, status_interval_s,
             )  # fmt: skip
     except BaseException:
         if recorder is not None:
@@ -543,38 +543,47 @@ def _connect(
     raise first_error
 
 
-def _loop(
+class SamplePath(Protocol):
+    """What one kind of source's samples become in :func:`pump`: the marker path's or the IMU's."""
+
+    time_channel: int | None  # the channel of the frame's time, else its LSL stamp
+
+    def start(self, setup: Any) -> None:
+        """A new estimator for ``setup`` (the start, a source that came back)."""
+
+    def reset(self) -> None:
+        """Start the estimator over (the source came back after a gap)."""
+
+    def row(self, t_s: float, sample: Sequence[float]) -> list[float]:
+        """The estimate of one admitted sample, as a row of the estimate stream."""
+
+    def layout_note(self, setup: Any) -> str:
+        """Said after "read again" when a source came back with another layout."""
+
+
+def pump(
     inlet: Any,
     outlet: Any,
     recorder: CsvRecord | None,
-    setup: LiveSetup,
-    estimator_type: Any,
+    setup: Any,
+    path: SamplePath,
     counters: LiveCounters,
     started: float,
     duration_s: float | None,
     reacquire_after_s: float,
     stop: threading.Event | None,
-    reconnect: Callable[..., tuple[Any, LiveSetup]] | None,
+    reconnect: Callable[..., tuple[Any, Any]] | None,
     on_estimate: Callable[[list[float], float], None] | None,
     on_status: Callable[[LiveCounters, list[float]], None] | None,
     note: Callable[[str], None],
     status_interval_s: float,
-    belt: _Belt | None = None,
 ) -> None:
+    """The live loop of every source kind: pull, reconnect, gate, estimate (``path``), publish, record."""
     lsl = pylsl()
-    belt = belt if belt is not None else _Belt()
     lost_error = lsl.util.LostError
+    path.start(setup)
     gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
-
-    def mapping(s: LiveSetup) -> tuple[np.ndarray, int | None, Any]:
-        chosen = [s.layout.point_names.index(n) for n in s.choice.names] + belt.feet_of(s)
-        estimator = estimator_type(s.choice.names, s.up_axis, s.length_unit_m, feet=belt.feet)
-        belt.start(estimator)
-        return s.layout.position_channels[chosen].ravel(), s.layout.time_channel, estimator
-
-    channels, time_channel, estimator = mapping(setup)
     next_status = started + status_interval_s
-    row: list[float] = []
     while True:
         now = time.monotonic()
         if stop is not None and stop.is_set():
@@ -598,9 +607,9 @@ def _loop(
             if not setup.same_layout(old):
                 note(
                     f"live: stream {setup.source!r} came back with another layout ({setup.layout.channel_count} "
-                    f"channels, was {old.layout.channel_count}): read again, following {setup.choice.label}"
+                    f"channels, was {old.layout.channel_count}): read again{path.layout_note(setup)}"
                 )
-            channels, time_channel, estimator = mapping(setup)
+            path.start(setup)
             gate = FrameGate(setup.nominal_rate_hz, reacquire_after_s, counters)
             if counters.estimates > 0:
                 counters.restarts += 1
@@ -608,15 +617,13 @@ def _loop(
         if sample is None:
             continue
         arrival = time.monotonic()
-        t_s = float(sample[time_channel]) if time_channel is not None else stamp
+        t_s = float(sample[path.time_channel]) if path.time_channel is not None else stamp
         verdict = gate.admit(t_s, arrival)
         if verdict == DROP:
             continue
         if verdict == RESTART:
-            estimator.reset()  # the source came back: start over rather than bridge the gap
-        positions = np.asarray(sample)[channels]
-        belt.before_frame(estimator)
-        row = estimate_row(estimator.update(t_s, positions))
+            path.reset()  # the source came back: start over rather than bridge the gap
+        row = path.row(t_s, sample)
         if outlet is not None:
             outlet.push_sample(row, stamp)
         if recorder is not None:
@@ -629,6 +636,32 @@ def _loop(
                 on_status(counters, row)
                 counters.latency_s.clear()
                 next_status = arrival + status_interval_s
+
+
+class _MarkerPath:
+    """The marker path of :func:`pump`: the chosen points (and feet) of each frame into an OnlineEstimator."""
+
+    def __init__(self, estimator_type: Any, belt: _Belt):
+        self._estimator_type, self._belt = estimator_type, belt
+        self.time_channel: int | None = None
+
+    def start(self, s: LiveSetup) -> None:
+        chosen = [s.layout.point_names.index(n) for n in s.choice.names] + self._belt.feet_of(s)
+        self.estimator = self._estimator_type(s.choice.names, s.up_axis, s.length_unit_m, feet=self._belt.feet)
+        self._belt.start(self.estimator)
+        self._channels = s.layout.position_channels[chosen].ravel()
+        self.time_channel = s.layout.time_channel
+
+    def reset(self) -> None:
+        self.estimator.reset()
+
+    def row(self, t_s: float, sample: Sequence[float]) -> list[float]:
+        positions = np.asarray(sample)[self._channels]
+        self._belt.before_frame(self.estimator)
+        return estimate_row(self.estimator.update(t_s, positions))
+
+    def layout_note(self, s: LiveSetup) -> str:
+        return f", following {s.choice.label}"
 
 
 class _Belt:
