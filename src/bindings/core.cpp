@@ -20,6 +20,7 @@
 #include "imu.hpp"
 #include "online.hpp"
 #include "yoyogait/imu/imu_config.hpp"
+#include "yoyogait/imu/imu_estimate.hpp"
 #include "yoyogait/online/online_config.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/yoyogait.hpp"
@@ -527,6 +528,11 @@ nb::dict record_schema() {
     nb::list list;
     YOYOGAIT_ONLINE_ESTIMATE_FIELDS(YOYO_SCHEMA)
     out["OnlineEstimate"] = list;
+  }
+  {
+    nb::list list;
+    YOYOGAIT_IMU_ESTIMATE_FIELDS(YOYO_SCHEMA)
+    out["ImuEstimate"] = list;
   }
 #undef YOYO_SCHEMA
 #undef YOYO_SCOPE

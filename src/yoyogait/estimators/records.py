@@ -34,7 +34,7 @@ RECORDS: dict[str, tuple[RecordField, ...]] = {
 
 
 def fields_of(record: str) -> tuple[RecordField, ...]:
-    """The fields of one record (``Estimate``, ``Innovation``, ``OnlineEstimate``)."""
+    """The fields of one record (``Estimate``, ``Innovation``, ``OnlineEstimate``, ``ImuEstimate``)."""
     return RECORDS[record]
 
 
@@ -44,6 +44,8 @@ _TITLES = {
     "Innovation": "`Innovation`: the diagnostics of a step (`diagnostics=True`)",
     "OnlineEstimate": "`OnlineEstimate`: what the online estimator reports per frame (`OnlineEstimator.update`, "
     "the arrays of `OnlineResult`, the LSL estimate stream; the field `t_s` is the column `time_s`)",
+    "ImuEstimate": "`ImuEstimate`: what the lower-back IMU estimator reports per sample (`ImuOnlineEstimator.update`, "
+    "the arrays of `ImuResult`, the IMU estimate stream; the field `t_s` is the column `time_s`)",
 }
 
 
@@ -52,7 +54,8 @@ def records_markdown() -> str:
     lines = [
         "# Records",
         "",
-        "<!-- Generated from the C++ tables (include/yoyogait/estimate.hpp, online/online_estimate.hpp) by",
+        "<!-- Generated from the C++ tables (include/yoyogait/estimate.hpp, online/online_estimate.hpp,",
+        "     imu/imu_estimate.hpp) by",
         "     python -c 'import sys, yoyogait.estimators.records as r; sys.stdout.write(r.records_markdown())' \\",
         "     > docs/records.md",
         "     and checked by tests/python/estimators/test_records.py. -->",

@@ -79,3 +79,15 @@ def test_records_doc_is_generated_from_the_tables():
     assert (ROOT / "docs" / "records.md").read_text() == records_markdown(), (
         "regenerate docs/records.md (see the comment at its top)"
     )
+
+
+def test_the_imu_record_is_the_imu_estimators_table():
+    """ImuEstimate in the schema lists the fields the IMU estimator's table gives, in order, each an attribute
+    of the native estimate."""
+    from yoyogait.estimators.imu import IMU_ESTIMATE_FIELDS, ImuOnlineEstimator
+
+    names = [f.name for f in RECORDS["ImuEstimate"]]
+    assert names == [n for n, _, _ in IMU_ESTIMATE_FIELDS]
+    e = ImuOnlineEstimator().update(0.0, [0.0, 0.0, 9.81], [0.0, 0.0, 0.0])
+    for name in names:
+        assert hasattr(e, name), name
