@@ -291,12 +291,8 @@ class ImuOnlineEstimator {
   // innovations' excess, plus what a transient adds, at least kPinnedStdHz at a bound of the range,
   // plus the pendulum's model error for the speed) and the harmonic check on the fed v_z.
   void sampled(const GaitState& prior, double dt_s, double vz_mean) noexcept {
-    const double p1 = prior[gait::kZ1], p2 = prior[gait::kZ2];
-    const double q1 = est_.gait_state[gait::kZ1], q2 = est_.gait_state[gait::kZ2];
     const double correction =
-        est_.walking && !est_.acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8
-            ? atan2_fast(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2) - prior[gait::kW] * dt_s
-            : std::numeric_limits<double>::quiet_NaN();
+        online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
     check_harmonic(vz_mean, dt_s);
     const double k = validity_.std_inflation();

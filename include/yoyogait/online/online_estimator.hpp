@@ -350,14 +350,8 @@ class OnlineEstimator {
     const double extra = noise_.excess_share() * diff_.covariance()[1][1];
     estimator_.set_extra_measurement_variance(extra, extra);
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
-    // The vertical phasor's turn from the last posterior to this one, less the w dt the model turns
-    // it by: the update's phase correction.
-    const double p1 = prior[gait::kZ1], p2 = prior[gait::kZ2];
-    const double q1 = est_.gait_state[gait::kZ1], q2 = est_.gait_state[gait::kZ2];
     const double correction =
-        est_.walking && !est_.acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8
-            ? atan2_fast(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2) - prior[gait::kW] * dt_s
-            : std::numeric_limits<double>::quiet_NaN();
+        online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
     // The variances reported until the next sample: scaled while the innovations are larger than
     // the model expects (sqrt of the mean NIS over 2, at least 1), plus what a transient adds.

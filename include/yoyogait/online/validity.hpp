@@ -12,11 +12,25 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
+#include "yoyogait/gait/state.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 
 namespace yoyogait::online {
+
+/// The phase correction of an estimator sample, as Validity::sample takes it: the vertical phasor's
+/// turn from the prior to the posterior less the w dt the model turns it by; NaN while not walking,
+/// while acquiring or with a vanishing phasor (no phase to speak of).
+inline double phase_correction_rad(const GaitState& prior, const GaitState& posterior, bool walking, bool acquiring,
+                                   double dt_s) noexcept {
+  const double p1 = prior[gait::kZ1], p2 = prior[gait::kZ2];
+  const double q1 = posterior[gait::kZ1], q2 = posterior[gait::kZ2];
+  return walking && !acquiring && p1 * p1 + p2 * p2 > 1e-8 && q1 * q1 + q2 * q2 > 1e-8
+             ? atan2_fast(p1 * q2 - p2 * q1, p1 * q1 + p2 * q2) - prior[gait::kW] * dt_s
+             : std::numeric_limits<double>::quiet_NaN();
+}
 
 /// The checks behind OnlineEstimate::valid, one per InvalidReason, fed frame by frame.
 class Validity {
