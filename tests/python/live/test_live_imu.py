@@ -265,7 +265,11 @@ def _cli_on_stream(name, info, samples, args=(), timeout_s=20.0):
         text=True,
     )
     try:
-        if samples is not None and outlet.wait_for_consumers(20):
+        # live may refuse the stream without ever consuming it: wait for a consumer or for live's end
+        deadline = time.monotonic() + 20
+        while not outlet.have_consumers() and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        if samples is not None and outlet.have_consumers():
             base = pylsl.local_clock()
             for k, s in enumerate(samples):
                 if proc.poll() is not None:
