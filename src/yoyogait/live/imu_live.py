@@ -23,7 +23,6 @@ import functools
 import math
 import operator
 import threading
-import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,15 +38,14 @@ from ._lsl import pylsl
 from .imu_layout import IMU_TYPES, ImuLayout, read_imu_layout
 from .live import (
     _INTEGER_FORMATS,
-    MAX_BUFFER_S,
     CsvRecord,
     ImuSourceFound,
     LiveCounters,
-    _connect,
     _format_name,
     _Stopped,
     check_rate,
-    pump,
+    check_run_options,
+    connect_and_pump,
     resolve_all,
     run_live,
 )
@@ -241,60 +239,23 @@ def run_live_imu(
     """Estimate gait live from the IMU stream ``source`` until ``duration_s``, its end (with ``exit_on_end``)
     or ``stop``, as :func:`yoyogait.live.live.run_live` does for a marker stream; ``imu``: units, sensor
     height, settings and the record's columns (:class:`ImuLiveOptions`). Returns the counters."""
-    lsl = pylsl()
     opts = imu if imu is not None else ImuLiveOptions()
-    if publish is not None and publish == source:
-        raise InputError(f"--publish {publish!r}: the estimate stream needs a name other than the source's")
-    if not (math.isfinite(max_buffer_s) and 0 < max_buffer_s <= MAX_BUFFER_S):
-        raise InputError(f"--max-buffer-s must be a number of seconds in (0, {MAX_BUFFER_S:g}], not {max_buffer_s!r}")
-    if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
-        raise InputError(f"--duration must be a positive number of seconds, not {duration_s!r}")
+    check_run_options(source, publish, max_buffer_s, duration_s)
     if opts.sensor_height_m is not None and not (
         math.isfinite(opts.sensor_height_m) and 0.1 < opts.sensor_height_m <= 3.0
     ):
         raise InputError(f"--sensor-height-m must be in (0.1, 3] m, not {opts.sensor_height_m!r}")
-    note = on_note if on_note is not None else (lambda line: None)
     formats = opts.record_formats if opts.record_formats is not None else imu_csv_formats(opts.record_columns)
     recorder = (
         CsvRecord(record, opts.record_columns, formats, force, channels=IMU_COLUMNS) if record is not None else None
     )
-    counters = LiveCounters()
-    started = time.monotonic()
-    make_setup = functools.partial(imu_setup_from_info, options=opts)
-    try:
-        outlet = lsl.StreamOutlet(imu_estimate_stream_info(publish), 1, 10) if publish else None
-        try:
-            inlet, setup = _connect(
-                source, resolve_timeout_s, stop, None, None, None, max_buffer_s, exit_on_end, note,
-                make_setup=make_setup,
-            )  # fmt: skip
-        except _Stopped:
-            inlet = None
-        if inlet is not None:
-            counters.connected = True
-            if on_setup is not None:
-                on_setup(setup)
-            reconnect = functools.partial(
-                _connect, source, None, stop, None, None, None, max_buffer_s, exit_on_end, note, make_setup=make_setup
-            )
-            pump(
-                inlet, outlet, recorder, setup, _ImuPath(), counters, started, duration_s, reacquire_after_s, stop,
-                None if exit_on_end else reconnect, on_estimate, on_status, note, status_interval_s,
-            )  # fmt: skip
-    except BaseException:
-        if recorder is not None:
-            # A live run ended by an error keeps what it recorded (whole rows); a failed setup leaves nothing.
-            if recorder.rows > 0:
-                recorder.close()
-            else:
-                recorder.discard()
-        raise
-    if recorder is not None:
-        if counters.connected:
-            recorder.close()
-        else:
-            recorder.discard()
-    return counters
+    return connect_and_pump(
+        source, imu_estimate_stream_info(publish) if publish else None, recorder,
+        functools.partial(imu_setup_from_info, options=opts), _ImuPath(),
+        resolve_timeout_s=resolve_timeout_s, duration_s=duration_s, exit_on_end=exit_on_end, max_buffer_s=max_buffer_s,
+        reacquire_after_s=reacquire_after_s, stop=stop, on_setup=on_setup, on_estimate=on_estimate,
+        on_status=on_status, on_note=on_note, status_interval_s=status_interval_s,
+    )  # fmt: skip
 
 
 class _ImuPath:

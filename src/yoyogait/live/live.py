@@ -390,43 +390,77 @@ def run_live(
     ``status_interval_s``; ``on_note(line)`` for what the run handled on its own (twin streams, a
     source that came back with another layout). ``stop`` ends the run at once in every state.
     """
-    lsl = pylsl()
+    check_run_options(source, publish, max_buffer_s, duration_s)
+    check_belt_speed(belt_speed_mps, "--belt-speed-mps")
+    recorder = CsvRecord(record, record_columns, record_formats, force) if record is not None else None
+    make_setup = functools.partial(
+        _marker_setup, point=point, up_axis=up_axis, length_unit_m=length_unit_m, detect_imu=detect_imu
+    )
+    path = _MarkerPath(
+        functools.partial(OnlineEstimator, config=config), _Belt(tuple(feet or ()), belt_speed_mps, belt_speed)
+    )
+    return connect_and_pump(
+        source, estimate_stream_info(publish) if publish else None, recorder, make_setup, path,
+        resolve_timeout_s=resolve_timeout_s, duration_s=duration_s, exit_on_end=exit_on_end, max_buffer_s=max_buffer_s,
+        reacquire_after_s=reacquire_after_s, stop=stop, on_setup=on_setup, on_estimate=on_estimate,
+        on_status=on_status, on_note=on_note, status_interval_s=status_interval_s,
+    )  # fmt: skip
+
+
+def check_run_options(source: str, publish: str | None, max_buffer_s: float, duration_s: float | None) -> None:
+    """The options every live run takes, checked before anything is opened (InputError naming the option)."""
     if publish is not None and publish == source:
         raise InputError(f"--publish {publish!r}: the estimate stream needs a name other than the source's")
     if not (math.isfinite(max_buffer_s) and 0 < max_buffer_s <= MAX_BUFFER_S):
         raise InputError(f"--max-buffer-s must be a number of seconds in (0, {MAX_BUFFER_S:g}], not {max_buffer_s!r}")
     if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"--duration must be a positive number of seconds, not {duration_s!r}")
+
+
+def connect_and_pump(
+    source: str,
+    outlet_info: Any,
+    recorder: CsvRecord | None,
+    make_setup: Callable[[Any], Any],
+    path: SamplePath,
+    *,
+    resolve_timeout_s: float | None,
+    duration_s: float | None,
+    exit_on_end: bool,
+    max_buffer_s: float,
+    reacquire_after_s: float,
+    stop: threading.Event | None,
+    on_setup: Callable[[Any], None] | None,
+    on_estimate: Callable[[list[float], float], None] | None,
+    on_status: Callable[[LiveCounters, list[float]], None] | None,
+    on_note: Callable[[str], None] | None,
+    status_interval_s: float,
+) -> LiveCounters:
+    """A live run of any source kind: the estimate stream (``outlet_info``; None: none) opened first, the
+    source connected (``make_setup(info)``), then :func:`pump` with ``path`` until the end; the record
+    kept with its whole rows when the run stops or fails after connecting, left out otherwise."""
+    lsl = pylsl()
     note = on_note if on_note is not None else (lambda line: None)
-    check_belt_speed(belt_speed_mps, "--belt-speed-mps")
-    recorder = CsvRecord(record, record_columns, record_formats, force) if record is not None else None
     counters = LiveCounters()
     started = time.monotonic()
-    make_setup = functools.partial(
-        _marker_setup, point=point, up_axis=up_axis, length_unit_m=length_unit_m, detect_imu=detect_imu
-    )
+    connect = functools.partial(
+        _connect, source, stop=stop, point=None, up_axis=None, length_unit_m=None, max_buffer_s=max_buffer_s,
+        exit_on_end=exit_on_end, note=note, make_setup=make_setup,
+    )  # fmt: skip
     try:
-        outlet = lsl.StreamOutlet(estimate_stream_info(publish), 1, 10) if publish else None
+        outlet = lsl.StreamOutlet(outlet_info, 1, 10) if outlet_info is not None else None
         try:
-            inlet, setup = _connect(
-                source, resolve_timeout_s, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note,
-                make_setup=make_setup,
-            )  # fmt: skip
+            inlet, setup = connect(timeout_s=resolve_timeout_s)
         except _Stopped:
             inlet = None
         if inlet is not None:
             counters.connected = True
             if on_setup is not None:
                 on_setup(setup)
-            reconnect = functools.partial(
-                _connect, source, None, stop, point, up_axis, length_unit_m, max_buffer_s, exit_on_end, note,
-                make_setup=make_setup,
-            )  # fmt: skip
-            belt = _Belt(tuple(feet or ()), belt_speed_mps, belt_speed)
-            path = _MarkerPath(functools.partial(OnlineEstimator, config=config), belt)
             pump(
                 inlet, outlet, recorder, setup, path, counters, started, duration_s, reacquire_after_s, stop,
-                None if exit_on_end else reconnect, on_estimate, on_status, note, status_interval_s,
+                None if exit_on_end else functools.partial(connect, timeout_s=None), on_estimate, on_status, note,
+                status_interval_s,
             )  # fmt: skip
     except BaseException:
         if recorder is not None:
