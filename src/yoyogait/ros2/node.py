@@ -656,6 +656,9 @@ def run_node(
         finally:
             executor.remove_node(gait.node)
             gait.destroy()
+            # Back to the collector, so that what the node held is released before the interpreter
+            # ends (frozen objects never are: nanobind would report them as leaked at exit).
+            gc.unfreeze()
         return gait.counts
     finally:
         if r.rclpy.ok():
