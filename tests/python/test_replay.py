@@ -2,7 +2,7 @@
 
 A few recordings go through the paper's offline pipeline with both presets and through the online
 estimator; every per-sample field of every output is kept in ``tests/replay/<name>.npz``. Any change
-beyond rounding fails here and names the fields that moved. Regenerate on purpose (and commit the
+beyond rounding (RTOL, ATOL below) fails here and names the fields that moved. Regenerate on purpose (and commit the
 diff with the reason) with
 
     YOYOGAIT_UPDATE_REPLAY=1 pytest tests/python/test_replay.py
@@ -34,8 +34,11 @@ REAL = (
 )
 #: Synthetic walks (index into the lab of seed 0): a straight walk and one whose cadence varies.
 SYNTHETIC = (0, 1)
-# Everything is deterministic: beyond this, a value moved.
-RTOL, ATOL = 1e-12, 1e-12
+# Everything is deterministic on one machine; across CPUs the offline velocities round differently
+# (numpy and scipy pick AVX2 or AVX-512 kernels: up to 3e-13 m/s), and the paper preset's EKF carries
+# that to 7e-11 over a walk (the online estimator, all C++, stays bit-identical). A change of the code
+# moves values by 1e-6 and more: beyond this, a value moved.
+RTOL, ATOL = 1e-9, 1e-9
 
 
 def _arrays(prefix: str, obj) -> dict[str, np.ndarray]:
