@@ -317,6 +317,12 @@ class ImuOnlineEstimator {
     // uncertain as the pendulum's own estimate of where it goes.
     const double gap = target_speed_mps_ - (pendulum_speed_mps_ > 0.0 ? pendulum_speed_mps_ : est_.speed_mps);
     s_var += gap * gap;
+    // The pendulum speed is taken at the estimate's frequency: L f with L from h = 2 |Z| / w goes as
+    // sqrt(|Z| f) (h << l), so the frequency's relative std reaches the speed halved.
+    if (pendulum_speed_mps_ > 0.0 && est_.step_frequency_hz > 0.0) {
+      const double v_per_f = 0.5 * pendulum_speed_mps_ / est_.step_frequency_hz;  // dv/df
+      s_var += v_per_f * v_per_f * f_var;
+    }
     // Not locked: nothing is known of the speed within what is plausible.
     if (harmonic_off_ || est_.acquiring) s_var += config_.max_speed_mps * config_.max_speed_mps;
     // Standing, by the detector: a slow walk it cannot tell from standing goes at the pendulum speed

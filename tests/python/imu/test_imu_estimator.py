@@ -192,3 +192,13 @@ def test_a_walk_ratio_above_the_bound_is_not_valid_and_widens_the_frequency_std(
     assert not res["valid"][late].any()
     assert set(np.unique(res["reason"][late])) == {int(ImuReason.ACQUIRING)}
     assert np.all(res["step_frequency_std_hz"][late] >= 0.5 * res["step_frequency_hz"][late])
+
+
+def test_the_speed_std_carries_the_frequency_std():
+    """The pendulum speed goes as sqrt(|Z| f): its std is at least (speed / 2 f) times the frequency's std."""
+    walk = make_imu_walk(duration_s=20.0)
+    res = _run(walk)
+    m = (res["pendulum_speed_mps"] > 0) & np.isfinite(res["step_frequency_std_hz"])
+    assert m.sum() > 1000
+    floor = 0.5 * res["speed_mps"][m] / res["step_frequency_hz"][m] * res["step_frequency_std_hz"][m]
+    assert np.all(res["speed_std_mps"][m] >= floor * (1.0 - 1e-9))
