@@ -128,6 +128,20 @@ TEST(Imu, AtRestIsNeverValid) {
   }
 }
 
+TEST(Imu, AWalkRatioNoWalkerHasIsNotValid) {
+  // 42 steps/min at 1.3 m/s (1.9 m per step: what a lock on the stride reads) is never valid; the
+  // same walk with the walk-ratio check off is, so it is that check.
+  SyntheticImu s;
+  s.f_hz = 0.7;
+  s.r_m = 0.1;  // a pendulum of 2.1 m: within sensor_height_m's range
+  ImuConfig off;
+  off.max_walk_ratio_m_per_spm = 0.0;
+  EXPECT_GT(walk(s, 20.0, off).valid_fraction, 0.9);
+  const Outcome o = walk(s);
+  EXPECT_EQ(o.valid_fraction, 0.0);
+  EXPECT_EQ(o.last.reason, ImuReason::kAcquiring);
+}
+
 TEST(Imu, GravityInTheWrongUnitIsNotValid) {
   // Accelerations in g, not m/s^2: valid 0 with the reason kGravity while walking.
   SyntheticImu s;

@@ -47,6 +47,7 @@ class ImuOnlineEstimator {
         int_z_(config_.highpass_tau_s),
         int_x_(config_.highpass_tau_s) {
     fwd_[config_.forward_axis] = config_.forward_negative ? -1.0 : 1.0;
+    input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
     // A frequency at a bound of the estimator's range is a filter that has not locked.
     f_locked_min_hz_ = 1.02 * config_.estimator.gait_filter.f_min_hz;
     f_locked_max_hz_ = 0.98 * config_.estimator.gait_filter.f_max_hz;
@@ -70,7 +71,7 @@ class ImuOnlineEstimator {
     started_before_ = false;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
-    excursion_m_ = 0.0;
+    excursion_m_ = vz2_lp_ = 0.0;
     pendulum_speed_mps_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
     step_length_m_ = 0.0;
     heading_ = {1.0, 0.0};
@@ -165,7 +166,7 @@ class ImuOnlineEstimator {
         }
       }
       mahony_.step(a, w, dt_s, !saturated, yaw_error, config_.mag_kp_per_s);
-      if (dt_s != gravity_dt_s_) {
+      if (!(std::fabs(dt_s - gravity_dt_s_) <= 1e-9 * gravity_dt_s_)) {  // not per sample: time stamps jitter
         gravity_dt_s_ = dt_s;
         gravity_alpha_ = 1.0 - std::exp(-dt_s / config_.gravity_tau_s);
       }
@@ -175,10 +176,10 @@ class ImuOnlineEstimator {
     // The specific force in the world frame, gravity removed; the heading of the forward axis.
     const imu::Vec3 f_w = mahony_.to_world(a);
     const imu::Vec3 x_w = mahony_.to_world(fwd_);
-    const double hn = std::sqrt(x_w[0] * x_w[0] + x_w[1] * x_w[1]);
+    const double hn = sqrt1(x_w[0] * x_w[0] + x_w[1] * x_w[1]);
     if (hn > 0.2) heading_ = {x_w[0] / hn, x_w[1] / hn};  // held while the axis is near vertical
-    o.heading_rad = std::atan2(heading_[1], heading_[0]);
-    o.tilt_rad = std::atan2(x_w[2], hn);
+    o.heading_rad = atan2_fast(heading_[1], heading_[0]);  // within 2e-6 rad, no library call per sample
+    o.tilt_rad = atan2_fast(x_w[2], hn);
     o.heading_absolute = heading_absolute_;
     // A saturated sample is no measurement: the integrators get the last unsaturated values.
     if (!saturated || restart) {
@@ -196,7 +197,7 @@ class ImuOnlineEstimator {
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
     o.vx_mps = fed_speed_mps_ + o.vx_osc_mps;
-    o.input_latency_s = int_z_.delay_s(config_.latency_f_hz);
+    o.input_latency_s = input_latency_s_;
 
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
     if (settled && !restart) {
@@ -212,12 +213,12 @@ class ImuOnlineEstimator {
         const double vz_mean = sum_vz_ / span_s_;
         est_ = estimator_.step(sum_vx_ / span_s_, vz_mean, step_dt_s);
         fed_ = true;
+        update_pendulum(step_dt_s);  // first: the checks and stds of this sample use its step length
         sampled(prior, step_dt_s, vz_mean);
         o.estimator_fed = true;
         t_tick_s_ = t_s;
         tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
         sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
-        update_pendulum(step_dt_s);
       }
     }
     carry_estimate(t_s);
@@ -282,7 +283,7 @@ class ImuOnlineEstimator {
   void restart_estimate() noexcept {
     validity_.reset();
     ticks_since_check_ = 0;
-    harmonic_off_ = false;
+    harmonic_off_ = acf_off_ = false;
     harmonic_off_s_ = 0.0;
     f_std_ = s_std_ = std::numeric_limits<double>::infinity();
   }
@@ -316,8 +317,27 @@ class ImuOnlineEstimator {
     // uncertain as the pendulum's own estimate of where it goes.
     const double gap = target_speed_mps_ - (pendulum_speed_mps_ > 0.0 ? pendulum_speed_mps_ : est_.speed_mps);
     s_var += gap * gap;
+    // The pendulum speed is taken at the estimate's frequency: L f with L from h = 2 |Z| / w goes as
+    // sqrt(|Z| f) (h << l), so the frequency's relative std reaches the speed halved.
+    if (pendulum_speed_mps_ > 0.0 && est_.step_frequency_hz > 0.0) {
+      const double v_per_f = 0.5 * pendulum_speed_mps_ / est_.step_frequency_hz;  // dv/df
+      s_var += v_per_f * v_per_f * f_var;
+    }
     // Not locked: nothing is known of the speed within what is plausible.
     if (harmonic_off_ || est_.acquiring) s_var += config_.max_speed_mps * config_.max_speed_mps;
+    // Standing, by the detector: a slow walk it cannot tell from standing goes at the pendulum speed
+    // of the vertical motion seen (the fed v_z's low-passed RMS as the fundamental's amplitude).
+    if (!(std::fabs(dt_s - standing_dt_s_) <= 1e-9 * standing_dt_s_)) {
+      standing_dt_s_ = dt_s;
+      standing_alpha_ = 1.0 - std::exp(-dt_s / kStandingTauS);
+    }
+    vz2_lp_ += standing_alpha_ * (vz_mean * vz_mean - vz2_lp_);
+    if (!est_.walking) {
+      const double f = est_.step_frequency_hz > f_locked_min_hz_ ? est_.step_frequency_hz : f_locked_min_hz_;
+      const double h = 2.0 * std::sqrt(2.0 * vz2_lp_) / (6.283185307179586 * f);
+      const double hidden_mps = std::fmin(step_length(h) * f, config_.max_speed_mps);
+      s_var += hidden_mps * hidden_mps;
+    }
     f_std_ = std::sqrt(f_var);
     s_std_ = std::sqrt(s_var);
   }
@@ -330,28 +350,33 @@ class ImuOnlineEstimator {
     vz_ring_[ring_next_] = vz;
     ring_next_ = (ring_next_ + 1) & (kRing - 1);
     if (ring_n_ < kRing) ++ring_n_;
-    if (++ticks_since_check_ < kCheckTicks) return;
-    ticks_since_check_ = 0;
     const double f = est_.step_frequency_hz;
-    bool off = false;
-    if (est_.walking && !est_.acquiring && f > 0.0 && dt_s > 0.0) {
-      const double lag = 1.0 / (f * dt_s);
-      if (lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(ring_n_)) {
+    const bool locked = est_.walking && !est_.acquiring && f > 0.0 && dt_s > 0.0;
+    if (++ticks_since_check_ >= kCheckTicks) {
+      ticks_since_check_ = 0;
+      acf_off_ = false;
+      const double lag = locked ? 1.0 / (f * dt_s) : 0.0;
+      if (locked && lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(ring_n_)) {
         // The ring newest first, in order: the correlations then index it without wrapping.
         std::array<double, kRing> x;
         for (std::size_t i = 0; i < ring_n_; ++i) x[i] = vz_ring_[(ring_next_ + kRing - 1 - i) & (kRing - 1)];
         const double r_full = autocorrelation(x, lag), r_half = autocorrelation(x, 0.5 * lag);
-        off = r_half > kHalfLagMax || r_full < kFullLagMin;
+        acf_off_ = r_half > kHalfLagMax || r_full < kFullLagMin;
       }
     }
+    // A stride lock reads half the cadence and about twice the step length: a walk ratio (step
+    // length per step frequency in steps/min) no walker has, whatever the autocorrelation says (an
+    // asymmetric gait's v_z repeats over the stride too). Every sample: it costs a comparison.
+    const double wr_max = config_.max_walk_ratio_m_per_spm;
+    const bool off = acf_off_ || (locked && wr_max > 0.0 && step_length_m_ > wr_max * 60.0 * f);
     if (off && !harmonic_off_) harmonic_off_s_ = 0.0;
     harmonic_off_ = off;
     if (off) {
-      harmonic_off_s_ += static_cast<double>(kCheckTicks) * dt_s;
+      harmonic_off_s_ += dt_s;
       if (harmonic_off_s_ >= kHarmonicRestartS) {  // it stays there: acquire afresh
         estimator_.reset();
         restart_estimate();
-        harmonic_off_ = true;  // not valid until the check has run again
+        harmonic_off_ = acf_off_ = true;  // not valid until the check has run again
         pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
       }
     }
@@ -447,7 +472,7 @@ class ImuOnlineEstimator {
     constexpr double two_pi = 6.283185307179586476925286766559;
     const bool phased = e.walking && z1 * z1 + z2 * z2 > 1e-12;
     if (phased) {
-      double ph = (std::atan2(z2, z1) + f.phase_advance_rad) / two_pi;
+      double ph = (atan2_fast(z2, z1) + f.phase_advance_rad) / two_pi;
       ph -= std::floor(ph);
       if (ph >= 1.0) ph = 0.0;
       phase_ = ph;
@@ -469,6 +494,7 @@ class ImuOnlineEstimator {
   imu::Mahony mahony_;
   imu::LeakyIntegrator int_z_, int_x_;
   imu::Vec3 fwd_{0.0, 0.0, 0.0};
+  double input_latency_s_ = 0.0;  ///< the integrators' delay at latency_f_hz (constant)
   double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
   Estimate est_{};
   ImuEstimate out_{};
@@ -484,11 +510,14 @@ class ImuOnlineEstimator {
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
   /// r(P / 2) above this or r(P) below it: a wrong harmonic. Held this long, the estimator restarts [s].
   static constexpr double kHalfLagMax = 0.0, kFullLagMin = 0.0, kHarmonicRestartS = 1.0;
+  /// Low-pass of the fed v_z's square, for the speed std while standing [s].
+  static constexpr double kStandingTauS = 1.0;
+  double vz2_lp_ = 0.0, standing_dt_s_ = -1.0, standing_alpha_ = 0.0;
   /// The frequency std at a bound of the range, at least [Hz].
   static constexpr double kPinnedStdHz = 0.5;
   std::array<double, kRing> vz_ring_{};
   std::size_t ring_n_ = 0, ring_next_ = 0, ticks_since_check_ = 0;
-  bool harmonic_off_ = false;
+  bool harmonic_off_ = false, acf_off_ = false;  ///< off a harmonic; by the autocorrelation (held between its checks)
   double harmonic_off_s_ = 0.0;
   std::array<double, 2> heading_{1.0, 0.0};
   double t_saturated_s_ = 0.0, acc_norm_lp_ = kGravityMps2, gravity_dt_s_ = -1.0, gravity_alpha_ = 0.0;

@@ -14,6 +14,8 @@
 #include <cmath>
 #include <limits>
 
+#include "yoyogait/math.hpp"
+
 namespace yoyogait::imu {
 
 using Vec3 = std::array<double, 3>;
@@ -77,7 +79,7 @@ class Mahony {
       const Vec3 v = up_in_sensor();
       Vec3 e{0.0, 0.0, 0.0};
       if (use_acc) {
-        const double ax = acc[0] / n, ay = acc[1] / n, az = acc[2] / n;
+        const double inv = 1.0 / n, ax = acc[0] * inv, ay = acc[1] * inv, az = acc[2] * inv;
         e = {ay * v[2] - az * v[1], az * v[0] - ax * v[2], ax * v[1] - ay * v[0]};  // a x v
       }
       if (use_mag) {
@@ -123,11 +125,11 @@ class Mahony {
   /// The integral term: minus the estimated gyro bias [rad/s].
   const Vec3& bias_correction() const noexcept { return bias_; }
 
-  static double norm(const Vec3& v) noexcept { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+  static double norm(const Vec3& v) noexcept { return sqrt1(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
  private:
   void normalise() noexcept {
-    const double n = std::sqrt(q_[0] * q_[0] + q_[1] * q_[1] + q_[2] * q_[2] + q_[3] * q_[3]);
+    const double n = sqrt1(q_[0] * q_[0] + q_[1] * q_[1] + q_[2] * q_[2] + q_[3] * q_[3]);
     if (!(n > 0.0) || !std::isfinite(n)) {
       q_ = {1.0, 0.0, 0.0, 0.0};
       return;
@@ -159,7 +161,9 @@ class LeakyIntegrator {
   }
 
   double step(double x, double dt_s) noexcept {
-    if (dt_s != dt_s_) {
+    // A recording's time stamps jitter in their last bits: the decay is recomputed only for
+    // another interval, not per sample (an exp each time).
+    if (!(std::fabs(dt_s - dt_s_) <= 1e-9 * dt_s_)) {
       dt_s_ = dt_s;
       decay_ = std::exp(-dt_s / tau_);
     }

@@ -178,3 +178,27 @@ def test_synthetic_pendulum_length_uses_the_estimators_default_factor():
     from yoyogait.synthetic_imu import STEP_LENGTH_FACTOR
 
     assert STEP_LENGTH_FACTOR == ImuConfig().step_length_factor
+
+
+def test_a_walk_ratio_above_the_bound_is_not_valid_and_widens_the_frequency_std():
+    """A walk ratio above max_walk_ratio_m_per_spm reads as a stride lock: not valid (ACQUIRING), f std >= f / 2."""
+    walk = make_imu_walk(duration_s=15.0)
+    m = walk.recording.time_s >= SETTLED_S
+    truth = walk.truth
+    ratio = float(np.median(truth.speed_mps[m] / truth.step_frequency_hz[m] / (60.0 * truth.step_frequency_hz[m])))
+    assert _run(walk)["valid"][m].mean() > 0.95  # the default bound: a walker's ratio passes
+    res = _run(walk, dataclasses.replace(ImuConfig(), max_walk_ratio_m_per_spm=ratio / 3.0))
+    late = res.time_s >= SETTLED_S + 2.0
+    assert not res["valid"][late].any()
+    assert set(np.unique(res["reason"][late])) == {int(ImuReason.ACQUIRING)}
+    assert np.all(res["step_frequency_std_hz"][late] >= 0.5 * res["step_frequency_hz"][late])
+
+
+def test_the_speed_std_carries_the_frequency_std():
+    """The pendulum speed goes as sqrt(|Z| f): its std is at least (speed / 2 f) times the frequency's std."""
+    walk = make_imu_walk(duration_s=20.0)
+    res = _run(walk)
+    m = (res["pendulum_speed_mps"] > 0) & np.isfinite(res["step_frequency_std_hz"])
+    assert m.sum() > 1000
+    floor = 0.5 * res["speed_mps"][m] / res["step_frequency_hz"][m] * res["step_frequency_std_hz"][m]
+    assert np.all(res["speed_std_mps"][m] >= floor * (1.0 - 1e-9))
