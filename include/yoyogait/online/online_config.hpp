@@ -46,8 +46,8 @@ namespace yoyogait {
   X(double, latency_f_hz, 2.0, "Hz", "(", 0.0, 1e100, "]", "frequency at which the reported input latency is evaluated") \
   X(double, max_time_jump_s, 60.0, "s", "(", 0.0, 1e100, "]",                                                      \
     "a timestamp further ahead is ignored unless the next two frames follow it (then the front-end restarts)")     \
-  X(double, valid_after_s, 2.0, "s", "[", 0.0, 1e100, "]",                                                         \
-    "an estimate is valid only after this much walking with the start-up bank collapsed")                         \
+  X(double, valid_after_s, 1.0, "s", "[", 0.0, 1e100, "]",                                                         \
+    "an estimate is valid only after this much walking with the start-up bank collapsed (two time constants of the innovation statistics)") \
   X(double, min_rate_hz, 10.0, "Hz", "[", 0.0, 1e100, "]", "a lower mean frame rate makes the estimates not valid") \
   X(double, max_plausible_speed_mps, 6.0, "m/s", "(", 0.0, 1e100, "]",                                             \
     "input moving faster (low-passed over 0.25 s; or 50 m/s in one frame) is implausible; estimates bounded by it") \
