@@ -524,3 +524,20 @@ TEST(Validity, InnovationMeanIsInTheSpeedVariance) {
   for (int k = 0; k < 50; ++k) v.sample(0.04, 2.0, 1.8, 1.3, 0.0, -0.3);  // 2 s, v_x 0.3 m/s below the prediction
   EXPECT_NEAR(std::sqrt(v.transient_var_speed()), 0.3, 0.01);
 }
+
+// A mean NIS above 2 but below max_nis scales the stds by sqrt(NIS / 2) without invalidating; above it, not valid.
+TEST(Validity, ModerateNisScalesTheStdsAndOnlyALargerOneInvalidates) {
+  online::Validity::Settings s;
+  s.max_nis = 10.0;
+  for (const double nis : {8.0, 12.0}) {
+    online::Validity v{s};
+    for (int k = 0; k < 100; ++k) v.sample(0.04, nis, 1.8, 1.3, 0.0);  // 4 s, the low-pass settled
+    online::Validity::Inputs in;
+    in.fed = in.walking = true;
+    in.acquiring = false;
+    in.step_frequency_hz = 1.8;
+    const bool not_holding = v.reasons(10.0, in) & static_cast<std::uint8_t>(InvalidReason::kModelNotHolding);
+    EXPECT_EQ(not_holding, nis > s.max_nis);
+    EXPECT_NEAR(v.std_inflation(), std::sqrt(0.5 * nis), 0.01);
+  }
+}
