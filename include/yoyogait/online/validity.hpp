@@ -60,9 +60,10 @@ class Validity {
   static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;  // (also the NIS's low-pass)
   /// The frequency error taken per unit of the phase correction rate (the update corrects part of it).
   static constexpr double kPhaseGain = 3.0;
-  /// The low-pass of the v_x innovation, about half a step [s]: its mean is how far the speed's
-  /// estimate lags a start, a stop or a change of speed (the oscillation, predicted, averages out).
-  static constexpr double kBiasTauS = 0.12;
+  /// The low-pass of the v_x innovation, two estimator samples [s] (a stop decelerates by 0.2-0.3 m/s
+  /// within 0.2 s): its mean is how far the speed's estimate lags a start, a stop or a change of
+  /// speed (the oscillation, predicted, is not in it). Also the low-pass of the heading's loss.
+  static constexpr double kBiasTauS = 0.08;
 
   Validity() noexcept = default;
   explicit Validity(const Settings& s) noexcept : s_(s) { reset(); }
