@@ -107,6 +107,7 @@ class Validity {
     ring_n_ = 0;
     ring_next_ = 0;
     ring_t_s_ = -1e300;
+    ring_path_m_ = 0.0;
   }
 
   /// The differentiator's update at t_s, dt_s after the previous frame with a point (the frame of
@@ -125,7 +126,12 @@ class Validity {
         implausible_until_s_ = t_s + kImplausibleHoldS;
     }
     if (t_s - ring_t_s_ >= kTravelWindowS / static_cast<double>(kRing)) {
-      ring_[ring_next_] = {t_s, pa_m, pb_m};
+      // The path along the marks: the new segment in, the one of the mark overwritten out.
+      const double sa = pa_m - pa_m_, sb = pb_m - pb_m_, d = std::sqrt(sa * sa + sb * sb);
+      const double seg = ring_n_ > 0 && std::isfinite(d) ? d : 0.0;
+      if (ring_n_ == kRing) ring_path_m_ -= ring_[ring_next_].seg_m;
+      ring_path_m_ += seg;
+      ring_[ring_next_] = {t_s, pa_m, pb_m, seg};
       ring_t_s_ = t_s;
       ring_next_ = (ring_next_ + 1) % kRing;
       if (ring_n_ < kRing) ++ring_n_;
@@ -237,24 +243,25 @@ class Validity {
  private:
   static constexpr std::size_t kRing = 16;
   struct Mark {
-    double t_s = 0.0, a_m = 0.0, b_m = 0.0;
+    double t_s = 0.0, a_m = 0.0, b_m = 0.0, seg_m = 0.0;  ///< seg_m: the distance from the mark before
   };
   static double gain(double dt_s, double tau_s) noexcept { return dt_s >= tau_s ? 1.0 : dt_s / (tau_s + dt_s); }
   /// Whether dt_s is the interval of the gains within 1e-6 (timestamps' rounding: no new divisions).
   bool near_gains_dt(double dt_s) const noexcept { return std::fabs(dt_s - gains_dt_s_) <= 1e-6 * dt_s; }
   static std::uint8_t bit(InvalidReason r) noexcept { return static_cast<std::uint8_t>(r); }
 
-  /// Whether the centre travelled at least min_travel_ratio x speed x time over the window, and at
-  /// least kMinTravelM (in proportion while the window fills after a restart: a treadmill walk is not
-  /// taken for travel during its first seconds; true until two marks are kept).
+  /// Whether the centre moved at least kMinTravelM away over the window (in proportion while the
+  /// window fills after a restart: a treadmill walk is not taken for travel during its first
+  /// seconds) and travelled at least min_travel_ratio x speed x time along the window's marks (the
+  /// path, 0.125 s apart: a tight turn travels its arc, not its chord); true until two marks are kept.
   bool moved(double speed_mps) const noexcept {
     if (ring_n_ < 2) return true;
     const Mark& old = ring_n_ < kRing ? ring_[0] : ring_[ring_next_];  // the oldest mark
-    const double dt = ring_t_s_ - old.t_s, expected = std::fabs(speed_mps) * dt;
-    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m, need = s_.min_travel_ratio * expected;
+    const double dt = ring_t_s_ - old.t_s, need = s_.min_travel_ratio * std::fabs(speed_mps) * dt;
+    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m;
     const double least = dt < kTravelWindowS ? kMinTravelM * dt * (1.0 / kTravelWindowS) : kMinTravelM;
-    const double travel2 = da * da + db * db, min2 = need > least ? need * need : least * least;
-    return travel2 >= min2;
+    const double path_m = ring_path_m_ - old.seg_m;  // the oldest's segment leads to a mark no longer kept
+    return da * da + db * db >= least * least && path_m >= need;
   }
 
   Settings s_;
@@ -271,6 +278,7 @@ class Validity {
   std::array<Mark, kRing> ring_{};
   std::size_t ring_n_ = 0, ring_next_ = 0;
   double ring_t_s_ = -1e300, pa_m_ = 0.0, pb_m_ = 0.0;
+  double ring_path_m_ = 0.0;  ///< the sum of the kept marks' seg_m [m]
 };
 
 }  // namespace yoyogait::online

@@ -8,6 +8,7 @@ import pytest
 from yoyogait import synthetic as sy
 from yoyogait import synthetic_conditions as sc
 from yoyogait.estimators import OnlineEstimator
+from yoyogait.estimators.online import InvalidReason
 
 PELVIS = ["LASI", "RASI", "LPSI", "RPSI"]
 
@@ -60,3 +61,22 @@ def test_clean_walk_is_valid_within_the_bank_window_and_a_second_of_walking():
     res = OnlineEstimator(PELVIS, "z", length_unit_m=1.0).run(t, p)
     first_walking = t[np.flatnonzero(res.walking)[0]]
     assert t[np.flatnonzero(res.valid)[0]] - first_walking <= 2.5
+
+
+def test_walking_round_a_tight_circle_is_moving():
+    """Round a circle of 0.5 m radius at 1.3 m/s (2 s: a 0.5 m chord, a 2.6 m arc): never NOT_MOVING after 5 s."""
+    t = np.arange(2500) / 100.0
+    radius_m, speed_mps, f_hz = 0.5, 1.3, 1.8
+    phi = speed_mps * t / radius_m
+    th = 2 * np.pi * f_hz * t
+    centre = np.stack([radius_m * np.sin(phi), radius_m * (1 - np.cos(phi)), 1.0 + 0.012 * np.cos(th)], axis=1)
+    fwd = np.stack([np.cos(phi), np.sin(phi)], axis=1)
+    left = np.stack([-np.sin(phi), np.cos(phi)], axis=1)
+    p = np.zeros((len(t), 4, 3))
+    for k, (df, dl) in enumerate([(0.075, -0.125), (0.075, 0.125), (-0.075, -0.125), (-0.075, 0.125)]):
+        p[:, k, :2] = centre[:, :2] + df * fwd + dl * left
+        p[:, k, 2] = centre[:, 2]
+    res = OnlineEstimator(PELVIS, "z", length_unit_m=1.0).run(t, p)
+    late = res.walking & (t >= 5.0)
+    assert late.any()
+    assert not np.any(res.invalid_reason[late] & int(InvalidReason.NOT_MOVING))
