@@ -506,3 +506,38 @@ TEST(OnlineEstimator, TreadmillUpdateDoesNotAllocate) {
   }
   EXPECT_EQ(g_allocations.load(), before);
 }
+
+// The speed a lagging heading takes from v_x (|v_h| - v_x) is in the speed's transient variance.
+TEST(Validity, HeadingLagLossIsInTheSpeedVariance) {
+  online::Validity v{online::Validity::Settings{}};
+  const double speed = 1.3, lag_rad = 0.5, loss = speed * (1.0 - std::cos(lag_rad));
+  for (int k = 0; k < 100; ++k) {  // 1 s at 100 Hz, the heading 0.5 rad behind the velocity
+    v.frame(0.01, 4);
+    v.heading(0.01, speed * std::cos(lag_rad + 0.01 * k), speed * std::sin(lag_rad + 0.01 * k), speed - loss);
+  }
+  EXPECT_NEAR(std::sqrt(v.transient_var_speed()), loss, 0.02 * loss);
+}
+
+// The v_x innovations' mean (a speed the filter has not followed yet) is in the speed's transient variance.
+TEST(Validity, InnovationMeanIsInTheSpeedVariance) {
+  online::Validity v{online::Validity::Settings{}};
+  for (int k = 0; k < 50; ++k) v.sample(0.04, 2.0, 1.8, 1.3, 0.0, -0.3);  // 2 s, v_x 0.3 m/s below the prediction
+  EXPECT_NEAR(std::sqrt(v.transient_var_speed()), 0.3, 0.01);
+}
+
+// A mean NIS above 2 but below max_nis scales the stds by sqrt(NIS / 2) without invalidating; above it, not valid.
+TEST(Validity, ModerateNisScalesTheStdsAndOnlyALargerOneInvalidates) {
+  online::Validity::Settings s;
+  s.max_nis = 10.0;
+  for (const double nis : {8.0, 12.0}) {
+    online::Validity v{s};
+    for (int k = 0; k < 100; ++k) v.sample(0.04, nis, 1.8, 1.3, 0.0);  // 4 s, the low-pass settled
+    online::Validity::Inputs in;
+    in.fed = in.walking = true;
+    in.acquiring = false;
+    in.step_frequency_hz = 1.8;
+    const bool not_holding = v.reasons(10.0, in) & static_cast<std::uint8_t>(InvalidReason::kModelNotHolding);
+    EXPECT_EQ(not_holding, nis > s.max_nis);
+    EXPECT_NEAR(v.std_inflation(), std::sqrt(0.5 * nis), 0.01);
+  }
+}

@@ -46,8 +46,8 @@ namespace yoyogait {
   X(double, latency_f_hz, 2.0, "Hz", "(", 0.0, 1e100, "]", "frequency at which the reported input latency is evaluated") \
   X(double, max_time_jump_s, 60.0, "s", "(", 0.0, 1e100, "]",                                                      \
     "a timestamp further ahead is ignored unless the next two frames follow it (then the front-end restarts)")     \
-  X(double, valid_after_s, 2.0, "s", "[", 0.0, 1e100, "]",                                                         \
-    "an estimate is valid only after this much walking with the start-up bank collapsed")                         \
+  X(double, valid_after_s, 1.0, "s", "[", 0.0, 1e100, "]",                                                         \
+    "an estimate is valid only after this much walking with the start-up bank collapsed (two time constants of the innovation statistics)") \
   X(double, min_rate_hz, 10.0, "Hz", "[", 0.0, 1e100, "]", "a lower mean frame rate makes the estimates not valid") \
   X(double, max_plausible_speed_mps, 6.0, "m/s", "(", 0.0, 1e100, "]",                                             \
     "input moving faster (low-passed over 0.25 s; or 50 m/s in one frame) is implausible; estimates bounded by it") \
@@ -55,8 +55,8 @@ namespace yoyogait {
     "while walking, a faster front-end horizontal velocity is cut to this unless it lasts longer than a step")      \
   X(double, max_input_noise_m, 0.005, "m", "(", 0.0, 1e100, "]",                                                    \
     "a higher marker noise, estimated from the differentiator's innovations, makes the estimates not valid")      \
-  X(double, max_mean_nis, 6.0, "", "(", 0.0, 1e100, "]",                                                           \
-    "the estimator's NIS averaged over about a second above this: the model does not hold (not valid; stds scaled)") \
+  X(double, max_mean_nis, 10.0, "", "(", 0.0, 1e100, "]",                                                           \
+    "the estimator's NIS averaged over about a second above this: the model does not hold (not valid); below it the stds are scaled by sqrt(NIS / 2)") \
   X(double, belt_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                            \
     "treadmill (with foot points): low-pass of the stance feet's velocities, over stance time, for the belt's")    \
   X(double, treadmill_min_belt_mps, 0.2, "m/s", "[", 0.0, 1e100, "]",                                             \

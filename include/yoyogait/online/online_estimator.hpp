@@ -333,6 +333,7 @@ class OnlineEstimator {
     if (settled) heading_.update(va, vb, gap_s);
     o.heading_rad = heading_.heading_rad();
     o.vx_mps = heading_.forward_mps(va, vb);
+    validity_.heading(gap_s, va, vb, o.vx_mps);
   }
 
   /// The interval just completed feeds the estimator (its time step: since its last sample).
@@ -352,7 +353,8 @@ class OnlineEstimator {
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
-    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
+    const Innovation innov = estimator_.innovation();
+    validity_.sample(dt_s, innov.nis, est_.step_frequency_hz, est_.speed_mps, correction, innov.innovation_vx_mps);
     // The variances reported until the next sample: scaled while the innovations are larger than
     // the model expects (sqrt of the mean NIS over 2, at least 1), plus what a transient adds.
     const double k = validity_.std_inflation();
@@ -418,6 +420,12 @@ class OnlineEstimator {
     if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < kPinnedStdHz)
       o.step_frequency_std_hz = kPinnedStdHz;
     o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
+    // Walking without travelling (a treadmill without feet or belt speed, stepping in place): the
+    // speed is unknown, anywhere from 0 to a walker's at this cadence; its std says so.
+    if (o.invalid_reason & static_cast<std::uint8_t>(InvalidReason::kNotMoving)) {
+      const double unknown = 0.5 * kLongStepM * e.step_frequency_hz;
+      if (o.speed_std_mps < unknown) o.speed_std_mps = unknown;
+    }
     if (o.belt_speed_std_mps > 0.0)  // the belt's uncertainty is the walking speed's too
       o.speed_std_mps = sqrt1(o.speed_std_mps * o.speed_std_mps + o.belt_speed_std_mps * o.belt_speed_std_mps);
     const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false);
@@ -436,6 +444,8 @@ class OnlineEstimator {
 
   /// The frequency std at a bound of the range, at least [Hz].
   static constexpr double kPinnedStdHz = 0.5;
+  /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
+  static constexpr double kLongStepM = 0.8;
 
   /// An estimate older than this is stale [s] (Validity's stale_s).
   double validity_stale_s() const noexcept { return config_.max_gap_s + 2.0 * config_.estimator.sample_time_s; }

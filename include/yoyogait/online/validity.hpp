@@ -60,6 +60,10 @@ class Validity {
   static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;  // (also the NIS's low-pass)
   /// The frequency error taken per unit of the phase correction rate (the update corrects part of it).
   static constexpr double kPhaseGain = 3.0;
+  /// The low-pass of the v_x innovation, two estimator samples [s] (a stop decelerates by 0.2-0.3 m/s
+  /// within 0.2 s): its mean is how far the speed's estimate lags a start, a stop or a change of
+  /// speed (the oscillation, predicted, is not in it). Also the low-pass of the heading's loss.
+  static constexpr double kBiasTauS = 0.08;
 
   Validity() noexcept = default;
   explicit Validity(const Settings& s) noexcept : s_(s) { reset(); }
@@ -76,7 +80,7 @@ class Validity {
     steady_since_s_ = 0.0;
     steady_ = false;
     have_last_ = false;
-    last_f_hz_ = last_speed_mps_ = f_rate_lp_ = s_rate_lp_ = phase_rate_lp_ = 0.0;
+    last_f_hz_ = last_speed_mps_ = f_rate_lp_ = s_rate_lp_ = phase_rate_lp_ = bias_vx_lp_ = heading_loss_lp_ = 0.0;
     sample_dt_s_ = -1.0;
     restart_travel();
   }
@@ -89,6 +93,7 @@ class Validity {
         g_rate_ = gain(dt_s, kRateTauS);
         g_set_ = gain(dt_s, kSetTauS);
         g_speed_ = gain(dt_s, kSpeedTauS);
+        g_loss_ = gain(dt_s, kBiasTauS);
       }
       dt_lp_s_ = dt_lp_s_ < 0.0 ? dt_s : dt_lp_s_ + g_rate_ * (dt_s - dt_lp_s_);
       const double changed = points_seen != last_seen_ ? 1.0 / dt_s : 0.0;
@@ -102,6 +107,7 @@ class Validity {
     ring_n_ = 0;
     ring_next_ = 0;
     ring_t_s_ = -1e300;
+    ring_path_m_ = 0.0;
   }
 
   /// The differentiator's update at t_s, dt_s after the previous frame with a point (the frame of
@@ -120,13 +126,28 @@ class Validity {
         implausible_until_s_ = t_s + kImplausibleHoldS;
     }
     if (t_s - ring_t_s_ >= kTravelWindowS / static_cast<double>(kRing)) {
-      ring_[ring_next_] = {t_s, pa_m, pb_m};
+      // The path along the marks: the new segment in, the one of the mark overwritten out.
+      const double sa = pa_m - pa_m_, sb = pb_m - pb_m_, d = std::sqrt(sa * sa + sb * sb);
+      const double seg = ring_n_ > 0 && std::isfinite(d) ? d : 0.0;
+      if (ring_n_ == kRing) ring_path_m_ -= ring_[ring_next_].seg_m;
+      ring_path_m_ += seg;
+      ring_[ring_next_] = {t_s, pa_m, pb_m, seg};
       ring_t_s_ = t_s;
       ring_next_ = (ring_next_ + 1) % kRing;
       if (ring_n_ < kRing) ++ring_n_;
       pa_m_ = pa_m;
       pb_m_ = pb_m;
     }
+  }
+
+  /// The horizontal velocity (va_mps, vb_mps) and its component vx_mps along the reported heading,
+  /// dt_s after the previous frame: the speed that the heading's lag in a turn takes from v_x
+  /// (|v_h| - v_x), low-passed over kBiasTauS, is an error of the speed that no innovation shows.
+  void heading(double dt_s, double va_mps, double vb_mps, double vx_mps) noexcept {
+    if (!(dt_s > 0.0)) return;
+    const double loss = std::sqrt(va_mps * va_mps + vb_mps * vb_mps) - vx_mps;
+    const double g = near_gains_dt(dt_s) ? g_loss_ : gain(dt_s, kBiasTauS);
+    if (std::isfinite(loss)) heading_loss_lp_ += g * (loss - heading_loss_lp_);
   }
 
   /// An outlier at t_s that moved the centre dist_m within dt_s (not differentiated): a jump faster
@@ -140,15 +161,20 @@ class Validity {
   /// correction_rad: the phase correction of the vertical phasor by the update (the posterior's
   /// angle less the prior's, turned by w dt; NaN: none): while the cadence is off, the update keeps
   /// turning the phase the same way, by about the frequency error times dt.
-  void sample(double dt_s, double nis, double f_hz, double speed_mps, double correction_rad) noexcept {
+  /// innovation_vx_mps: the v_x measurement less its prediction (NaN: none); low-passed over
+  /// kBiasTauS, it measures the speed's lag behind a change the model has not followed yet.
+  void sample(double dt_s, double nis, double f_hz, double speed_mps, double correction_rad,
+              double innovation_vx_mps = std::numeric_limits<double>::quiet_NaN()) noexcept {
     if (!(dt_s > 0.0)) return;
     if (dt_s != sample_dt_s_) {  // one gain for the NIS and the rates (kNisTauS = kRateLpTauS)
       sample_dt_s_ = dt_s;
       g_sample_ = gain(dt_s, kRateLpTauS);
+      g_bias_ = gain(dt_s, kBiasTauS);
       inv_sample_dt_ = 1.0 / dt_s;
     }
     const double g = g_sample_, inv = inv_sample_dt_;
     if (std::isfinite(nis)) nis_lp_ += g * (nis - nis_lp_);
+    if (std::isfinite(innovation_vx_mps)) bias_vx_lp_ += g_bias_ * (innovation_vx_mps - bias_vx_lp_);
     if (have_last_) {
       f_rate_lp_ += g * ((f_hz - last_f_hz_) * inv - f_rate_lp_);
       s_rate_lp_ += g * ((speed_mps - last_speed_mps_) * inv - s_rate_lp_);
@@ -168,7 +194,12 @@ class Validity {
     const double c = kPhaseGain * phase_rate_lp_ * 0.15915494309189535;
     return kTransientLagS * kTransientLagS * f_rate_lp_ * f_rate_lp_ + c * c;
   }
-  double transient_var_speed() const noexcept { return kTransientLagS * kTransientLagS * s_rate_lp_ * s_rate_lp_; }
+  /// For the speed, also the low-passed v_x innovation squared (the lag the innovations show) and the
+  /// low-passed speed lost to the heading's lag (heading()).
+  double transient_var_speed() const noexcept {
+    return kTransientLagS * kTransientLagS * s_rate_lp_ * s_rate_lp_ + bias_vx_lp_ * bias_vx_lp_ +
+           heading_loss_lp_ * heading_loss_lp_;
+  }
 
   /// What the estimator reports, at t_s.
   struct Inputs {
@@ -212,36 +243,42 @@ class Validity {
  private:
   static constexpr std::size_t kRing = 16;
   struct Mark {
-    double t_s = 0.0, a_m = 0.0, b_m = 0.0;
+    double t_s = 0.0, a_m = 0.0, b_m = 0.0, seg_m = 0.0;  ///< seg_m: the distance from the mark before
   };
   static double gain(double dt_s, double tau_s) noexcept { return dt_s >= tau_s ? 1.0 : dt_s / (tau_s + dt_s); }
   /// Whether dt_s is the interval of the gains within 1e-6 (timestamps' rounding: no new divisions).
   bool near_gains_dt(double dt_s) const noexcept { return std::fabs(dt_s - gains_dt_s_) <= 1e-6 * dt_s; }
   static std::uint8_t bit(InvalidReason r) noexcept { return static_cast<std::uint8_t>(r); }
 
-  /// Whether the centre travelled at least kMinTravelM and min_travel_ratio x speed x time over the
-  /// window (true until the window has filled after a restart).
+  /// Whether the centre moved at least kMinTravelM away over the window (in proportion while the
+  /// window fills after a restart: a treadmill walk is not taken for travel during its first
+  /// seconds) and travelled at least min_travel_ratio x speed x time along the window's marks (the
+  /// path, 0.125 s apart: a tight turn travels its arc, not its chord); true until two marks are kept.
   bool moved(double speed_mps) const noexcept {
-    if (ring_n_ < kRing) return true;
-    const Mark& old = ring_[ring_next_];  // the oldest of a full ring
-    const double dt = ring_t_s_ - old.t_s, expected = std::fabs(speed_mps) * dt;
-    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m, need = s_.min_travel_ratio * expected;
-    const double travel2 = da * da + db * db, min2 = need > kMinTravelM ? need * need : kMinTravelM * kMinTravelM;
-    return travel2 >= min2;
+    if (ring_n_ < 2) return true;
+    const Mark& old = ring_n_ < kRing ? ring_[0] : ring_[ring_next_];  // the oldest mark
+    const double dt = ring_t_s_ - old.t_s, need = s_.min_travel_ratio * std::fabs(speed_mps) * dt;
+    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m;
+    const double least = dt < kTravelWindowS ? kMinTravelM * dt * (1.0 / kTravelWindowS) : kMinTravelM;
+    const double path_m = ring_path_m_ - old.seg_m;  // the oldest's segment leads to a mark no longer kept
+    return da * da + db * db >= least * least && path_m >= need;
   }
 
   Settings s_;
   double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed2_lp_ = 0.0, nis_lp_ = 2.0, set_changes_lp_ = 0.0;
-  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_speed_ = 1.0;  ///< gains at that dt
+  double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_speed_ = 1.0, g_loss_ = 1.0;  ///< gains at that dt
+  double heading_loss_lp_ = 0.0;  ///< the low-passed |v_h| - v_x [m/s]
   std::size_t last_seen_ = 0;
   double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
   bool steady_ = false, have_last_ = false;
   double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates
   double phase_rate_lp_ = 0.0;  ///< the low-passed phase correction rate [rad/s]
-  double sample_dt_s_ = -1.0, g_sample_ = 1.0, inv_sample_dt_ = 1.0;  ///< the sample gain at that dt
+  double bias_vx_lp_ = 0.0;     ///< the low-passed v_x innovation [m/s]
+  double sample_dt_s_ = -1.0, g_sample_ = 1.0, g_bias_ = 1.0, inv_sample_dt_ = 1.0;  ///< the sample gains at that dt
   std::array<Mark, kRing> ring_{};
   std::size_t ring_n_ = 0, ring_next_ = 0;
   double ring_t_s_ = -1e300, pa_m_ = 0.0, pb_m_ = 0.0;
+  double ring_path_m_ = 0.0;  ///< the sum of the kept marks' seg_m [m]
 };
 
 }  // namespace yoyogait::online

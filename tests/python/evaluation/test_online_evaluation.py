@@ -145,11 +145,6 @@ def test_honesty_columns_are_shares_for_the_online_estimator_and_nan_for_the_osc
         assert online["confidently_wrong_after3s_fraction"] < 0.1
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="valid_after_s (2 s) and the acquisition leave 70 % of a 9 s straight walk's time after 3 s valid "
-    "(issue target: 80 % of steady walking)",
-)
 def test_clean_straight_walking_is_valid_most_of_the_time_after_3_s(short_walks):
     """On a clean SYNTHETIC straight walk, the estimates are valid on at least 80 % of the walking time after 3 s."""
     straight = next(r for r in short_walks.items if "straight" in r.item.name)

@@ -144,3 +144,27 @@ def test_real_treadmill_walk_with_heels_within_5_cm_per_s_of_the_offline_speed(d
     without = evaluate_item_online(item).metrics["online"]["speed_err_median_mps"]
     with_feet = evaluate_item_online(item, feet=True).metrics["online"]["speed_err_median_mps"]
     assert with_feet <= 0.05 < without
+
+
+def test_treadmill_walk_without_feet_or_belt_reports_its_speed_as_unknown(treadmill):
+    """Neither feet nor a belt speed: while walking and NOT_MOVING the speed std covers the belt's walking speed."""
+    res = OnlineEstimator(PELVIS, "z").run(treadmill.recording)
+    steady, truth = _steady(treadmill, res)
+    not_moving = steady & res.walking & ((res.invalid_reason & int(InvalidReason.NOT_MOVING)) != 0)
+    assert not_moving.any()
+    err = np.abs(res.speed_mps[not_moving] - truth[not_moving])
+    assert np.all(err <= 2.0 * res.speed_std_mps[not_moving])
+
+
+def test_treadmill_walk_is_not_moving_before_the_travel_window_fills():
+    """Stepping in place from the first frame (a treadmill, no feet, no belt): NOT_MOVING already in its first 2 s."""
+    t = np.arange(600) / 100.0
+    th = 2 * np.pi * 1.8 * t
+    p = np.zeros((len(t), 4, 3))
+    p[:, :, 0] = -0.012 * np.sin(th)[:, None] + np.array([0.075, 0.075, -0.075, -0.075])
+    p[:, :, 1] = np.array([-0.125, 0.125, -0.125, 0.125])
+    p[:, :, 2] = 1.0 + 0.012 * np.cos(th)[:, None]
+    res = OnlineEstimator(PELVIS, "z", length_unit_m=1.0).run(t, p)
+    early = res.walking & (t < 2.0)
+    assert early.any()
+    assert np.all(res.invalid_reason[early] & int(InvalidReason.NOT_MOVING))
