@@ -46,7 +46,7 @@ inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
     // extrapolating a phase it does not know. At frame-time horizons (tens of ms) it is ~1.
     const double h2 = h_s * h_s;
     const double var_turn = lam * (f.P[kW][kW] * h2 + f.P[kW][kDW] * h2 * h_s + 0.25 * f.P[kDW][kDW] * h2 * h2) +
-                            model_.q_omega * h2 * h_s * (1.0 / 3.0) + model_.q_phase * h_s;
+                            (acquiring_ ? bank_model_ : model_).q_omega * h2 * h_s * (1.0 / 3.0) + model_.q_phase * h_s;
     // exp(-v / 2); below 1e-3 its second-order series (within 1e-10, no exp on the per-frame path).
     const double coherence =
         var_turn < 1e-3 ? 1.0 - 0.5 * var_turn * (1.0 - 0.25 * var_turn) : std::exp(-0.5 * var_turn);

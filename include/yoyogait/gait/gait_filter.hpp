@@ -220,6 +220,7 @@ class GaitFilter {
   GaitFilter(const EstimatorConfig& config, const gait::FilterSettings& s) noexcept
       : cfg_(config),
         model_(s.model),
+        bank_model_(s.bank_model),
         factors_(s.time_constants, s.measurement_noise),
         detector_(s.walking),
         gate_(s.gate),
@@ -395,7 +396,7 @@ class GaitFilter {
   /// rejected a channel. (Inlined: the steady state's step is most of advance.)
   YOYOGAIT_ALWAYS_INLINE bool filter_step(double vx, double vz, bool use_x, bool use_z, bool walking, double dt,
                                           const gait::DecayFactors::Values& fc) noexcept {
-    if (acquiring_) return bank_.step(model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
+    if (acquiring_) return bank_.step(bank_model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
     model_.predict(main_, main_h_.data(), dt, fc, walking);
     const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
     const bool rejected =
@@ -463,6 +464,7 @@ class GaitFilter {
 
   EstimatorConfig cfg_;
   gait::MemberModel model_;
+  gait::MemberModel bank_model_;  ///< model_ with the bank's q_omega (bank_q_omega_rad2_per_s3): its steps
   // The one EKF of the steady state and its harmonics.
   Ekf main_;
   std::array<gait::Harmonic, 2> main_h_{};
