@@ -96,6 +96,8 @@ struct FrequencyList {
   X(double, bank_prior_f_hz, 1.8, "Hz", "[", 0.05, 20.0, "]", "typical step frequency: its member starts with the log-prior bonus") \
   X(double, bank_prior_bonus_nats, 2.0, "nats", "[", -100.0, 100.0, "]",                                           \
     "log-prior bonus (on re-acquisition: for the member at the last frequency)")                                   \
+  X(double, bank_q_omega_rad2_per_s3, 0.25, "(rad/s)^2/s", "[", 0.0, 1e4, "]",                                      \
+    "random walk of w in the start-up bank's members (a start's cadence still rises; q_omega_rad2_per_s3 after it)") \
   X(double, p0_f_std_hz, 0.25, "Hz", "[", 0.0, 10.0, "]", "initial frequency std of each member")                  \
   X(double, p0_phasor_std_mps, 0.3, "m/s", "[", 0.0, 100.0, "]", "initial std of the phasors")                     \
   X(double, p0_speed_std_mps, 0.3, "m/s", "[", 0.0, 100.0, "]", "initial std of A0")                               \

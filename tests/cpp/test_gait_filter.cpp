@@ -416,6 +416,15 @@ TEST(GaitEstimator, PredictionAheadFollowsTheWalk) {
   EXPECT_LT(worst, 0.02);
 }
 
+TEST(GaitForecast, KnownPartKeepsAKnownRateAndDropsOneLostInItsStd) {
+  // known_part(x, var): x itself when var = 0, 0 for x = 0, and shrinking towards 0 as var grows past x^2.
+  EXPECT_EQ(known_part(0.3, 0.0), 0.3);
+  EXPECT_EQ(known_part(0.0, 0.0), 0.0);
+  EXPECT_EQ(known_part(0.0, 1.0), 0.0);
+  EXPECT_NEAR(known_part(-0.3, 0.09), -0.15, 1e-15);
+  EXPECT_LT(std::fabs(known_part(0.3, 9.0)), 0.01 * 0.3);
+}
+
 TEST(GaitEstimator, PaperEstimateInTheGaitForm) {
   // For the paper, gait_state is eq. 5 in the dual-phasor form and the derived relation is the mirror for x3 < 0.
   Estimator est(EstimatorConfig::paper());

@@ -12,6 +12,15 @@
 
 namespace yoyogait {
 
+namespace gait {
+/// x weighted by x^2 / (x^2 + var): the part of an estimate x of variance var that its std does not
+/// hide (0 for x = 0 and var = 0 both).
+inline double known_part(double x, double var) noexcept {
+  const double x2 = x * x, d = x2 + var;
+  return d > 0.0 ? x * (x2 / d) : 0.0;
+}
+}  // namespace gait
+
 inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
   using namespace gait;
   const Ekf& f = active();
@@ -19,13 +28,29 @@ inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
   const GaitFilterConfig& g = cfg_.gait_filter;
   const double ea = -std::expm1(-h_s / g.accel_tau_s), eb = -std::expm1(-h_s / g.omega_rate_tau_s);
   Forecast out;
-  out.speed_mps = x[kA0] + x[kDA0] * g.accel_tau_s * ea;
-  out.omega_rate_rad_s2 = x[kDW] * (1.0 - eb);
-  out.omega_rad_s = x[kW] + x[kDW] * g.omega_rate_tau_s * eb;
-  out.phase_advance_rad = x[kW] * h_s + x[kDW] * g.omega_rate_tau_s * (h_s - g.omega_rate_tau_s * eb);
+  // The rates where they are known: each weighted by x^2 / (x^2 + lambda P), the share of its
+  // estimate that stands above its std (a rate lost in its noise, as early in a walk, is not
+  // extrapolated; one well above it is used in full).
+  const double lam = scale_.value();
+  const double dA0 = gait::known_part(x[kDA0], lam * f.P[kDA0][kDA0]);
+  const double dW = gait::known_part(x[kDW], lam * f.P[kDW][kDW]);
+  out.speed_mps = x[kA0] + dA0 * g.accel_tau_s * ea;
+  out.omega_rate_rad_s2 = dW * (1.0 - eb);
+  out.omega_rad_s = x[kW] + dW * g.omega_rate_tau_s * eb;
+  out.phase_advance_rad = x[kW] * h_s + dW * g.omega_rate_tau_s * (h_s - g.omega_rate_tau_s * eb);
   const bool walking = detector_.walking();
   if (walking) {
-    const Prediction p = turned(out.phase_advance_rad, out.speed_mps, true);
+    // The mean of the oscillation under the model's phase uncertainty over h: the turn's variance
+    // from P_ww, P_w,dw, P_dwdw and the random walks of w and of the phase over h (q_omega h^3 / 3,
+    // q_phase h), so that a far or uncertain forecast tends to the mean velocity instead of
+    // extrapolating a phase it does not know. At frame-time horizons (tens of ms) it is ~1.
+    const double h2 = h_s * h_s;
+    const double var_turn = lam * (f.P[kW][kW] * h2 + f.P[kW][kDW] * h2 * h_s + 0.25 * f.P[kDW][kDW] * h2 * h2) +
+                            (acquiring_ ? bank_model_ : model_).q_omega * h2 * h_s * (1.0 / 3.0) + model_.q_phase * h_s;
+    // exp(-v / 2); below 1e-3 its second-order series (within 1e-10, no exp on the per-frame path).
+    const double coherence =
+        var_turn < 1e-3 ? 1.0 - 0.5 * var_turn * (1.0 - 0.25 * var_turn) : std::exp(-0.5 * var_turn);
+    const Prediction p = turned(out.phase_advance_rad, out.speed_mps, true, coherence);
     out.vx_mps = p.vx_mps;
     out.vz_mps = p.vz_mps;
   } else {
@@ -46,7 +71,6 @@ inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
     fc.rate_lp_gain = g.omega_rate_lp_tau_s > 0.0 ? 1.0 - std::exp(-dt / g.omega_rate_lp_tau_s) : 1.0;
     for (double k = 0.0; k < n; k += 1.0) model_.predict(e, hc.data(), dt, fc, walking);
   }
-  const double lam = scale_.value();
   const GaitMatrix& P = e.P;  // upper triangle
   // Averaged over the step cycle: the variance of X1 alone swings between the phasor's radial
   // (amplitude) and tangential (phase) variance as it turns; half the trace is their mean, and the

@@ -181,8 +181,11 @@ class GaitFilter {
   /// The model's forecast (yoyogait::Forecast, rates included; docs/online.md sec. 5): the mean of
   /// the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
   /// exp(-t / tau) (accel_tau_s, omega_rate_tau_s), so A0(h) = A0 + dA0 tau_a (1 - e^{-h/tau_a}),
-  /// w(h) = w + dw tau_b (1 - e^{-h/tau_b}) and the phasors turn by the integral of w(t). Second
-  /// harmonics at the turned phasors unless the bank is running. with_std: the covariance is
+  /// w(h) = w + dw tau_b (1 - e^{-h/tau_b}) and the phasors turn by the integral of w(t); each
+  /// rate weighted by the share of it that its std does not hide (x^2 / (x^2 + lambda P)), and the
+  /// oscillation by exp(-s2 / 2), s2 the variance of the turn over h (its harmonic by exp(-2 s2)):
+  /// the mean under the model's own phase uncertainty. Second harmonics at the turned phasors
+  /// unless the bank is running. with_std: the covariance is
   /// propagated by the filter's prediction (transition Jacobian and process noise, sec. 2.1-2.2)
   /// in steps of at most sample_time_s, scaled by the std scale lambda. Copies only; no allocation.
   /// Defined in gait/forecast.hpp.
@@ -217,6 +220,7 @@ class GaitFilter {
   GaitFilter(const EstimatorConfig& config, const gait::FilterSettings& s) noexcept
       : cfg_(config),
         model_(s.model),
+        bank_model_(s.bank_model),
         factors_(s.time_constants, s.measurement_noise),
         detector_(s.walking),
         gate_(s.gate),
@@ -233,21 +237,24 @@ class GaitFilter {
 
   // (A0 + X1, Z1) with the phasors turned by angle_rad, plus the second harmonics where they apply
   // (harmonics asked, enabled, and the bank not running): what predict and forecast share.
-  Prediction turned(double angle_rad, double A0, bool harmonics) const noexcept {
+  // coherence: E[cos(phase error)] of the turn, on the fundamental; the harmonic, at twice the
+  // phase, gets its fourth power (a Gaussian phase error of variance s2: exp(-s2 / 2), exp(-2 s2)).
+  Prediction turned(double angle_rad, double A0, bool harmonics, double coherence = 1.0) const noexcept {
     using namespace gait;
     const GaitState& x = active().x;
     double s, c;
     sincos(angle_rad, s, c);
     const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
     const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
-    Prediction p{A0 + X1, Z1};
+    Prediction p{A0 + coherence * X1, coherence * Z1};
     if (harmonics && model_.use_harmonic && !acquiring_) {
       const gait::Harmonic* fh = active_harmonics();
       double ux, vx2, uz, vz2;
       harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
       harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
-      p.vx_mps += fh[kVx].value(ux, vx2);
-      p.vz_mps += fh[kVz].value(uz, vz2);
+      const double c2 = coherence * coherence, c4 = c2 * c2;
+      p.vx_mps += c4 * fh[kVx].value(ux, vx2);
+      p.vz_mps += c4 * fh[kVz].value(uz, vz2);
     }
     return p;
   }
@@ -389,7 +396,7 @@ class GaitFilter {
   /// rejected a channel. (Inlined: the steady state's step is most of advance.)
   YOYOGAIT_ALWAYS_INLINE bool filter_step(double vx, double vz, bool use_x, bool use_z, bool walking, double dt,
                                           const gait::DecayFactors::Values& fc) noexcept {
-    if (acquiring_) return bank_.step(model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
+    if (acquiring_) return bank_.step(bank_model_, vx, vz, use_x, use_z, walking, dt, fc, gate_, scale_);
     model_.predict(main_, main_h_.data(), dt, fc, walking);
     const gait::PriorPhasors prior = gait::CadenceChangeDetector::prior(main_.x);
     const bool rejected =
@@ -457,6 +464,7 @@ class GaitFilter {
 
   EstimatorConfig cfg_;
   gait::MemberModel model_;
+  gait::MemberModel bank_model_;  ///< model_ with the bank's q_omega (bank_q_omega_rad2_per_s3): its steps
   // The one EKF of the steady state and its harmonics.
   Ekf main_;
   std::array<gait::Harmonic, 2> main_h_{};

@@ -175,6 +175,7 @@ inline SpectralInit::Settings spectral_settings(const EstimatorConfig& config) n
 /// Every part of the gait filter, configured.
 struct FilterSettings {
   MemberModel model;                              ///< the EKFs' noise, initial covariance, bounds
+  MemberModel bank_model;                         ///< the same for the start-up bank's members (its q_omega)
   DecayFactors::TimeConstants time_constants;     ///< of the dt-dependent factors
   DecayFactors::MeasurementNoise measurement_noise;
   WalkingDetector::Thresholds walking;
@@ -194,6 +195,9 @@ inline FilterSettings filter_settings(const EstimatorConfig& config) noexcept {
   const GaitFilterConfig& c = config.gait_filter;
   FilterSettings s;
   s.model = member_model(c, config.max_abs_velocity_mps);
+  GaitFilterConfig bank_c = c;  // the bank's members: the model with their own frequency random walk
+  bank_c.q_omega_rad2_per_s3 = c.bank_q_omega_rad2_per_s3;
+  s.bank_model = member_model(bank_c, config.max_abs_velocity_mps);
   s.time_constants = time_constants(c);
   s.measurement_noise = measurement_noise(c, config.sample_time_s);
   s.walking = walking_thresholds(c);

@@ -199,6 +199,7 @@ class GaitFilterConfig:
     bank_forget_s: float = _field("gait_filter", "bank_forget_s")
     bank_prior_f_hz: float = _field("gait_filter", "bank_prior_f_hz")
     bank_prior_bonus_nats: float = _field("gait_filter", "bank_prior_bonus_nats")
+    bank_q_omega_rad2_per_s3: float = _field("gait_filter", "bank_q_omega_rad2_per_s3")
     p0_f_std_hz: float = _field("gait_filter", "p0_f_std_hz")
     p0_phasor_std_mps: float = _field("gait_filter", "p0_phasor_std_mps")
     p0_speed_std_mps: float = _field("gait_filter", "p0_speed_std_mps")

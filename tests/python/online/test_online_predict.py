@@ -45,6 +45,14 @@ def test_half_second_prediction_matches_the_truth(clean_walk):
         assert np.sqrt(np.mean(err**2)) < INPUT_NOISE_MPS
 
 
+def test_far_forecast_tends_to_the_mean(clean_walk):
+    """While walking, the 1 s-ahead v_z oscillates less (RMS) than the 0.2 s-ahead: the phase coherence falls."""
+    _, res = clean_walk
+    w = res.walking & (res.time_s > 8.0)
+    rms = [np.sqrt(np.mean(res.pred_vz_mps[w, HORIZONS_S.index(h)] ** 2)) for h in (0.2, 1.0)]
+    assert rms[1] < rms[0]
+
+
 def test_stds_grow_with_the_horizon(clean_walk):
     """While walking, the predicted stds of v_x and v_z increase strictly with the horizon at every frame."""
     _, res = clean_walk

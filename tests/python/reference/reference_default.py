@@ -84,6 +84,7 @@ class DefaultConfig:
         self.bank_forget_s = 1.5  # memory of the members' log-likelihood
         self.bank_prior_f_hz = 1.8  # typical step frequency: its member gets a log-prior bonus
         self.bank_prior_bonus = 2.0  # (nats; the hint member gets it on re-acquisition)
+        self.bank_q_omega_rad2_per_s3 = 0.25  # step-frequency random walk of the bank's members
         self.p0_f_std_hz = 0.25  # initial frequency std of each member
         self.p0_phasor_std_mps = 0.3
         self.p0_bias_std_mps = 0.3
@@ -233,7 +234,8 @@ class _Ekf:
         self.dw_lp = o.dw_lp
         self.innov = dict(o.innov)
 
-    def predict(self, cfg, dt, oscillate=True):
+    def predict(self, cfg, dt, oscillate=True, q_omega=None):
+        """q_omega: the frequency random walk (the bank's members: bank_q_omega_rad2_per_s3)."""
         x, P = self.x, self.P
         da = math.exp(-dt / cfg.accel_tau_s)
         qb = cfg.q_bias_mps2_per_s * dt
@@ -295,7 +297,7 @@ class _Ekf:
         for i in range(4):
             for j in range(4):
                 P[i, j] += qt * g[i] * g[j]
-        P[IW, IW] += cfg.q_omega_rad2_per_s3 * dt
+        P[IW, IW] += (cfg.q_omega_rad2_per_s3 if q_omega is None else q_omega) * dt
         if cfg.use_omega_rate:
             if cfg.omega_rate_lp_tau_s > 0.0:
                 self.dw_lp += (1.0 - math.exp(-dt / cfg.omega_rate_lp_tau_s)) * (x[IDW] - self.dw_lp)
@@ -760,8 +762,9 @@ class DefaultEstimator:
         osc = self.walking
         filters = self.bank if self.acquiring else [self.main]
         filters_h = self.bank_h if self.acquiring else [self.main_h]
+        q_omega = c.bank_q_omega_rad2_per_s3 if self.acquiring else c.q_omega_rad2_per_s3
         for f in filters:
-            f.predict(c, dt, oscillate=osc)
+            f.predict(c, dt, oscillate=osc, q_omega=q_omega)
         track_cadence = osc and not self.acquiring and c.cadence_adapt
         if track_cadence:
             phasors_before = self.main.x[:4].copy()
@@ -952,6 +955,7 @@ _NATIVE_NAMES = {
     "bank_forget_s": "bank_forget_s",
     "bank_prior_f_hz": "bank_prior_f_hz",
     "bank_prior_bonus": "bank_prior_bonus_nats",
+    "bank_q_omega_rad2_per_s3": "bank_q_omega_rad2_per_s3",
     "p0_f_std_hz": "p0_f_std_hz",
     "p0_phasor_std_mps": "p0_phasor_std_mps",
     "p0_bias_std_mps": "p0_speed_std_mps",
