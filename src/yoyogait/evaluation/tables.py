@@ -224,18 +224,27 @@ def summary_markdown(evaluation: Evaluation) -> str:
     metrics against the reference (:data:`REFERENCE_KEYS`) follow again over the trusted ones only,
     and a line counts them and names those left out.
     """
-    text = median_and_worst_markdown(evaluation, SUMMARY_KEYS)
+    return with_trusted_part(evaluation, SUMMARY_KEYS, REFERENCE_KEYS)
+
+
+def with_trusted_part(
+    evaluation: Evaluation, keys, reference_keys, higher_is_better=frozenset(), by_magnitude=frozenset()
+) -> str:
+    """:func:`median_and_worst_markdown` of ``keys``; where some references are not trusted, the
+    ``reference_keys`` among them again over the trusted recordings only, and a line that counts them
+    and names those left out (and why)."""
+    text = median_and_worst_markdown(evaluation, keys, higher_is_better, by_magnitude)
     n_trusted, n_all = reference_counts(evaluation)
     if n_trusted == n_all:
         return text
     kept = dataclasses.replace(evaluation, items=[r for r in evaluation.items if trusted(r)])
-    keys = [(key, f"{label}, {n_trusted} trusted references") for key, label in SUMMARY_KEYS if key in REFERENCE_KEYS]
+    again = [(key, f"{label}, {n_trusted} trusted references") for key, label in keys if key in reference_keys]
     left = [r for r in evaluation.items if not trusted(r)]
     return "\n".join(
         [
             text,
             "",
-            median_and_worst_markdown(kept, keys),
+            median_and_worst_markdown(kept, again, higher_is_better, by_magnitude),
             "",
             f"References trusted on {n_trusted} of {n_all} recordings; not trusted: "
             + "; ".join(f"{md_code(r.item.name)} ({md_text(r.reference_quality.reason)})" for r in left)

@@ -61,3 +61,18 @@ def _runs(t, mask):
     m = np.concatenate([[False], np.asarray(mask, dtype=bool), [False]])
     edges = np.flatnonzero(np.diff(m.astype(np.int8)))
     return [(float(t[a]), float(t[b - 1])) for a, b in zip(edges[::2], edges[1::2])]
+
+
+def test_online_evaluation_trusts_the_references_the_offline_one_trusts(datasets_dir, evaluation):
+    """evaluate --online judges each real recording's reference as evaluate does (issue 20: honesty is
+    measured against the trusted references), and its summary repeats the reference rows over them."""
+    by_name = {r.item.name: r.reference_quality.trusted for r in evaluation.items}
+    items, _ = ev.manifest_items(datasets_dir / "manifest.json")
+    chosen = [i for i in items if i.name in {"sample23_Vicon_analysis.c3d", "Vicon_pyCGM2_CGM24_Walking01.c3d"}]
+    assert len(chosen) == 2
+    online = ev.evaluate_online(chosen)
+    assert {r.item.name: r.reference_quality.trusted for r in online.items} == {i.name: by_name[i.name] for i in chosen}
+    assert sorted(by_name[i.name] for i in chosen) == [False, True]
+    table = online.summary_table()
+    assert "confidently wrong, share of walking, 1 trusted references" in table
+    assert "not trusted: `sample23_Vicon_analysis.c3d`" in table
