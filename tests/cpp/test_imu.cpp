@@ -142,6 +142,38 @@ TEST(Imu, AWalkRatioNoWalkerHasIsNotValid) {
   EXPECT_EQ(o.last.reason, ImuReason::kAcquiring);
 }
 
+TEST(Imu, ATurnWidensTheFrequencyStdByTheYawRate) {
+  // Walking on a circle at 0.5 rad/s: the f std squared grows by (turn_f_std_hz_per_rad_s x 0.5)^2;
+  // the estimate itself and its validity do not move.
+  ImuConfig on, off;
+  off.turn_f_std_hz_per_rad_s = 0.0;
+  const double yaw_rad_s = 0.5;
+  ImuEstimate e_on{}, e_off{};
+  SyntheticImu s_on, s_off;
+  on.sensor_height_m = off.sensor_height_m = s_on.pendulum_length_m();
+  ImuOnlineEstimator est_on(on), est_off(off);
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k * 0.01;
+    double a[3], g[3], a2[3], g2[3];
+    s_on.sample(t, t >= 2.0, a, g);
+    s_off.sample(t, t >= 2.0, a2, g2);
+    if (t >= 2.0) {  // a level sensor: x is up; the centripetal acceleration points left (-y)
+      g[0] += yaw_rad_s;
+      g2[0] += yaw_rad_s;
+      a[1] -= s_on.speed_mps * yaw_rad_s;
+      a2[1] -= s_off.speed_mps * yaw_rad_s;
+    }
+    e_on = est_on.update(t, a, g);
+    e_off = est_off.update(t, a2, g2);
+    ASSERT_EQ(e_on.valid, e_off.valid);
+    ASSERT_EQ(e_on.step_frequency_hz, e_off.step_frequency_hz);
+  }
+  ASSERT_TRUE(e_on.valid);
+  const double added = std::sqrt(e_on.step_frequency_std_hz * e_on.step_frequency_std_hz -
+                                 e_off.step_frequency_std_hz * e_off.step_frequency_std_hz);
+  EXPECT_NEAR(added, on.turn_f_std_hz_per_rad_s * yaw_rad_s, 0.1 * on.turn_f_std_hz_per_rad_s * yaw_rad_s);
+}
+
 TEST(Imu, GravityInTheWrongUnitIsNotValid) {
   // Accelerations in g, not m/s^2: valid 0 with the reason kGravity while walking.
   SyntheticImu s;

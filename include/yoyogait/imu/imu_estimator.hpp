@@ -71,7 +71,8 @@ class ImuOnlineEstimator {
     started_before_ = false;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
-    excursion_m_ = vz2_lp_ = 0.0;
+    excursion_m_ = vz2_lp_ = yaw_rate_lp_rad_s_ = 0.0;
+    heading_tick_ = {1.0, 0.0};
     pendulum_speed_mps_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
     step_length_m_ = 0.0;
     heading_ = {1.0, 0.0};
@@ -274,6 +275,8 @@ class ImuOnlineEstimator {
       pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
     }
     started_ = true;
+    yaw_rate_lp_rad_s_ = 0.0;
+    heading_tick_ = heading_;
     start_t_s_ = t_s;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
   }
@@ -303,6 +306,19 @@ class ImuOnlineEstimator {
                    fs * fs * tv_s;
     if (est_.walking && validity_.pinned(est_.step_frequency_hz) && f_var < kPinnedStdHz * kPinnedStdHz)
       f_var = kPinnedStdHz * kPinnedStdHz;
+    // Turning: the steps of a turn (on the spot, a pivot) are not the walk's; the lock holds the
+    // walk's cadence for a while. The yaw rate from the heading's change since the last estimator
+    // sample, low-passed (kTurnTauS; the pelvis's own rotation at the stride leaks in at 0.01 Hz).
+    if (!(std::fabs(dt_s - turn_dt_s_) <= 1e-9 * turn_dt_s_)) {
+      turn_dt_s_ = dt_s;
+      turn_alpha_ = 1.0 - std::exp(-dt_s / kTurnTauS);
+    }
+    const double dpsi = atan2_fast(heading_tick_[0] * heading_[1] - heading_tick_[1] * heading_[0],
+                                   heading_tick_[0] * heading_[0] + heading_tick_[1] * heading_[1]);
+    heading_tick_ = heading_;
+    if (dt_s > 0.0) yaw_rate_lp_rad_s_ += turn_alpha_ * (dpsi / dt_s - yaw_rate_lp_rad_s_);
+    const double turn_std_hz = config_.turn_f_std_hz_per_rad_s * yaw_rate_lp_rad_s_;
+    f_var += turn_std_hz * turn_std_hz;
     // Locked on a wrong harmonic: the truth is f / 2 or 2 f away.
     if (harmonic_off_) f_var += 0.25 * est_.step_frequency_hz * est_.step_frequency_hz;
     // The bank still choosing: any of its members may win; the range's half-width.
@@ -513,6 +529,10 @@ class ImuOnlineEstimator {
   /// Low-pass of the fed v_z's square, for the speed std while standing [s].
   static constexpr double kStandingTauS = 1.0;
   double vz2_lp_ = 0.0, standing_dt_s_ = -1.0, standing_alpha_ = 0.0;
+  /// Low-pass of the yaw rate, for the step frequency's std in a turn [s].
+  static constexpr double kTurnTauS = 0.5;
+  double yaw_rate_lp_rad_s_ = 0.0, turn_dt_s_ = -1.0, turn_alpha_ = 0.0;
+  std::array<double, 2> heading_tick_{1.0, 0.0};  ///< the heading at the last estimator sample
   /// The frequency std at a bound of the range, at least [Hz].
   static constexpr double kPinnedStdHz = 0.5;
   std::array<double, kRing> vz_ring_{};

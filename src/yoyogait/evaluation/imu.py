@@ -255,7 +255,10 @@ def _run_mobgap(rec: ImuRecording):
 
 
 def summary(rows: list[BoutRow]) -> list[dict]:
-    """Per reference and estimator: bouts, missed, median and worst |error| of cadence, speed, stride time."""
+    """Per reference and estimator: bouts, missed, scored, median and worst |error| of cadence, speed,
+    stride time over the scored bouts (a missed bout, with no stride that counts, has no error: it is
+    left out of the median and counted in ``missed``), and the median with each missed bout counted
+    as an error larger than any (``median_missed_worst_abs_*``: what the misses hide)."""
     out = []
     refs = sorted({r.reference for r in rows})
     ests = [e for e in ESTIMATORS if any(r.estimator == e for r in rows)]
@@ -264,11 +267,14 @@ def summary(rows: list[BoutRow]) -> list[dict]:
             sel = [r for r in rows if r.reference == ref and r.estimator == est]
             d: dict = {"reference": ref, "estimator": est, "bouts": len(sel)}
             d["missed"] = sum(1 for r in sel if not math.isfinite(r.cadence_spm))
+            d["scored"] = d["bouts"] - d["missed"]
             for key in ("cadence_error_spm", "speed_error_mps", "stride_time_error_s"):
-                e = np.abs([getattr(r, key) for r in sel])
-                e = e[np.isfinite(e)]
+                e_all = np.abs(np.array([getattr(r, key) for r in sel], dtype=float))
+                e = e_all[np.isfinite(e_all)]
                 d[f"median_abs_{key}"] = float(np.median(e)) if e.size else math.nan
                 d[f"max_abs_{key}"] = float(np.max(e)) if e.size else math.nan
+                worst = np.where(np.isfinite(e_all), e_all, math.inf)
+                d[f"median_missed_worst_abs_{key}"] = float(np.median(worst)) if worst.size else math.nan
             out.append(d)
     return out
 

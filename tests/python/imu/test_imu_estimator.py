@@ -202,3 +202,26 @@ def test_the_speed_std_carries_the_frequency_std():
     assert m.sum() > 1000
     floor = 0.5 * res["speed_mps"][m] / res["step_frequency_hz"][m] * res["step_frequency_std_hz"][m]
     assert np.all(res["speed_std_mps"][m] >= floor * (1.0 - 1e-9))
+
+
+def test_a_turn_widens_the_frequency_std_by_the_yaw_rate_and_changes_nothing_else():
+    """On the figure-eight the f std squared grows by (turn_f_std_hz_per_rad_s x yaw rate)^2; nothing else moves."""
+    walk = make_imu_walk(walk_type="4-figure-eight", duration_s=30.0)
+    on = _run(walk)
+    off = _run(walk, dataclasses.replace(ImuConfig(), turn_f_std_hz_per_rad_s=0.0))
+    m = (on.time_s >= SETTLED_S) & on["valid"].astype(bool)
+    assert np.array_equal(on["valid"], off["valid"]) and np.array_equal(
+        on["step_frequency_hz"], off["step_frequency_hz"]
+    )
+    added = np.sqrt(np.maximum(on["step_frequency_std_hz"][m] ** 2 - off["step_frequency_std_hz"][m] ** 2, 0.0))
+    t = on.time_s
+    rate = np.abs(np.gradient(np.unwrap(on["heading_rad"]), t))  # the yaw rate of the estimator's own heading
+    expected = ImuConfig().turn_f_std_hz_per_rad_s * np.median(rate[m])
+    assert expected > 0.02  # the walk turns
+    assert np.median(added) == pytest.approx(expected, rel=0.3)
+    straight = make_imu_walk(duration_s=15.0)
+    s_on, s_off = _run(straight), _run(straight, dataclasses.replace(ImuConfig(), turn_f_std_hz_per_rad_s=0.0))
+    ms = straight.recording.time_s >= SETTLED_S
+    assert (
+        np.median(s_on["step_frequency_std_hz"][ms] - s_off["step_frequency_std_hz"][ms]) < 0.1 * expected
+    )  # the pelvis's rotation at the stride leaks in a little

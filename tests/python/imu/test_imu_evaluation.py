@@ -122,3 +122,15 @@ def test_not_walking_inside_a_reference_bout_is_within_the_speed_band(datasets_d
             covered += int(np.sum(np.abs(res["speed_mps"][m] - v_ref[m]) <= 2.0 * res["speed_std_mps"][m]))
     assert inside > 50  # the course has such samples: the property is tested, not skipped
     assert covered >= 0.9 * inside
+
+
+def test_a_missed_bout_is_counted_and_left_out_of_the_median():
+    """A missed bout adds to missed, not to the median's bouts; the missed-as-worst median counts it above all."""
+
+    def row(err):
+        return ev.BoutRow("r", "R", 0, "yoyogait-imu", 0.0, 1.0, 100.0, 1.0, 1.2, 100.0 + err, 1.0, 1.2, 1, 1)
+
+    d = ev.summary([row(1.0), row(2.0), row(math.nan)])[0]
+    assert (d["bouts"], d["missed"], d["scored"]) == (3, 1, 2)
+    assert d["median_abs_cadence_error_spm"] == pytest.approx(1.5)
+    assert d["median_missed_worst_abs_cadence_error_spm"] == pytest.approx(2.0)
