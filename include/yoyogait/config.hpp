@@ -87,7 +87,7 @@ struct FrequencyList {
 /// The gait filter (docs/default_estimator.md), in SI units per second: noise densities are
 /// multiplied by the actual time step. State x = [X1, X2, Z1, Z2, w, A0, dA0, dw].
 #define YOYOGAIT_GAIT_FILTER_FIELDS(X)                                                                              \
-  X(double, f_min_hz, 0.6, "Hz", "[", 0.05, 10.0, "]", "lower bound of the step frequency (0 is excluded)")        \
+  X(double, f_min_hz, 0.4, "Hz", "[", 0.05, 10.0, "]", "lower bound of the step frequency (0 is excluded)")        \
   X(double, f_max_hz, 3.5, "Hz", "[", 0.1, 20.0, "]", "upper bound of the step frequency (> f_min_hz)")            \
   X(::yoyogait::FrequencyList, bank_f_hz, (::yoyogait::FrequencyList{0.9, 1.3, 1.8, 2.3, 2.8}), "Hz", "[", 0.05, 20.0, "]",               \
     "start frequencies of the start-up bank of EKFs: 1 to 8, increasing, within [f_min_hz, f_max_hz]")             \
@@ -96,8 +96,8 @@ struct FrequencyList {
   X(double, bank_prior_f_hz, 1.8, "Hz", "[", 0.05, 20.0, "]", "typical step frequency: its member starts with the log-prior bonus") \
   X(double, bank_prior_bonus_nats, 2.0, "nats", "[", -100.0, 100.0, "]",                                           \
     "log-prior bonus (on re-acquisition: for the member at the last frequency)")                                   \
-  X(double, bank_q_omega_rad2_per_s3, 0.25, "(rad/s)^2/s", "[", 0.0, 1e4, "]",                                      \
-    "random walk of w in the start-up bank's members (a start's cadence still rises; q_omega_rad2_per_s3 after it)") \
+  X(double, bank_q_omega_rad2_per_s3, 0.05, "(rad/s)^2/s", "[", 0.0, 1e4, "]",                                      \
+    "random walk of w in the start-up bank's members (0.25 follows a start's rising cadence better, docs/default_estimator.md)") \
   X(double, p0_f_std_hz, 0.25, "Hz", "[", 0.0, 10.0, "]", "initial frequency std of each member")                  \
   X(double, p0_phasor_std_mps, 0.3, "m/s", "[", 0.0, 100.0, "]", "initial std of the phasors")                     \
   X(double, p0_speed_std_mps, 0.3, "m/s", "[", 0.0, 100.0, "]", "initial std of A0")                               \

@@ -20,8 +20,9 @@ def _first3s_errors(bank_q_omega: float) -> np.ndarray:
 
 
 def test_bank_frequency_walk_follows_the_start_ramp():
-    """On the SYNTHETIC lab's starts (cadence rising from 0 over 1.5 s), the bank's own frequency random walk
-    gives a lower median step-frequency error in the first 3 s than the steady state's q_omega would."""
+    """On the SYNTHETIC lab's starts (cadence rising from 0 over 1.5 s), a larger frequency random walk of the
+    bank's members (0.25, five times the steady q_omega) gives a lower median step-frequency error in the first
+    3 s than the steady q_omega (the default, which the IMU estimator needs)."""
     steady = GaitFilterConfig().q_omega_rad2_per_s3
-    assert GaitFilterConfig().bank_q_omega_rad2_per_s3 > steady
-    assert np.median(_first3s_errors(GaitFilterConfig().bank_q_omega_rad2_per_s3)) < np.median(_first3s_errors(steady))
+    assert GaitFilterConfig().bank_q_omega_rad2_per_s3 == steady
+    assert np.median(_first3s_errors(5.0 * steady)) < np.median(_first3s_errors(steady))

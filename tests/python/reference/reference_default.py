@@ -76,7 +76,7 @@ class DefaultConfig:
 
     def __init__(self, **kw):
         self.nominal_dt_s = 0.04  # used when no dt is given
-        self.f_min_hz = 0.6  # step-frequency bounds (w is clamped into them)
+        self.f_min_hz = 0.4  # step-frequency bounds (w is clamped into them)
         self.f_max_hz = 3.5
         # --- start-up / re-acquisition bank
         self.bank_f_hz = (0.9, 1.3, 1.8, 2.3, 2.8)
@@ -84,7 +84,7 @@ class DefaultConfig:
         self.bank_forget_s = 1.5  # memory of the members' log-likelihood
         self.bank_prior_f_hz = 1.8  # typical step frequency: its member gets a log-prior bonus
         self.bank_prior_bonus = 2.0  # (nats; the hint member gets it on re-acquisition)
-        self.bank_q_omega_rad2_per_s3 = 0.25  # step-frequency random walk of the bank's members
+        self.bank_q_omega_rad2_per_s3 = 0.05  # step-frequency random walk of the bank's members
         self.p0_f_std_hz = 0.25  # initial frequency std of each member
         self.p0_phasor_std_mps = 0.3
         self.p0_bias_std_mps = 0.3
