@@ -61,6 +61,24 @@ inline double atan2_fast(double y, double x) noexcept {
   return y < 0.0 ? -a : a;
 }
 
+/// The gain 1 - exp(-dt_s / tau_s) of a first-order low-pass, recomputed only when dt_s moves by
+/// more than 1e-9 of itself: sample times jitter in their last bits, and an exp per sample costs.
+class ExpGain {
+ public:
+  explicit ExpGain(double tau_s = 1.0) noexcept : tau_s_(tau_s) {}
+  double operator()(double dt_s) noexcept {
+    if (!(std::fabs(dt_s - dt_s_) <= 1e-9 * dt_s_)) {
+      dt_s_ = dt_s;
+      gain_ = 1.0 - std::exp(-dt_s / tau_s_);
+    }
+    return gain_;
+  }
+
+ private:
+  double tau_s_;
+  double dt_s_ = -1.0, gain_ = 0.0;
+};
+
 /// sqrt(a), correctly rounded as std::sqrt, but without the errno check that std::sqrt carries
 /// under the default -fmath-errno (a branch to a library call on the per-sample path).
 inline double sqrt1(double a) noexcept {

@@ -20,9 +20,11 @@
 #include <stdexcept>
 
 #include "yoyogait/estimator.hpp"
+#include "yoyogait/imu/harmonic_check.hpp"
 #include "yoyogait/imu/imu_config.hpp"
 #include "yoyogait/imu/imu_estimate.hpp"
 #include "yoyogait/imu/mahony.hpp"
+#include "yoyogait/imu/pendulum.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/online/validity.hpp"
 
@@ -31,10 +33,6 @@ namespace yoyogait {
 /// The IMU gait estimator. update() is noexcept and allocates nothing; the constructor throws
 /// std::invalid_argument for an unusable configuration.
 class ImuOnlineEstimator {
-  /// The harmonic check: the last kRing fed v_z means, every kCheckTicks over kCheckWindow of them.
-  static constexpr std::size_t kRing = 128, kCheckWindow = 50, kCheckTicks = 5;
-  static_assert((kRing & (kRing - 1)) == 0, "the ring's length is a power of 2");
-
  public:
   static constexpr double kGravityMps2 = 9.80665;
   /// A magnetometer norm rejected this long on end becomes the reference norm [s].
@@ -45,7 +43,9 @@ class ImuOnlineEstimator {
         estimator_(config_.estimator),
         mahony_(config_.mahony_kp_per_s, config_.mahony_ki_per_s2, config_.max_gyro_bias_rad_s),
         int_z_(config_.highpass_tau_s),
-        int_x_(config_.highpass_tau_s) {
+        int_x_(config_.highpass_tau_s),
+        pendulum_(pendulum_settings(config_)),
+        gravity_gain_(config_.gravity_tau_s) {
     fwd_[config_.forward_axis] = config_.forward_negative ? -1.0 : 1.0;
     input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
     // A frequency at a bound of the estimator's range is a filter that has not locked.
@@ -62,7 +62,7 @@ class ImuOnlineEstimator {
   void reset() noexcept {
     estimator_.reset();
     restart_estimate();
-    clear_ring();
+    harmonic_.clear();
     est_ = Estimate{};
     out_ = ImuEstimate{};
     have_time_ = false;
@@ -71,10 +71,9 @@ class ImuOnlineEstimator {
     started_before_ = false;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
-    excursion_m_ = vz2_lp_ = yaw_rate_lp_rad_s_ = 0.0;
+    vz2_lp_ = yaw_rate_lp_rad_s_ = 0.0;
     heading_tick_ = {1.0, 0.0};
-    pendulum_speed_mps_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
-    step_length_m_ = 0.0;
+    pendulum_.clear();
     heading_ = {1.0, 0.0};
     t_saturated_s_ = -std::numeric_limits<double>::infinity();
     gap_restart_ = false;
@@ -167,11 +166,7 @@ class ImuOnlineEstimator {
         }
       }
       mahony_.step(a, w, dt_s, !saturated, yaw_error, config_.mag_kp_per_s);
-      if (!(std::fabs(dt_s - gravity_dt_s_) <= 1e-9 * gravity_dt_s_)) {  // not per sample: time stamps jitter
-        gravity_dt_s_ = dt_s;
-        gravity_alpha_ = 1.0 - std::exp(-dt_s / config_.gravity_tau_s);
-      }
-      acc_norm_lp_ += gravity_alpha_ * (a_norm - acc_norm_lp_);
+      acc_norm_lp_ += gravity_gain_(dt_s) * (a_norm - acc_norm_lp_);
     }
 
     // The specific force in the world frame, gravity removed; the heading of the forward axis.
@@ -197,7 +192,7 @@ class ImuOnlineEstimator {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
-    o.vx_mps = fed_speed_mps_ + o.vx_osc_mps;
+    o.vx_mps = pendulum_.fed_speed_mps() + o.vx_osc_mps;
     o.input_latency_s = input_latency_s_;
 
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
@@ -214,7 +209,8 @@ class ImuOnlineEstimator {
         const double vz_mean = sum_vz_ / span_s_;
         est_ = estimator_.step(sum_vx_ / span_s_, vz_mean, step_dt_s);
         fed_ = true;
-        update_pendulum(step_dt_s);  // first: the checks and stds of this sample use its step length
+        // First: the checks and stds of this sample use its step length.
+        pendulum_.update(est_.gait_state, est_.walking, est_.acquiring, step_dt_s);
         sampled(prior, step_dt_s, vz_mean);
         o.estimator_fed = true;
         t_tick_s_ = t_s;
@@ -259,6 +255,14 @@ class ImuOnlineEstimator {
     if (const char* e = c.validate()) throw std::invalid_argument(e);
     return c;
   }
+  static imu::Pendulum::Settings pendulum_settings(const ImuConfig& c) noexcept {
+    imu::Pendulum::Settings s;
+    s.length_m = c.sensor_height_m;
+    s.step_length_factor = c.step_length_factor;
+    s.excursion_tau_s = c.excursion_tau_s;
+    s.max_speed_mps = c.max_speed_mps;
+    return s;
+  }
 
   // A (re)start: the integrators from rest. The orientation is taken from the specific force only
   // at the first sample: after a gap the filter's own orientation (held over the gap) is closer
@@ -266,13 +270,13 @@ class ImuOnlineEstimator {
   // a jump of phase and amplitude), and so does the pendulum speed.
   void start_front_end(double t_s, const imu::Vec3& a) noexcept {
     if (!started_) mahony_.start(a);
-    clear_ring();
+    harmonic_.clear();
     if (started_) {
       estimator_.reset();
       restart_estimate();
       est_ = Estimate{};
       fed_ = false;
-      pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
+      pendulum_.clear(true);
     }
     started_ = true;
     yaw_rate_lp_rad_s_ = 0.0;
@@ -282,11 +286,11 @@ class ImuOnlineEstimator {
   }
 
   // The estimator (re)starts: what its outputs' stds know goes too (the v_z ring stays: it is the
-  // front-end's, cleared by clear_ring at a start of the front-end).
+  // front-end's, cleared at a start of the front-end).
   void restart_estimate() noexcept {
     validity_.reset();
-    ticks_since_check_ = 0;
-    harmonic_off_ = acf_off_ = false;
+    harmonic_.restart(false);
+    harmonic_off_ = false;
     harmonic_off_s_ = 0.0;
     f_std_ = s_std_ = std::numeric_limits<double>::infinity();
   }
@@ -304,19 +308,17 @@ class ImuOnlineEstimator {
     const double tv_s = validity_.transient_var_speed();
     double f_var = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() +
                    fs * fs * tv_s;
-    if (est_.walking && validity_.pinned(est_.step_frequency_hz) && f_var < kPinnedStdHz * kPinnedStdHz)
-      f_var = kPinnedStdHz * kPinnedStdHz;
+    constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
+    if (est_.walking && validity_.pinned(est_.step_frequency_hz) && f_var < pinned_std_hz * pinned_std_hz)
+      f_var = pinned_std_hz * pinned_std_hz;
     // Turning: the steps of a turn (on the spot, a pivot) are not the walk's; the lock holds the
     // walk's cadence for a while. The yaw rate from the heading's change since the last estimator
     // sample, low-passed (kTurnTauS; the pelvis's own rotation at the stride leaks in at 0.01 Hz).
-    if (!(std::fabs(dt_s - turn_dt_s_) <= 1e-9 * turn_dt_s_)) {
-      turn_dt_s_ = dt_s;
-      turn_alpha_ = 1.0 - std::exp(-dt_s / kTurnTauS);
-    }
+    const double turn_gain = turn_gain_(dt_s);
     const double dpsi = atan2_fast(heading_tick_[0] * heading_[1] - heading_tick_[1] * heading_[0],
                                    heading_tick_[0] * heading_[0] + heading_tick_[1] * heading_[1]);
     heading_tick_ = heading_;
-    if (dt_s > 0.0) yaw_rate_lp_rad_s_ += turn_alpha_ * (dpsi / dt_s - yaw_rate_lp_rad_s_);
+    if (dt_s > 0.0) yaw_rate_lp_rad_s_ += turn_gain * (dpsi / dt_s - yaw_rate_lp_rad_s_);
     const double turn_std_hz = config_.turn_f_std_hz_per_rad_s * yaw_rate_lp_rad_s_;
     f_var += turn_std_hz * turn_std_hz;
     // Locked on a wrong harmonic: the truth is f / 2 or 2 f away.
@@ -326,65 +328,45 @@ class ImuOnlineEstimator {
       const double half = 0.5 * (config_.estimator.gait_filter.f_max_hz - config_.estimator.gait_filter.f_min_hz);
       f_var += half * half;
     }
-    const double model_std = config_.speed_rel_std * pendulum_speed_mps_;
-    double s_var = (pendulum_speed_mps_ > 0.0 ? 0.0 : k * k * est_.speed_std_mps * est_.speed_std_mps) + tv_s +
+    const double pendulum_mps = pendulum_.speed_mps(), model_std = config_.speed_rel_std * pendulum_mps;
+    double s_var = (pendulum_mps > 0.0 ? 0.0 : k * k * est_.speed_std_mps * est_.speed_std_mps) + tv_s +
                    model_std * model_std;
     // While the pendulum speed rises from 0 (excursion_tau_s) or the lock is off, the speed is as
     // uncertain as the pendulum's own estimate of where it goes.
-    const double gap = target_speed_mps_ - (pendulum_speed_mps_ > 0.0 ? pendulum_speed_mps_ : est_.speed_mps);
+    const double gap = pendulum_.target_speed_mps() - (pendulum_mps > 0.0 ? pendulum_mps : est_.speed_mps);
     s_var += gap * gap;
     // The pendulum speed is taken at the estimate's frequency: L f with L from h = 2 |Z| / w goes as
     // sqrt(|Z| f) (h << l), so the frequency's relative std reaches the speed halved.
-    if (pendulum_speed_mps_ > 0.0 && est_.step_frequency_hz > 0.0) {
-      const double v_per_f = 0.5 * pendulum_speed_mps_ / est_.step_frequency_hz;  // dv/df
+    if (pendulum_mps > 0.0 && est_.step_frequency_hz > 0.0) {
+      const double v_per_f = 0.5 * pendulum_mps / est_.step_frequency_hz;  // dv/df
       s_var += v_per_f * v_per_f * f_var;
     }
     // Not locked: nothing is known of the speed within what is plausible.
     if (harmonic_off_ || est_.acquiring) s_var += config_.max_speed_mps * config_.max_speed_mps;
     // Standing, by the detector: a slow walk it cannot tell from standing goes at the pendulum speed
     // of the vertical motion seen (the fed v_z's low-passed RMS as the fundamental's amplitude).
-    if (!(std::fabs(dt_s - standing_dt_s_) <= 1e-9 * standing_dt_s_)) {
-      standing_dt_s_ = dt_s;
-      standing_alpha_ = 1.0 - std::exp(-dt_s / kStandingTauS);
-    }
-    vz2_lp_ += standing_alpha_ * (vz_mean * vz_mean - vz2_lp_);
+    vz2_lp_ += standing_gain_(dt_s) * (vz_mean * vz_mean - vz2_lp_);
     if (!est_.walking) {
       const double f = est_.step_frequency_hz > f_locked_min_hz_ ? est_.step_frequency_hz : f_locked_min_hz_;
       const double h = 2.0 * std::sqrt(2.0 * vz2_lp_) / (6.283185307179586 * f);
-      const double hidden_mps = std::fmin(step_length(h) * f, config_.max_speed_mps);
+      const double hidden_mps = std::fmin(pendulum_.step_length(h) * f, config_.max_speed_mps);
       s_var += hidden_mps * hidden_mps;
     }
     f_std_ = std::sqrt(f_var);
     s_std_ = std::sqrt(s_var);
   }
 
-  // Whether the estimator sits on a wrong harmonic of the step, from the fed v_z's normalised
-  // autocorrelation at its period P = 1 / f and at P / 2: on the step, r(P) > 0 > r(P / 2); on the
-  // stride (f half the cadence, the second harmonic taking the step) r(P / 2) > 0; on twice the
-  // cadence r(P) < 0. Every kCheckTicks samples over the last kCheckWindow; held kHarmonicHoldS.
+  // Whether the estimator sits on a wrong harmonic of the step: by the fed v_z's autocorrelation
+  // (imu::HarmonicCheck) or by the walk ratio; held kHarmonicRestartS, the estimator restarts.
   void check_harmonic(double vz, double dt_s) noexcept {
-    vz_ring_[ring_next_] = vz;
-    ring_next_ = (ring_next_ + 1) & (kRing - 1);
-    if (ring_n_ < kRing) ++ring_n_;
     const double f = est_.step_frequency_hz;
     const bool locked = est_.walking && !est_.acquiring && f > 0.0 && dt_s > 0.0;
-    if (++ticks_since_check_ >= kCheckTicks) {
-      ticks_since_check_ = 0;
-      acf_off_ = false;
-      const double lag = locked ? 1.0 / (f * dt_s) : 0.0;
-      if (locked && lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(ring_n_)) {
-        // The ring newest first, in order: the correlations then index it without wrapping.
-        std::array<double, kRing> x;
-        for (std::size_t i = 0; i < ring_n_; ++i) x[i] = vz_ring_[(ring_next_ + kRing - 1 - i) & (kRing - 1)];
-        const double r_full = autocorrelation(x, lag), r_half = autocorrelation(x, 0.5 * lag);
-        acf_off_ = r_half > kHalfLagMax || r_full < kFullLagMin;
-      }
-    }
+    const bool acf_off = harmonic_.update(vz, f, locked, dt_s);
     // A stride lock reads half the cadence and about twice the step length: a walk ratio (step
     // length per step frequency in steps/min) no walker has, whatever the autocorrelation says (an
     // asymmetric gait's v_z repeats over the stride too). Every sample: it costs a comparison.
     const double wr_max = config_.max_walk_ratio_m_per_spm;
-    const bool off = acf_off_ || (locked && wr_max > 0.0 && step_length_m_ > wr_max * 60.0 * f);
+    const bool off = acf_off || (locked && wr_max > 0.0 && pendulum_.step_length_m() > wr_max * 60.0 * f);
     if (off && !harmonic_off_) harmonic_off_s_ = 0.0;
     harmonic_off_ = off;
     if (off) {
@@ -392,64 +374,11 @@ class ImuOnlineEstimator {
       if (harmonic_off_s_ >= kHarmonicRestartS) {  // it stays there: acquire afresh
         estimator_.reset();
         restart_estimate();
-        harmonic_off_ = acf_off_ = true;  // not valid until the check has run again
-        pendulum_speed_mps_ = excursion_m_ = step_length_m_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
+        harmonic_off_ = true;  // not valid until the check has run again
+        harmonic_.restart(true);
+        pendulum_.clear(true);
       }
     }
-  }
-
-  // The normalised autocorrelation of the first kCheckWindow values of x (newest first) at a
-  // (fractional) lag.
-  static double autocorrelation(const std::array<double, kRing>& x, double lag) noexcept {
-    const std::size_t l0 = static_cast<std::size_t>(lag);
-    const double w = lag - static_cast<double>(l0);
-    double sxy = 0.0, sxx = 0.0, syy = 0.0;
-    for (std::size_t i = 0; i < kCheckWindow; ++i) {
-      const double y = (1.0 - w) * x[i + l0] + w * x[i + l0 + 1];
-      sxy += x[i] * y;
-      sxx += x[i] * x[i];
-      syy += y * y;
-    }
-    const double d = sxx * syy;
-    return d > 0.0 ? sxy / std::sqrt(d) : 0.0;
-  }
-  void clear_ring() noexcept {
-    vz_ring_.fill(0.0);
-    ring_n_ = ring_next_ = 0;
-  }
-
-  // The inverted pendulum's speed from the estimator's vertical phasor: h = 2 |Z| / w per step,
-  // low-passed while walking; the step length K 2 sqrt(2 l h - h^2), the speed that times f.
-  void update_pendulum(double dt_s) noexcept {
-    const GaitState& x = est_.gait_state;
-    const double omega = x[gait::kW];
-    if (!(est_.walking && !est_.acquiring && omega > 0.0)) {
-      if (!est_.walking)
-        pendulum_speed_mps_ = excursion_m_ = step_length_m_ = target_speed_mps_ = fed_speed_mps_ = ramp_excursion_m_ = 0.0;
-      return;
-    }
-    // At most a fifth of the pendulum's length: no walker's pelvis rises more per step; a larger
-    // value is a phasor that has not locked (|Z| / w with w small).
-    const double h = std::fmin(2.0 * std::sqrt(x[gait::kZ1] * x[gait::kZ1] + x[gait::kZ2] * x[gait::kZ2]) / omega,
-                               0.2 * config_.sensor_height_m);
-    if (!std::isfinite(h)) return;
-    // Fed to the estimator from 0 at the start of a walk (a step of the forward velocity it is fed
-    // would disturb its phase and frequency while they lock); reported from the first value on.
-    const double g = 1.0 - std::exp(-dt_s / config_.excursion_tau_s);
-    ramp_excursion_m_ += g * (h - ramp_excursion_m_);
-    excursion_m_ = excursion_m_ > 0.0 ? excursion_m_ + g * (h - excursion_m_) : h;
-    const double l = config_.sensor_height_m, f = omega * 0.15915494309189533576888376337251;
-    fed_speed_mps_ = std::fmin(step_length(ramp_excursion_m_) * f, 2.0 * config_.max_speed_mps);
-    step_length_m_ = step_length(excursion_m_);
-    pendulum_speed_mps_ = std::fmin(step_length_m_ * f, 2.0 * config_.max_speed_mps);
-    const double hm = std::fmin(h, l);
-    target_speed_mps_ = std::fmin(step_length(hm) * f, 2.0 * config_.max_speed_mps);
-  }
-
-  // The inverted pendulum's step length for a vertical excursion h per step [m].
-  double step_length(double h) const noexcept {
-    const double l = config_.sensor_height_m, he = std::fmin(h, l);
-    return config_.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * he - he * he));
   }
 
   // The estimator's last estimate carried to t_s by its own forecast (as OnlineEstimator does).
@@ -459,16 +388,16 @@ class ImuOnlineEstimator {
     o.step_frequency_hz = e.step_frequency_hz;
     // The speed is the pendulum's, once it runs: the estimator's A0 follows the fed speed only over
     // seconds (its random walk), too slowly for a walk of a few steps.
-    o.speed_mps = pendulum_speed_mps_ > 0.0 ? pendulum_speed_mps_ : e.speed_mps;
+    o.speed_mps = pendulum_.speed_mps() > 0.0 ? pendulum_.speed_mps() : e.speed_mps;
     if (!fed_) {  // nothing is known of the estimator's outputs yet
       o.step_frequency_std_hz = o.speed_std_mps = std::numeric_limits<double>::infinity();
     } else {
       o.step_frequency_std_hz = f_std_;
       o.speed_std_mps = s_std_;
     }
-    o.excursion_m = excursion_m_;
-    o.step_length_m = step_length_m_;
-    o.pendulum_speed_mps = pendulum_speed_mps_;
+    o.excursion_m = pendulum_.excursion_m();
+    o.step_length_m = pendulum_.step_length_m();
+    o.pendulum_speed_mps = pendulum_.speed_mps();
     o.walking = fed_ && e.walking;
     o.estimator_status = e.status;
     if (!fed_) {
@@ -520,27 +449,26 @@ class ImuOnlineEstimator {
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
-  double excursion_m_ = 0.0, step_length_m_ = 0.0, pendulum_speed_mps_ = 0.0, target_speed_mps_ = 0.0;
-  double fed_speed_mps_ = 0.0, ramp_excursion_m_ = 0.0;  ///< the pendulum speed fed to the estimator, ramped
+  imu::Pendulum pendulum_;
   online::Validity validity_{};
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
-  /// r(P / 2) above this or r(P) below it: a wrong harmonic. Held this long, the estimator restarts [s].
-  static constexpr double kHalfLagMax = 0.0, kFullLagMin = 0.0, kHarmonicRestartS = 1.0;
+  /// A wrong harmonic held this long: the estimator restarts [s].
+  static constexpr double kHarmonicRestartS = 1.0;
   /// Low-pass of the fed v_z's square, for the speed std while standing [s].
   static constexpr double kStandingTauS = 1.0;
-  double vz2_lp_ = 0.0, standing_dt_s_ = -1.0, standing_alpha_ = 0.0;
+  double vz2_lp_ = 0.0;
+  ExpGain standing_gain_{kStandingTauS};
   /// Low-pass of the yaw rate, for the step frequency's std in a turn [s].
   static constexpr double kTurnTauS = 0.5;
-  double yaw_rate_lp_rad_s_ = 0.0, turn_dt_s_ = -1.0, turn_alpha_ = 0.0;
+  double yaw_rate_lp_rad_s_ = 0.0;
+  ExpGain turn_gain_{kTurnTauS};
   std::array<double, 2> heading_tick_{1.0, 0.0};  ///< the heading at the last estimator sample
-  /// The frequency std at a bound of the range, at least [Hz].
-  static constexpr double kPinnedStdHz = 0.5;
-  std::array<double, kRing> vz_ring_{};
-  std::size_t ring_n_ = 0, ring_next_ = 0, ticks_since_check_ = 0;
-  bool harmonic_off_ = false, acf_off_ = false;  ///< off a harmonic; by the autocorrelation (held between its checks)
+  imu::HarmonicCheck harmonic_;
+  bool harmonic_off_ = false;  ///< off a harmonic (by the autocorrelation or the walk ratio)
   double harmonic_off_s_ = 0.0;
   std::array<double, 2> heading_{1.0, 0.0};
-  double t_saturated_s_ = 0.0, acc_norm_lp_ = kGravityMps2, gravity_dt_s_ = -1.0, gravity_alpha_ = 0.0;
+  double t_saturated_s_ = 0.0, acc_norm_lp_ = kGravityMps2;
+  ExpGain gravity_gain_;
 };
 
 }  // namespace yoyogait

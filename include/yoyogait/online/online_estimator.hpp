@@ -417,8 +417,9 @@ class OnlineEstimator {
     const double age = o.estimate_age_s;
     const bool grown = age > 2.0 * config_.estimator.sample_time_s;
     o.step_frequency_std_hz = grown ? sqrt1(f_var_ + q_f_ * age) : f_std_;
-    if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < kPinnedStdHz)
-      o.step_frequency_std_hz = kPinnedStdHz;
+    constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
+    if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < pinned_std_hz)
+      o.step_frequency_std_hz = pinned_std_hz;
     o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
     // Walking without travelling (a treadmill without feet or belt speed, stepping in place): the
     // speed is unknown, anywhere from 0 to a walker's at this cadence; its std says so.
@@ -442,8 +443,6 @@ class OnlineEstimator {
   /// while the blend of a change of the visible markers (online/centre.hpp) moves it by millimetres.
   static constexpr double kMinOutlierM = 0.02;
 
-  /// The frequency std at a bound of the range, at least [Hz].
-  static constexpr double kPinnedStdHz = 0.5;
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
   static constexpr double kLongStepM = 0.8;
 

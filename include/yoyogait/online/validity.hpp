@@ -233,6 +233,8 @@ class Validity {
   double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
   /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
   double std_inflation() const noexcept { return nis_lp_ > 2.0 ? sqrt1(0.5 * nis_lp_) : 1.0; }
+  /// The frequency std reported at a bound of the range, at least [Hz]: a bound is no estimate.
+  static constexpr double kPinnedStdHz = 0.5;
   /// Whether the frequency lies at a bound of its range (within 2 % of the range).
   bool pinned(double f_hz) const noexcept {
     const double margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);

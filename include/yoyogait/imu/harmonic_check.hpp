@@ -1,0 +1,77 @@
+/// @file imu/harmonic_check.hpp
+/// @brief Whether the estimator sits on a wrong harmonic of the step, from the fed v_z's normalised
+/// autocorrelation at its period P = 1 / f and at P / 2: on the step, r(P) > 0 > r(P / 2); on the
+/// stride (f half the cadence, the second harmonic taking the step) r(P / 2) > 0; on twice the
+/// cadence r(P) < 0 (docs/imu.md).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace yoyogait::imu {
+
+class HarmonicCheck {
+ public:
+  /// The last kRing fed v_z means, checked every kCheckTicks samples over kCheckWindow of them.
+  static constexpr std::size_t kRing = 128, kCheckWindow = 50, kCheckTicks = 5;
+  static_assert((kRing & (kRing - 1)) == 0, "the ring's length is a power of 2");
+  /// r(P / 2) above this or r(P) below it: a wrong harmonic.
+  static constexpr double kHalfLagMax = 0.0, kFullLagMin = 0.0;
+
+  /// The ring emptied (a start of the front-end).
+  void clear() noexcept {
+    ring_.fill(0.0);
+    n_ = next_ = 0;
+  }
+
+  /// The estimator (re)starts: the next check comes kCheckTicks samples on; off_ until then as given.
+  void restart(bool off) noexcept {
+    ticks_ = 0;
+    off_ = off;
+  }
+
+  /// One fed v_z mean; f_hz the estimate at that sample, locked whether it is walking and has locked,
+  /// dt_s the sample time. Whether the autocorrelation says off (held between its checks).
+  bool update(double vz, double f_hz, bool locked, double dt_s) noexcept {
+    ring_[next_] = vz;
+    next_ = (next_ + 1) & (kRing - 1);
+    if (n_ < kRing) ++n_;
+    if (++ticks_ >= kCheckTicks) {
+      ticks_ = 0;
+      off_ = false;
+      const double lag = locked ? 1.0 / (f_hz * dt_s) : 0.0;
+      if (locked && lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(n_)) {
+        // The ring newest first, in order: the correlations then index it without wrapping.
+        std::array<double, kRing> x;
+        for (std::size_t i = 0; i < n_; ++i) x[i] = ring_[(next_ + kRing - 1 - i) & (kRing - 1)];
+        const double r_full = autocorrelation(x, lag), r_half = autocorrelation(x, 0.5 * lag);
+        off_ = r_half > kHalfLagMax || r_full < kFullLagMin;
+      }
+    }
+    return off_;
+  }
+
+ private:
+  // The normalised autocorrelation of the first kCheckWindow values of x (newest first) at a
+  // (fractional) lag.
+  static double autocorrelation(const std::array<double, kRing>& x, double lag) noexcept {
+    const std::size_t l0 = static_cast<std::size_t>(lag);
+    const double w = lag - static_cast<double>(l0);
+    double sxy = 0.0, sxx = 0.0, syy = 0.0;
+    for (std::size_t i = 0; i < kCheckWindow; ++i) {
+      const double y = (1.0 - w) * x[i + l0] + w * x[i + l0 + 1];
+      sxy += x[i] * y;
+      sxx += x[i] * x[i];
+      syy += y * y;
+    }
+    const double d = sxx * syy;
+    return d > 0.0 ? sxy / std::sqrt(d) : 0.0;
+  }
+
+  std::array<double, kRing> ring_{};
+  std::size_t n_ = 0, next_ = 0, ticks_ = 0;
+  bool off_ = false;
+};
+
+}  // namespace yoyogait::imu
