@@ -659,7 +659,9 @@ def estimate_figure(
     ):
         for a in (ax, zoom):
             a.plot(t, measured, color="0.4", lw=0.9, label=f"measured ${name}$")
-            a.plot(t, estimate, color=_EST, lw=1.1, label=f"reconstructed ${name}$")
+            # While standing the reconstruction is the model carried on without a measurement, as in Fig. 4.
+            _plot_estimate(a, t, estimate, walking, color=_EST, lw=1.1, label=f"reconstructed ${name}$",
+                           prior_label=a is ax_x)  # fmt: skip
     ax_x.set_ylabel("forward $v_x$ (m/s)")
     ax_z.set_ylabel("vertical $v_z$ (m/s)")
 

@@ -240,6 +240,7 @@ def _interp(t, tp, y):
 def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float) -> _Refs:
     vx = _interp(t, vel.time_s, vel.vx_signed)
     vz = _interp(t, vel.time_s, vel.vz)
+    quality = events.NO_REFERENCE  # a SYNTHETIC truth: trusted by being the truth (tables.trusted)
     if item.truth is not None:
         tr = item.truth.at(t)
         f_ref, speed_ref = tr.step_frequency_hz, tr.speed_mps
@@ -250,8 +251,6 @@ def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float) -> _R
         f_ref, speed_ref, walking, quality = real_reference(recording, shim, item)
     if not walking.any():
         walking = np.isfinite(vx) & np.isfinite(vz)
-    if item.truth is not None:
-        return _Refs(t, rate_hz, vx, vz, np.asarray(walking, dtype=bool), f_ref, speed_ref)
     return _Refs(t, rate_hz, vx, vz, np.asarray(walking, dtype=bool), f_ref, speed_ref, quality)
 
 
