@@ -37,7 +37,9 @@ def test_live_publishes_every_estimate_on_the_ros2_topic_as_a_float64_multiarray
     source, topic = unique("ros"), f"/yoyogait_test_{os.getpid()}"
     received = []
     node = rclpy.create_node("yoyogait_test_subscriber")
-    node.create_subscription(std_msgs.Float64MultiArray, topic, lambda m: received.append(m), 100)
+    # A history deeper than the frames: a keep-last reader as deep as the walk drops the oldest
+    # estimate when all of them arrive before the callbacks run (seen once on a loaded machine).
+    node.create_subscription(std_msgs.Float64MultiArray, topic, lambda m: received.append(m), 10 * rec.n_frames)
     outlet = pylsl.StreamOutlet(marker_info(pylsl, source, pelvis_labels()))
     done = {}
     args = ["live", "--source", source, "--ros2-topic", topic, "--exit-on-end", "--max-buffer-s", "10"]
@@ -49,9 +51,10 @@ def test_live_publishes_every_estimate_on_the_ros2_topic_as_a_float64_multiarray
         rclpy.spin_once(node, timeout_sec=0.05)
     time.sleep(2.0)  # discovery seen from the subscriber; give the publisher side time to match it too
     base = pylsl.local_clock()
-    for k in range(rec.n_frames):
+    for k in range(rec.n_frames):  # at the capture's rate, as a mocap system sends them
+        while pylsl.local_clock() < base + rec.time_s[k]:
+            rclpy.spin_once(node, timeout_sec=0.001)
         outlet.push_sample(frames[k].tolist(), base + rec.time_s[k])
-        rclpy.spin_once(node, timeout_sec=0)
     end = time.monotonic() + 15
     while len(received) < rec.n_frames and time.monotonic() < end:
         rclpy.spin_once(node, timeout_sec=0.05)
