@@ -88,6 +88,17 @@ def test_online_evaluation_of_two_short_walks_gives_every_column_where_defined(s
     assert step["online"]["f_err_median_hz"] < 0.05 and abs(step["online"]["latency_vz_ms"]) < 30
 
 
+def test_startup_from_cadence_counts_from_the_end_of_the_start_up_ramp(short_walks):
+    """startup_from_cadence_s is the start-up time measured from the ramp's end (ramp_s after the first
+    step), not from the first walking frame: the two differ by the ramp where both settle after it."""
+    for r in short_walks.items:
+        ramp_s = r.item.load().metadata["ramp_s"]
+        for est in ("online", "oscillator"):
+            m = r.metrics[est]
+            assert m["startup_time_s"] > ramp_s, (r.item.walk, est)  # nobody follows a ramp from 0 Hz
+            assert m["startup_from_cadence_s"] == pytest.approx(m["startup_time_s"] - ramp_s, abs=0.05)
+
+
 def test_evaluate_online_through_the_cli_writes_the_named_columns(tmp_path, capsys):
     """`yoyogait evaluate FOLDER --online` on two TRC files writes recordings.csv with the online columns."""
     data = tmp_path / "data"
