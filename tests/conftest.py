@@ -86,7 +86,12 @@ def ros_machine_only():
     os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
     os.environ.pop("ROS_LOCALHOST_ONLY", None)  # deprecated since Jazzy; the range above replaces it
     os.environ.pop("ROS_STATIC_PEERS", None)
-    os.environ["ROS_DOMAIN_ID"] = str(random.SystemRandom().randint(100, 200))
+    # Under pytest-xdist each worker draws from its own share of 100-200: two workers' nodes never meet.
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw")
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    span = max(1, 101 // max(1, workers))
+    low = 100 + (int(worker) if worker.isdigit() else 0) * span % 101
+    os.environ["ROS_DOMAIN_ID"] = str(random.SystemRandom().randint(low, min(200, low + span - 1)))
     yield int(os.environ["ROS_DOMAIN_ID"])
     for n, v in previous.items():
         if v is None:
