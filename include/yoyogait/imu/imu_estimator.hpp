@@ -301,10 +301,15 @@ class ImuOnlineEstimator {
   void sampled(const GaitState& prior, double dt_s, double vz_mean) noexcept {
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
-    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
+    // The transients are those of the speed reported (the pendulum's once it runs, carry_estimate),
+    // as the marker path's Validity sees the speed it reports: the estimator's A0 follows the fed
+    // speed only over seconds and missed the reported speed's changes (its fall at a stop, its step
+    // at the lock).
+    const double speed_mps = pendulum_.speed_mps() > 0.0 ? pendulum_.speed_mps() : est_.speed_mps;
+    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, speed_mps, correction);
     check_harmonic(vz_mean, dt_s);
     const double k = validity_.std_inflation();
-    const double sp = est_.speed_mps > 0.3 ? est_.speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
+    const double sp = speed_mps > 0.3 ? speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
     const double tv_s = validity_.transient_var_speed();
     double f_var = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() +
                    fs * fs * tv_s;
