@@ -46,7 +46,7 @@ class ImuOnlineEstimator {
         int_x_(config_.highpass_tau_s),
         pendulum_(pendulum_settings(config_)),
         gravity_gain_(config_.gravity_tau_s) {
-    fwd_[config_.forward_axis] = config_.forward_negative ? -1.0 : 1.0;
+    fwd_sign_ = config_.forward_negative ? -1.0 : 1.0;
     input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
     // A frequency at a bound of the estimator's range is a filter that has not locked.
     f_locked_min_hz_ = 1.02 * config_.estimator.gait_filter.f_min_hz;
@@ -171,7 +171,8 @@ class ImuOnlineEstimator {
 
     // The specific force in the world frame, gravity removed; the heading of the forward axis.
     const imu::Vec3 f_w = mahony_.to_world(a);
-    const imu::Vec3 x_w = mahony_.to_world(fwd_);
+    imu::Vec3 x_w = mahony_.axis_to_world(config_.forward_axis);
+    for (double& c : x_w) c *= fwd_sign_;
     const double hn = sqrt1(x_w[0] * x_w[0] + x_w[1] * x_w[1]);
     if (hn > 0.2) heading_ = {x_w[0] / hn, x_w[1] / hn};  // held while the axis is near vertical
     o.heading_rad = atan2_fast(heading_[1], heading_[0]);  // within 2e-6 rad, no library call per sample
@@ -443,7 +444,7 @@ class ImuOnlineEstimator {
   Estimator estimator_;
   imu::Mahony mahony_;
   imu::LeakyIntegrator int_z_, int_x_;
-  imu::Vec3 fwd_{0.0, 0.0, 0.0};
+  double fwd_sign_ = 1.0;  ///< the forward direction is +1 or -1 times forward_axis
   double input_latency_s_ = 0.0;  ///< the integrators' delay at latency_f_hz (constant)
   double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
   Estimate est_{};
