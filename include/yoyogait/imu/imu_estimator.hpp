@@ -46,7 +46,7 @@ class ImuOnlineEstimator {
         int_x_(config_.highpass_tau_s),
         pendulum_(pendulum_settings(config_)),
         gravity_gain_(config_.gravity_tau_s) {
-    fwd_[config_.forward_axis] = config_.forward_negative ? -1.0 : 1.0;
+    fwd_sign_ = config_.forward_negative ? -1.0 : 1.0;
     input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
     // A frequency at a bound of the estimator's range is a filter that has not locked.
     f_locked_min_hz_ = 1.02 * config_.estimator.gait_filter.f_min_hz;
@@ -171,7 +171,8 @@ class ImuOnlineEstimator {
 
     // The specific force in the world frame, gravity removed; the heading of the forward axis.
     const imu::Vec3 f_w = mahony_.to_world(a);
-    const imu::Vec3 x_w = mahony_.to_world(fwd_);
+    imu::Vec3 x_w = mahony_.axis_to_world(config_.forward_axis);
+    for (double& c : x_w) c *= fwd_sign_;
     const double hn = sqrt1(x_w[0] * x_w[0] + x_w[1] * x_w[1]);
     if (hn > 0.2) heading_ = {x_w[0] / hn, x_w[1] / hn};  // held while the axis is near vertical
     o.heading_rad = atan2_fast(heading_[1], heading_[0]);  // within 2e-6 rad, no library call per sample
@@ -301,10 +302,15 @@ class ImuOnlineEstimator {
   void sampled(const GaitState& prior, double dt_s, double vz_mean) noexcept {
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
-    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, est_.speed_mps, correction);
+    // The transients are those of the speed reported (the pendulum's once it runs, carry_estimate),
+    // as the marker path's Validity sees the speed it reports: the estimator's A0 follows the fed
+    // speed only over seconds and missed the reported speed's changes (its fall at a stop, its step
+    // at the lock).
+    const double speed_mps = pendulum_.speed_mps() > 0.0 ? pendulum_.speed_mps() : est_.speed_mps;
+    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, speed_mps, correction);
     check_harmonic(vz_mean, dt_s);
     const double k = validity_.std_inflation();
-    const double sp = est_.speed_mps > 0.3 ? est_.speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
+    const double sp = speed_mps > 0.3 ? speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
     const double tv_s = validity_.transient_var_speed();
     double f_var = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() +
                    fs * fs * tv_s;
@@ -438,7 +444,7 @@ class ImuOnlineEstimator {
   Estimator estimator_;
   imu::Mahony mahony_;
   imu::LeakyIntegrator int_z_, int_x_;
-  imu::Vec3 fwd_{0.0, 0.0, 0.0};
+  double fwd_sign_ = 1.0;  ///< the forward direction is +1 or -1 times forward_axis
   double input_latency_s_ = 0.0;  ///< the integrators' delay at latency_f_hz (constant)
   double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
   Estimate est_{};

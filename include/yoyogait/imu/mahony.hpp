@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include "yoyogait/math.hpp"
@@ -92,8 +93,9 @@ class Mahony {
       }
       for (int i = 0; i < 3; ++i) {
         if (ki_ > 0.0) {
-          bias_[i] += ki_ * e[i] * dt_s;
-          bias_[i] = std::fmax(-max_bias_, std::fmin(max_bias_, bias_[i]));
+          // Limited by comparisons: std::fmin / std::fmax are library calls per axis and sample.
+          const double b = bias_[i] + ki_ * e[i] * dt_s;
+          bias_[i] = !(b >= -max_bias_) ? -max_bias_ : (b > max_bias_ ? max_bias_ : b);
         }
         w[i] += kp_ * e[i] + bias_[i];
       }
@@ -119,6 +121,15 @@ class Mahony {
     return {(1.0 - 2.0 * (y * y + z * z)) * v[0] + 2.0 * (x * y - w * z) * v[1] + 2.0 * (x * z + w * y) * v[2],
             2.0 * (x * y + w * z) * v[0] + (1.0 - 2.0 * (x * x + z * z)) * v[1] + 2.0 * (y * z - w * x) * v[2],
             2.0 * (x * z - w * y) * v[0] + 2.0 * (y * z + w * x) * v[1] + (1.0 - 2.0 * (x * x + y * y)) * v[2]};
+  }
+
+  /// Sensor axis i (0 x, 1 y, 2 z) in the world frame: column i of R, what to_world gives for the
+  /// unit vector without its products with zeros.
+  Vec3 axis_to_world(std::size_t i) const noexcept {
+    const double w = q_[0], x = q_[1], y = q_[2], z = q_[3];
+    if (i == 0) return {1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + w * z), 2.0 * (x * z - w * y)};
+    if (i == 1) return {2.0 * (x * y - w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + w * x)};
+    return {2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y)};
   }
 
   const std::array<double, 4>& quaternion() const noexcept { return q_; }

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "yoyogait/gait/state.hpp"
+#include "yoyogait/math.hpp"
 
 namespace yoyogait::imu {
 
@@ -21,7 +22,7 @@ class Pendulum {
   };
 
   Pendulum() noexcept = default;
-  explicit Pendulum(const Settings& s) noexcept : s_(s) {}
+  explicit Pendulum(const Settings& s) noexcept : s_(s), gain_(s.excursion_tau_s) {}
 
   /// Everything back to 0; with keep_target, the speed it was heading for stays (a restart of the
   /// estimator while walking: the speed std still measures the way to it).
@@ -45,7 +46,7 @@ class Pendulum {
     if (!std::isfinite(h)) return;
     // Fed to the estimator from 0 at the start of a walk (a step of the forward velocity it is fed
     // would disturb its phase and frequency while they lock); reported from the first value on.
-    const double g = 1.0 - std::exp(-dt_s / s_.excursion_tau_s);
+    const double g = gain_(dt_s);
     ramp_excursion_m_ += g * (h - ramp_excursion_m_);
     excursion_m_ = excursion_m_ > 0.0 ? excursion_m_ + g * (h - excursion_m_) : h;
     const double f = omega * 0.15915494309189533576888376337251;
@@ -74,6 +75,7 @@ class Pendulum {
 
  private:
   Settings s_{};
+  ExpGain gain_{1.0};  ///< the excursion's low-pass gain at the estimator's sample time (one exp per interval)
   double speed_mps_ = 0.0, excursion_m_ = 0.0, step_length_m_ = 0.0, target_speed_mps_ = 0.0;
   double fed_speed_mps_ = 0.0, ramp_excursion_m_ = 0.0;
 };
