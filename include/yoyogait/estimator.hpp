@@ -58,8 +58,8 @@ class Estimator {
 
   /// Variances added to the measurement noise of v_x and v_z from the next sample on [(m/s)^2]
   /// (gait: GaitFilter::set_extra_measurement_variance; paper: not used). 0 until set.
-  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2) noexcept {
-    if (!is_paper_) gait_.set_extra_measurement_variance(vx_m2_per_s2, vz_m2_per_s2);
+  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2, double noise_sigmas = 0.0) noexcept {
+    if (!is_paper_) gait_.set_extra_measurement_variance(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas);
   }
 
   /// step() over n samples; out[i] is the estimate after sample i. Same results as n calls of step().

@@ -451,3 +451,40 @@ TEST(GaitFilterConfig, DurationsInSamplesOfTheSampleTime) {
   EXPECT_EQ(c.samples_in(c.gait_filter.gate_max_consecutive_s), 12u);
   EXPECT_EQ(c.validate(), nullptr);
 }
+
+// Standing with velocity noise of variance N on both channels: the detector's thresholds raised by
+// three noise standard deviations of its low-passes keep it standing; not raised, the same noise walks.
+TEST(WalkingDetectorNoise, RaisedThresholdsKeepNoiseFromWalking) {
+  const double noise_var = 0.04;  // 0.2 m/s per sample
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0.0, std::sqrt(noise_var));
+  WalkingDetector::Thresholds th;
+  WalkingDetector raised(th), plain(th);
+  raised.set_noise(noise_var, noise_var, 3.0);
+  plain.set_noise(noise_var, noise_var, 0.0);
+  const double g = raised.gain(0.04);
+  int raised_walking = 0, plain_walking = 0;
+  for (int k = 0; k < 2500; ++k) {  // 100 s at 25 Hz
+    const double vx = n(rng), vz = n(rng);
+    raised.update(vx, vz, true, true, g);
+    plain.update(vx, vz, true, true, g);
+    raised_walking += raised.walking();
+    plain_walking += plain.walking();
+  }
+  EXPECT_LE(raised_walking, 125);  // at most 5 % of the time
+  EXPECT_GT(plain_walking, 125);
+}
+
+// Without noise the margins change nothing: the same decisions as a detector never told of noise.
+TEST(WalkingDetectorNoise, NoNoiseNoChange) {
+  WalkingDetector::Thresholds th;
+  WalkingDetector told(th), untold(th);
+  told.set_noise(0.0, 0.0, 3.0);
+  const double g = told.gain(0.04);
+  for (int k = 0; k < 500; ++k) {
+    const double vx = 0.3 * std::sin(0.05 * k), vz = 0.06 * std::cos(0.3 * k);
+    told.update(vx, vz, true, true, g);
+    untold.update(vx, vz, true, true, g);
+    ASSERT_EQ(told.walking(), untold.walking()) << k;
+  }
+}

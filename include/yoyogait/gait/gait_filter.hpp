@@ -208,9 +208,11 @@ class GaitFilter {
   /// Variances added to the measurement noise of v_x and v_z from the next step on [(m/s)^2]
   /// (gait/decay_factors.hpp; 0 unless set: the online front-end's noisy input); the walking
   /// detector does not count the v_z part in RMS(v_z).
-  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2) noexcept {
+  /// noise_sigmas: the detector's thresholds are raised by this many standard deviations of what
+  /// that noise gives its low-passes (gait/walking_detector.hpp; 0: not raised).
+  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2, double noise_sigmas = 0.0) noexcept {
     factors_.set_extra_variance(vx_m2_per_s2, vz_m2_per_s2);
-    detector_.set_vz_noise_variance(vz_m2_per_s2);
+    detector_.set_noise(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas);
   }
   double std_scale() const noexcept { return scale_.value(); }
 

@@ -51,9 +51,18 @@ class WalkingDetector {
     // RMS(v_z) = sqrt(LP(v_z^2)) compared through its square (no square root per step), less the
     // variance the input noise is known to add (0 unless set).
     const double ms = detail::py_max(ema_vz2_ - noise_vz2_, 0.0);
+    // Both thresholds raised by noise_sigmas standard deviations of what the noise alone gives the
+    // low-passes (for white samples of variance N: N g / (2 - g) for LP(v_x), 2 N^2 g / (2 - g) for
+    // LP(v_z^2)), so that noise does not walk (none without noise: nothing computed).
+    double mx = 0.0, mz2 = 0.0;
+    if (noise_sigmas_ > 0.0 && (noise_vx2_ > 0.0 || noise_vz2_ > 0.0)) {
+      const double spread = gain / (2.0 - gain);
+      mx = noise_sigmas_ * std::sqrt(noise_vx2_ * spread);
+      mz2 = noise_sigmas_ * noise_vz2_ * std::sqrt(2.0 * spread);
+    }
     if (walking_) {
-      if (ema_vx_ < speed_off_ && ms < vz_rms_off2_) walking_ = false;
-    } else if (ema_vx_ > speed_on_ || ms > vz_rms_on2_) {
+      if (ema_vx_ < speed_off_ + mx && ms < vz_rms_off2_ + mz2) walking_ = false;
+    } else if (ema_vx_ > speed_on_ + mx || ms > vz_rms_on2_ + mz2) {
       walking_ = true;
     }
   }
@@ -71,10 +80,17 @@ class WalkingDetector {
   /// The variance of v_z that is input noise [(m/s)^2] (0 by default; the online front-end's): not
   /// counted in RMS(v_z).
   void set_vz_noise_variance(double v_m2_per_s2) noexcept { noise_vz2_ = v_m2_per_s2; }
+  /// The input noise's variances of v_x and v_z [(m/s)^2] and how many of their standard deviations
+  /// in the low-passes the thresholds are raised by (0: none).
+  void set_noise(double vx_m2_per_s2, double vz_m2_per_s2, double sigmas) noexcept {
+    noise_vx2_ = vx_m2_per_s2;
+    noise_vz2_ = vz_m2_per_s2;
+    noise_sigmas_ = sigmas;
+  }
 
  private:
   double tau_s_ = 0.3, speed_on_ = 0.2, speed_off_ = 0.15, vz_rms_on2_ = 0.0025, vz_rms_off2_ = 0.000625;
-  double ema_vx_ = 0.0, ema_vz2_ = 0.0, noise_vz2_ = 0.0;
+  double ema_vx_ = 0.0, ema_vz2_ = 0.0, noise_vz2_ = 0.0, noise_vx2_ = 0.0, noise_sigmas_ = 0.0;
   bool walking_ = false;
 };
 

@@ -24,6 +24,7 @@ class KalmanDifferentiator {
     double meas_std_m = 0.001;         ///< noise of the measured position [m]
     double v0_std_mps = 1.0;           ///< initial std of the velocity after a start [m/s]
     double a0_std_mps2 = 10.0;         ///< ... of the acceleration [m/s^2]
+    double knee_std_m = 1e100;         ///< above this noise the jerk density stays that at it (noise_knee_m) [m]
   };
 
   KalmanDifferentiator() noexcept = default;
@@ -33,7 +34,8 @@ class KalmanDifferentiator {
         q0_(q_),
         r20_(r2_),
         v0_var_(s.v0_std_mps * s.v0_std_mps),
-        a0_var_(s.a0_std_mps2 * s.a0_std_mps2) {}
+        a0_var_(s.a0_std_mps2 * s.a0_std_mps2),
+        knee2_(s.knee_std_m < 1e150 ? s.knee_std_m * s.knee_std_m : 1e300) {}
 
   /// Starts at position p_m at rest (velocity and acceleration unknown).
   void start(const std::array<double, 3>& p_m) noexcept {
@@ -86,11 +88,14 @@ class KalmanDifferentiator {
     P_ = N;
   }
 
-  /// The noise of the measured position from now on [m^2] (> 0): the input-noise estimate's. The
-  /// jerk density scales with it (q / r^2 fixed: the same gains and bandwidth, so that the noise the
-  /// derivative lifts stays above the gait's band), so that only the covariance follows the noise.
+  /// The noise of the measured position from now on [m^2] (> 0): the input-noise estimate's. Up to
+  /// knee_std_m^2 the jerk density scales with it (q / r^2 fixed: the same gains and bandwidth, a
+  /// laboratory capture's, so that only the covariance follows the noise); beyond, it stays at the
+  /// knee's, so that the bandwidth falls as r^(-1/3): at centimetres of noise the velocity keeps the
+  /// gait's band and not the differentiated jitter above it, which rises as f^2 (docs/online.md,
+  /// "Input noise").
   void set_meas_var(double r2_m2) noexcept {
-    q_ = q0_ * (r2_m2 / r20_);
+    q_ = q0_ * ((r2_m2 < knee2_ ? r2_m2 : knee2_) / r20_);
     r2_ = r2_m2;
   }
   double meas_var_m2() const noexcept { return r2_; }
@@ -174,7 +179,7 @@ class KalmanDifferentiator {
   }
 
  private:
-  double q_ = 1e3, r2_ = 1e-6, q0_ = 1e3, r20_ = 1e-6, v0_var_ = 1.0, a0_var_ = 100.0;
+  double q_ = 1e3, r2_ = 1e-6, q0_ = 1e3, r20_ = 1e-6, v0_var_ = 1.0, a0_var_ = 100.0, knee2_ = 1e300;
   std::array<Axis, 3> x_{};
   std::array<std::array<double, 3>, 3> P_{};
   std::array<double, 3> gain_{};

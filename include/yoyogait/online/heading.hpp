@@ -73,10 +73,17 @@ class HeadingTracker {
   const std::array<double, 2>& unit() const noexcept { return unit_; }
   /// atan2(b, a) of unit() [rad].
   double heading_rad() const noexcept { return std::atan2(unit_[1], unit_[0]); }
-  /// The horizontal velocity (va_mps, vb_mps) along the heading; before the first heading, its norm.
-  double forward_mps(double va_mps, double vb_mps) const noexcept {
-    return known_ ? va_mps * unit_[0] + vb_mps * unit_[1] : std::sqrt(va_mps * va_mps + vb_mps * vb_mps);
+  /// The horizontal velocity (va_mps, vb_mps) along the heading; before the first heading, its norm
+  /// less what a velocity noise of noise_var_m2_per_s2 per axis gives it: sqrt(max(0, |v|^2 -
+  /// kNoiseChi2 noise_var)), so that noise alone exceeds 0 with probability exp(-kNoiseChi2 / 2).
+  double forward_mps(double va_mps, double vb_mps, double noise_var_m2_per_s2 = 0.0) const noexcept {
+    if (known_) return va_mps * unit_[0] + vb_mps * unit_[1];
+    const double n2 = va_mps * va_mps + vb_mps * vb_mps - kNoiseChi2 * noise_var_m2_per_s2;
+    return n2 > 0.0 ? std::sqrt(n2) : 0.0;
   }
+  /// |v|^2 of a 2-D Gaussian noise of variance N per axis exceeds x with probability exp(-x / 2N):
+  /// 6 N, 5 %.
+  static constexpr double kNoiseChi2 = 6.0;
   /// The low-passed turn rate of the direction [rad/s].
   double turn_rate_rad_s() const noexcept { return turn_rate_rad_s_; }
 

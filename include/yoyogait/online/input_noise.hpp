@@ -22,13 +22,17 @@ class InputNoise {
     double tau_s = 1.0;         ///< low-pass of the estimate [s]
     double gate_nis = 25.0;     ///< the outlier gate on the innovation's NIS over the three axes
     bool adapt = true;          ///< false: the differentiator keeps floor_m
+    double knee_m = 1e100;      ///< above it the ratio estimate bounds the difference (noise_knee_m) [m]
   };
 
   InputNoise() noexcept = default;
-  explicit InputNoise(const Settings& s) noexcept : s_(s), floor2_(s.floor_m * s.floor_m) { reset(); }
+  explicit InputNoise(const Settings& s) noexcept
+      : s_(s), floor2_(s.floor_m * s.floor_m), knee2_(s.knee_m < 1e150 ? s.knee_m * s.knee_m : 1e300) {
+    reset();
+  }
 
   void reset() noexcept {
-    var_m2_ = 0.0;
+    var_m2_ = sub_m2_ = rat_m2_ = 0.0;
     n_ = 0;
   }
 
@@ -40,12 +44,23 @@ class InputNoise {
       dt_s_ = dt_s;
       g_ = dt_s >= s_.tau_s ? 1.0 : dt_s / (s_.tau_s + dt_s);
     }
-    const double cap = s_.gate_nis * (1.0 / 3.0) * (predicted_var_m2 + r2_m2);
-    const double x = (innovation2_m2 < cap ? innovation2_m2 : cap) - predicted_var_m2;
+    const double s = predicted_var_m2 + r2_m2, cap = s_.gate_nis * (1.0 / 3.0) * s;
+    const double nu2 = innovation2_m2 < cap ? innovation2_m2 : cap;
+    const double x = nu2 - predicted_var_m2;
     // A running mean until it is longer than the low-pass: the estimate is there within a few frames.
     ++n_;
     const double g = g_ * static_cast<double>(n_) < 1.0 ? 1.0 / static_cast<double>(n_) : g_;
-    var_m2_ += g * ((x > 0.0 ? x : 0.0) - var_m2_);
+    sub_m2_ += g * ((x > 0.0 ? x : 0.0) - sub_m2_);
+    rat_m2_ += g * (nu2 * (r2_m2 / s) - rat_m2_);
+    // While the running mean lasts the differentiator has not followed the noise yet, and the
+    // difference overshoots it by P-_pp / r^2 (40 at 30 Hz at the floor): above knee_m the innovations'
+    // share of their predicted variance, times the noise assumed, bounds it (with a jerk density
+    // that follows the noise, the consistent estimate in one step). Both have the same fixed point.
+    if (g != g_ && sub_m2_ > knee2_) {
+      const double b = rat_m2_ > knee2_ ? rat_m2_ : knee2_;
+      if (b < sub_m2_) sub_m2_ = b;
+    }
+    var_m2_ = sub_m2_;
   }
 
   /// Whether the running mean of the first frames is over (the estimate is known; the gate applies).
@@ -63,7 +78,9 @@ class InputNoise {
 
  private:
   Settings s_;
-  double floor2_ = 1e-6, var_m2_ = 0.0, dt_s_ = -1.0, g_ = 1.0;
+  double floor2_ = 1e-6, knee2_ = 1e300, var_m2_ = 0.0, dt_s_ = -1.0, g_ = 1.0;
+  double sub_m2_ = 0.0;  ///< low-passed innovation^2 - P-_pp [m^2]
+  double rat_m2_ = 0.0;  ///< low-passed innovation^2 r^2 / (P-_pp + r^2) [m^2]
   std::size_t n_ = 0;
 };
 

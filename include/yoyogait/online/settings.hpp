@@ -32,6 +32,7 @@ inline KalmanDifferentiator::Settings differentiator_settings(const OnlineConfig
   s.meas_std_m = c.meas_position_std_m;
   s.v0_std_mps = c.initial_velocity_std_mps;
   s.a0_std_mps2 = c.initial_accel_std_mps2;
+  s.knee_std_m = c.noise_knee_m;
   return s;
 }
 
@@ -43,6 +44,7 @@ inline InputNoise::Settings input_noise_settings(const OnlineConfig& c) noexcept
   s.adapt = c.adapt_to_noise;
   s.tau_s = c.noise_tau_s;
   s.gate_nis = c.outlier_gate_nis;
+  s.knee_m = c.noise_knee_m;
   return s;
 }
 

@@ -450,6 +450,8 @@ class OnlineConfig(_ConfigFile):
     meas_position_std_m: float = _field(ONLINE_SECTION, "meas_position_std_m")
     adapt_to_noise: bool = _field(ONLINE_SECTION, "adapt_to_noise")
     noise_tau_s: float = _field(ONLINE_SECTION, "noise_tau_s")
+    noise_knee_m: float = _field(ONLINE_SECTION, "noise_knee_m")
+    walk_noise_sigmas: float = _field(ONLINE_SECTION, "walk_noise_sigmas")
     outlier_gate_nis: float = _field(ONLINE_SECTION, "outlier_gate_nis")
     max_outlier_s: float = _field(ONLINE_SECTION, "max_outlier_s")
     initial_velocity_std_mps: float = _field(ONLINE_SECTION, "initial_velocity_std_mps")

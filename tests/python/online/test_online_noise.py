@@ -75,3 +75,47 @@ def test_walking_is_still_walking_after_its_first_steps():
     t, p = pelvis()
     r = run(t, p)
     assert np.mean(r.walking[t > 2.0]) >= 0.95
+
+
+def _walking_f_error_after_3s(walk) -> float:
+    rec = walk.recording
+    r = OnlineEstimator.for_recording(rec, None).run(rec)
+    t = np.asarray(r.time_s)
+    tr = walk.truth.at(t)
+    walking = np.asarray(tr.walking, dtype=bool)
+    after = walking & (t >= t[np.flatnonzero(walking)[0]] + 3.0)
+    return float(np.median(np.abs(r.step_frequency_hz[after] - tr.step_frequency_hz[after])))
+
+
+def test_markerless_renderings_give_the_step_frequency_within_the_issue_target():
+    """Every SYNTHETIC markerless rendering (30, 60 Hz, 3 subjects): median f error after 3 s of walking <= 0.04 Hz."""
+    for condition in ("markerless-30hz", "markerless-60hz"):
+        for subject in sy.SUBJECTS:
+            err = _walking_f_error_after_3s(sc.render(condition, subject))
+            assert err <= 0.04, (condition, subject.name, err)
+
+
+def test_standing_sway_seen_markerless_is_not_walking():
+    """SYNTHETIC standing sway with markerless noise at 30 Hz, three subjects: walking at most 5 % of the time."""
+    for subject in sy.SUBJECTS:
+        walk = sc.render("standing-sway", subject)
+        rec = sc.markerless_noise(walk.recording, seed=0, rate_hz=30.0)
+        r = OnlineEstimator.for_recording(rec, None).run(rec)
+        assert np.mean(r.walking) <= 0.05, subject.name
+
+
+def test_the_noise_estimate_does_not_overshoot_at_the_start():
+    """One point at 30 Hz, 2 cm white noise: input_noise_m never exceeds 1.5 x 2 cm (3.4 cm without the ratio bound)."""
+    rng = np.random.default_rng(1)
+    t, p = pelvis(rate_hz=30.0, dur_s=6.0)
+    one = p.mean(axis=1, keepdims=True) + rng.normal(0.0, 0.02, (len(t), 1, 3))
+    r = OnlineEstimator(["C"], "z").run(t, one)
+    assert np.max(r.input_noise_m) <= 1.5 * 0.02
+
+
+def test_noise_below_the_knee_changes_nothing():
+    """Noise below noise_knee_m (1 mm per marker): every output as with the knee out of reach (no adaptation)."""
+    t, p = pelvis(rate_hz=60.0, noise_m=0.001)
+    a, b = run(t, p), run(t, p, noise_knee_m=1e100)
+    for name in ("step_frequency_hz", "speed_mps", "vx_hat_mps", "walking", "valid", "input_noise_m"):
+        assert np.array_equal(np.asarray(getattr(a, name)), np.asarray(getattr(b, name))), name
