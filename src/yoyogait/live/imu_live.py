@@ -290,8 +290,9 @@ class _ImuPath:
 
 #: ``input_kind``: what the source is; "auto" decides from the stream (type IMU, or acc/gyr labels).
 INPUT_KINDS = ("auto", "markers", "imu")
-#: How long "auto" looks for the source before it starts the marker path's wait [s].
-AUTO_PEEK_S = 0.3
+#: How long "auto" looks for the source before it starts the marker path's wait [s]: it ends at the first
+#: sight, so it costs only where the source is absent (0.3 s is short for a resolve on a loaded machine).
+AUTO_PEEK_S = 1.0
 
 
 def run_live_source(

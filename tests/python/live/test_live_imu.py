@@ -24,6 +24,7 @@ from yoyogait.io.imu_read import read_imu
 from yoyogait.io.imu_recording import GRAVITY_MPS2
 from yoyogait.live.imu_layout import imu_stream_info, is_imu_info, read_imu_layout
 from yoyogait.live.imu_live import (
+    AUTO_PEEK_S,
     IMU_COLUMNS,
     ImuLiveOptions,
     UnitCheck,
@@ -93,6 +94,14 @@ def test_replayed_real_imu_recording_live_record_equals_estimate_of_the_file(dat
     rec = read_imu(path)
     source, estimates = unique("imu"), unique("imu-gait")
     record = tmp_path / "live.csv"
+    # The source is there before live starts, so that auto knows it at once: an IMU source that appears later
+    # is first waited for as markers, with the marker estimate stream (docs/live.md).
+    ready = threading.Event()
+    player = threading.Thread(
+        target=lambda: replay_imu(rec, source, speed=5, wait_for_consumer_s=30, on_ready=ready.set), daemon=True
+    )
+    player.start()
+    assert ready.wait(15) and pylsl.resolve_byprop("name", source, 1, 15), "the source did not appear"
     live = subprocess.Popen(
         [sys.executable, "-m", "yoyogait", "live", "--source", source, "--publish", estimates, "--record", record,
          "--exit-on-end", "--timeout", "30", "--max-buffer-s", "60"],
@@ -100,9 +109,7 @@ def test_replayed_real_imu_recording_live_record_equals_estimate_of_the_file(dat
         stderr=subprocess.PIPE,
         text=True,
     )  # fmt: skip
-    player = threading.Thread(target=lambda: replay_imu(rec, source, speed=5, wait_for_consumer_s=30), daemon=True)
     try:
-        player.start()
         found = pylsl.resolve_byprop("name", estimates, 1, 30)
         assert found, "the estimate stream did not appear"
         inlet = pylsl.StreamInlet(found[0], max_buflen=120, recover=False)
@@ -401,7 +408,7 @@ def test_auto_waits_as_for_markers_then_takes_the_imu_path_when_an_imu_source_ap
     rec = make_imu_walk(duration_s=1.5).recording
     name, publish = unique("imu-late"), unique("imu-late-gait")
     live = SourceThread(name, publish=publish, resolve_timeout_s=20, max_buffer_s=10)
-    time.sleep(1.0)  # past the quick look: the marker path is waiting
+    time.sleep(AUTO_PEEK_S + 1.0)  # past the quick look: the marker path is waiting
     outlet = pylsl.StreamOutlet(imu_info(name, LABELS, UNITS))
     assert outlet.wait_for_consumers(15)
     base = pylsl.local_clock()
