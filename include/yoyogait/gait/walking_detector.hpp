@@ -77,10 +77,8 @@ class WalkingDetector {
 
   bool walking() const noexcept { return walking_; }
 
-  /// The variance of v_z that is input noise [(m/s)^2] (0 by default; the online front-end's): not
-  /// counted in RMS(v_z).
-  void set_vz_noise_variance(double v_m2_per_s2) noexcept { noise_vz2_ = v_m2_per_s2; }
-  /// The input noise's variances of v_x and v_z [(m/s)^2] and how many of their standard deviations
+  /// The input noise's variances of v_x and v_z [(m/s)^2] (0 by default; the online front-end's; the
+  /// v_z part is not counted in RMS(v_z)) and how many of their standard deviations
   /// in the low-passes the thresholds are raised by (0: none).
   void set_noise(double vx_m2_per_s2, double vz_m2_per_s2, double sigmas) noexcept {
     noise_vx2_ = vx_m2_per_s2;

@@ -32,7 +32,7 @@ class InputNoise {
   }
 
   void reset() noexcept {
-    var_m2_ = sub_m2_ = rat_m2_ = 0.0;
+    var_m2_ = rat_m2_ = 0.0;
     n_ = 0;
   }
 
@@ -50,19 +50,20 @@ class InputNoise {
     // A running mean until it is longer than the low-pass: the estimate is there within a few frames.
     ++n_;
     const double g = g_ * static_cast<double>(n_) < 1.0 ? 1.0 / static_cast<double>(n_) : g_;
-    sub_m2_ += g * ((x > 0.0 ? x : 0.0) - sub_m2_);
+    var_m2_ += g * ((x > 0.0 ? x : 0.0) - var_m2_);
     rat_m2_ += g * (nu2 * (r2_m2 / s) - rat_m2_);
     // While the running mean lasts the differentiator has not followed the noise yet, and the
     // difference overshoots it by P-_pp / r^2 (40 at 30 Hz at the floor): above knee_m the innovations'
     // share of their predicted variance, times the noise assumed, bounds it (with a jerk density
     // that follows the noise, the consistent estimate in one step). Both have the same fixed point.
-    if (g != g_ && sub_m2_ > knee2_) {
+    if (g != g_ && var_m2_ > knee2_) {
       const double b = rat_m2_ > knee2_ ? rat_m2_ : knee2_;
-      if (b < sub_m2_) sub_m2_ = b;
+      if (b < var_m2_) var_m2_ = b;
     }
-    var_m2_ = sub_m2_;
   }
 
+  /// Whether the estimated noise is above knee_m (the front-end adapts to it: noise_knee_m).
+  bool above_knee() const noexcept { return var_m2_ > knee2_; }
   /// Whether the running mean of the first frames is over (the estimate is known; the gate applies).
   bool known() const noexcept { return g_ * static_cast<double>(n_) >= 1.0; }
   /// The estimated noise variance of the centre per axis [m^2].
@@ -79,7 +80,6 @@ class InputNoise {
  private:
   Settings s_;
   double floor2_ = 1e-6, knee2_ = 1e300, var_m2_ = 0.0, dt_s_ = -1.0, g_ = 1.0;
-  double sub_m2_ = 0.0;  ///< low-passed innovation^2 - P-_pp [m^2]
   double rat_m2_ = 0.0;  ///< low-passed innovation^2 r^2 / (P-_pp + r^2) [m^2]
   std::size_t n_ = 0;
 };

@@ -333,7 +333,7 @@ class OnlineEstimator {
     if (settled) heading_.update(va, vb, gap_s);
     o.heading_rad = heading_.heading_rad();
     // Above noise_knee_m the velocity noise biases the norm before the first heading: taken out.
-    o.vx_mps = heading_.forward_mps(va, vb, noise_above_knee() ? noise_.excess_share() * diff_.covariance()[1][1] : 0.0);
+    o.vx_mps = heading_.forward_mps(va, vb, noise_.above_knee() ? noise_.excess_share() * diff_.covariance()[1][1] : 0.0);
     validity_.heading(gap_s, va, vb, o.vx_mps);
   }
 
@@ -350,7 +350,7 @@ class OnlineEstimator {
     // The velocity variance that the input noise above meas_position_std_m adds (0 at clean input)
     // is the estimator's measurement noise too.
     const double extra = noise_.excess_share() * diff_.covariance()[1][1];
-    estimator_.set_extra_measurement_variance(extra, extra, noise_above_knee() ? config_.walk_noise_sigmas : 0.0);
+    estimator_.set_extra_measurement_variance(extra, extra, noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
@@ -443,9 +443,6 @@ class OnlineEstimator {
   /// constant-acceleration prediction by 2 cm within a frame (a 100 m/s^3 jerk: 0.6 mm at 30 Hz),
   /// while the blend of a change of the visible markers (online/centre.hpp) moves it by millimetres.
   static constexpr double kMinOutlierM = 0.02;
-
-  /// Whether the estimated marker noise exceeds noise_knee_m (the front-end adapts to it).
-  bool noise_above_knee() const noexcept { return noise_.var_m2() > config_.noise_knee_m * config_.noise_knee_m; }
 
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
   static constexpr double kLongStepM = 0.8;
