@@ -38,7 +38,7 @@ def noise_adapted(config: EstimatorConfig, vel) -> tuple[EstimatorConfig, str]:
         var = velocity_noise_var(getattr(vel, axis), vel.rate_hz)
         if var * dt > getattr(gf, name):
             changes[name] = var * dt
-            said.append(f"{axis} {var ** 0.5:.2f} m/s")
+            said.append(f"{axis} {var**0.5:.2f} m/s")
     if not changes:
         return config, ""
     line = (
