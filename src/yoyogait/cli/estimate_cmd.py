@@ -11,9 +11,9 @@ from .. import io
 from .._files import atomic_files, check_distinct, check_output_file
 from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError, about_file
-from ..estimators.config import EstimatorConfig, OnlineConfig
+from ..estimators.config import PRESETS, EstimatorConfig, OnlineConfig
 from ..estimators.online import InvalidReason, OnlineEstimator, check_belt_speed
-from ..estimators.registry import estimators, preset_runner
+from ..estimators.registry import estimators, noise_adapted, preset_runner
 from ..evaluation import figures as plots
 from ..pipeline import events
 from ..pipeline.velocities import check_point_motion, gait_velocities
@@ -128,6 +128,7 @@ def command(
             feet=feet, belt_speed_mps=belt_speed_mps,
         )  # fmt: skip
     run = estimators()[preset]
+    config = EstimatorConfig.preset(preset) if preset in PRESETS else None
     resample_hz = RESAMPLE_RATE_HZ
     if config_file is not None:
         if ctx.get_parameter_source("preset") == click.core.ParameterSource.COMMANDLINE:
@@ -152,6 +153,7 @@ def command(
             recording, point=point, rate_hz=resample_hz, up_axis=up_axis, feet=feet, belt_speed_mps=belt_speed_mps
         )
         res = run(vel)
+        noise_line = noise_adapted(config, vel)[1] if config is not None else ""
         ev = reference_events(recording, feet, vel.up_axis) if fig is not None else None
     f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
     summary = (
@@ -177,6 +179,8 @@ def command(
     # Both or neither: the figure is drawn before the CSV is renamed into place.
     atomic_files(writers)
     click.echo(summary)
+    if noise_line:
+        click.echo(noise_line)
     if vel.treadmill is not None and vel.treadmill.detected:
         click.echo(vel.treadmill.reason)
     click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))

@@ -11,23 +11,50 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 
 from ..errors import InputError
+from ..pipeline.noise import velocity_noise_var
 from .config import PRESETS, EstimatorConfig
 from .gait_estimator import GaitEstimator
 from .oscillator import OscillatorBaseline
 from .results import PREDICTION_HORIZONS_S, EstimateResult
 from .sliding_dft import SlidingDft
 
-__all__ = ["estimators", "check_estimators", "config_estimators", "preset_runner", "BASELINES"]
+__all__ = ["estimators", "check_estimators", "config_estimators", "noise_adapted", "preset_runner", "BASELINES"]
 
 BASELINES = {"oscillator": OscillatorBaseline(), "sliding-dft": SlidingDft()}
 """The baselines under their names: an adaptive oscillator (causal) and a sliding DFT (offline bound)."""
 
 
+def noise_adapted(config: EstimatorConfig, vel) -> tuple[EstimatorConfig, str]:
+    """``config`` with the gait filter's measurement noise raised to the velocity noise that ``vel``
+    shows (:func:`yoyogait.pipeline.noise.velocity_noise_var`, as a density: variance x sample time)
+    where that is larger, and a line saying so ("" when nothing changed). The paper's estimator is
+    left as published."""
+    if config.algorithm != "gait_filter":
+        return config, ""
+    gf = config.gait_filter
+    dt = config.sample_time_s
+    changes, said = {}, []
+    for axis, name in (("vx", "meas_vx_density_m2_per_s"), ("vz", "meas_vz_density_m2_per_s")):
+        var = velocity_noise_var(getattr(vel, axis), vel.rate_hz)
+        if var * dt > getattr(gf, name):
+            changes[name] = var * dt
+            said.append(f"{axis} {var**0.5:.2f} m/s")
+    if not changes:
+        return config, ""
+    line = (
+        f"input noise (velocity above the gait's band): {', '.join(said)}; the estimator's measurement noise "
+        "is raised to it"
+    )
+    return config.with_values({"gait_filter": changes}), line
+
+
 def preset_runner(config: EstimatorConfig) -> Callable[[object], EstimateResult]:
-    """A function that runs a fresh estimator of ``config`` over velocities."""
+    """A function that runs a fresh estimator of ``config`` over velocities, its measurement noise
+    at least what the velocities show (:func:`noise_adapted`)."""
 
     def run(vel) -> EstimateResult:
-        return GaitEstimator(config).run(vel.vx, vel.vz, predict_ahead_s=PREDICTION_HORIZONS_S, time_s=vel.time_s)
+        used, _ = noise_adapted(config, vel)
+        return GaitEstimator(used).run(vel.vx, vel.vz, predict_ahead_s=PREDICTION_HORIZONS_S, time_s=vel.time_s)
 
     return run
 
