@@ -229,7 +229,7 @@ def test_a_turn_widens_the_frequency_std_by_the_yaw_rate_and_changes_nothing_els
 
 @pytest.mark.parametrize("walk_type", ["1-straight", "2-fast-slow-fast", "3-rectangle", "4-figure-eight"])
 def test_the_periodicity_check_lets_regular_walks_through(walk_type):
-    """On SYNTHETIC walks whose steps repeat (straight, a cadence change, turns) no sample is IRREGULAR after the lock."""
+    """On SYNTHETIC walks whose steps repeat (straight, cadence change, turns) no sample is IRREGULAR."""
     walk = make_imu_walk(walk_type=walk_type)
     res = _run(walk)
     m = res.time_s >= SETTLED_S
@@ -238,7 +238,7 @@ def test_the_periodicity_check_lets_regular_walks_through(walk_type):
 
 
 def test_a_stop_is_irregular_before_the_walking_detector_sees_it():
-    """On the SYNTHETIC stop-and-go the periodicity check halves the valid time while the walker stands, adding no wrong sample."""
+    """SYNTHETIC stop-and-go: the periodicity check halves the valid time standing, adding no wrong sample."""
     walk = make_imu_walk(walk_type="5-stop-and-go")
     on = _run(walk)
     off = _run(walk, dataclasses.replace(ImuConfig(), min_periodicity=-1.0))
