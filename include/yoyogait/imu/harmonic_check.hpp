@@ -14,8 +14,10 @@ namespace yoyogait::imu {
 
 class HarmonicCheck {
  public:
-  /// The last kRing fed v_z means (256: periodicity() over its 3 periods at most at 0.4 Hz and 25 Hz fits), checked every kCheckTicks samples over kCheckWindow of them.
+  /// The last kRing fed v_z means, checked every kCheckTicks samples over kCheckWindow of them (256:
+  /// periodicity() over up to 3 periods at 0.4 Hz and 25 Hz fits).
   static constexpr std::size_t kRing = 256, kCheckWindow = 50, kCheckTicks = 5;
+  static_assert(kCheckWindow + kRing / 2 + 2 <= kRing, "the check's span fits the ring");
   static_assert((kRing & (kRing - 1)) == 0, "the ring's length is a power of 2");
   /// r(P / 2) above this or r(P) below it: a wrong harmonic.
   static constexpr double kHalfLagMax = 0.0, kFullLagMin = 0.0;
@@ -35,7 +37,7 @@ class HarmonicCheck {
   /// One fed v_z mean; f_hz the estimate at that sample, locked whether it is walking and has locked,
   /// dt_s the sample time. Whether the autocorrelation says off (held between its checks).
   bool update(double vz, double f_hz, bool locked, double dt_s) noexcept {
-    ring_[next_] = vz;
+    ring_[next_] = ring_[next_ + kRing] = vz;
     next_ = (next_ + 1) & (kRing - 1);
     if (n_ < kRing) ++n_;
     if (++ticks_ >= kCheckTicks) {
@@ -44,12 +46,7 @@ class HarmonicCheck {
       const double lag = locked ? 1.0 / (f_hz * dt_s) : 0.0;
       if (locked && lag + static_cast<double>(kCheckWindow) + 2.0 < static_cast<double>(n_) &&
           lag < static_cast<double>(kRing / 2)) {
-        // The ring newest first, in order: the correlations then index it without wrapping.
-        std::array<double, kCheckWindow + kRing / 2 + 2> x;
-        static_assert(kCheckWindow + kRing / 2 + 2 <= kRing, "the check's span fits the ring");
-        const std::size_t n = n_ < x.size() ? n_ : x.size();
-        for (std::size_t i = 0; i < n; ++i) x[i] = ring_[(next_ + kRing - 1 - i) & (kRing - 1)];
-        const double r_full = autocorrelation(x, lag), r_half = autocorrelation(x, 0.5 * lag);
+        const double r_full = autocorrelation(newest(), lag), r_half = autocorrelation(newest(), 0.5 * lag);
         off_ = r_half > kHalfLagMax || r_full < kFullLagMin;
       }
     }
@@ -67,12 +64,12 @@ class HarmonicCheck {
     if (window < 2 || static_cast<double>(window + l0 + 2) > static_cast<double>(n_)) return -1.0;
     const double w = lag - static_cast<double>(l0);
     double sxy = 0.0, sxx = 0.0, syy = 0.0;
-    const std::size_t newest = next_ + kRing - 1;  // ring index of the newest value, before masking
-    for (std::size_t i = 0; i < window; ++i) {
-      const double x = ring_[(newest - i) & (kRing - 1)];
-      const double y = (1.0 - w) * ring_[(newest - i - l0) & (kRing - 1)] + w * ring_[(newest - i - l0 - 1) & (kRing - 1)];
-      sxy += x * y;
-      sxx += x * x;
+    const double* x = newest();
+    const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(window), l = static_cast<std::ptrdiff_t>(l0);
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const double y = (1.0 - w) * x[-(i + l)] + w * x[-(i + l + 1)];
+      sxy += x[-i] * y;
+      sxx += x[-i] * x[-i];
       syy += y * y;
     }
     const double d = sxx * syy;
@@ -80,24 +77,27 @@ class HarmonicCheck {
   }
 
  private:
-  // The normalised autocorrelation of the first kCheckWindow values of x (newest first) at a
+  // The newest value; newest()[-i] is the i-th newest (i < kRing): each value is stored twice, at
+  // next_ and next_ + kRing, so that the last kRing values lie in order without wrapping.
+  const double* newest() const noexcept { return ring_.data() + next_ + kRing - 1; }
+
+  // The normalised autocorrelation of the kCheckWindow newest values (x[-i], newest first) at a
   // (fractional) lag.
-  template <std::size_t N>
-  static double autocorrelation(const std::array<double, N>& x, double lag) noexcept {
-    const std::size_t l0 = static_cast<std::size_t>(lag);
+  static double autocorrelation(const double* x, double lag) noexcept {
+    const std::ptrdiff_t l0 = static_cast<std::ptrdiff_t>(lag);
     const double w = lag - static_cast<double>(l0);
     double sxy = 0.0, sxx = 0.0, syy = 0.0;
-    for (std::size_t i = 0; i < kCheckWindow; ++i) {
-      const double y = (1.0 - w) * x[i + l0] + w * x[i + l0 + 1];
-      sxy += x[i] * y;
-      sxx += x[i] * x[i];
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(kCheckWindow); ++i) {
+      const double y = (1.0 - w) * x[-(i + l0)] + w * x[-(i + l0 + 1)];
+      sxy += x[-i] * y;
+      sxx += x[-i] * x[-i];
       syy += y * y;
     }
     const double d = sxx * syy;
     return d > 0.0 ? sxy / std::sqrt(d) : 0.0;
   }
 
-  std::array<double, kRing> ring_{};
+  std::array<double, 2 * kRing> ring_{};
   std::size_t n_ = 0, next_ = 0, ticks_ = 0;
   bool off_ = false;
 };
