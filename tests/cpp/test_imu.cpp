@@ -316,3 +316,21 @@ TEST(Imu, LeakyIntegratorDoesNotDrift) {
 }
 
 }  // namespace
+
+// HarmonicCheck::periodicity: a steady oscillation repeats at its period (r near 1); the same
+// oscillation whose newest 1.2 s are still but for a small tremor at another frequency (a pause)
+// does not, nor one at another rhythm than the estimate's; too short a history gives -1.
+TEST(Imu, PeriodicityTellsAPauseFromSteps) {
+  const double dt = 0.04, f = 1.8;
+  imu::HarmonicCheck steady, paused, short_history;
+  for (int k = 0; k < 200; ++k) {
+    const double v = 0.1 * std::cos(2.0 * kPi * f * k * dt);
+    steady.update(v, f, false, dt);
+    paused.update(k < 200 - 30 ? v : 0.005 * std::sin(2.0 * kPi * 5.3 * k * dt), f, false, dt);
+    if (k < 20) short_history.update(v, f, false, dt);
+  }
+  EXPECT_GT(steady.periodicity(f, dt, 1.5), 0.99);
+  EXPECT_LT(paused.periodicity(f, dt, 1.5), 0.2);
+  EXPECT_EQ(short_history.periodicity(f, dt, 1.5), -1.0);
+  EXPECT_LT(steady.periodicity(1.5 * f, dt, 1.5), 0.2);
+}

@@ -34,6 +34,10 @@ namespace yoyogait {
     "a step length (the pendulum's) per step frequency above this is a lock on the stride, not the step (walkers: 0.004-0.008; 0: not checked)") \
   X(double, turn_f_std_hz_per_rad_s, 0.21, "Hz/(rad/s)", "[", 0.0, 100.0, "]",                                     \
     "the step frequency's std grows by this times the yaw rate (low-passed over 0.5 s): in a turn the steps are not the walk's (0.0037 Hz per deg/s, calibrated on one participant, docs/imu.md; 0: not added)") \
+  X(double, min_periodicity, 0.2, "", "[", -1.0, 1.0, "]",                                                          \
+    "valid only while the fed v_z's autocorrelation at the estimate's period over the last periodicity_steps steps is at least this: the last steps repeat at it (a pause, steps of a turn do not; chosen on one participant, docs/imu.md; -1: not checked)") \
+  X(double, periodicity_steps, 1.5, "steps", "(", 0.0, 3.0, "]",                                                   \
+    "how many of the estimate's periods back the periodicity is taken over")                                       \
   X(double, settle_s, 2.0, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long after a (re)start (2 highpass_tau_s: the integrators' start transient decays)") \
   X(double, max_gap_s, 0.1, "s", "(", 0.0, 1e100, "]", "a longer interval between samples restarts the front-end") \
   X(double, acc_saturation_mps2, 78.0, "m/s^2", "(", 0.0, 1e100, "]",                                                \

@@ -20,6 +20,7 @@ enum class ImuReason : std::uint8_t {
   kAcquiring = 6,          ///< not fed yet, the start-up bank runs, or the frequency sits at a bound (not locked)
   kNotWalking = 7,         ///< the estimator's walking detector says standing
   kSpeedImplausible = 8,   ///< the speed is negative or above max_speed_mps
+  kIrregular = 9,          ///< the last steps do not repeat at the estimate's period (a pause, a turn's steps)
 };
 
 /// The fields of ImuEstimate, declared once: X(type, name, default, "unit", scope, "doc") (scope

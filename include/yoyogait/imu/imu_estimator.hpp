@@ -232,6 +232,8 @@ class ImuOnlineEstimator {
       o.reason = ImuReason::kAcquiring;
     else if (!o.walking)
       o.reason = ImuReason::kNotWalking;
+    else if (irregular_)
+      o.reason = ImuReason::kIrregular;
     else if (!(o.speed_mps >= 0.0 && o.speed_mps <= config_.max_speed_mps))
       o.reason = ImuReason::kSpeedImplausible;
     else {
@@ -293,6 +295,7 @@ class ImuOnlineEstimator {
     harmonic_.restart(false);
     harmonic_off_ = false;
     harmonic_off_s_ = 0.0;
+    irregular_ = false;
     f_std_ = s_std_ = std::numeric_limits<double>::infinity();
   }
 
@@ -373,6 +376,10 @@ class ImuOnlineEstimator {
     // asymmetric gait's v_z repeats over the stride too). Every sample: it costs a comparison.
     const double wr_max = config_.max_walk_ratio_m_per_spm;
     const bool off = acf_off || (locked && wr_max > 0.0 && pendulum_.step_length_m() > wr_max * 60.0 * f);
+    // Valid only while the last steps repeat at the period (a pause mid-bout, the steps of a turn on
+    // the spot: the lock holds the walk's cadence over strides that are not the walk's).
+    irregular_ = locked && config_.min_periodicity > -1.0 &&
+                 harmonic_.periodicity(f, dt_s, config_.periodicity_steps) < config_.min_periodicity;
     if (off && !harmonic_off_) harmonic_off_s_ = 0.0;
     harmonic_off_ = off;
     if (off) {
@@ -471,6 +478,7 @@ class ImuOnlineEstimator {
   std::array<double, 2> heading_tick_{1.0, 0.0};  ///< the heading at the last estimator sample
   imu::HarmonicCheck harmonic_;
   bool harmonic_off_ = false;  ///< off a harmonic (by the autocorrelation or the walk ratio)
+  bool irregular_ = false;  ///< the last steps do not repeat at the estimate's period (min_periodicity)
   double harmonic_off_s_ = 0.0;
   std::array<double, 2> heading_{1.0, 0.0};
   double t_saturated_s_ = 0.0, acc_norm_lp_ = kGravityMps2;

@@ -645,6 +645,8 @@ class ImuConfig(_ConfigFile):
     speed_rel_std: float = _field(IMU_SECTION, "speed_rel_std")
     max_walk_ratio_m_per_spm: float = _field(IMU_SECTION, "max_walk_ratio_m_per_spm")
     turn_f_std_hz_per_rad_s: float = _field(IMU_SECTION, "turn_f_std_hz_per_rad_s")
+    min_periodicity: float = _field(IMU_SECTION, "min_periodicity")
+    periodicity_steps: float = _field(IMU_SECTION, "periodicity_steps")
     settle_s: float = _field(IMU_SECTION, "settle_s")
     max_gap_s: float = _field(IMU_SECTION, "max_gap_s")
     acc_saturation_mps2: float = _field(IMU_SECTION, "acc_saturation_mps2")

@@ -225,3 +225,32 @@ def test_a_turn_widens_the_frequency_std_by_the_yaw_rate_and_changes_nothing_els
     assert (
         np.median(s_on["step_frequency_std_hz"][ms] - s_off["step_frequency_std_hz"][ms]) < 0.1 * expected
     )  # the pelvis's rotation at the stride leaks in a little
+
+
+@pytest.mark.parametrize("walk_type", ["1-straight", "2-fast-slow-fast", "3-rectangle", "4-figure-eight"])
+def test_the_periodicity_check_lets_regular_walks_through(walk_type):
+    """On SYNTHETIC walks whose steps repeat (straight, cadence change, turns) no sample is IRREGULAR."""
+    walk = make_imu_walk(walk_type=walk_type)
+    res = _run(walk)
+    m = res.time_s >= SETTLED_S
+    assert not np.any(res["reason"][m] == int(ImuReason.IRREGULAR))
+    assert res["valid"][m].mean() > 0.99
+
+
+def test_a_stop_is_irregular_before_the_walking_detector_sees_it():
+    """SYNTHETIC stop-and-go: the periodicity check halves the valid time standing, adding no wrong sample."""
+    walk = make_imu_walk(walk_type="5-stop-and-go")
+    on = _run(walk)
+    off = _run(walk, dataclasses.replace(ImuConfig(), min_periodicity=-1.0))
+    f_true = walk.truth.step_frequency_hz
+    standing = (on.time_s >= SETTLED_S) & (f_true < 0.1)
+    assert standing.sum() > 100
+    assert np.any(on["reason"][standing] == int(ImuReason.IRREGULAR))
+    assert on["valid"][standing].sum() <= 0.6 * off["valid"][standing].sum()
+
+    def wrong(res):
+        v = res["valid"].astype(bool)
+        err = np.abs(res["step_frequency_hz"] - f_true)
+        return int(np.sum(v & (err > 0.15) & (err > 2.0 * res["step_frequency_std_hz"])))
+
+    assert wrong(on) <= wrong(off)
