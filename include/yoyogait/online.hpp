@@ -15,3 +15,4 @@
 #include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/online/online_estimator.hpp"
 #include "yoyogait/online/settings.hpp"
+#include "yoyogait/online/velocity_noise.hpp"

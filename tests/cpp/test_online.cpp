@@ -541,3 +541,28 @@ TEST(Validity, ModerateNisScalesTheStdsAndOnlyALargerOneInvalidates) {
     EXPECT_NEAR(v.std_inflation(), std::sqrt(0.5 * nis), 0.01);
   }
 }
+
+// The estimator's input noise per channel: what the velocity shows above the gait's band.
+TEST(VelocityNoise, MeasuresWhiteNoiseAboveTheGaitsBandAndNotTheGait) {
+  const double dt = 0.04;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  online::VelocityNoise clean, noisy;
+  for (int k = 0; k < 2500; ++k) {
+    const double t = k * dt;
+    const double vx = 1.3 + 0.2 * std::sin(2 * kPi * 1.8 * t) + 0.05 * std::sin(2 * kPi * 3.6 * t);
+    const double vz = 0.2 * std::cos(2 * kPi * 1.8 * t);
+    clean.update(vx, vz, dt);
+    noisy.update(vx + 0.3 * unit(rng), vz + 0.03 * unit(rng), dt);
+  }
+  ASSERT_TRUE(clean.known());
+  // The gait alone (its harmonic at 3.6 Hz the largest part) stays far below the default's 0.05 m/s.
+  EXPECT_LT(std::sqrt(clean.vx_var()), 0.02);
+  EXPECT_LT(std::sqrt(clean.vz_var()), 0.02);
+  // White noise is measured within a third of its variance, per channel.
+  EXPECT_NEAR(noisy.vx_var() / (0.3 * 0.3), 1.0, 1.0 / 3.0);
+  EXPECT_NEAR(noisy.vz_var() / (0.03 * 0.03), 1.0, 1.0 / 3.0);
+  const std::array<double, 2> e = noisy.excess_var(0.05 * 0.05, 0.05 * 0.05);
+  EXPECT_GT(e[0], 0.05);    // v_x: 0.09 - 0.0025
+  EXPECT_EQ(e[1], 0.0);     // v_z: within the configured noise
+}

@@ -19,6 +19,12 @@ class KalmanDifferentiator {
   enum Index { kP = 0, kV = 1, kA = 2 };
   using Axis = std::array<double, 3>;  // [p, v, a] of one axis
 
+  /// A centre closer than this to its prediction is never an outlier [m] (update's min_outlier_m for
+  /// a pelvis centre): no walker's centre leaves a constant-acceleration prediction by 2 cm within a
+  /// frame (a 100 m/s^3 jerk: 0.6 mm at 30 Hz), while the blend of a change of the visible markers
+  /// (online/centre.hpp) moves it by millimetres.
+  static constexpr double kMinOutlierM = 0.02;
+
   struct Settings {
     double q_jerk_m2_per_s5 = 1000.0;  ///< white-jerk noise density [m^2/s^5]
     double meas_std_m = 0.001;         ///< noise of the measured position [m]

@@ -34,6 +34,7 @@
 #include "yoyogait/online/online_estimate.hpp"
 #include "yoyogait/online/settings.hpp"
 #include "yoyogait/online/validity.hpp"
+#include "yoyogait/online/velocity_noise.hpp"
 
 namespace yoyogait {
 
@@ -71,6 +72,7 @@ class OnlineEstimator {
     centre_.reset();
     diff_.stop();
     noise_.reset();
+    vnoise_.reset();
     gait_.reset();
     outlier_s_ = 0.0;
     blend_until_s_ = ungated_until_s_ = -1e300;
@@ -251,7 +253,7 @@ class OnlineEstimator {
       const bool known = noise_.known();
       const bool gated = known && outlier_s_ < config_.max_outlier_s && t_s > ungated_until_s_;
       const bool coasted = outlier_s_ > 0.0;  // the prediction ran over outliers: its innovation is not noise
-      const bool taken = diff_.update(c.centre_m, gated ? noise_.gate_nis() : 1e300, kMinOutlierM);
+      const bool taken = diff_.update(c.centre_m, gated ? noise_.gate_nis() : 1e300, diff_.kMinOutlierM);
       if (!taken) {
         outlier_s_ += gap_s;
         validity_.outlier(t_s, std::sqrt(3.0 * diff_.innovation2_m2()), gap_s);
@@ -347,10 +349,11 @@ class OnlineEstimator {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
     const GaitState prior = est_.gait_state;
-    // The velocity variance that the input noise above meas_position_std_m adds (0 at clean input)
-    // is the estimator's measurement noise too.
-    const double extra = noise_.excess_share() * diff_.covariance()[1][1];
-    estimator_.set_extra_measurement_variance(extra, extra, noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);
+    // What the input noise adds to the estimator's measurement noise (online/velocity_noise.hpp).
+    if (plausible) vnoise_.update(m.vx_mps, m.vz_mps, dt_s);
+    const std::array<double, 2> e =
+        online::extra_measurement_var(noise_, diff_.covariance()[1][1], vnoise_, config_.estimator.gait_filter, dt_s);
+    estimator_.set_extra_measurement_variance(e[0], e[1], noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);
     est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
@@ -439,11 +442,6 @@ class OnlineEstimator {
     o.gait_phase = phase_.phase();
   }
 
-  /// A centre closer than this to its prediction is never an outlier [m]: no walker's centre leaves a
-  /// constant-acceleration prediction by 2 cm within a frame (a 100 m/s^3 jerk: 0.6 mm at 30 Hz),
-  /// while the blend of a change of the visible markers (online/centre.hpp) moves it by millimetres.
-  static constexpr double kMinOutlierM = 0.02;
-
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
   static constexpr double kLongStepM = 0.8;
 
@@ -456,9 +454,9 @@ class OnlineEstimator {
   }
 
   /// A velocity within +-max_plausible_speed_mps (NaN: 0).
-  double bounded(double v_mps) const noexcept {
+  double bounded(double v) const noexcept {
     const double lim = config_.max_plausible_speed_mps;
-    return v_mps > lim ? lim : v_mps < -lim ? -lim : v_mps == v_mps ? v_mps : 0.0;
+    return v > lim ? lim : v < -lim ? -lim : v == v ? v : 0.0;
   }
 
   OnlineConfig config_;
@@ -468,6 +466,7 @@ class OnlineEstimator {
   online::CausalCentre centre_;
   online::KalmanDifferentiator diff_;
   online::InputNoise noise_;
+  online::VelocityNoise vnoise_;
   online::GaitEvidence gait_;
   online::HeadingTracker heading_;
   online::Decimator decimator_;
