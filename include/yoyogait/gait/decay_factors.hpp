@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace yoyogait::gait {
 
@@ -92,6 +94,26 @@ class DecayFactors {
   MeasurementNoise meas_;
   Values values_;
   double extra_vx_ = 0.0, extra_vz_ = 0.0;
+};
+
+/// The forecast's factors 1 - exp(-h / tau) of dA0 and dw at one horizon h, kept by a caller that
+/// forecasts again and again (the online carry: at 30 Hz nearly every frame has the same horizon);
+/// reused only for the same bits of h. One per filter (its time constants).
+struct HorizonDecay {
+  std::uint64_t h_bits = ~std::uint64_t{0};  ///< a NaN's bits: no horizon yet
+  double accel = 0.0, rate = 0.0;
+  /// The factors at h_s from the cache, or computed and kept.
+  void at(double h_s, double accel_tau_s, double rate_tau_s, double& ea, double& eb) noexcept {
+    std::uint64_t bits;
+    std::memcpy(&bits, &h_s, sizeof bits);
+    if (bits != h_bits) {
+      h_bits = bits;
+      accel = -std::expm1(-h_s / accel_tau_s);
+      rate = -std::expm1(-h_s / rate_tau_s);
+    }
+    ea = accel;
+    eb = rate;
+  }
 };
 
 }  // namespace yoyogait::gait

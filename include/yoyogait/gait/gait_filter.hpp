@@ -188,8 +188,8 @@ class GaitFilter {
   /// unless the bank is running. with_std: the covariance is
   /// propagated by the filter's prediction (transition Jacobian and process noise, sec. 2.1-2.2)
   /// in steps of at most sample_time_s, scaled by the std scale lambda. Copies only; no allocation.
-  /// Defined in gait/forecast.hpp.
-  Forecast forecast(double h_s, bool with_std) const noexcept;
+  /// Defined in gait/forecast.hpp. decay: the caller's cache of the exp factors (no expm1 at a repeated h_s).
+  Forecast forecast(double h_s, bool with_std, gait::HorizonDecay* decay = nullptr) const noexcept;
   /// The most covariance steps forecast takes (beyond 64 sample times, longer steps).
   static constexpr double kMaxForecastSteps = 64.0;
 

@@ -45,7 +45,10 @@ class CausalCentre {
   CausalCentre() noexcept = default;
   /// n_points: at most kMaxPoints.
   CausalCentre(std::size_t n_points, const Settings& s) noexcept
-      : n_(n_points > kMaxPoints ? kMaxPoints : n_points), blend_tau_s_(s.blend_tau_s), forget_s_(s.forget_s) {
+      : n_(n_points > kMaxPoints ? kMaxPoints : n_points),
+        blend_tau_s_(s.blend_tau_s),
+        forget_s_(s.forget_s),
+        keeps_seen_(!(0.0 > s.forget_s)) {
     reset();
   }
 
@@ -63,6 +66,7 @@ class CausalCentre {
   /// One frame. positions: n x 3 metres; visible[j] false where marker j is missing. dt_s: time
   /// since the previous frame with a visible marker (decays the correction; <= 0 on the first).
   Result update(const Vec3* positions, const bool* visible, double dt_s) noexcept {
+    if (dt_s > 0.0 && steady(visible)) return update_steady(positions, dt_s);
     Result r;
     if (dt_s > 0.0) {
       for (std::size_t j = 0; j < n_; ++j) {
@@ -141,13 +145,7 @@ class CausalCentre {
     if (all_known_visible != prev_full_) set_changed = true;
 
     // Decay the correction, then absorb this frame's step into it.
-    if (dt_s > 0.0 && (correction_[0] != 0.0 || correction_[1] != 0.0 || correction_[2] != 0.0)) {
-      if (dt_s != decay_dt_s_) {
-        decay_dt_s_ = dt_s;
-        decay_ = std::exp(-dt_s / blend_tau_s_);
-      }
-      for (int a = 0; a < 3; ++a) correction_[a] *= decay_;
-    }
+    if (dt_s > 0.0) decay_correction(dt_s);
     r.set_changed = set_changed && have_prev_;
     if (set_changed && have_prev_) {
       // How far the markers seen on this frame and the previous one moved: what the centre moves
@@ -182,9 +180,52 @@ class CausalCentre {
   std::size_t size() const noexcept { return n_; }
 
  private:
+  /// Every marker known and seen on this frame and the last, and the last a full frame: the case of
+  /// almost every frame, in which update() changes no set, starts no correction and forgets nothing.
+  bool steady(const bool* visible) const noexcept {
+    if (!(have_prev_ && prev_full_ && keeps_seen_)) return false;
+    bool all = true;
+    for (std::size_t j = 0; j < n_; ++j) all &= visible[j] & known_[j] & prev_visible_[j];
+    return all;
+  }
+
+  /// update() in the steady case (dt_s > 0), without its searches: the same operations in the same
+  /// order on the same values, so the same bits.
+  Result update_steady(const Vec3* positions, double dt_s) noexcept {
+    Result r;
+    Vec3 centre{};
+    for (std::size_t j = 0; j < n_; ++j) {
+      unseen_s_[j] = 0.0;
+      for (int a = 0; a < 3; ++a) centre[a] += positions[j][a];
+    }
+    for (int a = 0; a < 3; ++a) centre[a] /= static_cast<double>(n_);
+    for (std::size_t j = 0; j < n_; ++j) {
+      for (int a = 0; a < 3; ++a) offset_[j][a] = positions[j][a] - centre[a];
+      prev_pos_[j] = positions[j];
+    }
+    decay_correction(dt_s);
+    for (int a = 0; a < 3; ++a) r.centre_m[a] = centre[a] - correction_[a];
+    r.ok = true;
+    last_m_ = r.centre_m;
+    r.visible_points = static_cast<std::uint8_t>(n_);
+    return r;
+  }
+
+  /// The correction decays over dt_s (> 0) by exp(-dt_s / blend_tau_s), computed when dt_s changes.
+  void decay_correction(double dt_s) noexcept {
+    if (correction_[0] != 0.0 || correction_[1] != 0.0 || correction_[2] != 0.0) {
+      if (dt_s != decay_dt_s_) {
+        decay_dt_s_ = dt_s;
+        decay_ = std::exp(-dt_s / blend_tau_s_);
+      }
+      for (int a = 0; a < 3; ++a) correction_[a] *= decay_;
+    }
+  }
+
   std::size_t n_ = 0;
   double blend_tau_s_ = 0.3;
   double forget_s_ = 2.0;
+  bool keeps_seen_ = true;  ///< a marker seen on this frame stays known (forget_s >= 0): the steady case's premise
   std::array<double, kMaxPoints> unseen_s_{};
   std::array<bool, kMaxPoints> known_{};
   std::array<bool, kMaxPoints> prev_visible_{};

@@ -36,19 +36,18 @@ class PointFrame {
   /// Reads n_points x 3 coordinates (x, y, z of each point, in the length unit; NaN: missing).
   Count read(const double* positions_xyz) noexcept {
     Count c;
+    const double m = max_abs_m_;
     for (std::size_t j = 0; j < n_; ++j) {
-      bool ok = true, any_value = false;
-      for (std::size_t a = 0; a < 3; ++a) {
-        const double v = positions_xyz[3 * j + a] * unit_;
-        if (!std::isnan(v)) any_value = true;
-        if (!(std::fabs(v) <= max_abs_m_)) ok = false;  // NaN, infinite or absurd
-        pos_[j][a] = v;
-      }
-      // Exactly (0, 0, 0): how many writers mark a missing point.
-      if (ok && pos_[j][0] == 0.0 && pos_[j][1] == 0.0 && pos_[j][2] == 0.0) ok = false;
+      const double x = positions_xyz[3 * j] * unit_, y = positions_xyz[3 * j + 1] * unit_,
+                   z = positions_xyz[3 * j + 2] * unit_;
+      pos_[j] = {x, y, z};
+      // Not NaN, infinite or absurd, nor exactly (0, 0, 0), how many writers mark a missing point;
+      // the tests in the order that settles a seen point soonest (x != 0 nearly always).
+      const bool ok = std::fabs(x) <= m && std::fabs(y) <= m && std::fabs(z) <= m &&
+                      !(x == 0.0 && y == 0.0 && z == 0.0);
       visible_[j] = ok;
       c.seen += ok;
-      c.bad += (!ok && any_value);
+      if (!ok) c.bad += !(std::isnan(x) && std::isnan(y) && std::isnan(z));
     }
     return c;
   }
