@@ -97,7 +97,7 @@ class Estimator {
   /// advance w h, the stds NaN (the paper's filter has no rates to propagate).
   /// decay: the caller's cache of the gait filter's exp factors (GaitFilter::forecast).
   Forecast forecast(double horizon_s, bool with_std = true, gait::HorizonDecay* decay = nullptr) const noexcept {
-    if (!is_paper_) return gait_.forecast(horizon_s, with_std, decay);
+    if (!is_paper_) return decay ? gait_.forecast(horizon_s, with_std, *decay) : gait_.forecast(horizon_s, with_std);
     Forecast f;
     const Velocity v = predict_ahead(horizon_s);
     const State x = paper_.state();

@@ -48,15 +48,6 @@ inline double py_min(double a, double b) noexcept { return b < a ? b : a; }
 inline double py_max(double a, double b) noexcept { return b > a ? b : a; }
 }  // namespace detail
 
-/// floor(x), exactly (the same value, -0 kept), without the library call that SSE2 (no rounding
-/// instruction) makes of std::floor: by the integer conversion below 2^52, where a double can hold
-/// a fraction; beyond, NaN and infinities, x is its own floor.
-inline double floor_exact(double x) noexcept {
-  if (!(std::fabs(x) < 4503599627370496.0) || x == 0.0) return x;
-  const double t = static_cast<double>(static_cast<long long>(x));  // x towards 0
-  return t > x ? t - 1.0 : t;
-}
-
 /// atan2(y, x) within 2e-6 rad, without a library call (a minimax polynomial of atan on [0, 1]);
 /// 0 at the origin. For angles that need no more (the gait phase, phase corrections).
 inline double atan2_fast(double y, double x) noexcept {

@@ -208,7 +208,7 @@ class ImuOnlineEstimator {
         const double step_dt_s = fed_ ? t_s - t_tick_s_ : T;
         const GaitState prior = est_.gait_state;
         const double vz_mean = sum_vz_ / span_s_;
-        estimator_.step_into(est_, sum_vx_ / span_s_, vz_mean, step_dt_s);
+        est_ = estimator_.step(sum_vx_ / span_s_, vz_mean, step_dt_s);
         fed_ = true;
         // First: the checks and stds of this sample use its step length.
         pendulum_.update(est_.gait_state, est_.walking, est_.acquiring, step_dt_s);
@@ -424,13 +424,13 @@ class ImuOnlineEstimator {
     const bool phased = e.walking && z1 * z1 + z2 * z2 > 1e-12;
     if (phased) {
       double ph = (atan2_fast(z2, z1) + f.phase_advance_rad) / two_pi;
-      ph -= floor_exact(ph);
+      ph -= std::floor(ph);
       if (ph >= 1.0) ph = 0.0;
       phase_ = ph;
     }
     if (phased && f.omega_rad_s > 0.0) {
       double left = 0.75 - phase_;
-      left -= floor_exact(left);
+      left -= std::floor(left);
       if (left >= 1.0) left = 0.0;
       const double turn = two_pi * left, wr = f.omega_rad_s, disc = wr * wr + 2.0 * f.omega_rate_rad_s2 * turn;
       o.next_step_in_s = disc > 0.0 ? 2.0 * turn / (wr + std::sqrt(disc)) : turn / wr;

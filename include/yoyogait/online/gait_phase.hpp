@@ -35,14 +35,14 @@ class GaitPhase {
     if (phased) {
       const double th = atan2_fast(z2, z1) + phase_advance_rad;  // (within 2e-6 rad: 3e-7 of a step)
       double ph = th / kTwoPi;
-      ph -= floor_exact(ph);
+      ph -= std::floor(ph);
       if (ph >= 1.0) ph = 0.0;
       phase_ = ph;
     }
     if (phased && omega_rad_s > 0.0) {
       // The turn to the next step phase, at the present w and its rate: w t + dw t^2 / 2 = turn.
       double left = kStepPhase - phase_;
-      left -= floor_exact(left);
+      left -= std::floor(left);
       if (left >= 1.0) left = 0.0;
       const double turn = kTwoPi * left, w = omega_rad_s, disc = w * w + 2.0 * omega_rate_rad_s2 * turn;
       next_step_in_s_ = disc > 0.0 ? 2.0 * turn / (w + std::sqrt(disc)) : turn / w;
