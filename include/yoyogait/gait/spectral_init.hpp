@@ -61,7 +61,7 @@ class SpectralInit {
 
   /// Grid search of the fit's weighted residual over [f_min, f_max] with a parabolic refinement.
   /// false (no fit) with fewer than 10 buffered samples.
-  bool fit(Fit& out) const noexcept {
+  YOYOGAIT_COLD bool fit(Fit& out) const noexcept {  // once per acquisition: out of the per-sample code
     const std::size_t n = n_;
     if (n < 10) return false;
     const Buffer b = ordered();

@@ -19,6 +19,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "yoyogait/online/interval_cache.hpp"
+
 namespace yoyogait::online {
 
 /// The most points the online front-end follows.
@@ -229,11 +231,8 @@ class CausalCentre {
   /// The correction decays over dt_s (> 0) by exp(-dt_s / blend_tau_s), computed when dt_s changes.
   void decay_correction(double dt_s) noexcept {
     if (correction_[0] != 0.0 || correction_[1] != 0.0 || correction_[2] != 0.0) {
-      if (dt_s != decay_dt_s_) {
-        decay_dt_s_ = dt_s;
-        decay_ = std::exp(-dt_s / blend_tau_s_);
-      }
-      for (int a = 0; a < 3; ++a) correction_[a] *= decay_;
+      const double decay = decay_.at(dt_s, [this](double dt) { return std::exp(-dt / blend_tau_s_); });
+      for (int a = 0; a < 3; ++a) correction_[a] *= decay;
     }
   }
 
@@ -248,7 +247,7 @@ class CausalCentre {
   Vec3 correction_{};
   std::array<Vec3, kMaxPoints> prev_pos_{};
   Vec3 last_m_{};  // the last centre returned
-  double decay_dt_s_ = -1.0, decay_ = 0.0;
+  IntervalCache<double> decay_;  ///< the correction's decay at the last intervals
   bool have_prev_ = false;
   bool prev_full_ = false;
   bool steady_ = false;       ///< the next frame is steady if it sees every marker (steady())
