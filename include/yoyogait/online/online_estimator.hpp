@@ -457,8 +457,7 @@ class OnlineEstimator {
 
   /// A velocity within +-max_plausible_speed_mps (NaN: 0).
   double bounded(double v_mps) const noexcept {
-    const double lim = config_.max_plausible_speed_mps;
-    return v_mps > lim ? lim : v_mps < -lim ? -lim : v_mps == v_mps ? v_mps : 0.0;
+    return detail::clamp_or_zero(v_mps, config_.max_plausible_speed_mps);
   }
 
   OnlineConfig config_;
@@ -479,7 +478,7 @@ class OnlineEstimator {
   double belt_a_m_ = 0.0, belt_b_m_ = 0.0;  ///< the belt's travel since the reset (a treadmill) [m]
   bool belt_seen_ = false;                   ///< a belt was taken since the reset
   Estimate est_{};
-  gait::HorizonDecay carry_decay_;  ///< the carry's forecast factors at the last horizon
+  gait::HorizonDecay carry_decay_;  ///< the carry's forecast factors at its last horizons
   OnlineEstimate out_{};
   bool have_time_ = false, have_seen_ = false;
   double t_last_s_ = 0.0;   ///< the last accepted frame [s]
