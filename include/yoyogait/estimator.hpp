@@ -59,7 +59,7 @@ class Estimator {
   }
 
   /// out = step(vx_mps, vz_mps, dt_s), the estimate built in out itself: an assignment would build
-  /// it in a temporary and copy its ~300 bytes at every sample.
+  /// it in a temporary and copy its 232 bytes at every sample.
   YOYOGAIT_ALWAYS_INLINE void step_into(Estimate& out, double vx_mps, double vz_mps, double dt_s) noexcept {
     static_assert(std::is_trivially_destructible<Estimate>::value, "out is reused as storage");
     ::new (static_cast<void*>(&out)) Estimate(step(vx_mps, vz_mps, dt_s));
