@@ -5,7 +5,9 @@
 
 #include <cstddef>
 #include <limits>
+#include <new>
 #include <stdexcept>
+#include <type_traits>
 
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimate.hpp"
@@ -56,6 +58,13 @@ class Estimator {
     return gait_estimate(gait_.step(vx_mps, vz_mps, dt_s));
   }
 
+  /// out = step(vx_mps, vz_mps, dt_s), the estimate built in out itself: an assignment would build
+  /// it in a temporary and copy its 232 bytes at every sample.
+  YOYOGAIT_ALWAYS_INLINE void step_into(Estimate& out, double vx_mps, double vz_mps, double dt_s) noexcept {
+    static_assert(std::is_trivially_destructible<Estimate>::value, "out is reused as storage");
+    ::new (static_cast<void*>(&out)) Estimate(step(vx_mps, vz_mps, dt_s));
+  }
+
   /// Variances added to the measurement noise of v_x and v_z from the next sample on [(m/s)^2]
   /// (gait: GaitFilter::set_extra_measurement_variance; paper: not used). 0 until set.
   void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2, double noise_sigmas = 0.0) noexcept {
@@ -86,8 +95,9 @@ class Estimator {
   /// The model's forecast horizon_s [s] after the last sample (yoyogait::Forecast), rates included,
   /// with standard deviations when with_std. gait: GaitFilter::forecast. paper: predict_ahead's velocities, the phase
   /// advance w h, the stds NaN (the paper's filter has no rates to propagate).
-  Forecast forecast(double horizon_s, bool with_std = true) const noexcept {
-    if (!is_paper_) return gait_.forecast(horizon_s, with_std);
+  /// decay: the caller's cache of the gait filter's exp factors (GaitFilter::forecast).
+  Forecast forecast(double horizon_s, bool with_std = true, gait::HorizonDecay* decay = nullptr) const noexcept {
+    if (!is_paper_) return decay ? gait_.forecast(horizon_s, with_std, *decay) : gait_.forecast(horizon_s, with_std);
     Forecast f;
     const Velocity v = predict_ahead(horizon_s);
     const State x = paper_.state();

@@ -46,6 +46,11 @@ namespace detail {
 /// smaller (larger). Unlike std::fmin/fmax they compile to one instruction, no libm call.
 inline double py_min(double a, double b) noexcept { return b < a ? b : a; }
 inline double py_max(double a, double b) noexcept { return b > a ? b : a; }
+/// v within [-lim, lim], NaN: 0. Without branches (min and max keep a NaN of their first argument).
+inline double clamp_or_zero(double v, double lim) noexcept {
+  const double c = py_max(py_min(v, lim), -lim);
+  return c == c ? c : 0.0;
+}
 }  // namespace detail
 
 /// atan2(y, x) within 2e-6 rad, without a library call (a minimax polynomial of atan on [0, 1]);

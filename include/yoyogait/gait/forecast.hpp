@@ -22,11 +22,23 @@ inline double known_part(double x, double var) noexcept {
 }  // namespace gait
 
 inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
+  const GaitFilterConfig& g = cfg_.gait_filter;
+  return forecast_at(h_s, with_std, -std::expm1(-h_s / g.accel_tau_s), -std::expm1(-h_s / g.omega_rate_tau_s));
+}
+
+inline Forecast GaitFilter::forecast(double h_s, bool with_std, gait::HorizonDecay& decay) const noexcept {
+  const GaitFilterConfig& g = cfg_.gait_filter;
+  double ea, eb;
+  decay.at(h_s, g.accel_tau_s, g.omega_rate_tau_s, ea, eb);
+  return forecast_at(h_s, with_std, ea, eb);
+}
+
+// ea, eb: 1 - exp(-h_s / tau) of accel_tau_s and omega_rate_tau_s.
+inline Forecast GaitFilter::forecast_at(double h_s, bool with_std, double ea, double eb) const noexcept {
   using namespace gait;
   const Ekf& f = active();
   const GaitState& x = f.x;
   const GaitFilterConfig& g = cfg_.gait_filter;
-  const double ea = -std::expm1(-h_s / g.accel_tau_s), eb = -std::expm1(-h_s / g.omega_rate_tau_s);
   Forecast out;
   // The rates where they are known: each weighted by x^2 / (x^2 + lambda P), the share of its
   // estimate that stands above its std (a rate lost in its noise, as early in a walk, is not

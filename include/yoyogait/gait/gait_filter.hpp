@@ -188,8 +188,9 @@ class GaitFilter {
   /// unless the bank is running. with_std: the covariance is
   /// propagated by the filter's prediction (transition Jacobian and process noise, sec. 2.1-2.2)
   /// in steps of at most sample_time_s, scaled by the std scale lambda. Copies only; no allocation.
-  /// Defined in gait/forecast.hpp.
+  /// Defined in gait/forecast.hpp. decay: the caller's cache of the exp factors (no expm1 at a repeated h_s).
   Forecast forecast(double h_s, bool with_std) const noexcept;
+  Forecast forecast(double h_s, bool with_std, gait::HorizonDecay& decay) const noexcept;
   /// The most covariance steps forecast takes (beyond 64 sample times, longer steps).
   static constexpr double kMaxForecastSteps = 64.0;
 
@@ -261,6 +262,7 @@ class GaitFilter {
     return p;
   }
 
+  Forecast forecast_at(double h_s, bool with_std, double ea, double eb) const noexcept;  // gait/forecast.hpp
   const Ekf& active() const noexcept { return acquiring_ ? bank_.best() : main_; }
   Ekf& active() noexcept { return acquiring_ ? bank_.best() : main_; }
   const gait::Harmonic* active_harmonics() const noexcept {

@@ -61,19 +61,17 @@ class SpectralInit {
 
   /// Grid search of the fit's weighted residual over [f_min, f_max] with a parabolic refinement.
   /// false (no fit) with fewer than 10 buffered samples.
-  bool fit(Fit& out) const noexcept {
+  YOYOGAIT_COLD bool fit(Fit& out) const noexcept {  // once per acquisition: out of the per-sample code
     const std::size_t n = n_;
     if (n < 10) return false;
-    const std::size_t nb = s_.buffer_samples;
-    const double t_last = t_[(head_ + nb - 1) % nb];
-    const std::size_t i0 = (head_ + nb - n) % nb;
+    const Buffer b = ordered();
     const double step = s_.grid_step_hz;
     const auto nf = static_cast<std::size_t>((s_.f_max_hz - s_.f_min_hz) / step) + 1;
     // Costs of the best grid point and its two neighbours, without storing the grid.
     std::size_t best_k = 0;
     double best = 0.0, prev = 0.0, before_best = 0.0, after_best = 0.0;
     for (std::size_t k = 0; k < nf; ++k) {
-      const double cost = ls_cost(kTwoPi * (s_.f_min_hz + static_cast<double>(k) * step), n, i0, t_last, nullptr);
+      const double cost = ls_cost(kTwoPi * (s_.f_min_hz + static_cast<double>(k) * step), b, nullptr);
       if (k == 0) best = cost;
       if (k == best_k + 1) after_best = cost;
       if (cost < best) {
@@ -90,46 +88,83 @@ class SpectralInit {
       if (den > 0.0) f_best += detail::py_max(-0.5, detail::py_min(0.5, 0.5 * (y0 - y2) / den)) * step;
     }
     out.f_hz = f_best;
-    ls_cost(kTwoPi * f_best, n, i0, t_last, out.sol);
+    ls_cost(kTwoPi * f_best, b, out.sol);
     return true;
   }
 
  private:
+  /// The buffered samples in time order (tau: the time since the last one) and the sums of the
+  /// normal equations that do not depend on the frequency, formed once for the whole grid (each sum
+  /// by the same additions in the same order as within a cost: the same bits).
+  struct Buffer {
+    std::size_t n = 0;
+    std::array<double, kMaxSpectralBuffer> tau{}, x{}, z{};
+    double A00 = 0.0, A01 = 0.0, A11 = 0.0, bx0 = 0.0, bx1 = 0.0, bz0 = 0.0, yy_x = 0.0, yy_z = 0.0;
+  };
+  Buffer ordered() const noexcept {
+    Buffer b;
+    b.n = n_;
+    const std::size_t nb = s_.buffer_samples;
+    const double t_last = t_[(head_ + nb - 1) % nb];
+    const std::size_t i0 = (head_ + nb - n_) % nb;
+    for (std::size_t q = 0; q < b.n; ++q) {
+      const std::size_t i = (i0 + q) % nb;
+      const double tau = t_[i] - t_last, x = x_[i], z = z_[i];
+      b.tau[q] = tau;
+      b.x[q] = x;
+      b.z[q] = z;
+      b.A00 += 1.0 * 1.0;
+      b.A01 += 1.0 * tau;
+      b.A11 += tau * tau;
+      b.bx0 += 1.0 * x;
+      b.bx1 += tau * x;
+      b.bz0 += z;
+      b.yy_x += x * x;
+      b.yy_z += z * z;
+    }
+    return b;
+  }
+
   /// Weighted residual of two linear least-squares fits at angular frequency w over the buffer:
   /// v_x(tau) = a + b tau + Xc cos(w tau) + Xs sin(w tau), v_z(tau) = c + Zc cos(w tau) + Zs sin(w tau).
-  double ls_cost(double w, std::size_t n, std::size_t i0, double t_last, double* sol) const noexcept {
-    const std::size_t nb = s_.buffer_samples;
+  double ls_cost(double w, const Buffer& b, double* sol) const noexcept {
     double A[4][4] = {}, bx[4] = {}, bz[3] = {};
-    double yy_x = 0.0, yy_z = 0.0;
-    for (std::size_t q = 0; q < n; ++q) {
-      const std::size_t i = (i0 + q) % nb;
-      const double tau = t_[i] - t_last;
+    for (std::size_t q = 0; q < b.n; ++q) {
+      const double tau = b.tau[q], x = b.x[q], z = b.z[q];
       const double cs = std::cos(w * tau), sn = std::sin(w * tau);
-      const double phi[4] = {1.0, tau, cs, sn};
-      for (std::size_t a = 0; a < 4; ++a) {
-        for (std::size_t b = a; b < 4; ++b) A[a][b] += phi[a] * phi[b];
-        bx[a] += phi[a] * x_[i];
-      }
-      bz[0] += z_[i];
-      bz[1] += cs * z_[i];
-      bz[2] += sn * z_[i];
-      yy_x += x_[i] * x_[i];
-      yy_z += z_[i] * z_[i];
+      // The rows of phi = (1, tau, cs, sn) that depend on w.
+      A[0][2] += 1.0 * cs;
+      A[0][3] += 1.0 * sn;
+      A[1][2] += tau * cs;
+      A[1][3] += tau * sn;
+      A[2][2] += cs * cs;
+      A[2][3] += cs * sn;
+      A[3][3] += sn * sn;
+      bx[2] += cs * x;
+      bx[3] += sn * x;
+      bz[1] += cs * z;
+      bz[2] += sn * z;
     }
+    A[0][0] = b.A00;
+    A[0][1] = b.A01;
+    A[1][1] = b.A11;
+    bx[0] = b.bx0;
+    bx[1] = b.bx1;
+    bz[0] = b.bz0;
     for (std::size_t a = 0; a < 4; ++a)
-      for (std::size_t b = 0; b < a; ++b) A[a][b] = A[b][a];
+      for (std::size_t c = 0; c < a; ++c) A[a][c] = A[c][a];
     constexpr double ridge = 1e-9;
     double Ax[4][4];
     for (std::size_t a = 0; a < 4; ++a)
-      for (std::size_t b = 0; b < 4; ++b) Ax[a][b] = A[a][b] + (a == b ? ridge : 0.0);
+      for (std::size_t c = 0; c < 4; ++c) Ax[a][c] = A[a][c] + (a == c ? ridge : 0.0);
     const double Az[3][3] = {{A[0][0] + ridge, A[0][2], A[0][3]},
                              {A[2][0], A[2][2] + ridge, A[2][3]},
                              {A[3][0], A[3][2], A[3][3] + ridge}};
     double ax[4], az[3];
     solve_spd(Ax, bx, ax);
     solve_spd(Az, bz, az);
-    const double rss_x = yy_x - (bx[0] * ax[0] + bx[1] * ax[1] + bx[2] * ax[2] + bx[3] * ax[3]);
-    const double rss_z = yy_z - (bz[0] * az[0] + bz[1] * az[1] + bz[2] * az[2]);
+    const double rss_x = b.yy_x - (bx[0] * ax[0] + bx[1] * ax[1] + bx[2] * ax[2] + bx[3] * ax[3]);
+    const double rss_z = b.yy_z - (bz[0] * az[0] + bz[1] * az[1] + bz[2] * az[2]);
     if (sol) {
       for (std::size_t i = 0; i < 4; ++i) sol[i] = ax[i];
       for (std::size_t i = 0; i < 3; ++i) sol[Fit::kC + i] = az[i];

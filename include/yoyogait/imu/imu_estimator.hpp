@@ -422,7 +422,7 @@ class ImuOnlineEstimator {
     }
     const double h_s = (t_s - t_tick_s_) + tick_age_s_ + o.input_latency_s;
     carry_h_s_ = h_s;
-    const Forecast f = estimator_.forecast(std::fmax(0.0, h_s), false);
+    const Forecast f = estimator_.forecast(std::fmax(0.0, h_s), false, &carry_decay_);
     o.vx_hat_mps = f.vx_mps;
     o.vz_hat_mps = f.vz_mps;
     const GaitState& x = e.gait_state;
@@ -455,6 +455,7 @@ class ImuOnlineEstimator {
   double input_latency_s_ = 0.0;  ///< the integrators' delay at latency_f_hz (constant)
   double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
   Estimate est_{};
+  gait::HorizonDecay carry_decay_;  ///< the carry's forecast factors at its last horizons
   ImuEstimate out_{};
   bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;
   bool heading_absolute_ = false;

@@ -21,6 +21,7 @@
 #include <cstddef>
 
 #include "yoyogait/math.hpp"
+#include "yoyogait/online/interval_cache.hpp"
 
 namespace yoyogait::online {
 
@@ -133,12 +134,10 @@ class BeltTracker {
   /// belt in use is updated here, once per frame with a centre (after update()).
   void pelvis(double va_mps, double vb_mps, double dt_s) noexcept {
     if (!(dt_s > 0.0)) return;
-    if (dt_s != pelvis_dt_s_) {  // one division per change of the frame interval
-      pelvis_dt_s_ = dt_s;
-      pelvis_g_ = dt_s / (kPelvisTauS + dt_s);
-    }
-    pelvis_a_ += pelvis_g_ * (va_mps - pelvis_a_);
-    pelvis_b_ += pelvis_g_ * (vb_mps - pelvis_b_);
+    // One division per new frame interval.
+    const double g = pelvis_g_.at(dt_s, [](double dt) { return dt / (kPelvisTauS + dt); });
+    pelvis_a_ += g * (va_mps - pelvis_a_);
+    pelvis_b_ += g * (vb_mps - pelvis_b_);
     refresh();
   }
 
@@ -217,7 +216,7 @@ class BeltTracker {
   double dev_a_ = kDev0Mps, dev_b_ = kDev0Mps;     ///< mean absolute deviations of the stance velocities [m/s]
   double known_mps_ = -1.0;
   double pelvis_a_ = 0.0, pelvis_b_ = 0.0;  ///< the pelvis's low-passed horizontal velocity [m/s]
-  double pelvis_dt_s_ = -1.0, pelvis_g_ = 1.0;  ///< its gain at that frame interval
+  IntervalCache<double> pelvis_g_;  ///< its gain at the last frame intervals
   double gains_dt_s_ = -1.0, g_ = 1.0, inv_dt_ = 1.0;  ///< the median's gain and 1 / dt at that interval
   bool active_ = false;                          ///< the belt in use (refresh())
   double use_a_ = 0.0, use_b_ = 0.0, use_speed_ = 0.0, use_std_ = 0.0;

@@ -19,6 +19,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "yoyogait/online/interval_cache.hpp"
+
 namespace yoyogait::online {
 
 /// The most points the online front-end follows.
@@ -45,7 +47,10 @@ class CausalCentre {
   CausalCentre() noexcept = default;
   /// n_points: at most kMaxPoints.
   CausalCentre(std::size_t n_points, const Settings& s) noexcept
-      : n_(n_points > kMaxPoints ? kMaxPoints : n_points), blend_tau_s_(s.blend_tau_s), forget_s_(s.forget_s) {
+      : n_(n_points > kMaxPoints ? kMaxPoints : n_points),
+        blend_tau_s_(s.blend_tau_s),
+        forget_s_(s.forget_s),
+        keeps_seen_(!(0.0 > s.forget_s)) {
     reset();
   }
 
@@ -58,11 +63,16 @@ class CausalCentre {
     correction_ = Vec3{};
     have_prev_ = false;
     prev_full_ = false;
+    steady_ = false;
+    offsets_due_ = false;
   }
 
   /// One frame. positions: n x 3 metres; visible[j] false where marker j is missing. dt_s: time
   /// since the previous frame with a visible marker (decays the correction; <= 0 on the first).
   Result update(const Vec3* positions, const bool* visible, double dt_s) noexcept {
+    if (dt_s > 0.0 && steady(visible)) return update_steady(positions, dt_s);
+    if (offsets_due_) refresh_offsets();
+    steady_ = false;  // until this frame ends as one that a steady frame may follow
     Result r;
     if (dt_s > 0.0) {
       for (std::size_t j = 0; j < n_; ++j) {
@@ -141,13 +151,7 @@ class CausalCentre {
     if (all_known_visible != prev_full_) set_changed = true;
 
     // Decay the correction, then absorb this frame's step into it.
-    if (dt_s > 0.0 && (correction_[0] != 0.0 || correction_[1] != 0.0 || correction_[2] != 0.0)) {
-      if (dt_s != decay_dt_s_) {
-        decay_dt_s_ = dt_s;
-        decay_ = std::exp(-dt_s / blend_tau_s_);
-      }
-      for (int a = 0; a < 3; ++a) correction_[a] *= decay_;
-    }
+    if (dt_s > 0.0) decay_correction(dt_s);
     r.set_changed = set_changed && have_prev_;
     if (set_changed && have_prev_) {
       // How far the markers seen on this frame and the previous one moved: what the centre moves
@@ -176,15 +180,66 @@ class CausalCentre {
     }
     prev_full_ = all_known_visible;
     have_prev_ = true;
+    // Every marker known and seen, none unseen for any time: the next frame may be steady.
+    bool unseen = false;
+    for (std::size_t j = 0; j < n_; ++j) unseen |= unseen_s_[j] != 0.0;
+    steady_ = all_known_visible && n_vis == n_ && !unseen && keeps_seen_;
     return r;
   }
 
   std::size_t size() const noexcept { return n_; }
 
  private:
+  /// Every marker known and seen on this frame and on the last, a full frame with no marker unseen
+  /// for any time (steady_): the case of almost every frame, in which update() changes no set, starts
+  /// no correction and forgets nothing.
+  bool steady(const bool* visible) const noexcept {
+    if (!steady_) return false;
+    bool all = true;
+    for (std::size_t j = 0; j < n_; ++j) all &= visible[j];
+    return all;
+  }
+
+  /// update() in the steady case (dt_s > 0), without its searches: the same operations in the same
+  /// order on the same values, so the same bits. The offsets (positions - centre), read only once the
+  /// set changes, are formed then from the positions kept (refresh_offsets).
+  Result update_steady(const Vec3* positions, double dt_s) noexcept {
+    Result r;
+    Vec3 centre{};
+    for (std::size_t j = 0; j < n_; ++j) {
+      for (int a = 0; a < 3; ++a) centre[a] += positions[j][a];
+      prev_pos_[j] = positions[j];
+    }
+    for (int a = 0; a < 3; ++a) centre[a] /= static_cast<double>(n_);
+    offsets_centre_m_ = centre;
+    offsets_due_ = true;
+    decay_correction(dt_s);
+    for (int a = 0; a < 3; ++a) r.centre_m[a] = centre[a] - correction_[a];
+    r.ok = true;
+    last_m_ = r.centre_m;
+    r.visible_points = static_cast<std::uint8_t>(n_);
+    return r;
+  }
+
+  /// The offsets of the last steady frame: its positions (prev_pos_) less its centre.
+  void refresh_offsets() noexcept {
+    for (std::size_t j = 0; j < n_; ++j)
+      for (int a = 0; a < 3; ++a) offset_[j][a] = prev_pos_[j][a] - offsets_centre_m_[a];
+    offsets_due_ = false;
+  }
+
+  /// The correction decays over dt_s (> 0) by exp(-dt_s / blend_tau_s), computed when dt_s changes.
+  void decay_correction(double dt_s) noexcept {
+    if (correction_[0] != 0.0 || correction_[1] != 0.0 || correction_[2] != 0.0) {
+      const double decay = decay_.at(dt_s, [this](double dt) { return std::exp(-dt / blend_tau_s_); });
+      for (int a = 0; a < 3; ++a) correction_[a] *= decay;
+    }
+  }
+
   std::size_t n_ = 0;
   double blend_tau_s_ = 0.3;
   double forget_s_ = 2.0;
+  bool keeps_seen_ = true;  ///< a marker seen on this frame stays known (forget_s >= 0): the steady case's premise
   std::array<double, kMaxPoints> unseen_s_{};
   std::array<bool, kMaxPoints> known_{};
   std::array<bool, kMaxPoints> prev_visible_{};
@@ -192,9 +247,12 @@ class CausalCentre {
   Vec3 correction_{};
   std::array<Vec3, kMaxPoints> prev_pos_{};
   Vec3 last_m_{};  // the last centre returned
-  double decay_dt_s_ = -1.0, decay_ = 0.0;
+  IntervalCache<double> decay_;  ///< the correction's decay at the last intervals
   bool have_prev_ = false;
   bool prev_full_ = false;
+  bool steady_ = false;       ///< the next frame is steady if it sees every marker (steady())
+  bool offsets_due_ = false;  ///< offset_ is prev_pos_ - offsets_centre_m_, not yet formed
+  Vec3 offsets_centre_m_{};   ///< the centre of the last steady frame
 };
 
 }  // namespace yoyogait::online

@@ -12,6 +12,8 @@
 #include <cmath>
 #include <complex>
 
+#include "yoyogait/online/interval_cache.hpp"
+
 namespace yoyogait::online {
 
 class KalmanDifferentiator {
@@ -54,7 +56,7 @@ class KalmanDifferentiator {
 
   /// Propagates over dt_s (> 0).
   void predict(double dt_s) noexcept {
-    const double h = dt_s, h2 = h * h, h3 = h2 * h;
+    const double h = dt_s, h2 = h * h;
     for (Axis& x : x_) {
       x[kP] += h * x[kV] + 0.5 * h2 * x[kA];
       x[kV] += h * x[kA];
@@ -75,9 +77,12 @@ class KalmanDifferentiator {
       N[i][1] = A[i][1] + h * A[i][2];
       N[i][2] = A[i][2];
     }
-    const double q = q_;
-    const double q00 = q * h3 * h2 / 20.0, q01 = q * h2 * h2 / 8.0, q02 = q * h3 / 6.0;
-    const double q11 = q * h3 / 3.0, q12 = q * h2 / 2.0, q22 = q * h;
+    // Q depends on q and h only: kept for the last two intervals (q is constant at clean input).
+    const Noise& qn = noise_.at(h, [this](double hq) {
+      const double q = q_, g2 = hq * hq, g3 = g2 * hq;
+      return Noise{q * g3 * g2 / 20.0, q * g2 * g2 / 8.0, q * g3 / 6.0, q * g3 / 3.0, q * g2 / 2.0, q * hq};
+    });
+    const double q00 = qn.q00, q01 = qn.q01, q02 = qn.q02, q11 = qn.q11, q12 = qn.q12, q22 = qn.q22;
     N[0][0] += q00;
     N[0][1] += q01;
     N[0][2] += q02;
@@ -101,7 +106,11 @@ class KalmanDifferentiator {
   /// gait's band and not the differentiated jitter above it, which rises as f^2 (docs/online.md,
   /// "Input noise").
   void set_meas_var(double r2_m2) noexcept {
-    q_ = q0_ * ((r2_m2 < knee2_ ? r2_m2 : knee2_) / r20_);
+    const double q = q0_ * ((r2_m2 < knee2_ ? r2_m2 : knee2_) / r20_);
+    if (q != q_) {
+      q_ = q;
+      noise_.reset();
+    }
     r2_ = r2_m2;
   }
   double meas_var_m2() const noexcept { return r2_; }
@@ -189,6 +198,10 @@ class KalmanDifferentiator {
   std::array<Axis, 3> x_{};
   std::array<std::array<double, 3>, 3> P_{};
   std::array<double, 3> gain_{};
+  struct Noise {
+    double q00, q01, q02, q11, q12, q22;
+  };
+  IntervalCache<Noise> noise_;  ///< Q at the last intervals, for q_
   double innovation2_m2_ = 0.0, predicted_var_m2_ = 0.0;
   bool started_ = false;
 };

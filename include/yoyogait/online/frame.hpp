@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "yoyogait/math.hpp"
 #include "yoyogait/online/centre.hpp"
 
 namespace yoyogait::online {
@@ -36,19 +37,30 @@ class PointFrame {
   /// Reads n_points x 3 coordinates (x, y, z of each point, in the length unit; NaN: missing).
   Count read(const double* positions_xyz) noexcept {
     Count c;
+    const double m = max_abs_m_;
+#ifdef YOYOGAIT_HAVE_SSE2
+    // x and y of a point as one SSE2 pair (the same products and tests, half the instructions).
+    const __m128d unit = _mm_set1_pd(unit_), lim = _mm_set1_pd(m), abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+#endif
     for (std::size_t j = 0; j < n_; ++j) {
-      bool ok = true, any_value = false;
-      for (std::size_t a = 0; a < 3; ++a) {
-        const double v = positions_xyz[3 * j + a] * unit_;
-        if (!std::isnan(v)) any_value = true;
-        if (!(std::fabs(v) <= max_abs_m_)) ok = false;  // NaN, infinite or absurd
-        pos_[j][a] = v;
-      }
-      // Exactly (0, 0, 0): how many writers mark a missing point.
-      if (ok && pos_[j][0] == 0.0 && pos_[j][1] == 0.0 && pos_[j][2] == 0.0) ok = false;
+      // Seen: not NaN, infinite or absurd, nor exactly (0, 0, 0), how many writers mark a missing point.
+#ifdef YOYOGAIT_HAVE_SSE2
+      const __m128d xy = _mm_mul_pd(_mm_loadu_pd(positions_xyz + 3 * j), unit);
+      const double z = positions_xyz[3 * j + 2] * unit_;
+      _mm_storeu_pd(pos_[j].data(), xy);
+      pos_[j][2] = z;
+      const bool xy_in = _mm_movemask_pd(_mm_cmple_pd(_mm_and_pd(xy, abs_mask), lim)) == 3;  // NaN: not <=
+      const bool ok = xy_in && std::fabs(z) <= m && !(z == 0.0 && _mm_movemask_pd(_mm_cmpeq_pd(xy, _mm_setzero_pd())) == 3);
+      const double x = pos_[j][0], y = pos_[j][1];
+#else
+      const double x = positions_xyz[3 * j] * unit_, y = positions_xyz[3 * j + 1] * unit_,
+                   z = positions_xyz[3 * j + 2] * unit_;
+      pos_[j] = {x, y, z};
+      const bool ok = std::fabs(x) <= m && std::fabs(y) <= m && std::fabs(z) <= m && !(x == 0.0 && y == 0.0 && z == 0.0);
+#endif
       visible_[j] = ok;
       c.seen += ok;
-      c.bad += (!ok && any_value);
+      if (!ok) c.bad += !(std::isnan(x) && std::isnan(y) && std::isnan(z));
     }
     return c;
   }

@@ -12,6 +12,8 @@
 #include <array>
 #include <cmath>
 
+#include "yoyogait/online/interval_cache.hpp"
+
 namespace yoyogait::online {
 
 /// Heading tracker with turn-lag compensation. Everything per frame is noexcept and allocation-free.
@@ -33,18 +35,16 @@ class HeadingTracker {
     dir_ = {1.0, 0.0};
     dir_known_ = false;
     turn_rate_rad_s_ = 0.0;
-    alpha_dt_s_ = -1.0;
+    alpha_.reset();
   }
 
   /// One frame of horizontal velocity (va_mps, vb_mps) on the axes a, b, dt_s (> 0) after the
   /// previous one.
   void update(double va_mps, double vb_mps, double dt_s) noexcept {
-    if (dt_s != alpha_dt_s_) {  // the gain changes only with the frame interval
-      alpha_dt_s_ = dt_s;
-      alpha_ = 1.0 - std::exp(-dt_s / s_.tau_s);
-    }
-    lp_[0] += alpha_ * (va_mps - lp_[0]);
-    lp_[1] += alpha_ * (vb_mps - lp_[1]);
+    // The gain changes only with the frame interval.
+    const double alpha = alpha_.at(dt_s, [this](double dt) { return 1.0 - std::exp(-dt / s_.tau_s); });
+    lp_[0] += alpha * (va_mps - lp_[0]);
+    lp_[1] += alpha * (vb_mps - lp_[1]);
     const double s = std::sqrt(lp_[0] * lp_[0] + lp_[1] * lp_[1]);
     if (!(s >= s_.min_speed_mps && s > 0.0)) {
       dir_known_ = false;
@@ -54,7 +54,7 @@ class HeadingTracker {
     const double ua = lp_[0] / s, ub = lp_[1] / s;
     if (dir_known_) {
       const double sin_turn = dir_[0] * ub - dir_[1] * ua;  // sin of the turn since the last frame
-      turn_rate_rad_s_ += alpha_ * (sin_turn / dt_s - turn_rate_rad_s_);
+      turn_rate_rad_s_ += alpha * (sin_turn / dt_s - turn_rate_rad_s_);
       // No walker turns faster than this; it also keeps frames microseconds apart harmless.
       if (!(std::fabs(turn_rate_rad_s_) <= kMaxTurnRateRadS))
         turn_rate_rad_s_ = turn_rate_rad_s_ > 0.0 ? kMaxTurnRateRadS : -kMaxTurnRateRadS;
@@ -97,7 +97,7 @@ class HeadingTracker {
   std::array<double, 2> dir_{1.0, 0.0};    ///< the low-passed direction at the last frame
   bool known_ = false, dir_known_ = false;
   double turn_rate_rad_s_ = 0.0;
-  double alpha_dt_s_ = -1.0, alpha_ = 0.0;  ///< the low-pass gain and the interval it is for
+  IntervalCache<double> alpha_;  ///< the low-pass gain at the last intervals
 };
 
 }  // namespace yoyogait::online

@@ -13,6 +13,8 @@
 
 #include <cstddef>
 
+#include "yoyogait/online/interval_cache.hpp"
+
 namespace yoyogait::online {
 
 class InputNoise {
@@ -40,10 +42,7 @@ class InputNoise {
   /// predicted variance P-_pp [m^2], with the measurement variance r2_m2 the filter used.
   void update(double dt_s, double innovation2_m2, double predicted_var_m2, double r2_m2) noexcept {
     if (!(dt_s > 0.0)) return;
-    if (dt_s != dt_s_) {
-      dt_s_ = dt_s;
-      g_ = dt_s >= s_.tau_s ? 1.0 : dt_s / (s_.tau_s + dt_s);
-    }
+    g_ = gain_.at(dt_s, [this](double dt) { return dt >= s_.tau_s ? 1.0 : dt / (s_.tau_s + dt); });
     const double s = predicted_var_m2 + r2_m2, cap = s_.gate_nis * (1.0 / 3.0) * s;
     const double nu2 = innovation2_m2 < cap ? innovation2_m2 : cap;
     const double x = nu2 - predicted_var_m2;
@@ -79,7 +78,8 @@ class InputNoise {
 
  private:
   Settings s_;
-  double floor2_ = 1e-6, knee2_ = 1e300, var_m2_ = 0.0, dt_s_ = -1.0, g_ = 1.0;
+  double floor2_ = 1e-6, knee2_ = 1e300, var_m2_ = 0.0, g_ = 1.0;
+  IntervalCache<double> gain_;  ///< g_ at the last intervals
   double rat_m2_ = 0.0;  ///< low-passed innovation^2 r^2 / (P-_pp + r^2) [m^2]
   std::size_t n_ = 0;
 };

@@ -354,7 +354,7 @@ class OnlineEstimator {
     const std::array<double, 2> e =
         online::extra_measurement_var(noise_, diff_.covariance()[1][1], vnoise_, config_.estimator.gait_filter, dt_s);
     estimator_.set_extra_measurement_variance(e[0], e[1], noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);
-    est_ = estimator_.step(plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
+    estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     const Innovation innov = estimator_.innovation();
@@ -433,7 +433,7 @@ class OnlineEstimator {
     }
     if (o.belt_speed_std_mps > 0.0)  // the belt's uncertainty is the walking speed's too
       o.speed_std_mps = sqrt1(o.speed_std_mps * o.speed_std_mps + o.belt_speed_std_mps * o.belt_speed_std_mps);
-    const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false);
+    const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false, &carry_decay_);
     o.vx_hat_mps = bounded(f.vx_mps);
     o.vz_hat_mps = bounded(f.vz_mps);
     phase_.update(o.walking, e.gait_state[gait::kZ1], e.gait_state[gait::kZ2], f.phase_advance_rad, f.omega_rad_s,
@@ -454,9 +454,8 @@ class OnlineEstimator {
   }
 
   /// A velocity within +-max_plausible_speed_mps (NaN: 0).
-  double bounded(double v) const noexcept {
-    const double lim = config_.max_plausible_speed_mps;
-    return v > lim ? lim : v < -lim ? -lim : v == v ? v : 0.0;
+  double bounded(double v_mps) const noexcept {
+    return detail::clamp_or_zero(v_mps, config_.max_plausible_speed_mps);
   }
 
   OnlineConfig config_;
@@ -478,6 +477,7 @@ class OnlineEstimator {
   double belt_a_m_ = 0.0, belt_b_m_ = 0.0;  ///< the belt's travel since the reset (a treadmill) [m]
   bool belt_seen_ = false;                   ///< a belt was taken since the reset
   Estimate est_{};
+  gait::HorizonDecay carry_decay_;  ///< the carry's forecast factors at its last horizons
   OnlineEstimate out_{};
   bool have_time_ = false, have_seen_ = false;
   double t_last_s_ = 0.0;   ///< the last accepted frame [s]

@@ -16,6 +16,7 @@
 
 #include "yoyogait/gait/state.hpp"
 #include "yoyogait/math.hpp"
+#include "yoyogait/online/interval_cache.hpp"
 #include "yoyogait/online/online_estimate.hpp"
 
 namespace yoyogait::online {
@@ -81,7 +82,7 @@ class Validity {
     steady_ = false;
     have_last_ = false;
     last_f_hz_ = last_speed_mps_ = f_rate_lp_ = s_rate_lp_ = phase_rate_lp_ = bias_vx_lp_ = heading_loss_lp_ = 0.0;
-    sample_dt_s_ = -1.0;
+    sample_gains_.reset();
     restart_travel();
   }
 
@@ -166,15 +167,13 @@ class Validity {
   void sample(double dt_s, double nis, double f_hz, double speed_mps, double correction_rad,
               double innovation_vx_mps = std::numeric_limits<double>::quiet_NaN()) noexcept {
     if (!(dt_s > 0.0)) return;
-    if (dt_s != sample_dt_s_) {  // one gain for the NIS and the rates (kNisTauS = kRateLpTauS)
-      sample_dt_s_ = dt_s;
-      g_sample_ = gain(dt_s, kRateLpTauS);
-      g_bias_ = gain(dt_s, kBiasTauS);
-      inv_sample_dt_ = 1.0 / dt_s;
-    }
-    const double g = g_sample_, inv = inv_sample_dt_;
+    // One gain for the NIS and the rates (kNisTauS = kRateLpTauS).
+    const SampleGains& sg = sample_gains_.at(dt_s, [](double dt) {
+      return SampleGains{gain(dt, kRateLpTauS), gain(dt, kBiasTauS), 1.0 / dt};
+    });
+    const double g = sg.g, g_bias = sg.bias, inv = sg.inv_dt;
     if (std::isfinite(nis)) nis_lp_ += g * (nis - nis_lp_);
-    if (std::isfinite(innovation_vx_mps)) bias_vx_lp_ += g_bias_ * (innovation_vx_mps - bias_vx_lp_);
+    if (std::isfinite(innovation_vx_mps)) bias_vx_lp_ += g_bias * (innovation_vx_mps - bias_vx_lp_);
     if (have_last_) {
       f_rate_lp_ += g * ((f_hz - last_f_hz_) * inv - f_rate_lp_);
       s_rate_lp_ += g * ((speed_mps - last_speed_mps_) * inv - s_rate_lp_);
@@ -276,7 +275,10 @@ class Validity {
   double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates
   double phase_rate_lp_ = 0.0;  ///< the low-passed phase correction rate [rad/s]
   double bias_vx_lp_ = 0.0;     ///< the low-passed v_x innovation [m/s]
-  double sample_dt_s_ = -1.0, g_sample_ = 1.0, g_bias_ = 1.0, inv_sample_dt_ = 1.0;  ///< the sample gains at that dt
+  struct SampleGains {
+    double g = 1.0, bias = 1.0, inv_dt = 1.0;
+  };
+  IntervalCache<SampleGains> sample_gains_;  ///< the sample gains at the last intervals
   std::array<Mark, kRing> ring_{};
   std::size_t ring_n_ = 0, ring_next_ = 0;
   double ring_t_s_ = -1e300, pa_m_ = 0.0, pb_m_ = 0.0;
