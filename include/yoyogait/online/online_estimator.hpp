@@ -349,8 +349,9 @@ class OnlineEstimator {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double dt_s = latency_.sample_dt_s(t_s, config_.estimator.sample_time_s);
     const GaitState prior = est_.gait_state;
-    // What the input noise adds to the estimator's measurement noise (online/velocity_noise.hpp).
-    if (plausible) vnoise_.update(m.vx_mps, m.vz_mps, dt_s);
+    // What the input noise adds to the estimator's measurement noise (online/velocity_noise.hpp; its
+    // per-channel measure, used above the knee, runs once the noise is above the floor).
+    if (plausible && noise_.excess_share() > 0.0) vnoise_.update(m.vx_mps, m.vz_mps, dt_s);
     const std::array<double, 2> e =
         online::extra_measurement_var(noise_, diff_.covariance()[1][1], vnoise_, config_.estimator.gait_filter, dt_s);
     estimator_.set_extra_measurement_variance(e[0], e[1], noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);

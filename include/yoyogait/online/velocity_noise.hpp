@@ -36,7 +36,9 @@ class VelocityNoise {
   /// One sample (v_x, v_z) dt_s after the previous one; non-finite values are skipped.
   void update(double vx_mps, double vz_mps, double dt_s) noexcept {
     if (!(dt_s > 0.0) || !std::isfinite(vx_mps) || !std::isfinite(vz_mps)) return;
-    if (dt_s != dt_s_) design(dt_s);
+    // Sample intervals differ in their last bits from one sample to the next: redesigned only when
+    // the interval changes by more than a millionth (the filter does not change by more).
+    if (std::fabs(dt_s - dt_s_) > 1e-6 * dt_s) design(dt_s);
     const double x[2] = {vx_mps, vz_mps};
     if (n_ == 0) {
       for (int c = 0; c < 2; ++c) x1_[c] = x2_[c] = x[c];
