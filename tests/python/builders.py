@@ -1,8 +1,9 @@
-"""Small recordings and files the tests of several stages build: a stepping walk, TRC files, special files
-(device nodes, FIFOs, sockets)."""
+"""Small recordings and files the tests of several stages build: a stepping walk, a camera-like noisy walk,
+TRC files, special files (device nodes, FIFOs, sockets)."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import socket
 import stat
@@ -15,6 +16,22 @@ import pytest
 from yoyogait.io import Recording
 
 STEP_M = 0.7
+
+
+def camera_walk(seed: int, depth_jitter_m: float):
+    """(walk, recording): a SYNTHETIC lab walk at 60 Hz seen as a camera sees it: 2 mm everywhere and jitter
+    correlated over 50 ms along one horizontal axis (the camera's depth), as video keypoints have it."""
+    from yoyogait import synthetic as sy
+    from yoyogait import synthetic_conditions as sc
+
+    walk = sy.make_walk(sy.SUBJECTS[seed % 3], "1-straight", rate_hz=60.0, seed=seed, noise_m=0.0, dropouts=False)
+    rec = walk.recording
+    pos = np.array(rec.positions_m)
+    rng = np.random.default_rng(seed)
+    depth = [a for a in range(3) if a != "xyz".index(rec.up_axis)][0]
+    pos += rng.normal(0.0, 0.002, pos.shape)
+    pos[:, :, depth] += depth_jitter_m * sc._correlated(rng, pos.shape[:2], 60.0, 0.05)
+    return walk, dataclasses.replace(rec, positions_m=pos)
 
 
 def stepping_walk(

@@ -2,29 +2,14 @@
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 
+from builders import camera_walk
 from yoyogait import synthetic as sy
-from yoyogait import synthetic_conditions as sc
 from yoyogait.estimators.config import EstimatorConfig
 from yoyogait.estimators.registry import noise_adapted, preset_runner
 from yoyogait.pipeline.velocities import gait_velocities
-
-
-def _camera_walk(seed: int, depth_jitter_m: float):
-    """A SYNTHETIC lab walk at 60 Hz seen as a camera sees it: 2 mm everywhere, and jitter correlated
-    over 50 ms along one horizontal axis (a camera's depth), as a markerless capture's keypoints."""
-    walk = sy.make_walk(sy.SUBJECTS[seed % 3], "1-straight", rate_hz=60.0, seed=seed, noise_m=0.0, dropouts=False)
-    rec = walk.recording
-    pos = np.array(rec.positions_m)
-    rng = np.random.default_rng(seed)
-    depth = [a for a in range(3) if a != "xyz".index(rec.up_axis)][0]
-    pos += rng.normal(0.0, 0.002, pos.shape)
-    pos[:, :, depth] += depth_jitter_m * sc._correlated(rng, pos.shape[:2], 60.0, 0.05)
-    return walk, dataclasses.replace(rec, positions_m=pos)
 
 
 def test_a_laboratory_walk_changes_nothing():
@@ -38,7 +23,7 @@ def test_a_laboratory_walk_changes_nothing():
 
 def test_depth_jitter_raises_the_forward_noise_only_and_says_so():
     """Centimetres of depth jitter raise meas_vx_density (not meas_vz) and the line names v_x."""
-    _, rec = _camera_walk(0, 0.025)
+    _, rec = camera_walk(0, 0.025)
     vel = gait_velocities(rec)
     config = EstimatorConfig.default()
     used, line = noise_adapted(config, vel)
@@ -49,7 +34,7 @@ def test_depth_jitter_raises_the_forward_noise_only_and_says_so():
 
 def test_the_paper_estimator_is_left_as_published():
     """The paper's preset is never changed, however noisy the input."""
-    _, rec = _camera_walk(1, 0.05)
+    _, rec = camera_walk(1, 0.05)
     config = EstimatorConfig.paper()
     assert noise_adapted(config, gait_velocities(rec)) == (config, "")
 
@@ -59,7 +44,7 @@ def test_depth_jitter_estimate_is_right_and_covered(seed):
     """With 4 cm depth jitter (SYNTHETIC) the default run's step frequency after 3 s of walking is
     within 0.05 Hz (median) and within 2 std 90 % of the time, its speed within 2 std 90 % too (with
     the configured noise as given, the speed's coverage is 69-78 % on these walks)."""
-    walk, rec = _camera_walk(seed, 0.04)
+    walk, rec = camera_walk(seed, 0.04)
     vel = gait_velocities(rec)
     res = preset_runner(EstimatorConfig.default())(vel)
     truth = walk.truth.at(vel.time_s)

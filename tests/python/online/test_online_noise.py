@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 
+from builders import camera_walk
 from yoyogait import synthetic as sy
 from yoyogait import synthetic_conditions as sc
 from yoyogait.estimators import OnlineConfig, OnlineEstimator
@@ -124,25 +123,12 @@ def test_noise_below_the_knee_changes_nothing():
         assert np.array_equal(np.asarray(getattr(a, name)), np.asarray(getattr(b, name))), name
 
 
-def _camera_walk(seed: int, depth_jitter_m: float):
-    """A SYNTHETIC lab walk at 60 Hz seen as a camera sees it: 2 mm everywhere and jitter correlated over
-    50 ms along one horizontal axis (the camera's depth), as video keypoints have it (docs/online.md)."""
-    walk = sy.make_walk(sy.SUBJECTS[seed % 3], "1-straight", rate_hz=60.0, seed=seed, noise_m=0.0, dropouts=False)
-    rec = walk.recording
-    pos = np.array(rec.positions_m)
-    rng = np.random.default_rng(seed)
-    depth = [a for a in range(3) if a != "xyz".index(rec.up_axis)][0]
-    pos += rng.normal(0.0, 0.002, pos.shape)
-    pos[:, :, depth] += depth_jitter_m * sc._correlated(rng, pos.shape[:2], 60.0, 0.05)
-    return walk, dataclasses.replace(rec, positions_m=pos)
-
-
 @pytest.mark.parametrize("seed", [0, 2, 5])
 def test_depth_jitter_is_weighed_on_the_forward_channel_only(seed):
     """6 cm of depth jitter (SYNTHETIC): after 3 s of walking the step frequency is within 0.02 Hz (median)
     and within 2 std 95 % of the time: the jitter is v_x's measurement noise, v_z keeps its weight
     (with the three-axis noise on both channels seeds 2 and 5 lock 0.25-0.9 Hz off)."""
-    walk, rec = _camera_walk(seed, 0.06)
+    walk, rec = camera_walk(seed, 0.06)
     r = OnlineEstimator.for_recording(rec).run(rec)
     t = np.asarray(r.time_s)
     truth = walk.truth
