@@ -23,7 +23,8 @@ re-renderings the step-frequency error after 3 s and the front-end's highest hor
 walking; on the treadmill renderings (and the manifest's treadmill recordings) the online speed error
 without feet or belt, with the heels in the frames (the belt from the stance feet) and with the belt
 speed given;
-on the not-walking renderings the share of their time reported as walking. The targets are
+on the not-walking renderings the share of their time reported as walking; the sharpness of the
+stds while valid (their median beside the 95th percentile of the errors then). The targets are
 printed beside them, fixed here. "valid" is the online result's ``valid`` where it has one, else
 ``walking`` (:func:`yoyogait.evaluation.online.validity`). A benchmark, not a test.
 """
@@ -225,6 +226,21 @@ def main():
     print("## Honesty (online estimate; the synthetic renderings: 3 subjects each)\n")
     print("\n".join(honesty_table([(g, groups.get(g, [])) for g in walking_groups])))
     print()
+    print(
+        "\n".join(
+            simple_table(
+                "## Sharpness: the stds a controller gating on valid is given, beside the errors then",
+                [(g, groups.get(g, [])) for g in walking_groups],
+                (
+                    ("f_std_valid_median_hz", "f std while valid, Hz", None, False),
+                    ("f_err_valid_p95_hz", "f error while valid, 95th pct., Hz", None, False),
+                    ("speed_std_valid_median_mps", "speed std while valid, m/s", None, False),
+                    ("speed_err_valid_p95_mps", "speed error while valid, 95th pct., m/s", None, False),
+                ),
+            )
+        )
+    )
+    print("(no target: a calibrated std has 2 std near the 95th percentile of the error; worst = widest)\n")
     clean = {n: r for n, r in groups.get("manifest", [])}
     noisy = groups.get("markerless re-rendering of the manifest", [])
     pairs = [(n, r) for n, r in noisy if n.removesuffix(" + markerless") in clean]

@@ -44,6 +44,7 @@ __all__ = [
     "coverage_fraction",
     "confidently_wrong_fraction",
     "flag_fraction",
+    "sharpness",
     "evaluate",
 ]
 
@@ -405,6 +406,21 @@ def confidently_wrong_fraction(quantities, valid, mask=None, *, stds: float = CO
     if not keep.any():
         return float("nan")
     return float(np.mean((wrong & v)[keep]))
+
+
+def sharpness(estimate, std, reference, valid, mask=None) -> tuple[float, float]:
+    """(median reported std, 95th percentile of |estimate - reference|) over the samples in ``mask``
+    that are flagged ``valid`` and have a finite estimate, std and reference: how wide the spread is
+    that a controller gating on ``valid`` is given, beside how far off it is (a calibrated Gaussian
+    spread has its 2 std near that percentile). (NaN, NaN) without such a sample."""
+    ref = _arr(reference, "reference")
+    n = ref.shape[0]
+    est = _arr(estimate, "estimate")
+    sd = _arr(std, "std")
+    keep = _mask(mask, n) & np.asarray(valid, dtype=bool) & np.isfinite(ref) & np.isfinite(est) & np.isfinite(sd)
+    if not keep.any():
+        return float("nan"), float("nan")
+    return float(np.median(sd[keep])), float(np.percentile(np.abs(est[keep] - ref[keep]), 95.0))
 
 
 def flag_fraction(flag, mask=None) -> float:

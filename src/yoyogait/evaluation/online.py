@@ -98,10 +98,18 @@ HONESTY_KEYS: tuple[str, ...] = tuple(
     f"{name}{part}_fraction"
     for name in ("f_cover2std", "speed_cover2std", "confidently_wrong", "valid")
     for part in ("", "_first3s", "_after3s")
-) + ("frontend_speed_max_mps",)
+) + (
+    "frontend_speed_max_mps",
+    "f_std_valid_median_hz",
+    "f_err_valid_p95_hz",
+    "speed_std_valid_median_mps",
+    "speed_err_valid_p95_mps",
+)
 """The honesty columns (online only; NaN for the oscillator, which reports no spread): per part of the
 walking time (whole, first 3 s, after them) the 2-std coverage of step frequency and speed, the share
-confidently wrong, the share valid; the front-end's highest horizontal speed while walking."""
+confidently wrong, the share valid; the front-end's highest horizontal speed while walking; the
+sharpness (:func:`~yoyogait.evaluation.metrics.sharpness`) over the valid walking time: the median
+reported std of step frequency and speed beside the 95th percentile of their errors."""
 
 ONLINE_METRIC_KEYS: tuple[str, ...] = metrics.METRIC_KEYS + ONLINE_EXTRA_KEYS + HONESTY_KEYS
 """Columns of an online evaluation's ``recordings.csv``: every offline metric, then the online ones.
@@ -388,6 +396,10 @@ def _honesty(ref: _Refs, walk, first, after, f_hat, f_std, speed_hat, speed_std,
         out[f"speed_cover2std{part}_fraction"] = metrics.coverage_fraction(speed_hat, speed_std, ref.speed_ref, mask)
         out[f"confidently_wrong{part}_fraction"] = metrics.confidently_wrong_fraction(quantities, valid, mask)
         out[f"valid{part}_fraction"] = metrics.flag_fraction(valid, mask)
+    out["f_std_valid_median_hz"], out["f_err_valid_p95_hz"] = metrics.sharpness(f_abs, f_std, ref.f_ref, valid, walk)
+    out["speed_std_valid_median_mps"], out["speed_err_valid_p95_mps"] = metrics.sharpness(
+        speed_hat, speed_std, ref.speed_ref, valid, walk
+    )
     return out
 
 

@@ -182,6 +182,26 @@ def test_honesty_of_a_made_up_estimate_is_scored_as_defined():
     assert flagged["confidently_wrong_fraction"] == 0.0 and flagged["valid_fraction"] == pytest.approx(0.5, abs=0.01)
 
 
+def test_sharpness_is_the_valid_frames_median_std_beside_their_95th_percentile_error():
+    """_score's sharpness: median std and 95th-percentile error over the valid walking frames only."""
+    t = np.arange(0.0, 10.0, 0.01)
+    n = t.size
+    vx, vz = np.ones(n), np.zeros(n)
+    ref = on._Refs(t, 100.0, vx, vz, np.ones(n, dtype=bool), np.full(n, 1.8), np.full(n, 1.2))
+    err = np.linspace(0.0, 0.1, n)  # f off by 0 .. 0.1 Hz along the walk
+    f_std = np.where(t < 5.0, 0.02, 0.5)
+    kw = dict(vx_hat_mps=vx, vz_hat_mps=vz, f_hat=1.8 + err, speed_hat=np.full(n, 1.25), phase=t % 1.0)
+    kw.update(contacts_s=np.empty(0), synthetic=False, step_at_s=None)
+    first_half = t < 5.0
+    row = on._score(ref, f_std=f_std, speed_std=np.full(n, 0.1), valid=first_half, **kw)
+    assert row["f_std_valid_median_hz"] == 0.02  # the invalid half's wide std does not count
+    assert row["f_err_valid_p95_hz"] == pytest.approx(np.percentile(err[first_half], 95.0))
+    assert row["speed_std_valid_median_mps"] == 0.1
+    assert row["speed_err_valid_p95_mps"] == pytest.approx(0.05)
+    never = on._score(ref, f_std=f_std, speed_std=np.full(n, 0.1), valid=np.zeros(n, dtype=bool), **kw)
+    assert math.isnan(never["f_std_valid_median_hz"]) and math.isnan(never["f_err_valid_p95_hz"])
+
+
 def test_validity_is_the_results_valid_not_its_walking():
     """validity(): a result's `valid`, whatever its walking detector says."""
     both = SimpleNamespace(walking=np.array([True, True, False]), valid=np.array([False, True, False]))
