@@ -525,6 +525,26 @@ TEST(Validity, InnovationMeanIsInTheSpeedVariance) {
   EXPECT_NEAR(std::sqrt(v.transient_var_speed()), 0.3, 0.01);
 }
 
+// A phase correction that persists (a cadence not followed) widens the f std by 3 x its rate / 2 pi;
+// step-to-step jitter (alternating every step) averages out over phase_tau_s.
+TEST(Validity, PersistentPhaseCorrectionWidensTheFrequencyStdAndJitterAveragesOut) {
+  online::Validity::Settings s;
+  s.phase_tau_s = 2.0;
+  online::Validity lag{s}, jitter{s};
+  const double dt = 0.04, rate = 0.3;  // rad/s: 0.043 Hz of frequency error, corrected a third at a time
+  for (int k = 0; k < 250; ++k) {      // 10 s, steps of 0.56 s (14 samples)
+    lag.sample(dt, 2.0, 1.8, 1.3, rate * dt);
+    jitter.sample(dt, 2.0, 1.8, 1.3, ((k / 14) % 2 ? -5.0 : 5.0) * rate * dt);
+  }
+  const double expected = 3.0 * rate / (2.0 * kPi);
+  EXPECT_NEAR(std::sqrt(lag.transient_var_f()), expected, 0.02 * expected);
+  // Five times the rate, but alternating: a fraction of the persistent one's.
+  EXPECT_LT(std::sqrt(jitter.transient_var_f()), 2.0 * expected);
+  online::Validity fast{online::Validity::Settings{}};  // the default 0.5 s (the IMU path's)
+  for (int k = 0; k < 250; ++k) fast.sample(dt, 2.0, 1.8, 1.3, ((k / 14) % 2 ? -5.0 : 5.0) * rate * dt);
+  EXPECT_GT(std::sqrt(fast.transient_var_f()), 2.0 * std::sqrt(jitter.transient_var_f()));
+}
+
 // A mean NIS above 2 but below max_nis scales the stds by sqrt(NIS / 2) without invalidating; above it, not valid.
 TEST(Validity, ModerateNisScalesTheStdsAndOnlyALargerOneInvalidates) {
   online::Validity::Settings s;

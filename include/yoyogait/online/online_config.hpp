@@ -53,6 +53,8 @@ namespace yoyogait {
   X(double, valid_after_s, 1.0, "s", "[", 0.0, 1e100, "]",                                                         \
     "an estimate is valid only after this much walking with the start-up bank collapsed (two time constants of the innovation statistics)") \
   X(double, min_rate_hz, 10.0, "Hz", "[", 0.0, 1e100, "]", "a lower mean frame rate makes the estimates not valid") \
+  X(double, phase_std_tau_s, 2.0, "s", "(", 0.0, 1e100, "]",                                                       \
+    "low-pass of the estimator's phase corrections in the step frequency's std: a correction that persists over it is a cadence the estimate has not followed yet; step-to-step phase jitter averages out") \
   X(double, max_plausible_speed_mps, 6.0, "m/s", "(", 0.0, 1e100, "]",                                             \
     "input moving faster (low-passed over 0.25 s; or 50 m/s in one frame) is implausible; estimates bounded by it") \
   X(double, max_walking_speed_mps, 3.0, "m/s", "(", 0.0, 1e100, "]",                                              \

@@ -80,8 +80,8 @@ inline Latency::Settings latency_settings(const OnlineConfig& c) noexcept {
 }
 
 /// The validity checks' settings (valid_after_s, min_rate_hz, max_plausible_speed_mps,
-/// max_input_noise_m, max_mean_nis; stale after max_gap_s plus two estimator samples; the
-/// estimator's frequency range).
+/// max_input_noise_m, max_mean_nis, phase_std_tau_s; stale after max_gap_s plus two estimator
+/// samples; the estimator's frequency range).
 inline Validity::Settings validity_settings(const OnlineConfig& c) noexcept {
   Validity::Settings s;
   s.valid_after_s = c.valid_after_s;
@@ -92,6 +92,7 @@ inline Validity::Settings validity_settings(const OnlineConfig& c) noexcept {
   s.stale_s = c.max_gap_s + 2.0 * c.estimator.sample_time_s;
   s.f_min_hz = c.estimator.gait_filter.f_min_hz;
   s.f_max_hz = c.estimator.gait_filter.f_max_hz;
+  s.phase_tau_s = c.phase_std_tau_s;
   return s;
 }
 

@@ -45,6 +45,9 @@ class Validity {
     double stale_s = 0.35;                ///< an estimate older than this: kInputMissing [s]
     double min_travel_ratio = 0.5;        ///< distance travelled / (speed x time) below it: kNotMoving
     double f_min_hz = 0.6, f_max_hz = 3.5;  ///< the estimator's frequency range (a pinned estimate is not valid)
+    /// Low-pass of the phase corrections' rate behind the frequency's std [s] (the IMU path's 0.5 s;
+    /// the marker path's phase_std_tau_s).
+    double phase_tau_s = kRateLpTauS;
   };
 
   /// The hold of kImplausibleInput after the last implausible frame [s]; the window of the distance
@@ -57,8 +60,8 @@ class Validity {
   /// Changes of the set of visible points per second above which the input counts as missing.
   static constexpr double kMaxSetChangesPerS = 4.0;
   /// The lag of the estimates behind a change of cadence or speed, for their stds [s]; the low-pass
-  /// of their rates of change [s].
-  static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;  // (also the NIS's low-pass)
+  /// of their rates of change [s] (also the NIS's, and the phase corrections' by default).
+  static constexpr double kTransientLagS = 1.0, kRateLpTauS = 0.5;
   /// The frequency error taken per unit of the phase correction rate (the update corrects part of it).
   static constexpr double kPhaseGain = 3.0;
   /// The low-pass of the v_x innovation, two estimator samples [s] (a stop decelerates by 0.2-0.3 m/s
@@ -167,9 +170,10 @@ class Validity {
   void sample(double dt_s, double nis, double f_hz, double speed_mps, double correction_rad,
               double innovation_vx_mps = std::numeric_limits<double>::quiet_NaN()) noexcept {
     if (!(dt_s > 0.0)) return;
-    // One gain for the NIS and the rates (kNisTauS = kRateLpTauS).
-    const SampleGains& sg = sample_gains_.at(dt_s, [](double dt) {
-      return SampleGains{gain(dt, kRateLpTauS), gain(dt, kBiasTauS), 1.0 / dt};
+    // One gain for the NIS and the rates (kNisTauS = kRateLpTauS), one for the phase corrections.
+    const double phase_tau_s = s_.phase_tau_s;
+    const SampleGains& sg = sample_gains_.at(dt_s, [phase_tau_s](double dt) {
+      return SampleGains{gain(dt, kRateLpTauS), gain(dt, kBiasTauS), 1.0 / dt, gain(dt, phase_tau_s)};
     });
     const double g = sg.g, g_bias = sg.bias, inv = sg.inv_dt;
     if (std::isfinite(nis)) nis_lp_ += g * (nis - nis_lp_);
@@ -183,7 +187,7 @@ class Validity {
     last_speed_mps_ = speed_mps;
     if (correction_rad > 3.141592653589793) correction_rad -= 6.283185307179586;
     if (correction_rad < -3.141592653589793) correction_rad += 6.283185307179586;
-    if (std::isfinite(correction_rad)) phase_rate_lp_ += g * (correction_rad * inv - phase_rate_lp_);
+    if (std::isfinite(correction_rad)) phase_rate_lp_ += sg.phase * (correction_rad * inv - phase_rate_lp_);
   }
 
   /// The variance a transient adds to f [Hz^2] and to the speed [(m/s)^2]: (kTransientLagS x the
@@ -276,7 +280,7 @@ class Validity {
   double phase_rate_lp_ = 0.0;  ///< the low-passed phase correction rate [rad/s]
   double bias_vx_lp_ = 0.0;     ///< the low-passed v_x innovation [m/s]
   struct SampleGains {
-    double g = 1.0, bias = 1.0, inv_dt = 1.0;
+    double g = 1.0, bias = 1.0, inv_dt = 1.0, phase = 1.0;
   };
   IntervalCache<SampleGains> sample_gains_;  ///< the sample gains at the last intervals
   std::array<Mark, kRing> ring_{};

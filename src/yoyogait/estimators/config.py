@@ -469,6 +469,7 @@ class OnlineConfig(_ConfigFile):
     max_time_jump_s: float = _field(ONLINE_SECTION, "max_time_jump_s")
     valid_after_s: float = _field(ONLINE_SECTION, "valid_after_s")
     min_rate_hz: float = _field(ONLINE_SECTION, "min_rate_hz")
+    phase_std_tau_s: float = _field(ONLINE_SECTION, "phase_std_tau_s")
     max_plausible_speed_mps: float = _field(ONLINE_SECTION, "max_plausible_speed_mps")
     max_walking_speed_mps: float = _field(ONLINE_SECTION, "max_walking_speed_mps")
     max_input_noise_m: float = _field(ONLINE_SECTION, "max_input_noise_m")
