@@ -530,6 +530,10 @@ SUMMARY_ONLINE_KEYS = (
     ("valid_fraction", "valid, share of walking"),
     ("valid_after3s_fraction", "valid, share of walking after 3 s"),
     ("frontend_speed_max_mps", "front-end horizontal speed, highest while walking (m/s)"),
+    ("f_std_valid_median_hz", "step freq. std while valid, median (Hz)"),
+    ("f_err_valid_p95_hz", "step freq. error while valid, 95th percentile (Hz)"),
+    ("speed_std_valid_median_mps", "speed std while valid, median (m/s)"),
+    ("speed_err_valid_p95_mps", "speed error while valid, 95th percentile (m/s)"),
 )
 """The rows of the online summary: (column, label); the worst recording is the highest value except for
 the columns in :data:`HIGHER_IS_BETTER` (the lowest) and :data:`BY_MAGNITUDE` (the farthest from 0)."""
@@ -563,7 +567,9 @@ class OnlineEvaluation(Evaluation):
             "velocities at 25 Hz. pred200ms columns: the online prediction made at t for t + 0.2 s against the offline "
             "velocity at t + 0.2 s (the oscillator's: n/a). Honesty rows (online only): the share of walking time "
             "the estimate is within 2 reported standard deviations, and confidently wrong (error above 0.15 Hz "
-            "or 0.15 m/s while valid and more than 2 std). Worst: the recording with the highest value (lowest for "
+            "or 0.15 m/s while valid and more than 2 std); sharpness: over the valid walking time, the median "
+            "reported std beside the 95th percentile of the error (a calibrated std has 2 std near it). "
+            "Worst: the recording with the highest value (lowest for "
             "shares within 2 std and valid, farthest from 0 for lags). "
             'Definitions: docs/online.md, section "Online evaluation".',
             "",
