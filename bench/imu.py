@@ -133,11 +133,14 @@ def real(data: Path, peer: bool, peer_cache: Path | None = None) -> list[str]:
                        f"| {d['median_abs_speed_error_mps']:.3f} |")  # fmt: skip
     out += ["", "## Real data: 2-std coverage and confidently-wrong time (every sample inside the bouts)", "",
             "| recording | reference | samples | valid | cadence within 2 std | speed within 2 std "
-            "| confidently wrong |",
-            "|---|---|---|---|---|---|---|"]  # fmt: skip
+            "| confidently wrong | f std while valid [Hz] | f error while valid, 95th pct. [Hz] "
+            "| speed std while valid [m/s] | speed error while valid, 95th pct. [m/s] |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
     for name, ref, c in cover:
         out.append(f"| {name} | {ref} | {c['samples']} | {100 * c['valid']:.0f} % | {100 * c['cadence_2std']:.0f} % "
-                   f"| {100 * c['speed_2std']:.0f} % | {100 * c['confidently_wrong']:.1f} % |")  # fmt: skip
+                   f"| {100 * c['speed_2std']:.0f} % | {100 * c['confidently_wrong']:.1f} % "
+                   f"| {c['f_std_valid_hz']:.3f} | {c['f_err_valid_p95_hz']:.3f} "
+                   f"| {c['speed_std_valid_mps']:.3f} | {c['speed_err_valid_p95_mps']:.3f} |")  # fmt: skip
     cov = [min(c["cadence_2std"], c["speed_2std"]) for _, _, c in cover]
     wrong = [c["confidently_wrong"] for _, _, c in cover]
     out += ["", f"Worst recording: coverage {100 * min(cov):.0f} % (target >= 90 %: {_mark(min(cov) >= 0.9)}), "

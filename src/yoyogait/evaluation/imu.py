@@ -357,7 +357,9 @@ def coverage(rec: ImuRecording, result: ImuResult) -> dict[str, dict[str, float]
     """Per reference system, over every sample inside its walking bouts with a stride under way
     (valid or not, as the online evaluation counts): the share within 2 standard deviations of the
     reference (step frequency, speed: :func:`reference_at`), the confidently-wrong share (valid,
-    and off by more than 0.15 Hz or 0.15 m/s and more than 2 standard deviations) and the valid share."""
+    and off by more than 0.15 Hz or 0.15 m/s and more than 2 standard deviations), the valid share,
+    and the sharpness over the valid samples (:func:`~yoyogait.evaluation.metrics.sharpness`: the
+    median reported std beside the 95th percentile of the error)."""
     t = result.time_s
     valid = result["valid"].astype(bool)
     f, f_std = result["step_frequency_hz"], result["step_frequency_std_hz"]
@@ -374,6 +376,10 @@ def coverage(rec: ImuRecording, result: ImuResult) -> dict[str, dict[str, float]
             "confidently_wrong": metrics.confidently_wrong_fraction(quantities, valid, m),
             "valid": metrics.flag_fraction(valid, m),
         }
+        out[ref]["f_std_valid_hz"], out[ref]["f_err_valid_p95_hz"] = metrics.sharpness(f, f_std, f_ref, valid, m)
+        out[ref]["speed_std_valid_mps"], out[ref]["speed_err_valid_p95_mps"] = metrics.sharpness(
+            v, v_std, v_ref, valid, m
+        )
     return out
 
 

@@ -80,6 +80,18 @@ def test_coverage_counts_every_sample_inside_the_bouts():
     assert wrong["confidently_wrong"] > 0.9 and wrong["cadence_2std"] == 0.0
 
 
+def test_sharpness_is_taken_over_the_valid_samples_inside_the_bouts():
+    """The IMU sharpness: the median std and the 95th-percentile error over the valid samples only."""
+    contacts = np.arange(1.0, 9.0, 0.5)  # 2 Hz
+    rec = ImuRecording(np.arange(0.0, 10.0, 0.01), np.zeros((1000, 3)), np.zeros((1000, 3)))
+    rec.references = {"R": [_bout(contacts)]}
+    t = rec.time_s
+    f = np.where(t < 5.0, 1.0, 2.1)  # 1 Hz off before 5 s, 0.1 Hz after
+    c = ev.coverage(rec, _result(t, f, 1.0, t >= 5.0, f_std=0.2))["R"]
+    assert c["f_std_valid_hz"] == 0.2 and c["f_err_valid_p95_hz"] == pytest.approx(0.1)
+    assert c["speed_std_valid_mps"] == 0.05
+
+
 def test_startup_in_steps_from_the_first_contact():
     """Valid 1.2 s after the first contact of a 2 Hz walk: 2.4 steps; within 5 % at the same time."""
     contacts = np.arange(2.0, 9.0, 0.5)
