@@ -38,6 +38,8 @@ namespace yoyogait {
     "valid only while the fed v_z's autocorrelation at the estimate's period over the last periodicity_steps steps is at least this: the last steps repeat at it (a pause, steps of a turn do not; chosen on one participant, docs/imu.md; -1: not checked)") \
   X(double, periodicity_steps, 1.5, "steps", "(", 0.0, 3.0, "]",                                                   \
     "how many of the estimate's periods back the periodicity is taken over")                                       \
+  X(double, phase_std_tau_s, 1.0, "s", "(", 0.0, 1e100, "]",                                                       \
+    "low-pass of the estimator's phase corrections in the step frequency's std (as [online]; chosen on one participant, docs/imu.md)") \
   X(double, settle_s, 2.0, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long after a (re)start (2 highpass_tau_s: the integrators' start transient decays)") \
   X(double, max_gap_s, 0.1, "s", "(", 0.0, 1e100, "]", "a longer interval between samples restarts the front-end") \
   X(double, acc_saturation_mps2, 78.0, "m/s^2", "(", 0.0, 1e100, "]",                                                \

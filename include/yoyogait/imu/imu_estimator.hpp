@@ -54,6 +54,7 @@ class ImuOnlineEstimator {
     online::Validity::Settings vs;
     vs.f_min_hz = config_.estimator.gait_filter.f_min_hz;
     vs.f_max_hz = config_.estimator.gait_filter.f_max_hz;
+    vs.phase_tau_s = config_.phase_std_tau_s;
     validity_ = online::Validity(vs);
     reset();
   }
