@@ -45,8 +45,8 @@ class Validity {
     double stale_s = 0.35;                ///< an estimate older than this: kInputMissing [s]
     double min_travel_ratio = 0.5;        ///< distance travelled / (speed x time) below it: kNotMoving
     double f_min_hz = 0.6, f_max_hz = 3.5;  ///< the estimator's frequency range (a pinned estimate is not valid)
-    /// Low-pass of the phase corrections' rate behind the frequency's std [s] (the IMU path's 0.5 s;
-    /// the marker path's phase_std_tau_s).
+    /// Low-pass of the phase corrections' rate behind the frequency's std [s] (the [online] and [imu]
+    /// phase_std_tau_s).
     double phase_tau_s = kRateLpTauS;
   };
 
