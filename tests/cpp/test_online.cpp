@@ -540,7 +540,7 @@ TEST(Validity, PersistentPhaseCorrectionWidensTheFrequencyStdAndJitterAveragesOu
   EXPECT_NEAR(std::sqrt(lag.transient_var_f()), expected, 0.02 * expected);
   // Five times the rate, but alternating: a fraction of the persistent one's.
   EXPECT_LT(std::sqrt(jitter.transient_var_f()), 2.0 * expected);
-  online::Validity fast{online::Validity::Settings{}};  // the default 0.5 s (the IMU path's)
+  online::Validity fast{online::Validity::Settings{}};  // the default 0.5 s (the rates' low-pass)
   for (int k = 0; k < 250; ++k) fast.sample(dt, 2.0, 1.8, 1.3, ((k / 14) % 2 ? -5.0 : 5.0) * rate * dt);
   EXPECT_GT(std::sqrt(fast.transient_var_f()), 2.0 * std::sqrt(jitter.transient_var_f()));
 }
