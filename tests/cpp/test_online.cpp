@@ -531,7 +531,7 @@ TEST(Validity, PersistentPhaseCorrectionWidensTheFrequencyStdAndJitterAveragesOu
   online::Validity::Settings s;
   s.phase_tau_s = 2.0;
   online::Validity lag{s}, jitter{s};
-  const double dt = 0.04, rate = 0.3;  // rad/s: 0.043 Hz of frequency error, corrected a third at a time
+  const double dt = 0.04, rate = 0.3;  // rad/s: 3 x 0.3 / 2 pi = 0.14 Hz of frequency error (a third corrected)
   for (int k = 0; k < 250; ++k) {      // 10 s, steps of 0.56 s (14 samples)
     lag.sample(dt, 2.0, 1.8, 1.3, rate * dt);
     jitter.sample(dt, 2.0, 1.8, 1.3, ((k / 14) % 2 ? -5.0 : 5.0) * rate * dt);
