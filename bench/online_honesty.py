@@ -26,8 +26,9 @@ speed given;
 on the not-walking renderings the share of their time reported as walking; the sharpness of the
 stds while valid (their median beside the 95th percentile of the errors then); for reference, the
 valid share of the walking at least 3 s into its bout (a bout starts after 1 s or more of
-standing). The targets are printed beside them, fixed here. "valid" is the online result's ``valid`` where it has one, else
-``walking`` (:func:`yoyogait.evaluation.online.validity`). A benchmark, not a test.
+standing). The targets are printed beside them, fixed here. "valid" is the online result's
+``valid`` where it has one, else ``walking`` (:func:`yoyogait.evaluation.online.validity`). A
+benchmark, not a test.
 """
 
 from __future__ import annotations
