@@ -8,8 +8,9 @@ its first seconds included:
 
 * the shared manifest (``--datasets``, default ``$YOYOGAIT_DATASETS`` or ../shared/datasets), as recorded;
 * the SYNTHETIC renderings of :mod:`yoyogait.synthetic_conditions` (markerless capture at 30 and
-  60 Hz, treadmill, stand-walk-stop bouts, tight turns, very slow walking; sit-to-stand, standing
-  sway, turning on the spot and shuffling, which are not walking), each for the three built-in subjects,
+  60 Hz, treadmill, stand-walk-stop bouts, tight turns, very slow walking; sit-to-stand, brisk chair
+  stands, standing sway, turning on the spot and shuffling, which are not walking), each for the
+  three built-in subjects,
   and the standing sway with markerless noise at 30 Hz;
 * the shared recordings re-rendered as a markerless capture would give them (SYNTHETIC noise,
   :func:`~yoyogait.synthetic_conditions.markerless_noise`: 2 cm jitter, swaps, dropouts, every k-th

@@ -11,8 +11,9 @@ estimate meets outside the lab are rendered here from the same walker, without a
 * **stand-walk-stop bouts** of 3-6 s (:func:`bouts_walk`), **tight turns** (:func:`turns_walk`),
   **very slow walking** at 0.3 m/s and 0.5 steps/s (:func:`very_slow_walk`): walking;
 * **not walking** (truth ``walking`` False and step frequency 0 throughout): **sit-to-stand**
-  (:func:`sit_to_stand`), **standing sway** (:func:`standing_sway`), **turning on the spot**
-  (:func:`turn_on_the_spot`), **shuffling** (:func:`shuffling`).
+  (:func:`sit_to_stand`), brisk **chair-stand** repetitions (:func:`chair_stand`), **standing sway**
+  (:func:`standing_sway`), **turning on the spot** (:func:`turn_on_the_spot`), **shuffling**
+  (:func:`shuffling`).
 
 Every rendering is a :class:`~yoyogait.synthetic.SyntheticWalk` whose ``walk_type`` names the
 condition (:data:`CONDITIONS`) and whose recording's metadata says SYNTHETIC; the points are the
@@ -46,6 +47,7 @@ __all__ = [
     "turns_walk",
     "very_slow_walk",
     "sit_to_stand",
+    "chair_stand",
     "standing_sway",
     "turn_on_the_spot",
     "shuffling",
@@ -56,7 +58,7 @@ __all__ = [
 MARKERLESS_JITTER_M = 0.02
 """Default jitter of markerless points: 2 cm standard deviation per coordinate."""
 
-NOT_WALKING: tuple[str, ...] = ("sit-to-stand", "standing-sway", "turn-on-the-spot", "shuffling")
+NOT_WALKING: tuple[str, ...] = ("sit-to-stand", "chair-stand", "standing-sway", "turn-on-the-spot", "shuffling")
 """Conditions whose truth is not walking (``walking`` False, step frequency 0, throughout)."""
 
 CONDITIONS: tuple[str, ...] = (
@@ -469,12 +471,20 @@ def sit_to_stand(
     seed: int = 0,
     noise_m: float = 0.001,
     dropouts: bool = True,
+    seated_s: float = 2.0,
+    rise_s: float = 1.5,
+    stand_s: float = 3.0,
+    sit_s: float = 1.8,
+    condition: str = "sit-to-stand",
 ) -> sy.SyntheticWalk:
-    """Sit-to-stand and back, ``repeats`` times (SYNTHETIC; not walking): seated 2 s with the pelvis at
-    ``seat_height_m`` 0.25 m behind the heels, tilted back; rising in 1.5 s (forward first, then up, the
-    pelvis tilting forward), standing 3 s with postural sway, sitting down in 1.8 s. Feet stay put."""
-    rng = _rng(seed, subject, "sit-to-stand")
-    seated, rise, stand, sit = 2.0, 1.5, 3.0, 1.8
+    """Sit-to-stand and back, ``repeats`` times (SYNTHETIC; not walking): seated ``seated_s`` (2 s) with
+    the pelvis at ``seat_height_m`` 0.25 m behind the heels, tilted back; rising in ``rise_s`` (1.5 s;
+    forward first, then up, the pelvis tilting forward), standing ``stand_s`` (3 s) with postural sway,
+    sitting down in ``sit_s`` (1.8 s). Feet stay put. ``condition`` names the rendering."""
+    if not min(seated_s, stand_s) > 0 or not min(rise_s, sit_s) > 0.3:
+        raise InputError("seated_s and stand_s must be > 0, rise_s and sit_s > 0.3 s")
+    rng = _rng(seed, subject, condition)
+    seated, rise, stand, sit = float(seated_s), float(rise_s), float(stand_s), float(sit_s)
     cycle = seated + rise + stand + sit
     t = np.arange(int(round((repeats * cycle + seated) * rate_hz)) + 1) / rate_hz
     up = np.zeros_like(t)
@@ -491,8 +501,18 @@ def sit_to_stand(
     heading = np.zeros_like(t)
     rot = _rot_y(pitch)
     heels = _feet_standing(subject, t.size)
-    return _still(subject, "sit-to-stand", "sit-to-stand trial (not walking)", t, centre, rot, heels, heading, rng,
+    what = "sit-to-stand trial (not walking)" if condition == "sit-to-stand" else f"{condition} (not walking)"
+    return _still(subject, condition, what, t, centre, rot, heels, heading, rng,
                   seed, noise_m, dropouts, repeats=int(repeats))  # fmt: skip
+
+
+def chair_stand(subject: sy.SyntheticSubject = sy.SUBJECTS[0], *, repeats: int = 6, seed: int = 0, **kwargs):
+    """Brisk sit-to-stand repetitions, as in a timed chair-stand test (SYNTHETIC; not walking): seated
+    0.6 s, rising in 1.0 s, standing 0.6 s, sitting down in 1.0 s, ``repeats`` times. The pelvis rises
+    and falls by 0.3-0.45 m within 2.5 s, as a walker's does by 2-6 cm within a step: its extrema alone
+    would read as gait. ``kwargs`` go to :func:`sit_to_stand`."""
+    timing = {"seated_s": 0.6, "rise_s": 1.0, "stand_s": 0.6, "sit_s": 1.0, **kwargs}
+    return sit_to_stand(subject, repeats=repeats, seed=seed, condition="chair-stand", **timing)
 
 
 def standing_sway(
@@ -646,6 +666,7 @@ def render(condition: str, subject: sy.SyntheticSubject = sy.SUBJECTS[0], *, see
         "turns": turns_walk,
         "very-slow": very_slow_walk,
         "sit-to-stand": sit_to_stand,
+        "chair-stand": chair_stand,
         "standing-sway": standing_sway,
         "turn-on-the-spot": turn_on_the_spot,
         "shuffling": shuffling,

@@ -586,3 +586,20 @@ TEST(VelocityNoise, MeasuresWhiteNoiseAboveTheGaitsBandAndNotTheGait) {
   EXPECT_GT(e[0], 0.05);    // v_x: 0.09 - 0.0025
   EXPECT_EQ(e[1], 0.0);     // v_z: within the configured noise
 }
+
+// A rise and fall of a step's size a step apart is gait; one of a chair's (0.4 m), however brisk, is not.
+TEST(GaitEvidence, ChairSizedRisesAreNoSteps) {
+  auto run = [](double amplitude_m, double period_s) {
+    online::GaitEvidence g{online::GaitEvidence::Settings{}};
+    bool any = false;
+    for (int k = 0; k <= 1000; ++k) {  // 10 s at 100 Hz
+      const double t = 0.01 * k;
+      g.update(t, 1.0 + 0.5 * amplitude_m * std::cos(2.0 * kPi * t / period_s), 1e-8);
+      any |= t > 3.0 && g.gait(t);
+    }
+    return any;
+  };
+  EXPECT_TRUE(run(0.04, 0.55));   // walking: 4 cm per step
+  EXPECT_TRUE(run(0.14, 0.55));   // the bounciest stylised walk seen
+  EXPECT_FALSE(run(0.40, 2.6));   // brisk sit-to-stand repetitions: extrema 1.3 s apart, 0.4 m
+}

@@ -7,7 +7,11 @@
 /// position of the differentiated centre is followed with a hysteresis of bob_m (at least three
 /// standard deviations of the input noise, so that noise does not make extrema): a maximum or a minimum
 /// counts once the centre has moved bob_m back from it. Gait is seen while the last two extrema lie
-/// within window_s (a rise and a fall: one step of the slowest walker, none of a sit-to-stand). No allocation, no division.
+/// within window_s (a rise and a fall: one step of the slowest walker, none of a sit-to-stand at
+/// an unhurried pace) and neither rise nor fall before them exceeds max_bob_m (a walker's pelvis
+/// moves 2-6 cm per step, 14 cm on the bounciest stylised walks seen; rising from a chair, 0.3-0.45
+/// m: brisk repetitions, as in a chair-stand test, are otherwise extrema a step apart). No
+/// allocation, no division.
 #pragma once
 
 #include <array>
@@ -21,6 +25,7 @@ class GaitEvidence {
   struct Settings {
     double bob_m = 0.01;     ///< the least vertical excursion counted [m]
     double window_s = 2.5;   ///< two extrema within this: gait [s]
+    double max_bob_m = 0.25; ///< a larger rise or fall between extrema is no step [m]
   };
 
   GaitEvidence() noexcept = default;
@@ -44,24 +49,28 @@ class GaitEvidence {
     const double h = h2 > b2 ? std::sqrt(h2) : s_.bob_m;
     if (z_m > hi_) hi_ = z_m;
     if (z_m < lo_) lo_ = z_m;
-    if (dir_ >= 0 && z_m < hi_ - h) {  // a maximum, left downwards
-      if (dir_ > 0) turn(t_s);
+    if (dir_ >= 0 && z_m < hi_ - h) {  // a maximum, left downwards (the rise to it: hi_ - lo_)
+      if (dir_ > 0) turn(t_s, hi_ - lo_);
       dir_ = -1;
       lo_ = z_m;
-    } else if (dir_ <= 0 && z_m > lo_ + h) {  // a minimum, left upwards
-      if (dir_ < 0) turn(t_s);
+    } else if (dir_ <= 0 && z_m > lo_ + h) {  // a minimum, left upwards (the fall to it: hi_ - lo_)
+      if (dir_ < 0) turn(t_s, hi_ - lo_);
       dir_ = 1;
       hi_ = z_m;
     }
   }
 
-  /// Whether the last two extrema lie within window_s of t_s.
-  bool gait(double t_s) const noexcept { return n_ >= kN && t_s - ring_[next_] <= s_.window_s; }
+  /// Whether the last two extrema lie within window_s of t_s, each reached by a rise or fall of at
+  /// most max_bob_m.
+  bool gait(double t_s) const noexcept {
+    return n_ >= kN && t_s - ring_[next_] <= s_.window_s && bob_[0] <= s_.max_bob_m && bob_[1] <= s_.max_bob_m;
+  }
 
  private:
   static constexpr std::size_t kN = 2;
-  void turn(double t_s) noexcept {
+  void turn(double t_s, double bob_m) noexcept {
     ring_[next_] = t_s;
+    bob_[next_] = bob_m;
     next_ = (next_ + 1) % kN;
     if (n_ < kN) ++n_;
   }
@@ -71,6 +80,7 @@ class GaitEvidence {
   bool have_ = false;
   double hi_ = 0.0, lo_ = 0.0;  ///< the extremes since the last turn
   std::array<double, kN> ring_{};  ///< the times of the last extrema (next_: the oldest of a full ring)
+  std::array<double, kN> bob_{};   ///< the rise or fall that reached each of them [m]
   std::size_t n_ = 0, next_ = 0;
 };
 

@@ -213,11 +213,14 @@ def online_estimate(
             est.set_belt_speed_mps(belt_speed_mps)
         res = est.run(recording)
     res.to_csv(out)
-    walking = res.walking
-    f = res.step_frequency_hz[walking] if walking.any() else res.step_frequency_hz
+    walking = np.asarray(res.walking, dtype=bool)
+    gait = (
+        f"median step frequency while walking {np.median(res.step_frequency_hz[walking]):.2f} Hz"
+        if walking.any()
+        else "never walking"
+    )
     click.echo(
-        f"{stem}: {len(res)} frames of {', '.join(est.point_names)} replayed online; "
-        f"median step frequency while walking {np.median(f):.2f} Hz, "
+        f"{stem}: {len(res)} frames of {', '.join(est.point_names)} replayed online; {gait}, "
         f"front-end latency {1e3 * float(np.median(res.input_latency_s)):.1f} ms"
     )
     click.echo(validity_line(res))

@@ -651,6 +651,8 @@ def _steps(contacts, sides, *, both_feet: bool, min_step_s: float, max_step_s: f
             stride = float(np.median(near))
         else:
             stride = 2.0 * d[i] if alternating[i] else d[i]  # too few neighbours: take it as it is
+        if not stride > 0.0:  # two contacts at one time: no interval to split
+            continue
         ratio = d[i] / stride
         if alternating[i]:
             n = 1 if ratio < 1.0 else 3 if 1.25 <= ratio <= 1.75 else 0

@@ -278,6 +278,16 @@ def test_estimate_online_says_in_one_line_how_often_the_estimates_are_valid(tmp_
     assert len(lines) == 1 and "not valid mostly: " in lines[0] and lines[0].endswith(" mm")
 
 
+def test_estimate_online_says_never_walking_of_brisk_chair_stands(tmp_path, capsys):
+    """SYNTHETIC chair stands through `estimate --online`: "never walking", no step frequency, no treadmill hint."""
+    from yoyogait import synthetic_conditions as sc
+
+    path = write_trc(tmp_path / "chairs.trc", sc.render("chair-stand").recording)
+    assert main(["estimate", str(path), "--online", "--out", str(tmp_path / "c.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "never walking" in out and "step frequency" not in out and "treadmill" not in out
+
+
 def test_a_short_jump_while_walking_is_cut_to_a_walking_speed():
     """All markers 0.3 m aside for 5 frames mid-walk: the front-end's horizontal speed <= max_walking_speed_mps."""
     t, p = pelvis()

@@ -72,6 +72,13 @@ def test_sit_to_stand_is_not_walking():
     assert np.mean(r.walking) <= 0.05
 
 
+def test_brisk_chair_stands_are_not_walking():
+    """SYNTHETIC chair-stand (six brisk rises and sits, extrema within 2.5 s): walking at most 5 % of the time."""
+    walk = sc.render("chair-stand", sy.SUBJECTS[0])
+    r = OnlineEstimator.for_recording(walk.recording, None).run(walk.recording)
+    assert np.mean(r.walking) <= 0.05 and not np.any(r.valid)
+
+
 def test_walking_is_still_walking_after_its_first_steps():
     """A clean walk is reported walking on at least 95 % of its frames after the first 2 s."""
     t, p = pelvis()

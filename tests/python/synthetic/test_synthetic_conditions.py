@@ -175,6 +175,19 @@ def test_not_walking_renderings_have_a_truth_of_not_walking(rendered, condition)
     assert walk.recording.positions_m.shape[0] == walk.truth.time_s.size
 
 
+def test_chair_stand_rises_and_sits_within_a_slow_steps_time(rendered):
+    """The chair-stand pelvis rises and sits six times, 0.3-0.5 m each, its turns less than 2.5 s apart."""
+    z = rendered["chair-stand"].truth.pelvis_centre_m[:, 2]
+    t = rendered["chair-stand"].truth.time_s
+    up = z > 0.5 * (0.55 + S1.z0_m)
+    rises = np.flatnonzero(np.diff(up.astype(int)) == 1)
+    falls = np.flatnonzero(np.diff(up.astype(int)) == -1)
+    assert rises.size == 6 and falls.size == 6
+    assert 0.3 <= z.max() - z.min() <= 0.5
+    crossings = np.sort(np.r_[rises, falls])
+    assert np.max(np.diff(t[crossings])) < 2.5
+
+
 def test_sit_to_stand_rises_from_the_seat_to_standing_height(rendered):
     """The sit-to-stand pelvis goes from the seat height (0.55 m) to standing height, three times."""
     z = rendered["sit-to-stand"].truth.pelvis_centre_m[:, 2]
