@@ -27,7 +27,7 @@ from ..errors import InputError
 from .marker_sets import pelvis_names
 from .recording import AXES, LENGTH_UNITS_M, Recording
 
-__all__ = ["check_plausible", "body_measures", "BODY_SIZE_M", "PELVIS_HEIGHT_M", "MAX_SPEED_MPS"]
+__all__ = ["check_plausible", "body_measures", "BODY_SIZE_M", "PELVIS_HEIGHT_M", "MAX_SPEED_MPS", "SPRINT_SPEED_MPS"]
 
 #: Median largest extent of a frame's points: a few markers on one segment to a person with lab objects.
 BODY_SIZE_M = (0.05, 4.0)
@@ -35,6 +35,8 @@ BODY_SIZE_M = (0.05, 4.0)
 PELVIS_HEIGHT_M = (0.4, 1.4)
 #: Median horizontal pelvis speed: faster than any person sustains.
 MAX_SPEED_MPS = 8.0
+#: Up to this a body of the right size is a sprinter (the fastest reach about 12 m/s), not a wrong rate alone.
+SPRINT_SPEED_MPS = 13.0
 _TYPICAL_PELVIS_M = 0.95
 _TYPICAL_SIZE_M = 1.6
 
@@ -120,6 +122,12 @@ def check_plausible(rec: Recording) -> Recording:
         body_ok = observed is not None or (np.isfinite(size) and 0.3 <= size <= 3.0)  # then the unit is not it
         likely = unit if body_ok else _likely_unit(speed / unit, 1.3)
         rate = f"{rec.rate_hz:g} Hz" if rec.rate_hz else "the file's times"
+        if body_ok and speed <= SPRINT_SPEED_MPS:
+            raise InputError(
+                f"{where}: faster than anyone walks: the pelvis moves at a median {speed:.2f} m/s with {said} at "
+                f"{rate} and a body of a person's size: a sprint (people walk at 0.5-2 m/s), and yoyogait "
+                "estimates walking; if the rate is wrong pass --capture-rate-hz"
+            )
         raise InputError(
             f"{where}: faster than a person: the pelvis moves at a median {speed:.2f} m/s (people walk at 0.5-2 m/s) "
             f"with {said} at {rate}; "

@@ -58,6 +58,16 @@ def test_a_pelvis_faster_than_a_person_is_refused(tmp_path):
         yoyogait.read(path)
 
 
+def test_a_sprinter_is_refused_as_a_sprint_not_as_faster_than_a_person(tmp_path):
+    """A body of a person's size whose pelvis moves at 9.5 m/s is refused as a sprint, naming --capture-rate-hz."""
+    pos, names = _walker_mm()
+    pos[..., 0] *= 9.5 / 1.2  # the same body, 9.5 m/s forward
+    path = write_trc(tmp_path / "sprint.trc", pos, names, units="mm")
+    with pytest.raises(InputError, match=r"faster than anyone walks: .* 9.50 m/s.*a sprint.*capture-rate-hz") as err:
+        yoyogait.read(path)
+    assert "faster than a person" not in str(err.value)
+
+
 def test_a_plausible_walker_passes_and_its_measures_are_kept(tmp_path):
     """A walker in mm labelled mm reads; the measures (size, pelvis height, speed) are in the metadata."""
     pos, names = _walker_mm()
