@@ -114,9 +114,9 @@ def command(
     estimated from the stance feet) and --belt-speed-mps gives the belt speed; without either a
     treadmill walk is marked not valid (not moving: the pelvis stays in place).
 
-    An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, an APDM .h5) is estimated online by nature: one
-    row per sample, every field of the IMU estimate (docs/imu.md), --out defaulting to FILE's name +
-    .imu.csv; --config FILE's [imu] table configures it.
+    An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, a Movella DOT .csv, an APDM .h5) is
+    estimated online by nature: one row per sample, every field of the IMU estimate (docs/imu.md),
+    --out defaulting to FILE's name + .imu.csv; --config FILE's [imu] table configures it.
     """
     if is_imu_file(file):
         return estimate_imu(file, out=out, force=force, config_file=config_file, acc_unit=acc_unit,

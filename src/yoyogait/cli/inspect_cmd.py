@@ -173,7 +173,8 @@ def command(
 ) -> None:  # fmt: skip
     """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
     mean speed, dominant step frequency and the DFT check of the Yoyo-model. An IMU file (Mobilise-D
-    data.mat, an IMU CSV, an Xsens .txt, an APDM .h5): its rate, units, gravity and the online IMU estimate."""
+    data.mat, an IMU CSV, an Xsens .txt, a Movella DOT .csv, an APDM .h5): its rate, units, gravity
+    and the online IMU estimate."""
     if is_imu_file(file):
         return inspect_imu(file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz,
                            sensor_height_m=sensor_height_m, trial=trial, sensor=sensor, as_json=as_json)  # fmt: skip

@@ -55,8 +55,8 @@ def command(
 
     Channels <point>_x/_y/_z in metres (NaN where missing) and time_s (the file's time), at the
     file's rate times --speed; up axis, unit and point names in the stream's description
-    (docs/live.md). An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, an APDM .h5) is
-    played into an IMU stream: acc_x/_y/_z in m/s^2, gyr_x/_y/_z in rad/s and time_s, the sensor
+    (docs/live.md). An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, a Movella DOT .csv,
+    an APDM .h5) is played into an IMU stream: acc_x/_y/_z in m/s^2, gyr_x/_y/_z in rad/s and time_s, the sensor
     height in its description.
     """
     if is_imu_file(file):

@@ -6,6 +6,7 @@
 ``.csv`` (yoyogait)    ``time_s,acc_x_mps2..,gyr_x_rad_s..``: units in the header   :func:`read_imu_csv`
 ``.csv`` (generic)     ``acc_x..``, ``gyr_x..`` with ``acc_unit``/``gyr_unit``        :func:`read_imu_csv`
 ``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z``         :func:`read_xsens_txt`
+``.csv`` (Movella DOT) ``DeviceTag:,..`` lines, ``PacketCounter,SampleTimeFine,..``    :func:`read_dot_csv`
 ``.h5`` (APDM/Opal)    ``/Sensors/<id>/Accelerometer`` (v5), ``/<case>/Calibrated``   :func:`read_apdm_h5`
 =====================  ==========================================================  ========================
 
@@ -39,6 +40,7 @@ __all__ = [
     "read_apdm_h5",
     "read_mobilised_trials",
     "read_xsens_txt",
+    "read_dot_csv",
     "LOWER_BACK_LABELS",
 ]
 
@@ -94,7 +96,9 @@ def is_imu_file(path) -> bool:
         return True
     if ext in (".csv", ".txt"):
         header = _first_data_header(p)
-        return header is not None and (is_imu_header(header) or "PacketCounter" in header)
+        return (header is not None and (is_imu_header(header) or "PacketCounter" in header)) or (
+            ext == ".csv" and _dot_layout(p) is not None
+        )
     return False
 
 
@@ -111,6 +115,8 @@ def read_imu(
         rec = read_mobilised_mat(p, trial=trial)
     elif ext == ".txt":
         rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+    elif ext == ".csv" and _dot_layout(p) is not None:
+        rec = read_dot_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".csv":
         rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".h5":
@@ -391,6 +397,86 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
         rate_hz=rate,
         source=str(p),
         metadata={"layout": "xsens"},
+    )
+    _check_samples(rec)
+    return rec
+
+
+# ------------------------------------------------------------------------------------ Movella DOT
+
+#: SampleTimeFine of a Movella DOT export: microseconds in an unsigned 32-bit counter.
+_DOT_TICK_S = 1e-6
+_DOT_WRAP = 2.0**32
+
+
+def _dot_layout(p: Path) -> tuple[int, list[str], dict[str, str]] | None:
+    """(line index of the column header, its names, the ``Key:,value`` lines before it) of a Movella
+    (Xsens) DOT CSV export, whose column header holds PacketCounter and SampleTimeFine; else None."""
+    meta: dict[str, str] = {}
+    try:
+        with open(p, encoding="utf-8-sig", errors="replace") as f:
+            for i, line in enumerate(f):
+                if i >= 60:
+                    return None
+                cells = [c.strip() for c in line.strip().split(",")]
+                if "PacketCounter" in cells and "SampleTimeFine" in cells:
+                    return i, cells, meta
+                if cells and cells[0].endswith(":"):
+                    meta[cells[0][:-1].strip()] = cells[1] if len(cells) > 1 else ""
+    except OSError:
+        return None
+    return None
+
+
+def read_dot_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+    """A Movella (Xsens) DOT CSV export: ``sep=,`` and ``Key:,value`` lines (``OutputRate:,60Hz``),
+    then ``PacketCounter,SampleTimeFine,...`` with ``Acc_X``..``Acc_Z`` and ``Gyr_X``..``Gyr_Z``
+    (the DOT's units: m/s^2 and deg/s unless ``acc_unit``/``gyr_unit`` say otherwise). The time is
+    SampleTimeFine (microseconds, unwrapped at 2^32). An export of orientation and free acceleration
+    only (no angular rate) is refused in one line."""
+    p = Path(path)
+    layout = _dot_layout(p)
+    if layout is None:
+        raise InputError(f"{p}: no PacketCounter,SampleTimeFine header line: not a Movella DOT export")
+    line, header, meta = layout
+    need = ["Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"]
+    missing = [n for n in need if n not in header]
+    if missing:
+        has = ", ".join(h for h in header if h not in ("PacketCounter", "SampleTimeFine", "Status") and h) or "nothing"
+        raise InputError(
+            f"{p}: a Movella DOT export of {has}: it lacks {', '.join(missing)}; export a measurement mode "
+            "with the calibrated acceleration and angular rate (orientation and free acceleration alone are "
+            "not read)"
+        )
+    cols = [header.index(n) for n in ["SampleTimeFine", *need]]
+    rows = []
+    with open(p, encoding="utf-8-sig", errors="replace") as f:
+        for i, text in enumerate(f):
+            if i <= line or not text.strip():
+                continue
+            cells = text.strip().split(",")
+            try:
+                rows.append([float(cells[c]) if c < len(cells) and cells[c].strip() else np.nan for c in cols])
+            except ValueError as exc:
+                raise InputError(f"{p}: line {i + 1}: a value is not a number ({exc})") from None
+    table = np.array(rows, dtype=float).reshape(-1, len(cols))
+    if table.shape[0] < 2:
+        raise InputError(f"{p}: fewer than two samples")
+    ticks = np.unwrap(table[:, 0], period=_DOT_WRAP)
+    time_s = (ticks - ticks[0]) * _DOT_TICK_S
+    rate: float | None = float(rate_hz) if rate_hz else None
+    m = re.match(r"\s*([0-9.]+)\s*Hz", meta.get("OutputRate", ""), re.IGNORECASE)
+    if rate is None and m:
+        rate = float(m.group(1))
+    acc_scale = _unit(acc_unit, ACC_UNITS, "acc_unit", p) or 1.0
+    gyr_scale = _unit(gyr_unit, GYR_UNITS, "gyr_unit", p) or np.pi / 180.0
+    rec = ImuRecording(
+        time_s=time_s,
+        acc_mps2=table[:, 1:4] * acc_scale,
+        gyr_rad_s=table[:, 4:7] * gyr_scale,
+        rate_hz=rate,
+        source=str(p),
+        metadata={"layout": "movella_dot", **({"device_tag": meta["DeviceTag"]} if "DeviceTag" in meta else {})},
     )
     _check_samples(rec)
     return rec

@@ -127,6 +127,39 @@ def test_xsens_mt_manager_txt(tmp_path):
     assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-5)
 
 
+def _dot(path, rec, columns=("Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"), start_tick=4294000000):
+    """rec as a Movella DOT app's CSV: metadata lines, SampleTimeFine in microseconds (wrapping), deg/s."""
+    lines = ["sep=,", "DeviceTag:,Pelvis", "FirmwareVersion:,2.0.0", "OutputRate:,100Hz", "",
+             "PacketCounter,SampleTimeFine," + ",".join(columns) + ",Status"]  # fmt: skip
+    values = np.column_stack([rec.acc_mps2, np.degrees(rec.gyr_rad_s)])
+    for i in range(rec.n_samples):
+        tick = (start_tick + round(1e6 * rec.time_s[i])) % 2**32
+        lines.append(f"{i},{tick}," + ",".join(f"{v:.6f}" for v in values[i, : len(columns)]) + ",0")
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_movella_dot_csv(tmp_path):
+    """A Movella DOT CSV: found among CSVs, its microsecond clock unwrapped, deg/s read as rad/s, the rate read."""
+    rec = make_imu_walk(duration_s=12.0).recording
+    p = tmp_path / "Pelvis_20231031.csv"
+    _dot(p, rec)
+    assert is_imu_file(p)
+    back = read_imu(p)
+    assert back.rate_hz == 100.0 and np.allclose(back.time_s, rec.time_s - rec.time_s[0], atol=2e-6)
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-5)
+    assert np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-6)
+
+
+def test_movella_dot_orientation_only_says_what_to_export(tmp_path):
+    """A DOT export of quaternions and free acceleration: one line naming what it holds and what it lacks."""
+    rec = make_imu_walk(duration_s=3.0).recording
+    p = tmp_path / "Pelvis.csv"
+    _dot(p, rec, columns=("Quat_W", "Quat_X", "Quat_Y", "Quat_Z", "FreeAcc_X", "FreeAcc_Y"))
+    assert is_imu_file(p)
+    with pytest.raises(InputError, match=r"Movella DOT export of Quat_W.*lacks Acc_X.*Gyr_Z; export"):
+        read_imu(p)
+
+
 def test_xsens_without_gyro_says_what_to_export(tmp_path):
     """An Xsens export without Gyr_ columns: one line saying which columns are missing."""
     p = tmp_path / "MT.txt"
