@@ -38,6 +38,8 @@ namespace yoyogait {
     "valid only while the fed v_z's autocorrelation at the estimate's period over the last periodicity_steps steps is at least this: the last steps repeat at it (a pause, steps of a turn do not; chosen on one participant, docs/imu.md; -1: not checked)") \
   X(double, periodicity_steps, 1.5, "steps", "(", 0.0, 3.0, "]",                                                   \
     "how many of the estimate's periods back the periodicity is taken over")                                       \
+  X(double, min_vz_rms_mps, 0.02, "m/s", "[", 0.0, 10.0, "]",                                                      \
+    "valid only while the fed vertical velocity's RMS (low-passed over 0.25 s) is at least this: no walker's pelvis moves less (0.02 m/s at 1.8 steps/s is a 5 mm bob; walkers 2-5 cm); a walker who stops otherwise keeps the last cadence, valid, for a second or more (NOT_WALKING; 0: not checked)") \
   X(double, phase_std_tau_s, 1.0, "s", "(", 0.0, 1e100, "]",                                                       \
     "low-pass of the estimator's phase corrections in the step frequency's std (as [online]; chosen on one participant, docs/imu.md)") \
   X(double, settle_s, 2.0, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long after a (re)start (2 highpass_tau_s: the integrators' start transient decays)") \

@@ -72,7 +72,7 @@ class ImuOnlineEstimator {
     started_before_ = false;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
-    vz2_lp_ = yaw_rate_lp_rad_s_ = 0.0;
+    vz2_lp_ = vz2_step_lp_ = yaw_rate_lp_rad_s_ = 0.0;
     heading_tick_ = {1.0, 0.0};
     pendulum_.clear();
     heading_ = {1.0, 0.0};
@@ -231,8 +231,8 @@ class ImuOnlineEstimator {
     else if (!fed_ || est_.acquiring || harmonic_off_ ||
              !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
       o.reason = ImuReason::kAcquiring;
-    else if (!o.walking)
-      o.reason = ImuReason::kNotWalking;
+    else if (!o.walking || vz2_step_lp_ < config_.min_vz_rms_mps * config_.min_vz_rms_mps)
+      o.reason = ImuReason::kNotWalking;  // the detector, or a vertical motion smaller than any walker's
     else if (irregular_)
       o.reason = ImuReason::kIrregular;
     else if (!(o.speed_mps >= 0.0 && o.speed_mps <= config_.max_speed_mps))
@@ -356,6 +356,7 @@ class ImuOnlineEstimator {
     // Standing, by the detector: a slow walk it cannot tell from standing goes at the pendulum speed
     // of the vertical motion seen (the fed v_z's low-passed RMS as the fundamental's amplitude).
     vz2_lp_ += standing_gain_(dt_s) * (vz_mean * vz_mean - vz2_lp_);
+    vz2_step_lp_ += step_gain_(dt_s) * (vz_mean * vz_mean - vz2_step_lp_);
     if (!est_.walking) {
       const double f = est_.step_frequency_hz > f_locked_min_hz_ ? est_.step_frequency_hz : f_locked_min_hz_;
       const double h = 2.0 * std::sqrt(2.0 * vz2_lp_) / (6.283185307179586 * f);
@@ -473,6 +474,11 @@ class ImuOnlineEstimator {
   static constexpr double kStandingTauS = 1.0;
   double vz2_lp_ = 0.0;
   ExpGain standing_gain_{kStandingTauS};
+  /// The low-pass of the fed v_z's square over about a step, against min_vz_rms_mps [s]: once the
+  /// walker stands, it falls below a walker's within half a second (the 1 s one above holds it longer).
+  static constexpr double kStepTauS = 0.25;
+  double vz2_step_lp_ = 0.0;
+  ExpGain step_gain_{kStepTauS};
   /// Low-pass of the yaw rate, for the step frequency's std in a turn [s].
   static constexpr double kTurnTauS = 0.5;
   double yaw_rate_lp_rad_s_ = 0.0;

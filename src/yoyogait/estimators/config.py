@@ -649,6 +649,7 @@ class ImuConfig(_ConfigFile):
     turn_f_std_hz_per_rad_s: float = _field(IMU_SECTION, "turn_f_std_hz_per_rad_s")
     min_periodicity: float = _field(IMU_SECTION, "min_periodicity")
     periodicity_steps: float = _field(IMU_SECTION, "periodicity_steps")
+    min_vz_rms_mps: float = _field(IMU_SECTION, "min_vz_rms_mps")
     phase_std_tau_s: float = _field(IMU_SECTION, "phase_std_tau_s")
     settle_s: float = _field(IMU_SECTION, "settle_s")
     max_gap_s: float = _field(IMU_SECTION, "max_gap_s")

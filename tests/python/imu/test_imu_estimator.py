@@ -254,3 +254,23 @@ def test_a_stop_is_irregular_before_the_walking_detector_sees_it():
         return int(np.sum(v & (err > 0.15) & (err > 2.0 * res["step_frequency_std_hz"])))
 
     assert wrong(on) <= wrong(off)
+
+
+def test_a_vertical_motion_smaller_than_a_walkers_is_not_walking():
+    """SYNTHETIC stop-and-go: min_vz_rms_mps halves the valid time standing again, adding no wrong sample."""
+    walk = make_imu_walk(walk_type="5-stop-and-go")
+    on = _run(walk)
+    off = _run(walk, dataclasses.replace(ImuConfig(), min_vz_rms_mps=0.0))
+    f_true = walk.truth.step_frequency_hz
+    standing = (on.time_s >= SETTLED_S) & (f_true < 0.1)
+    walking = (on.time_s >= SETTLED_S) & (f_true > 0.1)
+    assert np.any(on["reason"][standing] == int(ImuReason.NOT_WALKING))
+    assert on["valid"][standing].sum() <= 0.6 * off["valid"][standing].sum()
+    assert on["valid"][walking].mean() >= off["valid"][walking].mean() - 0.01
+
+    def wrong(res):
+        v = res["valid"].astype(bool)
+        err = np.abs(res["step_frequency_hz"] - f_true)
+        return int(np.sum(v & (err > 0.15) & (err > 2.0 * res["step_frequency_std_hz"])))
+
+    assert wrong(on) <= wrong(off)
