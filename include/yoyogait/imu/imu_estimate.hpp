@@ -49,7 +49,7 @@ enum class ImuReason : std::uint8_t {
   X(::yoyogait::ImuReason, reason, ::yoyogait::ImuReason::kAcquiring, "", kAll, "why valid is 0 (ImuReason); 0 when valid") \
   X(::yoyogait::Status, estimator_status, ::yoyogait::Status::kUpdated, "", kAll, "Status of the estimator's last sample") \
   X(bool, valid, false, "", kAll, "the estimate may be used: walking, settled, in range (reason 0)")              \
-  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector")                                  \
+  X(bool, walking, false, "", kAll, "the estimator's walking/standing detector, while the vertical motion is a walker's (min_vz_rms_mps)") \
   X(bool, heading_absolute, false, "", kAll, "heading_rad is from magnetic north: a magnetometer sample has been used since the first sample (reset)") \
   X(bool, estimator_fed, false, "", kAll, "this sample completed an interval and fed the estimator")
 

@@ -231,8 +231,8 @@ class ImuOnlineEstimator {
     else if (!fed_ || est_.acquiring || harmonic_off_ ||
              !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
       o.reason = ImuReason::kAcquiring;
-    else if (!o.walking || vz2_step_lp_ < config_.min_vz_rms_mps * config_.min_vz_rms_mps)
-      o.reason = ImuReason::kNotWalking;  // the detector, or a vertical motion smaller than any walker's
+    else if (!o.walking)
+      o.reason = ImuReason::kNotWalking;
     else if (irregular_)
       o.reason = ImuReason::kIrregular;
     else if (!(o.speed_mps >= 0.0 && o.speed_mps <= config_.max_speed_mps))
@@ -413,7 +413,9 @@ class ImuOnlineEstimator {
     o.excursion_m = pendulum_.excursion_m();
     o.step_length_m = pendulum_.step_length_m();
     o.pendulum_speed_mps = pendulum_.speed_mps();
-    o.walking = fed_ && e.walking;
+    // The detector's walking, while the vertical motion is a walker's (min_vz_rms_mps): a still
+    // sensor after a stop is standing, whatever the detector's low-passes still hold.
+    o.walking = fed_ && e.walking && !(vz2_step_lp_ < config_.min_vz_rms_mps * config_.min_vz_rms_mps);
     o.estimator_status = e.status;
     if (!fed_) {
       o.vx_hat_mps = o.vx_mps;
