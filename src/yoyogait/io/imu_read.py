@@ -462,6 +462,11 @@ def read_dot_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
     table = np.array(rows, dtype=float).reshape(-1, len(cols))
     if table.shape[0] < 2:
         raise InputError(f"{p}: fewer than two samples")
+    missing_tick = np.flatnonzero(~np.isfinite(table[:, 0]))
+    if missing_tick.size:
+        raise InputError(
+            f"{p}: sample {missing_tick[0]} (after the header) has no SampleTimeFine, and {missing_tick.size - 1} more"
+        )
     ticks = np.unwrap(table[:, 0], period=_DOT_WRAP)
     time_s = (ticks - ticks[0]) * _DOT_TICK_S
     rate: float | None = float(rate_hz) if rate_hz else None
@@ -653,10 +658,16 @@ def read_apdm_h5(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=Non
 def _check_samples(rec: ImuRecording) -> None:
     where = rec.source
     t = rec.time_s
-    if not np.all(np.isfinite(t)):
-        raise InputError(f"{where}: timestamps are not finite")
-    if np.any(np.diff(t) <= 0):
-        raise InputError(f"{where}: timestamps do not increase")
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise InputError(f"{where}: timestamps are not finite (sample {bad[0]} of {t.size}, and {bad.size - 1} more)")
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise InputError(
+            f"{where}: timestamps do not increase (sample {i} of {t.size}: {t[i]:.6g} s after {t[i - 1]:.6g} s; "
+            f"{back.size} such samples)"
+        )
     if rec.rate_hz is not None and not (np.isfinite(rec.rate_hz) and 1.0 <= rec.rate_hz <= 10000.0):
         raise InputError(f"{where}: sample rate {rec.rate_hz!r} Hz is not plausible; pass rate_hz")
 

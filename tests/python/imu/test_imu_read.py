@@ -160,6 +160,24 @@ def test_movella_dot_orientation_only_says_what_to_export(tmp_path):
         read_imu(p)
 
 
+def test_movella_dot_bad_clock_is_one_line_naming_the_sample(tmp_path):
+    """A DOT CSV with a sample's SampleTimeFine missing, or repeated: one line naming the sample."""
+    rec = make_imu_walk(duration_s=3.0).recording
+    p = tmp_path / "Pelvis.csv"
+    _dot(p, rec)
+    lines = p.read_text().splitlines()
+    head = next(i for i, line in enumerate(lines) if line.startswith("PacketCounter")) + 1
+    gap = lines.copy()
+    cells = gap[head + 100].split(",")
+    gap[head + 100] = ",".join([cells[0], "", *cells[2:]])
+    p.write_text("\n".join(gap) + "\n")
+    with pytest.raises(InputError, match=r"sample 100 \(after the header\) has no SampleTimeFine, and 0 more"):
+        read_imu(p)
+    p.write_text("\n".join(lines[: head + 51] + lines[head + 50 :]) + "\n")
+    with pytest.raises(InputError, match=r"timestamps do not increase \(sample 51 of .*1 such samples\)"):
+        read_imu(p)
+
+
 def test_xsens_without_gyro_says_what_to_export(tmp_path):
     """An Xsens export without Gyr_ columns: one line saying which columns are missing."""
     p = tmp_path / "MT.txt"
