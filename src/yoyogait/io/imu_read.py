@@ -50,6 +50,8 @@ ACC_UNITS = {"mps2": 1.0, "m/s^2": 1.0, "g": GRAVITY_MPS2}
 GYR_UNITS = {"rad_s": 1.0, "rad/s": 1.0, "deg_s": np.pi / 180.0, "deg/s": np.pi / 180.0}
 
 _AXES = ("x", "y", "z")
+#: The calibrated channels of Xsens exports (MT Manager and Movella DOT name them alike).
+_XSENS_CHANNELS = ("Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z")
 _MOBGAP_HEADER = ["samples", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"]
 
 
@@ -115,8 +117,8 @@ def read_imu(
         rec = read_mobilised_mat(p, trial=trial)
     elif ext == ".txt":
         rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
-    elif ext == ".csv" and _dot_layout(p) is not None:
-        rec = read_dot_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+    elif ext == ".csv" and (layout := _dot_layout(p)) is not None:
+        rec = _read_dot(p, layout, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".csv":
         rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".h5":
@@ -374,7 +376,7 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
             rows.append(parts)
     if header is None or "PacketCounter" not in header:
         raise InputError(f"{p}: no PacketCounter header line: not an Xsens MT Manager export")
-    need = ["Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"]
+    need = list(_XSENS_CHANNELS)
     missing = [n for n in need if n not in header]
     if missing:
         raise InputError(f"{p}: the export lacks {', '.join(missing)} (export calibrated data)")
@@ -438,8 +440,13 @@ def read_dot_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
     layout = _dot_layout(p)
     if layout is None:
         raise InputError(f"{p}: no PacketCounter,SampleTimeFine header line: not a Movella DOT export")
+    return _read_dot(p, layout, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+
+
+def _read_dot(p: Path, layout, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+    """read_dot_csv over the layout :func:`_dot_layout` found (its header scanned once)."""
     line, header, meta = layout
-    need = ["Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"]
+    need = list(_XSENS_CHANNELS)
     missing = [n for n in need if n not in header]
     if missing:
         has = ", ".join(h for h in header if h not in ("PacketCounter", "SampleTimeFine", "Status") and h) or "nothing"
