@@ -183,6 +183,44 @@ TEST(CausalCentre, NoJumpWhenMarkersDropOutOrReturn) {
   EXPECT_LT(worst, 2.5e-3);
 }
 
+// The step a set change starts blending out: none for a pelvis that only translates (its offsets
+// stay true), the carried offset's drift for one that turned while a marker was unseen.
+TEST(CausalCentre, SetChangeStepIsTheOffsetsDrift) {
+  online::CausalCentre::Settings settings;
+  for (const double yaw_rate : {0.0, 0.5}) {
+    online::CausalCentre centre(3, settings);
+    const double dt = 0.01, off[3][2] = {{0.1, 0.12}, {0.1, -0.12}, {-0.1, 0.0}};
+    online::Vec3 pos[3];
+    bool vis[3];
+    double return_step = -1.0, other_steps = 0.0;
+    for (int k = 0; k < 300; ++k) {
+      const double t = k * dt, yaw = yaw_rate * t;
+      for (int j = 0; j < 3; ++j) {
+        const double ox = std::cos(yaw) * off[j][0] - std::sin(yaw) * off[j][1];
+        const double oy = std::sin(yaw) * off[j][0] + std::cos(yaw) * off[j][1];
+        pos[j] = {1.0 * t + ox, oy, 1.0};
+        vis[j] = !(j == 0 && t >= 1.0 && t < 2.0);  // marker 0 unseen for 1 s
+      }
+      const auto r = centre.update(pos, vis, k ? dt : 0.0);
+      if (k == 200)
+        return_step = r.step_m;
+      else
+        other_steps = std::max(other_steps, r.step_m);
+    }
+    // Back after 1 s of turning, marker 0's carried offset is 7.8 cm stale (0.5 rad x 0.156 m); the
+    // centre carried through the gap is off by centimetres, which the return's step takes back.
+    // Without a turn nothing drifts and nothing steps; no frame but the return steps by a centimetre.
+    const double drift_m = 2.0 * std::sin(0.5 * yaw_rate * 1.0) * std::hypot(0.1, 0.12);
+    if (yaw_rate == 0.0) {
+      EXPECT_LT(return_step, 1e-12);
+    } else {
+      EXPECT_GT(return_step, drift_m / 3.0);
+      EXPECT_LT(return_step, drift_m);
+    }
+    EXPECT_LT(other_steps, 1e-12 + 0.02 * yaw_rate) << "yaw rate " << yaw_rate;
+  }
+}
+
 // A point that never appears and a point seen only now and then do not stop the estimate.
 TEST(OnlineEstimator, PointThatNeverAppears) {
   SyntheticPelvis walk;
@@ -512,7 +550,7 @@ TEST(Validity, HeadingLagLossIsInTheSpeedVariance) {
   online::Validity v{online::Validity::Settings{}};
   const double speed = 1.3, lag_rad = 0.5, loss = speed * (1.0 - std::cos(lag_rad));
   for (int k = 0; k < 100; ++k) {  // 1 s at 100 Hz, the heading 0.5 rad behind the velocity
-    v.frame(0.01, 4);
+    v.frame(0.01);
     v.heading(0.01, speed * std::cos(lag_rad + 0.01 * k), speed * std::sin(lag_rad + 0.01 * k), speed - loss);
   }
   EXPECT_NEAR(std::sqrt(v.transient_var_speed()), loss, 0.02 * loss);

@@ -37,6 +37,7 @@ class CausalCentre {
     bool ok = false;                  ///< at least one marker with a known offset was visible
     std::uint8_t visible_points = 0;  ///< markers used on this frame
     bool set_changed = false;         ///< the set of visible markers changed: a correction starts blending
+    double step_m = 0.0;              ///< how far this frame's set change moved the correction blended out [m]
   };
 
   struct Settings {
@@ -165,10 +166,14 @@ class CausalCentre {
         }
       }
       // Continue from the last centre by the common markers' displacement (none: hold it).
+      double step2 = 0.0;
       for (int a = 0; a < 3; ++a) {
         const double target = last_m_[a] + (n_both > 0 ? moved[a] / static_cast<double>(n_both) : 0.0);
-        correction_[a] = centre[a] - target;
+        const double fresh = centre[a] - target;
+        step2 += (fresh - correction_[a]) * (fresh - correction_[a]);
+        correction_[a] = fresh;
       }
+      r.step_m = std::sqrt(step2);
     }
     for (int a = 0; a < 3; ++a) r.centre_m[a] = centre[a] - correction_[a];
     r.ok = true;

@@ -27,7 +27,7 @@ enum class InvalidReason : std::uint8_t {
   kAcquiring = 1,          ///< no estimate yet, the start-up bank running, or walking for less than valid_after_s
   kNotWalking = 2,         ///< the walking detector says standing
   kInputNoisy = 4,         ///< the marker noise estimated online is above max_input_noise_m
-  kInputMissing = 8,       ///< the frame was ignored, the estimate is stale, or the visible points keep changing
+  kInputMissing = 8,       ///< the frame was ignored, the estimate is stale, or changes of the visible points keep moving the centre
   kModelNotHolding = 16,   ///< the estimator's innovations are too large (mean NIS), or f sits at a bound
   kImplausibleInput = 32,  ///< the input moves faster than a person can (wrong length unit, jumps, zeros)
   kRateTooLow = 64,        ///< the mean frame rate is below min_rate_hz

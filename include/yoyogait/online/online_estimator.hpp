@@ -110,7 +110,7 @@ class OnlineEstimator {
     const online::PointFrame::Count seen = frame_.read(positions_xyz);
     if (belt_.has_feet()) belt_.update(t_s, positions_xyz + 3 * frame_.size());
     o.points_seen = static_cast<std::uint8_t>(seen.seen);
-    validity_.frame(frame_dt_s, seen.seen);
+    validity_.frame(frame_dt_s);
     if (seen.seen == 0) return carried(t_s, seen.bad ? OnlineStatus::kNonFinite : OnlineStatus::kAllMissing);
     const double gap_s = have_seen_ ? t_s - t_seen_s_ : 0.0;
     const bool restart = !diff_.started() || gap_s > config_.max_gap_s;
@@ -240,6 +240,7 @@ class OnlineEstimator {
     const online::CausalCentre::Result c =
         centre_.update(frame_.positions_m(), frame_.visible(), restart ? 0.0 : gap_s);
     if (!c.ok) return false;  // cannot happen with a point seen; kept so that no unset centre is ever used
+    validity_.centre_step(c.step_m);
     out_.status = (restart && have_seen_) ? OnlineStatus::kGapRestart : OnlineStatus::kUsed;
     if (restart) {
       start_front_end(t_s, c.centre_m);

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import signal
 import time
 
@@ -11,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from builders import stepping_walk, write_trc
+from yoyogait import synthetic
 from yoyogait.cli import main
 from yoyogait.estimators import ConcurrentUseError, OnlineConfig, OnlineEstimator, OnlineStatus
 from yoyogait.estimators.online import InvalidReason
@@ -76,6 +78,29 @@ def test_marker_flicker_keeps_outputs_bounded_and_never_confidently_wrong(p_miss
         assert np.all(np.isfinite(v)) and np.all(np.abs(v) <= LIMIT_MPS), name
     assert np.all(np.abs(r.pred_vx_mps) <= LIMIT_MPS)
     assert not confidently_wrong(r).any()
+
+
+def _lab_walk_with_dropouts(rate_hz, p_missing, seed):
+    """A SYNTHETIC lab walk (a pelvis that turns and sways) with its pelvis markers dropped at random."""
+    walk = synthetic.make_walk(synthetic.SUBJECTS[0], "1-straight", seed=seed, rate_hz=rate_hz, duration_s=30.0)
+    rec = walk.recording
+    pos = rec.positions_m.copy()
+    idx = [list(rec.point_names).index(m) for m in synthetic.PELVIS_MARKERS]
+    sub = pos[:, idx, :]
+    sub[np.random.default_rng(seed).random(sub.shape[:2]) < p_missing] = np.nan
+    pos[:, idx, :] = sub
+    rec = dataclasses.replace(rec, positions_m=pos)
+    return OnlineEstimator.for_recording(rec, list(synthetic.PELVIS_MARKERS), up_axis="z").run(rec)
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_occasional_dropouts_at_a_high_rate_stay_valid_and_flicker_is_input_missing(seed):
+    """1 % dropouts at 100 Hz (9 set changes a second, sub-mm centre steps) stay valid; 30 % at 15 Hz do not."""
+    mild = _lab_walk_with_dropouts(100.0, 0.01, seed)
+    assert mild.valid[mild.time_s > 6.0].mean() > 0.9
+    heavy = _lab_walk_with_dropouts(15.0, 0.3, seed)
+    late = heavy.time_s > 6.0
+    assert has(heavy, InvalidReason.INPUT_MISSING)[late].mean() > 0.9 and not heavy.valid[late].any()
 
 
 @settings(max_examples=10, deadline=None)
