@@ -146,7 +146,7 @@ struct FrequencyList {
   X(double, walk_vz_rms_off_mps, 0.025, "m/s", "[", 0.0, 10.0, "]",                                                \
     "... and the RMS of v_z is below it (<= walk_vz_rms_on_mps)")                                                  \
   X(double, bound_watchdog_s, 1.0, "s", "[", 0.0, 600.0, "]",                                                      \
-    "w pinned within 5 % of a bound this long while walking restarts the acquisition")                             \
+    "w within 5 % of a bound this long while walking (less the time more than 15 % inside) restarts the acquisition") \
   X(bool, cadence_change_adapt, true, "", "[", 0, 1, "]",                                                          \
     "a phase lag of the model that persists opens the frequency variance (changes of cadence)")                    \
   X(double, cadence_change_tau_s, 0.1, "s", "[", 0.01, 60.0, "]",                                                  \

@@ -488,3 +488,23 @@ TEST(WalkingDetectorNoise, NoNoiseNoChange) {
     ASSERT_EQ(told.walking(), untold.walking()) << k;
   }
 }
+
+// A lock that keeps falling back to the lower bound between short excursions well inside is still
+// pinned: the watchdog fires. A frequency that stays well inside (a slow walker's) never does.
+TEST(BoundWatchdog, HoveringNearABoundFiresAndSteadyInsideDoesNot) {
+  const double two_pi = 6.283185307179586, dt = 0.04;
+  yoyogait::gait::BoundWatchdog::Settings s;
+  s.w_min_rad_s = two_pi * 0.4;
+  s.w_max_rad_s = two_pi * 4.0;
+  s.limit_s = 1.0;
+  yoyogait::gait::BoundWatchdog hovering(s), slow(s);
+  bool fired = false, slow_fired = false;
+  for (int k = 0; k < 250 && !fired; ++k) {  // 0.8 s at 0.41 Hz, then 0.2 s at 0.5 Hz, over and over
+    const double f_hz = (k % 25) < 20 ? 0.41 : 0.5;
+    fired = hovering.update(two_pi * f_hz, dt);
+  }
+  EXPECT_TRUE(fired);
+  for (int k = 0; k < 2500; ++k)  // a slow walker at 0.5 Hz dipping to the bound for 0.2 s every 2 s
+    slow_fired |= slow.update(two_pi * ((k % 50) < 5 ? 0.41 : 0.5), dt);
+  EXPECT_FALSE(slow_fired);
+}

@@ -849,7 +849,7 @@ class DefaultEstimator:
             if act.x[IW] <= 1.05 * wmin or act.x[IW] >= 0.95 * wmax:
                 self.t_at_bound += dt
             elif 1.15 * wmin < act.x[IW] < 0.85 * wmax:
-                self.t_at_bound = 0.0
+                self.t_at_bound = self.t_at_bound - dt if self.t_at_bound > dt else 0.0
             if self.t_at_bound > c.bound_watchdog_s:
                 self._start_acquisition(act.x[IA0])
                 act = self._active()
