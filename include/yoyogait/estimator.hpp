@@ -71,6 +71,12 @@ class Estimator {
     if (!is_paper_) gait_.set_extra_measurement_variance(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas);
   }
 
+  /// The variance of v_z the input's noise floor leaves on every sample [(m/s)^2], not walking by
+  /// itself (gait: GaitFilter::set_detector_floor_noise; paper: not used). 0 until set.
+  void set_detector_floor_noise(double vz_m2_per_s2) noexcept {
+    if (!is_paper_) gait_.set_detector_floor_noise(vz_m2_per_s2);
+  }
+
   /// step() over n samples; out[i] is the estimate after sample i. Same results as n calls of step().
   /// dt_s: the time since the previous sample of each one [s], or nullptr for sample_time_s.
   void run(const double* vx_mps, const double* vz_mps, std::size_t n, Estimate* out,

@@ -183,6 +183,36 @@ TEST(CausalCentre, NoJumpWhenMarkersDropOutOrReturn) {
   EXPECT_LT(worst, 2.5e-3);
 }
 
+// What white position noise at the configured floor leaves on the n-frame mean of the
+// differentiator's velocity, computed from its steady-state gain, is what a simulation measures.
+TEST(KalmanDifferentiator, FloorVelocityNoiseOfAnIntervalMeanMatchesSimulation) {
+  yoyogait::OnlineConfig config;
+  const online::KalmanDifferentiator::Settings settings = online::differentiator_settings(config);
+  for (const double rate : {30.0, 100.0}) {
+    const int n = rate < 50.0 ? 1 : 4;
+    online::KalmanDifferentiator diff(settings);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, settings.meas_std_m);
+    diff.start({0.0, 0.0, 0.0});
+    double sum = 0.0, sum2 = 0.0, acc = 0.0;
+    double count = 0.0;
+    for (int k = 1; k <= 100000; ++k) {
+      diff.predict(1.0 / rate);
+      diff.update({noise(rng), 0.0, 0.0});
+      if (k < 1000) continue;  // the start's transient
+      acc += diff.velocity_mps()[0];
+      if (k % n == 0) {
+        sum += acc / n;
+        sum2 += (acc / n) * (acc / n);
+        count += 1.0;
+        acc = 0.0;
+      }
+    }
+    const double var = sum2 / count - (sum / count) * (sum / count);
+    EXPECT_NEAR(var, diff.floor_mean_velocity_var(1.0 / rate, n), 0.05 * var) << rate << " Hz";
+  }
+}
+
 // The step a set change starts blending out: none for a pelvis that only translates (its offsets
 // stay true), the carried offset's drift for one that turned while a marker was unseen.
 TEST(CausalCentre, SetChangeStepIsTheOffsetsDrift) {

@@ -215,6 +215,9 @@ class GaitFilter {
     factors_.set_extra_variance(vx_m2_per_s2, vz_m2_per_s2);
     detector_.set_noise(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas);
   }
+  /// The variance of v_z the input's noise floor leaves on every sample [(m/s)^2]: the walking
+  /// detector does not count it in RMS(v_z) (gait/walking_detector.hpp; 0 unless set).
+  void set_detector_floor_noise(double vz_m2_per_s2) noexcept { detector_.set_floor_noise(vz_m2_per_s2); }
   double std_scale() const noexcept { return scale_.value(); }
 
  private:

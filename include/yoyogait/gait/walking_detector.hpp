@@ -50,7 +50,7 @@ class WalkingDetector {
     if (use_z) ema_vz2_ += gain * (vz * vz - ema_vz2_);
     // RMS(v_z) = sqrt(LP(v_z^2)) compared through its square (no square root per step), less the
     // variance the input noise is known to add (0 unless set).
-    const double ms = detail::py_max(ema_vz2_ - noise_vz2_, 0.0);
+    const double ms = detail::py_max(ema_vz2_ - noise_vz2_ - floor_vz2_, 0.0);
     // Both thresholds raised by noise_sigmas standard deviations of what the noise alone gives the
     // low-passes (for white samples of variance N: N g / (2 - g) for LP(v_x), 2 N^2 g / (2 - g) for
     // LP(v_z^2)), so that noise does not walk (none without noise: nothing computed).
@@ -86,9 +86,13 @@ class WalkingDetector {
     noise_sigmas_ = sigmas;
   }
 
+  /// The variance of v_z that the input's noise floor leaves on every sample [(m/s)^2] (0 by
+  /// default; the online front-end's at the configured marker noise): not counted in RMS(v_z).
+  void set_floor_noise(double vz_m2_per_s2) noexcept { floor_vz2_ = vz_m2_per_s2; }
+
  private:
   double tau_s_ = 0.3, speed_on_ = 0.2, speed_off_ = 0.15, vz_rms_on2_ = 0.0025, vz_rms_off2_ = 0.000625;
-  double ema_vx_ = 0.0, ema_vz2_ = 0.0, noise_vz2_ = 0.0, noise_vx2_ = 0.0, noise_sigmas_ = 0.0;
+  double ema_vx_ = 0.0, ema_vz2_ = 0.0, noise_vz2_ = 0.0, noise_vx2_ = 0.0, noise_sigmas_ = 0.0, floor_vz2_ = 0.0;
   bool walking_ = false;
 };
 

@@ -27,6 +27,7 @@ class Decimator {
     double vx_mps = 0.0;  ///< the interval-weighted mean of v_x [m/s]
     double vz_mps = 0.0;  ///< ... of v_z [m/s]
     double age_s = 0.0;   ///< the interval's last frame time - the weighted mean time of its frames [s]
+    int frames = 0;       ///< the frames averaged
   };
 
   Decimator() noexcept = default;
@@ -35,6 +36,7 @@ class Decimator {
   /// An empty interval; the low-pass starts again at the next frame.
   void restart() noexcept {
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+    frames_ = 0;
     aa_started_ = false;
   }
 
@@ -55,11 +57,14 @@ class Decimator {
     sum_vz_ += v[1] * dt_s;
     sum_age_s2_ += (t_s - t_first_s_) * dt_s;
     span_s_ += dt_s;
+    ++frames_;
     if (!(span_s_ + 0.5 * dt_s >= s_.sample_time_s * (1.0 - 1e-9))) return false;
     mean_.vx_mps = sum_vx_ / span_s_;
     mean_.vz_mps = sum_vz_ / span_s_;
     mean_.age_s = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
+    mean_.frames = frames_;
     sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+    frames_ = 0;
     return true;
   }
 
@@ -77,6 +82,7 @@ class Decimator {
   double span_s_ = 0.0;                 ///< the interval's length so far [s]
   double t_first_s_ = 0.0;              ///< time of the interval's first frame [s]
   double sum_age_s2_ = 0.0;             ///< sum over the interval's frames of (t - t_first) dt [s^2]
+  int frames_ = 0;                      ///< frames in the interval so far
   Mean mean_;
 };
 

@@ -159,6 +159,49 @@ class KalmanDifferentiator {
     return std::isfinite(P_[0][0]) && std::isfinite(P_[1][1]) && std::isfinite(P_[2][2]);
   }
 
+  /// The variance that white position noise at the configured measurement noise (meas_std_m, the
+  /// floor) leaves on the mean of n consecutive velocity outputs of the steady-state filter, frames
+  /// h_s apart [(m/s)^2]: the noise of the estimator's input at the floor (online/decimator.hpp).
+  /// The gain's Riccati iteration and the impulse response: about 1e5 operations, once per interval.
+  double floor_mean_velocity_var(double h_s, int n) const noexcept {
+    if (!(h_s > 0.0) || n < 1) return 0.0;
+    const double h = h_s, hh = 0.5 * h * h, q = q0_ / r20_;  // at unit measurement variance
+    const double F[3][3] = {{1.0, h, hh}, {0.0, 1.0, h}, {0.0, 0.0, 1.0}};
+    const double g2 = h * h, g3 = g2 * h;
+    const double Q[3][3] = {{q * g3 * g2 / 20.0, q * g2 * g2 / 8.0, q * g3 / 6.0},
+                            {q * g2 * g2 / 8.0, q * g3 / 3.0, q * g2 / 2.0},
+                            {q * g3 / 6.0, q * g2 / 2.0, q * h}};
+    double P[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1e4, 0.0}, {0.0, 0.0, 1e6}}, K[3] = {0.0, 0.0, 0.0};
+    for (int it = 0; it < 400; ++it) {  // to the steady gain (a few dozen steps)
+      double A[3][3], N[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) A[i][j] = F[i][0] * P[0][j] + F[i][1] * P[1][j] + F[i][2] * P[2][j];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) N[i][j] = A[i][0] * F[j][0] + A[i][1] * F[j][1] + A[i][2] * F[j][2] + Q[i][j];
+      const double S = N[0][0] + 1.0, K1 = N[1][0] / S;
+      const bool steady = std::fabs(K1 - K[1]) <= 1e-9 * std::fabs(K1);
+      for (int i = 0; i < 3; ++i) K[i] = N[i][0] / S;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) P[i][j] = N[i][j] - K[i] * N[0][j];
+      if (steady) break;
+    }
+    // x_k = (I - K e0^T) F x_{k-1} + K y_k: the velocity's impulse response h_j, its n-mean's g_j.
+    double x[3] = {K[0], K[1], K[2]}, ring[16] = {}, sum = 0.0, var = 0.0;
+    const int m = n < 16 ? n : 16;
+    for (int j = 0; j < 2000; ++j) {
+      const double hv = x[1];
+      sum += hv - (j >= m ? ring[j % m] : 0.0);
+      ring[j % m] = hv;
+      var += (sum / m) * (sum / m);
+      const double p = x[0] + h * x[1] + hh * x[2], v = x[1] + h * x[2], a = x[2];
+      x[0] = p - K[0] * p;
+      x[1] = v - K[1] * p;
+      x[2] = a - K[2] * p;
+      if (j > m && x[1] * x[1] < 1e-12 * var) break;  // the response has died away
+    }
+    return r20_ * var;
+  }
+
   /// Delay of the velocity output at frequency f_hz for frames dt_s apart, with the last gain:
   /// the phase of the filter's transfer function from position to velocity against the ideal
   /// derivative's +90 degrees, over 2 pi f [s]. (The steady-state filter is linear time-invariant.)

@@ -356,6 +356,7 @@ class OnlineEstimator {
     const std::array<double, 2> e =
         online::extra_measurement_var(noise_, diff_.covariance()[1][1], vnoise_, config_.estimator.gait_filter, dt_s);
     estimator_.set_extra_measurement_variance(e[0], e[1], noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);
+    estimator_.set_detector_floor_noise(floor_vz_var(dt_s / (m.frames > 0 ? m.frames : 1), m.frames));
     estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
@@ -443,6 +444,20 @@ class OnlineEstimator {
     o.next_step_in_s = phase_.next_step_in_s();
     o.gait_phase = phase_.phase();
   }
+
+  /// The v_z variance the floor of the marker noise leaves on an interval mean of `frames` frames
+  /// h_s apart [(m/s)^2]: computed again only when the frame interval moves by 10 % or the count
+  /// changes (it changes slowly with h; jittered timestamps would otherwise recompute every frame).
+  double floor_vz_var(double h_s, int frames) noexcept {
+    if (frames != floor_frames_ || !(std::fabs(h_s - floor_h_s_) <= 0.1 * floor_h_s_)) {
+      floor_h_s_ = h_s;
+      floor_frames_ = frames;
+      floor_var_ = diff_.floor_mean_velocity_var(h_s, frames);
+    }
+    return floor_var_;
+  }
+  double floor_h_s_ = -1.0, floor_var_ = 0.0;
+  int floor_frames_ = -1;
 
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
   static constexpr double kLongStepM = 0.8;

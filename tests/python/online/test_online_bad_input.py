@@ -93,6 +93,26 @@ def _lab_walk_with_dropouts(rate_hz, p_missing, seed):
     return OnlineEstimator.for_recording(rec, list(synthetic.PELVIS_MARKERS), up_axis="z").run(rec)
 
 
+@pytest.mark.parametrize("rate_hz", [25.0, 30.0])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_standing_with_mm_noise_at_a_low_rate_does_not_start_the_estimators_walking(rate_hz, seed):
+    """1 mm marker noise at 25-30 Hz (one frame per estimator sample): its detector never says walking."""
+    t, p = pelvis(rate_hz=rate_hz, dur_s=20.0, noise_m=0.001, seed=seed, standing=True)
+    _, r = run(t, p)
+    assert not has(r, InvalidReason.NOT_MOVING).any()  # set only where the estimator's detector walks
+    assert not r.valid.any()
+
+
+def test_a_walk_at_30_hz_does_not_lock_on_the_standing_before_it():
+    """SYNTHETIC walk at 30 Hz whose standing noise started the bank early (locked at 0.4-0.6 Hz for 16 s)."""
+    walk = synthetic.make_walk(synthetic.SUBJECTS[2], "1-straight", seed=12, rate_hz=30.0)
+    r = OnlineEstimator.for_recording(walk.recording, list(synthetic.PELVIS_MARKERS), up_axis="z").run(walk.recording)
+    truth = walk.truth.at(r.time_s)
+    late = r.time_s > 6.0
+    assert r.valid[late].mean() > 0.9
+    assert np.all(np.abs(r.step_frequency_hz - truth.step_frequency_hz)[late & r.valid.astype(bool)] < 0.15)
+
+
 @pytest.mark.parametrize("seed", [1, 2])
 def test_occasional_dropouts_at_a_high_rate_stay_valid_and_flicker_is_input_missing(seed):
     """1 % dropouts at 100 Hz (9 set changes a second, sub-mm centre steps) stay valid; 30 % at 15 Hz do not."""
