@@ -456,8 +456,6 @@ class OnlineEstimator {
     }
     return floor_var_;
   }
-  double floor_h_s_ = -1.0, floor_var_ = 0.0;
-  int floor_frames_ = -1;
 
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
   static constexpr double kLongStepM = 0.8;
@@ -510,6 +508,8 @@ class OnlineEstimator {
   double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
   int jump_n_ = 0;          ///< frames in a row that followed it
   std::uint64_t ignored_frames_ = 0;
+  double floor_h_s_ = -1.0, floor_var_ = 0.0;  ///< floor_vz_var's frame interval [s] and value [(m/s)^2]
+  int floor_frames_ = -1;                      ///< ... and frame count
 };
 
 }  // namespace yoyogait
