@@ -77,6 +77,12 @@ class Estimator {
     if (!is_paper_) gait_.set_detector_floor_noise(vz_m2_per_s2);
   }
 
+  /// A failed lock found by the caller: the gait filter's acquisition restarts from the next sample
+  /// (GaitFilter::reacquire; paper: nothing).
+  void reacquire() noexcept {
+    if (!is_paper_) gait_.reacquire();
+  }
+
   /// step() over n samples; out[i] is the estimate after sample i. Same results as n calls of step().
   /// dt_s: the time since the previous sample of each one [s], or nullptr for sample_time_s.
   void run(const double* vx_mps, const double* vz_mps, std::size_t n, Estimate* out,

@@ -671,3 +671,20 @@ TEST(GaitEvidence, ChairSizedRisesAreNoSteps) {
   EXPECT_TRUE(run(0.14, 0.55));   // the bounciest stylised walk seen
   EXPECT_FALSE(run(0.40, 2.6));   // brisk sit-to-stand repetitions: extrema 1.3 s apart, 0.4 m
 }
+
+// The centre rising and falling once per step shows the step frequency; bobs below bob_m show none.
+TEST(GaitEvidence, ExtremaShowTheStepFrequency) {
+  auto run = [](double amplitude_m, double f_hz) {
+    online::GaitEvidence g{online::GaitEvidence::Settings{}};
+    double steps_hz = 0.0;
+    for (int k = 0; k <= 1000; ++k) {  // 10 s at 100 Hz
+      const double t = 0.01 * k;
+      g.update(t, 1.0 + 0.5 * amplitude_m * std::cos(2.0 * kPi * f_hz * t), 1e-8);
+      steps_hz = g.step_frequency_hz(t);
+    }
+    return steps_hz;
+  };
+  EXPECT_NEAR(run(0.04, 1.8), 1.8, 0.02);
+  EXPECT_NEAR(run(0.03, 0.7), 0.7, 0.02);
+  EXPECT_EQ(run(0.005, 1.8), 0.0);  // a 5 mm bob: below bob_m, no extrema
+}

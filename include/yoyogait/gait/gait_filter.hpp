@@ -219,6 +219,12 @@ class GaitFilter {
   /// detector does not count it in RMS(v_z) (gait/walking_detector.hpp; 0 unless set).
   void set_detector_floor_noise(double vz_m2_per_s2) noexcept { detector_.set_floor_noise(vz_m2_per_s2); }
   double std_scale() const noexcept { return scale_.value(); }
+  /// Sec. 2.3: a failed lock (a frequency pinned at a bound, the watchdog; or one its user finds
+  /// below the steps): the acquisition restarts. Nothing while acquiring or standing.
+  void reacquire() noexcept {
+    if (acquiring_ || !detector_.walking()) return;
+    start_acquisition(main_.x[gait::kA0], false, 0.0);
+  }
 
  private:
   using Ekf = gait::Ekf;
@@ -423,8 +429,6 @@ class GaitFilter {
     model_.inflate(main_, kA0, model_.p0_speed);
   }
 
-  /// Sec. 2.3: a frequency pinned at a bound (the watchdog) is a failed lock: the acquisition restarts.
-  void reacquire() noexcept { start_acquisition(main_.x[gait::kA0], false, 0.0); }
 
   /// Sec. 2.3, while the bank runs: the likelihoods' memory, the walking time, the spectral buffer
   /// and its fit (which seeds a member; both_used: both channels of the sample are used), the

@@ -36,6 +36,9 @@ class GaitEvidence {
     have_ = false;
     n_ = 0;
     next_ = 0;
+    m_ = 0;
+    last_ = 0;
+    steps_hz_ = 0.0;
   }
 
   /// The centre's vertical position z_m at t_s and the variance of the input noise [m^2].
@@ -60,6 +63,14 @@ class GaitEvidence {
     }
   }
 
+  /// The step frequency the last kSteps + 1 extrema imply (a rise and a fall per step: kSteps / 2
+  /// steps over their span), while the last of them lies within window_s of t_s; 0 otherwise [Hz].
+  /// Extrema of bobs below bob_m are not counted, so a slow walker's may be missed (a lower figure),
+  /// not made: an estimate far below it is below the steps the centre shows.
+  double step_frequency_hz(double t_s) const noexcept {
+    return t_s - times_[last_] <= s_.window_s ? steps_hz_ : 0.0;
+  }
+
   /// Whether the last two extrema lie within window_s of t_s, each reached by a rise or fall of at
   /// most max_bob_m.
   bool gait(double t_s) const noexcept {
@@ -68,11 +79,19 @@ class GaitEvidence {
 
  private:
   static constexpr std::size_t kN = 2;
+  /// Intervals between extrema averaged for step_frequency_hz (two steps), and their ring's size.
+  static constexpr std::size_t kSteps = 4, kRing = kSteps + 1;
   void turn(double t_s, double bob_m) noexcept {
     ring_[next_] = t_s;
     bob_[next_] = bob_m;
     next_ = (next_ + 1) % kN;
     if (n_ < kN) ++n_;
+    last_ = last_ + 1 < kRing ? last_ + 1 : 0;  // the oldest's slot takes the newest
+    times_[last_] = t_s;
+    if (m_ < kRing) ++m_;
+    // Once full, the ring spans kSteps intervals: from the slot after the newest (the oldest) to it.
+    const double span_s = t_s - times_[last_ + 1 < kRing ? last_ + 1 : 0];
+    steps_hz_ = m_ == kRing && span_s > 0.0 ? 0.5 * static_cast<double>(kSteps) / span_s : 0.0;
   }
 
   Settings s_;
@@ -82,6 +101,9 @@ class GaitEvidence {
   std::array<double, kN> ring_{};  ///< the times of the last extrema (next_: the oldest of a full ring)
   std::array<double, kN> bob_{};   ///< the rise or fall that reached each of them [m]
   std::size_t n_ = 0, next_ = 0;
+  std::array<double, kRing> times_{};  ///< the times of the last kRing extrema (last_: the newest)
+  std::size_t m_ = 0, last_ = 0;
+  double steps_hz_ = 0.0;  ///< the step frequency over the ring's span (0 until it is full) [Hz]
 };
 
 }  // namespace yoyogait::online

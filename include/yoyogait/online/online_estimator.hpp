@@ -74,7 +74,7 @@ class OnlineEstimator {
     noise_.reset();
     vnoise_.reset();
     gait_.reset();
-    outlier_s_ = 0.0;
+    outlier_s_ = below_steps_s_ = 0.0;
     blend_until_s_ = ungated_until_s_ = -1e300;
     estimator_.set_extra_measurement_variance(0.0, 0.0);
     heading_.reset();
@@ -358,6 +358,7 @@ class OnlineEstimator {
     estimator_.set_extra_measurement_variance(e[0], e[1], noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);
     estimator_.set_detector_floor_noise(floor_vz_var(dt_s / (m.frames > 0 ? m.frames : 1), m.frames));
     estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
+    below_steps(t_s, dt_s);
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     const Innovation innov = estimator_.innovation();
@@ -405,6 +406,8 @@ class OnlineEstimator {
     in.estimate_age_s = o.estimate_age_s;
     in.speed_mps = e.speed_mps;
     in.step_frequency_hz = e.step_frequency_hz;
+    const double steps_hz = gait_.step_frequency_hz(t_s);
+    in.steps_hz = steps_hz;
     o.invalid_reason = validity_.reasons(t_s, in);
     o.valid = o.invalid_reason == 0;
     if (!fed) {
@@ -427,6 +430,11 @@ class OnlineEstimator {
     constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
     if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < pinned_std_hz)
       o.step_frequency_std_hz = pinned_std_hz;
+    // Below the steps the centre shows: 2 std reach them.
+    if (o.walking && validity_.below_steps(e.step_frequency_hz, steps_hz)) {
+      const double gap_std_hz = 0.5 * (steps_hz - e.step_frequency_hz);
+      if (o.step_frequency_std_hz < gap_std_hz) o.step_frequency_std_hz = gap_std_hz;
+    }
     o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
     // Walking without travelling (a treadmill without feet or belt speed, stepping in place): the
     // speed is unknown, anywhere from 0 to a walker's at this cadence; its std says so.
@@ -444,6 +452,21 @@ class OnlineEstimator {
     o.next_step_in_s = phase_.next_step_in_s();
     o.gait_phase = phase_.phase();
   }
+
+  /// A lock below the steps the centre shows (online/validity.hpp, kBelowStepsRatio) for
+  /// kBelowStepsS of walking, net of the time above it, is a failed lock: the acquisition restarts.
+  void below_steps(double t_s, double dt_s) noexcept {
+    if (est_.walking && !est_.acquiring && validity_.below_steps(est_.step_frequency_hz, gait_.step_frequency_hz(t_s)) &&
+        gait_.gait(t_s))
+      below_steps_s_ += dt_s;
+    else if (below_steps_s_ > 0.0)
+      below_steps_s_ = below_steps_s_ > dt_s ? below_steps_s_ - dt_s : 0.0;
+    if (below_steps_s_ > kBelowStepsS) {
+      estimator_.reacquire();
+      below_steps_s_ = 0.0;
+    }
+  }
+  static constexpr double kBelowStepsS = 1.0;
 
   /// The v_z variance the floor of the marker noise leaves on an interval mean of `frames` frames
   /// h_s apart [(m/s)^2]: computed again only when the frame interval moves by 10 % or the count
@@ -510,6 +533,7 @@ class OnlineEstimator {
   std::uint64_t ignored_frames_ = 0;
   double floor_h_s_ = -1.0, floor_var_ = 0.0;  ///< floor_vz_var's frame interval [s] and value [(m/s)^2]
   int floor_frames_ = -1;                      ///< ... and frame count
+  double below_steps_s_ = 0.0;  ///< walking time locked below the steps, net (below_steps) [s]
 };
 
 }  // namespace yoyogait

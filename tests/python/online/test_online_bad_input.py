@@ -113,6 +113,21 @@ def test_a_walk_at_30_hz_does_not_lock_on_the_standing_before_it():
     assert np.all(np.abs(r.step_frequency_hz - truth.step_frequency_hz)[late & r.valid.astype(bool)] < 0.15)
 
 
+@pytest.mark.parametrize("seed", [4, 5])
+def test_a_noisy_start_is_not_locked_below_the_steps(seed):
+    """SYNTHETIC 30 Hz walk, 3 mm marker noise, after 4 s standing: no lock below the steps, never confidently wrong."""
+    walk = synthetic.make_walk(
+        synthetic.SUBJECTS[2], "1-straight", seed=seed, rate_hz=30.0, noise_m=0.003, start_standing_s=4.0
+    )
+    r = OnlineEstimator.for_recording(walk.recording, list(synthetic.PELVIS_MARKERS), up_axis="z").run(walk.recording)
+    truth = walk.truth.at(r.time_s)
+    walking = np.asarray(truth.walking, dtype=bool)
+    assert not confidently_wrong(r, truth.speed_mps, truth.step_frequency_hz)[walking].any()
+    late = r.time_s > 10.0
+    assert r.valid[late].mean() > 0.8
+    assert np.median(np.abs(r.step_frequency_hz - truth.step_frequency_hz)[late]) < 0.1
+
+
 @pytest.mark.parametrize("seed", [1, 2])
 def test_occasional_dropouts_at_a_high_rate_stay_valid_and_flicker_is_input_missing(seed):
     """1 % dropouts at 100 Hz (9 set changes a second, sub-mm centre steps) stay valid; 30 % at 15 Hz do not."""
