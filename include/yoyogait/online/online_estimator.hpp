@@ -235,7 +235,7 @@ class OnlineEstimator {
 
   /// The centre of the points seen, and the differentiator's step to it (a restart after a gap
   /// longer than max_gap_s, or at the first frame). False when no centre could be formed.
-  bool track_centre(double t_s, double gap_s, bool restart) noexcept {
+  YOYOGAIT_ALWAYS_INLINE bool track_centre(double t_s, double gap_s, bool restart) noexcept {
     if (restart) centre_.reset();
     const online::CausalCentre::Result c =
         centre_.update(frame_.positions_m(), frame_.visible(), restart ? 0.0 : gap_s);
