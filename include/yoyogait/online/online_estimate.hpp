@@ -27,8 +27,8 @@ enum class InvalidReason : std::uint8_t {
   kAcquiring = 1,          ///< no estimate yet, the start-up bank running, or walking for less than valid_after_s
   kNotWalking = 2,         ///< the walking detector says standing
   kInputNoisy = 4,         ///< the marker noise estimated online is above max_input_noise_m
-  kInputMissing = 8,       ///< the frame was ignored, the estimate is stale, or changes of the visible points keep moving the centre
-  kModelNotHolding = 16,   ///< the estimator's innovations are too large (mean NIS), or f sits at a bound
+  kInputMissing = 8,       ///< a frame ignored, a stale estimate, or changes of the visible points moving the centre
+  kModelNotHolding = 16,   ///< innovations too large (mean NIS), f at a bound, or f below the steps the centre shows
   kImplausibleInput = 32,  ///< the input moves faster than a person can (wrong length unit, jumps, zeros)
   kRateTooLow = 64,        ///< the mean frame rate is below min_rate_hz
   kNotMoving = 128,        ///< the centre travels much less than the speed says (treadmill, sway, turning on the spot)

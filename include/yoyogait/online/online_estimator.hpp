@@ -456,8 +456,8 @@ class OnlineEstimator {
   /// A lock below the steps the centre shows (online/validity.hpp, kBelowStepsRatio) for
   /// kBelowStepsS of walking, net of the time above it, is a failed lock: the acquisition restarts.
   void below_steps(double t_s, double dt_s) noexcept {
-    if (est_.walking && !est_.acquiring && validity_.below_steps(est_.step_frequency_hz, gait_.step_frequency_hz(t_s)) &&
-        gait_.gait(t_s))
+    const double steps_hz = gait_.step_frequency_hz(t_s);
+    if (est_.walking && !est_.acquiring && validity_.below_steps(est_.step_frequency_hz, steps_hz) && gait_.gait(t_s))
       below_steps_s_ += dt_s;
     else if (below_steps_s_ > 0.0)
       below_steps_s_ = below_steps_s_ > dt_s ? below_steps_s_ - dt_s : 0.0;
