@@ -65,16 +65,12 @@ class Estimator {
     ::new (static_cast<void*>(&out)) Estimate(step(vx_mps, vz_mps, dt_s));
   }
 
-  /// Variances added to the measurement noise of v_x and v_z from the next sample on [(m/s)^2]
-  /// (gait: GaitFilter::set_extra_measurement_variance; paper: not used). 0 until set.
-  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2, double noise_sigmas = 0.0) noexcept {
-    if (!is_paper_) gait_.set_extra_measurement_variance(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas);
-  }
-
-  /// The variance of v_z the input's noise floor leaves on every sample [(m/s)^2], not walking by
-  /// itself (gait: GaitFilter::set_detector_floor_noise; paper: not used). 0 until set.
-  void set_detector_floor_noise(double vz_m2_per_s2) noexcept {
-    if (!is_paper_) gait_.set_detector_floor_noise(vz_m2_per_s2);
+  /// Variances added to the measurement noise of v_x and v_z from the next sample on [(m/s)^2], and
+  /// the v_z variance of the input's noise floor, not walking by itself (gait:
+  /// GaitFilter::set_extra_measurement_variance; paper: not used). 0 until set.
+  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2, double noise_sigmas = 0.0,
+                                      double floor_vz_m2_per_s2 = 0.0) noexcept {
+    if (!is_paper_) gait_.set_extra_measurement_variance(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas, floor_vz_m2_per_s2);
   }
 
   /// A failed lock found by the caller: the gait filter's acquisition restarts from the next sample

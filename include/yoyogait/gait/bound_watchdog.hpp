@@ -3,12 +3,12 @@
 /// (sec. 2.3).
 #pragma once
 
+#include "yoyogait/gait/net_time.hpp"
+
 namespace yoyogait::gait {
 
-/// Counts the walking time with w within 5 % of a bound, and counts it down (to 0) while w is well
-/// inside (15 %): a lock that keeps falling back to the bound between short excursions still fires
-/// (a reset at every excursion let one hover at 0.40-0.6 Hz for 16 s; docs/default_estimator.md,
-/// sec. 2.3). Fires once the time exceeds limit_s (the filter then restarts the acquisition).
+/// The walking time with w within 5 % of a bound, net of the time it is well inside (15 %;
+/// gait/net_time.hpp). Fires once it exceeds limit_s (the filter then restarts the acquisition).
 class BoundWatchdog {
  public:
   struct Settings {
@@ -25,21 +25,21 @@ class BoundWatchdog {
         inside_max_(0.85 * s.w_max_rad_s),
         limit_s_(s.limit_s) {}
 
-  void reset() noexcept { t_at_bound_s_ = 0.0; }
+  void reset() noexcept { at_bound_.reset(); }
 
   /// One walking step of dt [s] with the frequency w [rad/s]; true: restart the acquisition.
   bool update(double w, double dt) noexcept {
     if (w <= near_min_ || w >= near_max_)
-      t_at_bound_s_ += dt;
+      at_bound_.up(dt);
     else if (inside_min_ < w && w < inside_max_)
-      t_at_bound_s_ = t_at_bound_s_ > dt ? t_at_bound_s_ - dt : 0.0;
-    return t_at_bound_s_ > limit_s_;
+      at_bound_.down(dt);
+    return at_bound_.s() > limit_s_;
   }
 
  private:
   // The thresholds, multiplied out once (the same products as per step).
   double near_min_ = 0.0, near_max_ = 0.0, inside_min_ = 0.0, inside_max_ = 0.0, limit_s_ = 1.0;
-  double t_at_bound_s_ = 0.0;
+  NetTime at_bound_;
 };
 
 }  // namespace yoyogait::gait

@@ -210,20 +210,18 @@ class GaitFilter {
   /// (gait/decay_factors.hpp; 0 unless set: the online front-end's noisy input); the walking
   /// detector does not count the v_z part in RMS(v_z).
   /// noise_sigmas: the detector's thresholds are raised by this many standard deviations of what
-  /// that noise gives its low-passes (gait/walking_detector.hpp; 0: not raised).
-  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2, double noise_sigmas = 0.0) noexcept {
+  /// that noise gives its low-passes (gait/walking_detector.hpp; 0: not raised). floor_vz: the v_z
+  /// variance of the input's noise floor on every sample, only kept out of RMS(v_z).
+  void set_extra_measurement_variance(double vx_m2_per_s2, double vz_m2_per_s2, double noise_sigmas = 0.0,
+                                      double floor_vz_m2_per_s2 = 0.0) noexcept {
     factors_.set_extra_variance(vx_m2_per_s2, vz_m2_per_s2);
-    detector_.set_noise(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas);
+    detector_.set_noise(vx_m2_per_s2, vz_m2_per_s2, noise_sigmas, floor_vz_m2_per_s2);
   }
-  /// The variance of v_z the input's noise floor leaves on every sample [(m/s)^2]: the walking
-  /// detector does not count it in RMS(v_z) (gait/walking_detector.hpp; 0 unless set).
-  void set_detector_floor_noise(double vz_m2_per_s2) noexcept { detector_.set_floor_noise(vz_m2_per_s2); }
   double std_scale() const noexcept { return scale_.value(); }
   /// Sec. 2.3: a failed lock (a frequency pinned at a bound, the watchdog; or one its user finds
   /// below the steps): the acquisition restarts. Nothing while acquiring or standing.
   void reacquire() noexcept {
-    if (acquiring_ || !detector_.walking()) return;
-    start_acquisition(main_.x[gait::kA0], false, 0.0);
+    if (!acquiring_ && detector_.walking()) start_acquisition(main_.x[gait::kA0], false, 0.0);
   }
 
  private:
@@ -428,7 +426,6 @@ class GaitFilter {
     model_.inflate(main_, kZ2, model_.p0_phasor);
     model_.inflate(main_, kA0, model_.p0_speed);
   }
-
 
   /// Sec. 2.3, while the bank runs: the likelihoods' memory, the walking time, the spectral buffer
   /// and its fit (which seeds a member; both_used: both channels of the sample are used), the

@@ -79,16 +79,14 @@ class WalkingDetector {
 
   /// The input noise's variances of v_x and v_z [(m/s)^2] (0 by default; the online front-end's; the
   /// v_z part is not counted in RMS(v_z)) and how many of their standard deviations
-  /// in the low-passes the thresholds are raised by (0: none).
-  void set_noise(double vx_m2_per_s2, double vz_m2_per_s2, double sigmas) noexcept {
+  /// in the low-passes the thresholds are raised by (0: none); floor_vz: the variance of v_z that
+  /// the input's noise floor leaves on every sample, not counted in RMS(v_z) either.
+  void set_noise(double vx_m2_per_s2, double vz_m2_per_s2, double sigmas, double floor_vz_m2_per_s2 = 0.0) noexcept {
     noise_vx2_ = vx_m2_per_s2;
     noise_vz2_ = vz_m2_per_s2;
     noise_sigmas_ = sigmas;
+    floor_vz2_ = floor_vz_m2_per_s2;
   }
-
-  /// The variance of v_z that the input's noise floor leaves on every sample [(m/s)^2] (0 by
-  /// default; the online front-end's at the configured marker noise): not counted in RMS(v_z).
-  void set_floor_noise(double vz_m2_per_s2) noexcept { floor_vz2_ = vz_m2_per_s2; }
 
  private:
   double tau_s_ = 0.3, speed_on_ = 0.2, speed_off_ = 0.15, vz_rms_on2_ = 0.0025, vz_rms_off2_ = 0.000625;

@@ -250,4 +250,23 @@ class KalmanDifferentiator {
   bool started_ = false;
 };
 
+/// KalmanDifferentiator::floor_mean_velocity_var, computed again only when the frame interval moves
+/// by 10 % or the frame count changes: it changes slowly with the interval, and jittered timestamps
+/// would otherwise recompute it every frame.
+class FloorVelocityNoise {
+ public:
+  double var_m2_per_s2(const KalmanDifferentiator& diff, double h_s, int frames) noexcept {
+    if (frames != frames_ || !(std::fabs(h_s - h_s_) <= 0.1 * h_s_)) {
+      h_s_ = h_s;
+      frames_ = frames;
+      var_ = diff.floor_mean_velocity_var(h_s, frames);
+    }
+    return var_;
+  }
+
+ private:
+  double h_s_ = -1.0, var_ = 0.0;  ///< the frame interval it was computed at [s], and its value [(m/s)^2]
+  int frames_ = -1;
+};
+
 }  // namespace yoyogait::online

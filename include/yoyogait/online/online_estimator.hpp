@@ -59,6 +59,7 @@ class OnlineEstimator {
         decimator_(online::decimator_settings(config_)),
         latency_(online::latency_settings(config_)),
         validity_(online::validity_settings(config_)),
+        time_gate_(online::timestamp_gate_settings(config_)),
         belt_(n_feet, axes_.up, axes_.a, axes_.b, length_unit_m, config_.max_abs_position_m,
               online::belt_settings(config_)),
         feet_(n_feet),
@@ -74,7 +75,7 @@ class OnlineEstimator {
     noise_.reset();
     vnoise_.reset();
     gait_.reset();
-    outlier_s_ = below_steps_s_ = 0.0;
+    outlier_s_ = 0.0;
     blend_until_s_ = ungated_until_s_ = -1e300;
     estimator_.set_extra_measurement_variance(0.0, 0.0);
     heading_.reset();
@@ -87,10 +88,8 @@ class OnlineEstimator {
     belt_seen_ = false;
     est_ = Estimate{};
     out_ = OnlineEstimate{};
-    have_time_ = false;
+    time_gate_.reset();
     have_seen_ = false;
-    jump_n_ = 0;
-    jump_t_s_ = 0.0;
     fast_s_ = 0.0;
     ignored_frames_ = 0;
   }
@@ -100,13 +99,16 @@ class OnlineEstimator {
   OnlineEstimate update(double t_s, const double* positions_xyz) noexcept {
     OnlineEstimate& o = out_;
     o.estimator_fed = false;
-    const double frame_dt_s = have_time_ ? t_s - t_last_s_ : 0.0;
-    if (!accept_time(t_s)) {
+    const double frame_dt_s = time_gate_.have_time() ? t_s - time_gate_.last_s() : 0.0;
+    const OnlineStatus time_status = time_gate_.accept(t_s);
+    if (time_status != OnlineStatus::kUsed) {  // ignored: its status set, nothing else changed
+      o.status = time_status;
       ++ignored_frames_;
       o.valid = false;
       o.invalid_reason |= static_cast<std::uint8_t>(InvalidReason::kInputMissing);
       return o;
     }
+    o.t_s = t_s;
     const online::PointFrame::Count seen = frame_.read(positions_xyz);
     if (belt_.has_feet()) belt_.update(t_s, positions_xyz + 3 * frame_.size());
     o.points_seen = static_cast<std::uint8_t>(seen.seen);
@@ -132,7 +134,7 @@ class OnlineEstimator {
   /// every call costs a bounded time.
   static constexpr double kMaxCarryS = 2.0;
   /// Timestamps beyond +-this are absurd (31,700 years) and ignored as non-finite [s].
-  static constexpr double kMaxAbsTimeS = 1e12;
+  static constexpr double kMaxAbsTimeS = online::TimestampGate::kMaxAbsTimeS;
 
   /// Forward and vertical velocity horizon_s [s] after the last frame's time, from the estimator's
   /// forecast (rates of speed and cadence included) over the same horizon as vx_hat_mps plus
@@ -195,35 +197,6 @@ class OnlineEstimator {
     if (up < 0 || up > 2) throw std::invalid_argument("up_axis must be 0, 1 or 2 (x, y, z)");
     if (!(std::isfinite(unit) && unit > 0.0)) throw std::invalid_argument("length_unit_m must be finite and > 0");
     return c;
-  }
-
-  /// A finite timestamp within +-kMaxAbsTimeS after the last accepted one is accepted, unless it
-  /// lies more than max_time_jump_s ahead: then only once two more frames follow it, each within
-  /// max_gap_s of the one before. Else the frame is ignored (its status set, nothing else changed).
-  bool accept_time(double t_s) noexcept {
-    OnlineEstimate& o = out_;
-    if (!(std::fabs(t_s) <= kMaxAbsTimeS)) {
-      o.status = OnlineStatus::kNonFinite;
-      return false;
-    }
-    if (have_time_ && !(t_s > t_last_s_)) {
-      o.status = OnlineStatus::kTimeNotIncreasing;
-      return false;
-    }
-    if (have_time_ && t_s - t_last_s_ > config_.max_time_jump_s) {
-      const bool follows = jump_n_ > 0 && t_s > jump_t_s_ && t_s - jump_t_s_ <= config_.max_gap_s;
-      jump_n_ = follows ? jump_n_ + 1 : 1;
-      jump_t_s_ = t_s;
-      if (jump_n_ < 3) {
-        o.status = OnlineStatus::kTimeJump;
-        return false;
-      }
-    }
-    jump_n_ = 0;
-    have_time_ = true;
-    t_last_s_ = t_s;
-    o.t_s = t_s;
-    return true;
   }
 
   /// A frame without a usable centre: the estimate carried to t_s, with the status.
@@ -355,10 +328,15 @@ class OnlineEstimator {
     if (plausible && noise_.excess_share() > 0.0) vnoise_.update(m.vx_mps, m.vz_mps, dt_s);
     const std::array<double, 2> e =
         online::extra_measurement_var(noise_, diff_.covariance()[1][1], vnoise_, config_.estimator.gait_filter, dt_s);
-    estimator_.set_extra_measurement_variance(e[0], e[1], noise_.above_knee() ? config_.walk_noise_sigmas : 0.0);
-    estimator_.set_detector_floor_noise(floor_vz_var(dt_s / (m.frames > 0 ? m.frames : 1), m.frames));
+    // The floor's part is only kept out of the detector's RMS(v_z) (what one frame per sample leaves).
+    const double floor_vz = floor_noise_.var_m2_per_s2(diff_, dt_s / (m.frames > 0 ? m.frames : 1), m.frames);
+    estimator_.set_extra_measurement_variance(e[0], e[1], noise_.above_knee() ? config_.walk_noise_sigmas : 0.0,
+                                              floor_vz);
     estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
-    below_steps(t_s, dt_s);
+    // A lock below the steps the centre shows, held: a failed lock (online/validity.hpp).
+    const bool below = est_.walking && !est_.acquiring &&
+                       validity_.below_steps(est_.step_frequency_hz, gait_.step_frequency_hz(t_s)) && gait_.gait(t_s);
+    if (validity_.failed_lock_below_steps(below, dt_s)) estimator_.reacquire();
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     const Innovation innov = estimator_.innovation();
@@ -453,33 +431,6 @@ class OnlineEstimator {
     o.gait_phase = phase_.phase();
   }
 
-  /// A lock below the steps the centre shows (online/validity.hpp, kBelowStepsRatio) for
-  /// kBelowStepsS of walking, net of the time above it, is a failed lock: the acquisition restarts.
-  void below_steps(double t_s, double dt_s) noexcept {
-    const double steps_hz = gait_.step_frequency_hz(t_s);
-    if (est_.walking && !est_.acquiring && validity_.below_steps(est_.step_frequency_hz, steps_hz) && gait_.gait(t_s))
-      below_steps_s_ += dt_s;
-    else if (below_steps_s_ > 0.0)
-      below_steps_s_ = below_steps_s_ > dt_s ? below_steps_s_ - dt_s : 0.0;
-    if (below_steps_s_ > kBelowStepsS) {
-      estimator_.reacquire();
-      below_steps_s_ = 0.0;
-    }
-  }
-  static constexpr double kBelowStepsS = 1.0;
-
-  /// The v_z variance the floor of the marker noise leaves on an interval mean of `frames` frames
-  /// h_s apart [(m/s)^2]: computed again only when the frame interval moves by 10 % or the count
-  /// changes (it changes slowly with h; jittered timestamps would otherwise recompute every frame).
-  double floor_vz_var(double h_s, int frames) noexcept {
-    if (frames != floor_frames_ || !(std::fabs(h_s - floor_h_s_) <= 0.1 * floor_h_s_)) {
-      floor_h_s_ = h_s;
-      floor_frames_ = frames;
-      floor_var_ = diff_.floor_mean_velocity_var(h_s, frames);
-    }
-    return floor_var_;
-  }
-
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
   static constexpr double kLongStepM = 0.8;
 
@@ -510,6 +461,7 @@ class OnlineEstimator {
   online::Latency latency_;
   online::GaitPhase phase_;
   online::Validity validity_;
+  online::TimestampGate time_gate_;
   online::BeltTracker belt_;
   std::size_t feet_ = 0;
   double belt_a_m_ = 0.0, belt_b_m_ = 0.0;  ///< the belt's travel since the reset (a treadmill) [m]
@@ -517,8 +469,7 @@ class OnlineEstimator {
   Estimate est_{};
   gait::HorizonDecay carry_decay_;  ///< the carry's forecast factors at its last horizons
   OnlineEstimate out_{};
-  bool have_time_ = false, have_seen_ = false;
-  double t_last_s_ = 0.0;   ///< the last accepted frame [s]
+  bool have_seen_ = false;
   double t_seen_s_ = 0.0;   ///< the last frame with a point seen [s]
   double start_t_s_ = 0.0;  ///< the differentiator's last (re)start [s]
   double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
@@ -528,12 +479,8 @@ class OnlineEstimator {
   double blend_until_s_ = -1e300;  ///< the centre blends a change of the visible markers until then [s]
   double ungated_until_s_ = -1e300;  ///< after a jump taken, the outlier gate is off until then [s]
   double fast_s_ = 0.0;     ///< how long the horizontal velocity has exceeded max_walking_speed_mps [s]
-  double jump_t_s_ = 0.0;   ///< the last timestamp held back as a jump ahead [s]
-  int jump_n_ = 0;          ///< frames in a row that followed it
   std::uint64_t ignored_frames_ = 0;
-  double floor_h_s_ = -1.0, floor_var_ = 0.0;  ///< floor_vz_var's frame interval [s] and value [(m/s)^2]
-  int floor_frames_ = -1;                      ///< ... and frame count
-  double below_steps_s_ = 0.0;  ///< walking time locked below the steps, net (below_steps) [s]
+  online::FloorVelocityNoise floor_noise_;  ///< the v_z variance of the noise floor on a sample
 };
 
 }  // namespace yoyogait

@@ -12,6 +12,7 @@
 #include "yoyogait/online/input_noise.hpp"
 #include "yoyogait/online/latency.hpp"
 #include "yoyogait/online/online_config.hpp"
+#include "yoyogait/online/timestamp_gate.hpp"
 #include "yoyogait/online/validity.hpp"
 
 namespace yoyogait::online {
@@ -107,6 +108,14 @@ inline BeltTracker::Settings belt_settings(const OnlineConfig& c) noexcept {
   s.heading_rad = c.treadmill_heading_rad;
   s.max_pelvis_mps = c.treadmill_max_pelvis_mps;
   s.max_belt_mps = c.max_plausible_speed_mps;
+  return s;
+}
+
+/// The timestamp gate's settings (max_time_jump_s, max_gap_s).
+inline TimestampGate::Settings timestamp_gate_settings(const OnlineConfig& c) noexcept {
+  TimestampGate::Settings s;
+  s.max_time_jump_s = c.max_time_jump_s;
+  s.max_gap_s = c.max_gap_s;
   return s;
 }
 

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "yoyogait/gait/net_time.hpp"
 #include "yoyogait/gait/state.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/online/interval_cache.hpp"
@@ -83,6 +84,7 @@ class Validity {
     gains_dt_s_ = -1.0;
     nis_lp_ = 2.0;
     centre_steps_mps_ = 0.0;
+    below_steps_.reset();
     implausible_until_s_ = -1e300;
     steady_since_s_ = 0.0;
     steady_ = false;
@@ -252,6 +254,19 @@ class Validity {
   bool below_steps(double f_hz, double steps_hz) const noexcept {
     return steps_hz > 0.0 && f_hz < kBelowStepsRatio * steps_hz;
   }
+  /// A lock (walking, acquired, the centre moving as in gait) below_steps for kBelowStepsS of
+  /// walking, net of the time it is not (gait/net_time.hpp), is a failed lock: true once, when the
+  /// caller is to restart the acquisition. Per estimator sample, dt_s after the last.
+  static constexpr double kBelowStepsS = 1.0;
+  bool failed_lock_below_steps(bool locked_below, double dt_s) noexcept {
+    if (locked_below)
+      below_steps_.up(dt_s);
+    else
+      below_steps_.down(dt_s);
+    if (!(below_steps_.s() > kBelowStepsS)) return false;
+    below_steps_.reset();
+    return true;
+  }
 
   /// The frequency std reported at a bound of the range, at least [Hz]: a bound is no estimate.
   static constexpr double kPinnedStdHz = 0.5;
@@ -290,6 +305,7 @@ class Validity {
   double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed2_lp_ = 0.0, nis_lp_ = 2.0, centre_steps_mps_ = 0.0;
   double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_speed_ = 1.0, g_loss_ = 1.0;  ///< gains at that dt
   double heading_loss_lp_ = 0.0;  ///< the low-passed |v_h| - v_x [m/s]
+  gait::NetTime below_steps_;     ///< the walking time locked below the steps, net (failed_lock_below_steps)
   double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
   bool steady_ = false, have_last_ = false;
   double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates
