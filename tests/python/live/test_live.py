@@ -127,7 +127,10 @@ def test_replay_sends_positions_in_metres_nan_for_missing_the_file_time_and_pace
     assert done["stats"].frames == rec.n_frames == len(frames)
     np.testing.assert_array_equal(frames[:, :-1], rec.positions_m.reshape(rec.n_frames, -1))
     np.testing.assert_array_equal(frames[:, -1], rec.time_s)
-    assert stamps[-1] - stamps[0] >= (rec.time_s[-1] - rec.time_s[0]) / speed - 1e-3
+    # Paced, not pushed at once: the span covers the file's at that speed. (Every frame leaves at or
+    # after its due time, but the first may leave late, by a scheduler's milliseconds on a loaded
+    # machine, which shortens the span by as much: 5 % of it is allowed.)
+    assert stamps[-1] - stamps[0] >= 0.95 * (rec.time_s[-1] - rec.time_s[0]) / speed
 
 
 def test_duplicated_and_out_of_order_frames_are_dropped_counted_and_leave_the_estimates_unchanged():
