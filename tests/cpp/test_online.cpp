@@ -688,3 +688,32 @@ TEST(GaitEvidence, ExtremaShowTheStepFrequency) {
   EXPECT_NEAR(run(0.03, 0.7), 0.7, 0.02);
   EXPECT_EQ(run(0.005, 1.8), 0.0);  // a 5 mm bob: below bob_m, no extrema
 }
+
+// Bobs of keep_bob_m keep gait seen once steps of bob_m have shown it, never start it, and do not
+// count in the step frequency.
+TEST(GaitEvidence, SmallerBobsKeepGaitButDoNotStartIt) {
+  struct Run {
+    bool gait_at_end;
+    double steps_hz_after_switch;
+  };
+  // amplitude_m at 1 step/s for 5 s, then small_m at small_hz.
+  auto run = [](double amplitude_m, double small_m, double small_hz) {
+    online::GaitEvidence g{online::GaitEvidence::Settings{}};
+    Run r{false, 0.0};
+    double phase = 0.0;
+    for (int k = 0; k <= 1200; ++k) {  // 12 s at 100 Hz
+      const double t = 0.01 * k;
+      const bool before = t < 5.0;
+      phase += 2.0 * kPi * 0.01 * (before ? 1.0 : small_hz);
+      g.update(t, 1.0 + 0.5 * (before ? amplitude_m : small_m) * (std::cos(phase) - 1.0), 1e-8);  // no jump at 5 s
+      r.gait_at_end = g.gait(t);
+      if (k == 650) r.steps_hz_after_switch = g.step_frequency_hz(t);
+    }
+    return r;
+  };
+  EXPECT_TRUE(run(0.03, 0.008, 1.0).gait_at_end);    // 3 cm steps, then 8 mm: still gait
+  EXPECT_FALSE(run(0.008, 0.008, 1.0).gait_at_end);  // 8 mm from the start: never gait
+  EXPECT_FALSE(run(0.03, 0.002, 1.0).gait_at_end);   // 3 cm, then 2 mm (below keep_bob_m): gait ends
+  // 1.5 s after 3 cm steps at 1 Hz turned into 8 mm bobs at 2 Hz: the steps' frequency, not the bobs'.
+  EXPECT_NEAR(run(0.03, 0.008, 2.0).steps_hz_after_switch, 1.0, 0.02);
+}

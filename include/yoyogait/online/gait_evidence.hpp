@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace yoyogait::online {
 
@@ -26,16 +27,18 @@ class GaitEvidence {
     double bob_m = 0.01;     ///< the least vertical excursion counted [m]
     double window_s = 2.5;   ///< two extrema within this: gait [s]
     double max_bob_m = 0.25; ///< a larger rise or fall between extrema is no step [m]
+    double keep_bob_m = 0.005; ///< once gait is seen, extrema of this much keep it seen [m]
   };
 
   GaitEvidence() noexcept = default;
   explicit GaitEvidence(const Settings& s) noexcept : s_(s) { reset(); }
 
   void reset() noexcept {
-    dir_ = 0;
     have_ = false;
-    n_ = 0;
-    next_ = 0;
+    start_ = Extrema{};
+    keep_ = Extrema{};
+    kept_ = false;
+    kept_t_s_ = -std::numeric_limits<double>::infinity();
     m_ = 0;
     last_ = 0;
     steps_hz_ = 0.0;
@@ -44,23 +47,24 @@ class GaitEvidence {
   /// The centre's vertical position z_m at t_s and the variance of the input noise [m^2].
   void update(double t_s, double z_m, double z_var_m2) noexcept {
     if (!have_) {
-      hi_ = lo_ = z_m;
+      start_.hi = start_.lo = keep_.hi = keep_.lo = z_m;
       have_ = true;
       return;
     }
-    const double h2 = 9.0 * z_var_m2, b2 = s_.bob_m * s_.bob_m;
-    const double h = h2 > b2 ? std::sqrt(h2) : s_.bob_m;
-    if (z_m > hi_) hi_ = z_m;
-    if (z_m < lo_) lo_ = z_m;
-    if (dir_ >= 0 && z_m < hi_ - h) {  // a maximum, left downwards (the rise to it: hi_ - lo_)
-      if (dir_ > 0) turn(t_s, hi_ - lo_);
-      dir_ = -1;
-      lo_ = z_m;
-    } else if (dir_ <= 0 && z_m > lo_ + h) {  // a minimum, left upwards (the fall to it: hi_ - lo_)
-      if (dir_ < 0) turn(t_s, hi_ - lo_);
-      dir_ = 1;
-      hi_ = z_m;
+    // The hystereses: at least three standard deviations of the noise (compared as squares: no
+    // square root unless the noise is the larger).
+    const double h2 = 9.0 * z_var_m2;
+    const double bob = start_.update(t_s, z_m, h2 > s_.bob_m * s_.bob_m ? std::sqrt(h2) : s_.bob_m);
+    if (bob > 0.0) {
+      times_[last_ = last_ + 1 < kRing ? last_ + 1 : 0] = t_s;  // the oldest's slot takes the newest
+      if (m_ < kRing) ++m_;
+      // Once full, the ring spans kSteps intervals: from the slot after the newest (the oldest) to it.
+      const double span_s = t_s - times_[last_ + 1 < kRing ? last_ + 1 : 0];
+      steps_hz_ = m_ == kRing && span_s > 0.0 ? 0.5 * static_cast<double>(kSteps) / span_s : 0.0;
     }
+    keep_.update(t_s, z_m, h2 > s_.keep_bob_m * s_.keep_bob_m ? std::sqrt(h2) : s_.keep_bob_m);
+    kept_ = seen(t_s);
+    kept_t_s_ = t_s;
   }
 
   /// The step frequency the last kSteps + 1 extrema imply (a rise and a fall per step: kSteps / 2
@@ -72,36 +76,57 @@ class GaitEvidence {
   }
 
   /// Whether the last two extrema lie within window_s of t_s, each reached by a rise or fall of at
-  /// most max_bob_m.
-  bool gait(double t_s) const noexcept {
-    return n_ >= kN && t_s - ring_[next_] <= s_.window_s && bob_[0] <= s_.max_bob_m && bob_[1] <= s_.max_bob_m;
-  }
+  /// most max_bob_m: of bob_m or more, or, while gait has been seen without a break, of keep_bob_m or
+  /// more (a slow walker's smaller steps keep it; they do not start it, nor count in step_frequency_hz).
+  bool gait(double t_s) const noexcept { return t_s == kept_t_s_ ? kept_ : seen(t_s); }
 
  private:
   static constexpr std::size_t kN = 2;
   /// Intervals between extrema averaged for step_frequency_hz (two steps), and their ring's size.
   static constexpr std::size_t kSteps = 4, kRing = kSteps + 1;
-  void turn(double t_s, double bob_m) noexcept {
-    ring_[next_] = t_s;
-    bob_[next_] = bob_m;
-    next_ = (next_ + 1) % kN;
-    if (n_ < kN) ++n_;
-    last_ = last_ + 1 < kRing ? last_ + 1 : 0;  // the oldest's slot takes the newest
-    times_[last_] = t_s;
-    if (m_ < kRing) ++m_;
-    // Once full, the ring spans kSteps intervals: from the slot after the newest (the oldest) to it.
-    const double span_s = t_s - times_[last_ + 1 < kRing ? last_ + 1 : 0];
-    steps_hz_ = m_ == kRing && span_s > 0.0 ? 0.5 * static_cast<double>(kSteps) / span_s : 0.0;
-  }
+
+  /// Extrema of the vertical position with a hysteresis, and the last kN of them.
+  struct Extrema {
+    int dir = 0;  ///< +1 rising, -1 falling, 0 not yet known
+    double hi = 0.0, lo = 0.0;  ///< the extremes since the last turn
+    std::array<double, kN> times{};  ///< the times of the last extrema (next: the oldest of a full ring)
+    std::array<double, kN> bobs{};   ///< the rise or fall that reached each of them [m]
+    std::size_t n = 0, next = 0;
+    /// One position; returns the rise or fall that reached a new extremum (0: none).
+    double update(double t_s, double z_m, double h_m) noexcept {
+      if (z_m > hi) hi = z_m;
+      if (z_m < lo) lo = z_m;
+      double bob = 0.0;
+      if (dir >= 0 && z_m < hi - h_m) {  // a maximum, left downwards (the rise to it: hi - lo)
+        if (dir > 0) bob = hi - lo;
+        dir = -1;
+        lo = z_m;
+      } else if (dir <= 0 && z_m > lo + h_m) {  // a minimum, left upwards (the fall to it: hi - lo)
+        if (dir < 0) bob = hi - lo;
+        dir = 1;
+        hi = z_m;
+      }
+      if (bob > 0.0) {
+        times[next] = t_s;
+        bobs[next] = bob;
+        next = (next + 1) % kN;
+        if (n < kN) ++n;
+      }
+      return bob;
+    }
+    bool seen(double t_s, const Settings& s) const noexcept {
+      return n >= kN && t_s - times[next] <= s.window_s && bobs[0] <= s.max_bob_m && bobs[1] <= s.max_bob_m;
+    }
+  };
+
+  bool seen(double t_s) const noexcept { return start_.seen(t_s, s_) || (kept_ && keep_.seen(t_s, s_)); }
 
   Settings s_;
-  int dir_ = 0;  ///< +1 rising, -1 falling, 0 not yet known
   bool have_ = false;
-  double hi_ = 0.0, lo_ = 0.0;  ///< the extremes since the last turn
-  std::array<double, kN> ring_{};  ///< the times of the last extrema (next_: the oldest of a full ring)
-  std::array<double, kN> bob_{};   ///< the rise or fall that reached each of them [m]
-  std::size_t n_ = 0, next_ = 0;
-  std::array<double, kRing> times_{};  ///< the times of the last kRing extrema (last_: the newest)
+  Extrema start_, keep_;  ///< with the hysteresis bob_m, and keep_bob_m
+  bool kept_ = false;     ///< gait seen at the last update, at kept_t_s_ (what gait() gives then)
+  double kept_t_s_ = -std::numeric_limits<double>::infinity();
+  std::array<double, kRing> times_{};  ///< the times of the last kRing extrema of start_ (last_: the newest)
   std::size_t m_ = 0, last_ = 0;
   double steps_hz_ = 0.0;  ///< the step frequency over the ring's span (0 until it is full) [Hz]
 };

@@ -49,12 +49,13 @@ inline InputNoise::Settings input_noise_settings(const OnlineConfig& c) noexcept
   return s;
 }
 
-/// The gait evidence's settings (gait_bob_m, gait_window_s, gait_max_bob_m).
+/// The gait evidence's settings (gait_bob_m, gait_window_s, gait_max_bob_m, gait_keep_bob_m).
 inline GaitEvidence::Settings gait_evidence_settings(const OnlineConfig& c) noexcept {
   GaitEvidence::Settings s;
   s.bob_m = c.gait_bob_m;
   s.window_s = c.gait_window_s;
   s.max_bob_m = c.gait_max_bob_m;
+  s.keep_bob_m = c.gait_keep_bob_m;
   return s;
 }
 
