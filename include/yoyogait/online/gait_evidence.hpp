@@ -10,8 +10,9 @@
 /// within window_s (a rise and a fall: one step of the slowest walker, none of a sit-to-stand at
 /// an unhurried pace) and neither rise nor fall before them exceeds max_bob_m (a walker's pelvis
 /// moves 2-6 cm per step, 14 cm on the bounciest stylised walks seen; rising from a chair, 0.3-0.45
-/// m: brisk repetitions, as in a chair-stand test, are otherwise extrema a step apart). No
-/// allocation, no division.
+/// m: brisk repetitions, as in a chair-stand test, are otherwise extrema a step apart). Once gait is
+/// seen, a second hysteresis of keep_bob_m (at least six standard deviations of the noise) keeps it:
+/// a slow or timid walker's bobs shrink below bob_m at the slowest steps. No allocation.
 #pragma once
 
 #include <array>
@@ -51,9 +52,9 @@ class GaitEvidence {
       have_ = true;
       return;
     }
-    // The hystereses: at least three standard deviations of the noise (compared as squares: no
-    // square root unless the noise is the larger).
-    const double h2 = 9.0 * z_var_m2;
+    // The hystereses: at least three standard deviations of the noise to start, kKeepNoiseSigmas to
+    // keep (compared as squares: no square root unless the noise is the larger).
+    const double h2 = 9.0 * z_var_m2, k2 = kKeepNoiseSigmas * kKeepNoiseSigmas * z_var_m2;
     const double bob = start_.update(t_s, z_m, h2 > s_.bob_m * s_.bob_m ? std::sqrt(h2) : s_.bob_m);
     if (bob > 0.0) {
       times_[last_ = last_ + 1 < kRing ? last_ + 1 : 0] = t_s;  // the oldest's slot takes the newest
@@ -62,7 +63,7 @@ class GaitEvidence {
       const double span_s = t_s - times_[last_ + 1 < kRing ? last_ + 1 : 0];
       steps_hz_ = m_ == kRing && span_s > 0.0 ? 0.5 * static_cast<double>(kSteps) / span_s : 0.0;
     }
-    keep_.update(t_s, z_m, h2 > s_.keep_bob_m * s_.keep_bob_m ? std::sqrt(h2) : s_.keep_bob_m);
+    keep_.update(t_s, z_m, k2 > s_.keep_bob_m * s_.keep_bob_m ? std::sqrt(k2) : s_.keep_bob_m);
     kept_ = seen(t_s);
     kept_t_s_ = t_s;
   }
@@ -84,6 +85,10 @@ class GaitEvidence {
   static constexpr std::size_t kN = 2;
   /// Intervals between extrema averaged for step_frequency_hz (two steps), and their ring's size.
   static constexpr std::size_t kSteps = 4, kRing = kSteps + 1;
+  /// The keeping hysteresis is at least this many standard deviations of the noise: with three, as to
+  /// start, a person standing with 5 mm of white marker noise was walking 76-90 % of the time (mean
+  /// over 6 seeds at 25-100 Hz), 52-80 % without keeping; with six, 56-80 %.
+  static constexpr double kKeepNoiseSigmas = 6.0;
 
   /// Extrema of the vertical position with a hysteresis, and the last kN of them.
   struct Extrema {
