@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
-from ..pipeline.velocities import gait_velocities
+from ..pipeline.velocities import MIN_USABLE_S, gait_velocities
 from .imu_cmd import imu_options, inspect_imu, is_imu_file
 from .options import belt_speed_option, input_options, read_overrides
 
@@ -42,9 +42,12 @@ def inspect_file(
 
 def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward: str, belt_speed_mps) -> dict:
     rec = read(path, **read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz))
+    # Inspect describes a recording too short for the offline estimator as well: it says so instead.
     velocities = gait_velocities(
-        rec, point=point, up_axis=up_axis, forward=forward, feet=feet, belt_speed_mps=belt_speed_mps
-    )
+        rec, point=point, up_axis=up_axis, forward=forward, feet=feet, belt_speed_mps=belt_speed_mps,
+        min_usable_s=0.0,
+    )  # fmt: skip
+    usable_s = float(velocities.finite.sum()) / velocities.rate_hz
     treadmill = velocities.treadmill
     if rec.velocities is not None:  # ready velocities: vz is the vertical one by the CSV layout
         up_axis_from = "the velocity columns: vz is vertical"
@@ -75,6 +78,13 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         "feet": {},
         "foot_points": {},
         "walking_s": velocities.walking_s,
+        "usable_velocity_s": usable_s,
+        "too_short_note": None
+        if usable_s >= MIN_USABLE_S
+        else (
+            f"{usable_s:.2f} s of usable velocity, shorter than the {MIN_USABLE_S:g} s the offline estimator "
+            "needs (estimate and evaluate refuse it); estimate --online replays it frame by frame"
+        ),
         "walking_from": "",
         "mean_speed_mps": None,
         "mean_signed_speed_mps": None,
@@ -255,6 +265,8 @@ def command(
                 f"{lead}); Yoyo-model {d['model_offset_deg']:+.0f} deg: {d['verdict']}",
             )
         )
+    if report["too_short_note"]:
+        lines.append(("note", report["too_short_note"]))
     width = max(len(k) for k, _ in lines) + 2
     for key, value in lines:
         click.echo(f"{key:<{width}}{value}")

@@ -130,6 +130,10 @@ class GaitVelocities:
         return slice(start, stop)
 
 
+MIN_USABLE_S = 1.5
+"""Seconds of known velocity the offline estimator and the DFT check need (about three steps)."""
+
+
 @points.reusing_trajectories()  # the pelvis centre serves the point, the treadmill check and the gait events
 def gait_velocities(
     recording: Recording,
@@ -142,7 +146,7 @@ def gait_velocities(
     forward: str = "norm",
     up_axis: str | None = None,
     heading_window_s: float = 1.0,
-    min_usable_s: float = 1.5,
+    min_usable_s: float = MIN_USABLE_S,
     hand_side: str = "right",
     belt_speed_mps: float | None = None,
     feet=None,

@@ -25,7 +25,6 @@ REFUSED = {
     "addbiomechanics/treadmill_HBM_initial_off_treadmill_grf.mot": r"ground-reaction forces .* no positions",
     "formats/optitrack_motive_csv/test_default.csv": r"Motive CSV export \(format 1\.23\) with no marker",
     "formats/trc_comma/pyomeca_markers.trc": r"truncated TRC file: the header announces 652 frames, the file holds 93",
-    "formats/opensim_mot/subject01_walk1_ik.mot": r"shorter than the filter needs: 1\.20 s",
 }
 #: The lower-back IMU tables (acc_x..gyr_z, no positions) are read by the IMU readers: inspect reports
 #: them (rate, gravity, the online IMU estimate); none is refused.
