@@ -689,6 +689,30 @@ TEST(GaitEvidence, ExtremaShowTheStepFrequency) {
   EXPECT_EQ(run(0.005, 1.8), 0.0);  // a 5 mm bob: below bob_m, no extrema
 }
 
+// A person standing still with white noise of 2.5 mm on the centre (5 mm on each of four markers,
+// its variance given) makes no gait at 25-100 Hz; a 2.4 cm bob under the same noise does.
+TEST(GaitEvidence, WhiteNoiseIsNoGaitButAStepUnderItIs) {
+  auto seen_share = [](double rate_hz, double bob_m) {
+    online::GaitEvidence g{online::GaitEvidence::Settings{}};
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, 0.0025);
+    int seen = 0, n = 0;
+    for (int k = 0; k <= static_cast<int>(20.0 * rate_hz); ++k) {  // 20 s
+      const double t = k / rate_hz;
+      g.update(t, 1.0 + 0.5 * bob_m * std::cos(2.0 * kPi * 1.8 * t) + noise(rng), 0.0025 * 0.0025);
+      if (t > 3.0) {
+        seen += g.gait(t) ? 1 : 0;
+        ++n;
+      }
+    }
+    return static_cast<double>(seen) / n;
+  };
+  for (double rate_hz : {25.0, 30.0, 60.0, 100.0}) {
+    EXPECT_LT(seen_share(rate_hz, 0.0), 0.02) << rate_hz << " Hz";
+    EXPECT_GT(seen_share(rate_hz, 0.024), 0.98) << rate_hz << " Hz";
+  }
+}
+
 // Bobs of keep_bob_m keep gait seen once steps of bob_m have shown it, never start it, and do not
 // count in the step frequency.
 TEST(GaitEvidence, SmallerBobsKeepGaitButDoNotStartIt) {
