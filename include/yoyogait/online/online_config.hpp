@@ -47,7 +47,7 @@ namespace yoyogait {
   X(double, gait_max_bob_m, 0.25, "m", "(", 0.0, 1e100, "]",                                                      \
     "a rise or fall of the centre larger than this is no step (rising from or sitting on a chair: 0.3-0.45 m; a walker's: 2-6 cm): walking is not reported while one led to its last two extrema") \
   X(double, gait_keep_bob_m, 0.005, "m", "(", 0.0, 1e100, "]",                                                   \
-    "once walking is reported, rises and falls of this much (at least 6 std of the input noise) keep it so (a slow or timid walker's smaller steps; they do not start it, nor count in the centre's step frequency)") \
+    "once walking is reported, rises and falls of this much (at least 6 std of the noise left on the low-passed position) keep it so (a slow or timid walker's smaller steps; they do not start it, nor count in the centre's step frequency)") \
   X(double, heading_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                         \
     "low-pass of the horizontal velocity for the heading (its lag in turns is compensated)")                      \
   X(double, heading_min_speed_mps, 0.1, "m/s", "[", 0.0, 1e100, "]", "below this low-passed speed the heading is held") \
