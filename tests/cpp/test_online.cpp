@@ -662,7 +662,7 @@ TEST(GaitEvidence, ChairSizedRisesAreNoSteps) {
     bool any = false;
     for (int k = 0; k <= 1000; ++k) {  // 10 s at 100 Hz
       const double t = 0.01 * k;
-      g.update(t, 1.0 + 0.5 * amplitude_m * std::cos(2.0 * kPi * t / period_s), 1e-8);
+      g.update(t, 0.01, 1.0 + 0.5 * amplitude_m * std::cos(2.0 * kPi * t / period_s), 1e-8);
       any |= t > 3.0 && g.gait(t);
     }
     return any;
@@ -679,7 +679,7 @@ TEST(GaitEvidence, ExtremaShowTheStepFrequency) {
     double steps_hz = 0.0;
     for (int k = 0; k <= 1000; ++k) {  // 10 s at 100 Hz
       const double t = 0.01 * k;
-      g.update(t, 1.0 + 0.5 * amplitude_m * std::cos(2.0 * kPi * f_hz * t), 1e-8);
+      g.update(t, 0.01, 1.0 + 0.5 * amplitude_m * std::cos(2.0 * kPi * f_hz * t), 1e-8);
       steps_hz = g.step_frequency_hz(t);
     }
     return steps_hz;
@@ -699,7 +699,7 @@ TEST(GaitEvidence, WhiteNoiseIsNoGaitButAStepUnderItIs) {
     int seen = 0, n = 0;
     for (int k = 0; k <= static_cast<int>(20.0 * rate_hz); ++k) {  // 20 s
       const double t = k / rate_hz;
-      g.update(t, 1.0 + 0.5 * bob_m * std::cos(2.0 * kPi * 1.8 * t) + noise(rng), 0.0025 * 0.0025);
+      g.update(t, 1.0 / rate_hz, 1.0 + 0.5 * bob_m * std::cos(2.0 * kPi * 1.8 * t) + noise(rng), 0.0025 * 0.0025);
       if (t > 3.0) {
         seen += g.gait(t) ? 1 : 0;
         ++n;
@@ -729,7 +729,7 @@ TEST(GaitEvidence, SmallerBobsKeepGaitButDoNotStartIt) {
       const double t = 0.01 * k;
       const bool before = t < 5.0;
       phase += 2.0 * kPi * 0.01 * (before ? 1.0 : small_hz);
-      g.update(t, 1.0 + 0.5 * (before ? amplitude_m : small_m) * (std::cos(phase) - 1.0), 1e-8);  // no jump at 5 s
+      g.update(t, 0.01, 1.0 + 0.5 * (before ? amplitude_m : small_m) * (std::cos(phase) - 1.0), 1e-8);  // no jump at 5 s
       r.gait_at_end = g.gait(t);
       if (k == 650) r.steps_hz_after_switch = g.step_frequency_hz(t);
     }

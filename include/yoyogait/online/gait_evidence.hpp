@@ -42,7 +42,7 @@ class GaitEvidence {
     have_ = false;
     start_ = Extrema{};
     smooth_ = Extrema{};
-    z_lp_m_ = t_last_s_ = 0.0;
+    z_lp_m_ = 0.0;
     lowpass_cache_.reset();
     lowpass_ = Lowpass{};
     kept_ = false;
@@ -52,11 +52,11 @@ class GaitEvidence {
     steps_hz_ = 0.0;
   }
 
-  /// The centre's vertical position z_m at t_s and the variance of the input noise [m^2].
-  void update(double t_s, double z_m, double z_var_m2) noexcept {
+  /// The centre's vertical position z_m at t_s, dt_s after the last update, and the variance of the
+  /// input noise [m^2].
+  void update(double t_s, double dt_s, double z_m, double z_var_m2) noexcept {
     if (!have_) {
       start_.hi = start_.lo = smooth_.hi = smooth_.lo = z_lp_m_ = z_m;
-      t_last_s_ = t_s;
       have_ = true;
       return;
     }
@@ -73,14 +73,12 @@ class GaitEvidence {
     }
     // Gait seen: extrema of the position low-passed over kLowpassTauS, with the noise it leaves
     // (white: the share g / (2 - g) of its variance), three standard deviations to start, six to keep.
-    const double dt_s = t_s - t_last_s_;
     if (dt_s > 0.0) {
       lowpass_ = lowpass_cache_.at(dt_s, [](double dt) {
         const double g = 1.0 - std::exp(-dt / kLowpassTauS);
         return Lowpass{g, g / (2.0 - g)};
       });
       z_lp_m_ += lowpass_.gain * (z_m - z_lp_m_);
-      t_last_s_ = t_s;
     }
     const double v = lowpass_.noise_share * z_var_m2;
     const double n2 = (kept_ ? kKeepNoiseSigmas * kKeepNoiseSigmas : 9.0) * v, b = kept_ ? s_.keep_bob_m : s_.bob_m;
@@ -155,7 +153,7 @@ class GaitEvidence {
   bool have_ = false;
   Extrema start_;         ///< of the position, hysteresis bob_m: the step frequency
   Extrema smooth_;        ///< of the low-passed position, bob_m (keep_bob_m while gait is seen): gait
-  double z_lp_m_ = 0.0, t_last_s_ = 0.0;  ///< the low-passed position, at t_last_s_
+  double z_lp_m_ = 0.0;  ///< the low-passed position [m]
   /// The low-pass's gain for a frame interval, and the share of a white noise's variance it leaves.
   struct Lowpass {
     double gain = 0.0, noise_share = 0.0;

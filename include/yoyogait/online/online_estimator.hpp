@@ -303,7 +303,7 @@ class OnlineEstimator {
     o.vh_a_mps = va;
     o.vh_b_mps = vb;
     o.vz_mps = v[axes_.up];
-    gait_.update(o.t_s, pos[axes_.up], noise_.var_m2());
+    gait_.update(o.t_s, gap_s, pos[axes_.up], noise_.var_m2());
     validity_.front_end(o.t_s, gap_s, noise_.var_m2(), pos[axes_.a] - belt_a_m_, pos[axes_.b] - belt_b_m_, va0, vb0,
                         o.vz_mps);  // the velocity before any cut
     if (settled) heading_.update(va, vb, gap_s);
