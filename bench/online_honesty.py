@@ -9,9 +9,10 @@ its first seconds included:
 * the shared manifest (``--datasets``, default ``$YOYOGAIT_DATASETS`` or ../shared/datasets), as recorded;
 * the SYNTHETIC renderings of :mod:`yoyogait.synthetic_conditions` (markerless capture at 30 and
   60 Hz, treadmill, stand-walk-stop bouts, tight turns, very slow walking; sit-to-stand, brisk chair
-  stands, standing sway, turning on the spot and shuffling, which are not walking), each for the
-  three built-in subjects,
-  and the standing sway with markerless noise at 30 Hz;
+  stands, standing sway, turning on the spot, shuffling and arm gestures, which are not walking), each
+  for the three built-in subjects,
+  and the standing sway with markerless noise at 30 Hz; the arm gestures and the stand-walk-stop,
+  turns and very slow walks also following the hand (the point a tether or handle is held by);
 * the shared recordings re-rendered as a markerless capture would give them (SYNTHETIC noise,
   :func:`~yoyogait.synthetic_conditions.markerless_noise`: 2 cm jitter, swaps, dropouts, every k-th
   frame towards 60 Hz), scored against the clean recording's references.
@@ -45,6 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
+from yoyogait import synthetic as sy
 from yoyogait import synthetic_conditions as sc
 from yoyogait.errors import InputError
 from yoyogait.evaluation.datasets import manifest_items, synthetic_item
@@ -60,6 +62,8 @@ TREADMILL_KNOWN = "SYNTHETIC treadmill, belt speed given"
 TREADMILL_REAL_FEET = "manifest treadmill recordings, heels in the frames"
 MANIFEST_FEET = "manifest, heels in the frames (the recordings with feet)"
 MANIFEST_TRUSTED = "manifest, trusted references"
+GESTURES_HAND = "SYNTHETIC arm-gestures, following the hand"
+WALKS_HAND = "SYNTHETIC stand-walk-stop, turns, very-slow, following the hand"
 
 # (column, label, target, higher is better)
 HONESTY = (
@@ -216,6 +220,9 @@ def main():
             tasks.append((TREADMILL_FEET, synthetic_item(walk), None, {"feet": True}))
             belt = {"belt_speed_mps": float(walk.recording.metadata["belt_speed_mps"])}
             tasks.append((TREADMILL_KNOWN, synthetic_item(walk), None, belt))
+        if walk.walk_type in ("arm-gestures", "stand-walk-stop", "turns", "very-slow"):  # the hand followed
+            hand = dataclasses.replace(synthetic_item(walk), pelvis=[sy.HAND_MARKER])
+            tasks.append((GESTURES_HAND if walk.walk_type == "arm-gestures" else WALKS_HAND, hand, None))
         if walk.walk_type == "standing-sway":  # standing seen by a markerless camera at 30 Hz
             rec = sc.markerless_noise(walk.recording, seed=args.seed, rate_hz=30.0)
             noisy = dataclasses.replace(walk, recording=rec, truth=walk.truth.at(rec.time_s))
@@ -304,7 +311,7 @@ def main():
             simple_table(
                 "## Not walking: share of the time reported walking (target <= 0.05 on every recording)",
                 [(f"SYNTHETIC {c}", groups.get(f"SYNTHETIC {c}", [])) for c in sc.NOT_WALKING]
-                + [(STANDING_MARKERLESS, groups.get(STANDING_MARKERLESS, []))],
+                + [(g, groups.get(g, [])) for g in (STANDING_MARKERLESS, GESTURES_HAND)],
                 (
                     ("walking_share_all", "walking", 0.05, False),
                     ("valid_share_all", "valid", None, False),
@@ -317,7 +324,7 @@ def main():
         "\n".join(
             simple_table(
                 "## Walking detected, share of the walking time (for reference)",
-                [(g, groups.get(g, [])) for g in walking_groups],
+                [(g, groups.get(g, [])) for g in [*walking_groups, WALKS_HAND]],
                 (("walking_share_of_walking", "walking detected", None, True),),
             )
         )

@@ -13,7 +13,8 @@ estimate meets outside the lab are rendered here from the same walker, without a
 * **not walking** (truth ``walking`` False and step frequency 0 throughout): **sit-to-stand**
   (:func:`sit_to_stand`), brisk **chair-stand** repetitions (:func:`chair_stand`), **standing sway**
   (:func:`standing_sway`), **turning on the spot** (:func:`turn_on_the_spot`), **shuffling**
-  (:func:`shuffling`).
+  (:func:`shuffling`), **arm gestures** while standing (:func:`arm_gestures`: the hand waves, points,
+  beats and pumps at a step's rhythm; the test is to follow the hand).
 
 Every rendering is a :class:`~yoyogait.synthetic.SyntheticWalk` whose ``walk_type`` names the
 condition (:data:`CONDITIONS`) and whose recording's metadata says SYNTHETIC; the points are the
@@ -51,6 +52,8 @@ __all__ = [
     "standing_sway",
     "turn_on_the_spot",
     "shuffling",
+    "arm_gestures",
+    "GESTURES",
     "render",
     "condition_walks",
 ]
@@ -58,7 +61,14 @@ __all__ = [
 MARKERLESS_JITTER_M = 0.02
 """Default jitter of markerless points: 2 cm standard deviation per coordinate."""
 
-NOT_WALKING: tuple[str, ...] = ("sit-to-stand", "chair-stand", "standing-sway", "turn-on-the-spot", "shuffling")
+NOT_WALKING: tuple[str, ...] = (
+    "sit-to-stand",
+    "chair-stand",
+    "standing-sway",
+    "turn-on-the-spot",
+    "shuffling",
+    "arm-gestures",
+)
 """Conditions whose truth is not walking (``walking`` False, step frequency 0, throughout)."""
 
 CONDITIONS: tuple[str, ...] = (
@@ -394,14 +404,18 @@ def _still(
     seed: int,
     noise_m: float,
     dropouts: bool,
+    hand_m: np.ndarray | None = None,
     **extra,
 ) -> sy.SyntheticWalk:
     """A recording of the lab's points from a pelvis centre (n x 3), the pelvis rotation (n x 3 x 3), the
-    heels (n x 2 x 3, left then right) and the heading; the truth says not walking throughout."""
+    heels (n x 2 x 3, left then right) and the heading; the truth says not walking throughout. ``hand_m``:
+    the hand's offset from the centre in the body's frame per frame (n x 3; default the subject's
+    ``hand_offset_m`` throughout)."""
     n = t.size
     rate = 1.0 / float(t[1] - t[0])
     pelvis = centre[:, None, :] + np.einsum("nij,mj->nmi", rot, sy._PELVIS_OFFSETS_M)
-    hand = centre + np.einsum("nij,j->ni", sy._rot_z(heading), np.array(subject.hand_offset_m))
+    local = np.broadcast_to(np.array(subject.hand_offset_m), (n, 3)) if hand_m is None else hand_m
+    hand = centre + np.einsum("nij,nj->ni", sy._rot_z(heading), local)
     positions = np.stack([centre, *pelvis.transpose(1, 0, 2), hand, heels[:, 0], heels[:, 1]], axis=1)
     if noise_m > 0:
         positions = positions + rng.normal(0.0, noise_m, positions.shape)
@@ -548,6 +562,64 @@ def standing_sway(
                   np.zeros_like(t), rng, seed, noise_m, dropouts, sway_m=float(sway_m))  # fmt: skip
 
 
+GESTURES: tuple[str, ...] = ("wave", "point", "beats", "pump", "beckon")
+"""The kinds of :func:`arm_gestures`, in the order of their first appearance."""
+
+
+def arm_gestures(
+    subject: sy.SyntheticSubject = sy.SUBJECTS[0],
+    *,
+    duration_s: float = 40.0,
+    gesture_hz: tuple[float, float] = (1.0, 2.5),
+    rate_hz: float = 100.0,
+    seed: int = 0,
+    noise_m: float = 0.001,
+    dropouts: bool = True,
+) -> sy.SyntheticWalk:
+    """Standing and gesturing with the hand (SYNTHETIC; not walking): quiet standing with sway, and
+    episodes of 2.5-5 s, 1-2.5 s apart, of the hand (the lab's hand point, which otherwise rests where
+    it holds a handle) waving overhead (12 cm sideways), pointing or reaching (30 cm forward, 25 cm up,
+    held), beating while talking (5 cm), pumping up and down (10 cm) and beckoning (8 cm forward and
+    back), each at a frequency drawn from ``gesture_hz`` (the gait band: a hand that moves at a step's
+    rhythm is still no walker). The pelvis moves against the arm by 4 % of the hand's horizontal excursion. The
+    point followed decides what is tested: the pelvis barely moves, the hand moves as much as a walker's
+    pelvis does, and more."""
+    rng = _rng(seed, subject, "arm-gestures")
+    t = np.arange(int(round(duration_s * rate_hz)) + 1) / rate_hz
+    rest = np.array(subject.hand_offset_m)
+    reach = np.zeros((t.size, 3))
+    kinds: list[str] = []
+    start = float(rng.uniform(1.0, 2.0))
+    while start + 2.5 < duration_s - 1.0:
+        kind = GESTURES[len(kinds) % len(GESTURES)]
+        length = float(min(rng.uniform(2.5, 5.0), duration_s - 1.0 - start))
+        f = float(rng.uniform(*gesture_hz))
+        env = sy._smoothstep(t, start, 0.4) - sy._smoothstep(t, start + length - 0.4, 0.4)
+        ph = 2 * np.pi * f * (t - start) + rng.uniform(0, 2 * np.pi)
+        if kind == "wave":  # raised beside the head, waving sideways along an arc
+            move = np.column_stack([0.0 * t - 0.15, -0.15 + 0.12 * np.sin(ph), 0.50 - 0.03 * np.cos(2 * ph)])
+        elif kind == "point":  # reach forward and up, hold, back
+            move = np.column_stack([0.0 * t + 0.30, 0.0 * t + 0.05, 0.0 * t + 0.25])
+        elif kind == "beats":  # short downward beats while talking, the hand before the chest
+            move = np.column_stack([0.05 + 0.02 * np.sin(ph), 0.0 * t + 0.10, 0.30 - 0.05 * np.abs(np.sin(ph))])
+        elif kind == "pump":  # up and down at a steady rhythm, as a step's
+            move = np.column_stack([0.0 * t + 0.05, 0.0 * t, 0.10 * np.sin(ph)])
+        else:  # beckoning: forward and back, the forearm rising with it
+            move = np.column_stack([0.08 * np.sin(ph), 0.0 * t + 0.05, 0.15 + 0.03 * np.sin(ph)])
+        reach += env[:, None] * move
+        kinds.append(kind)
+        start += length + float(rng.uniform(1.0, 2.5))
+    heading = _sway(t, rng, 0.02, high_hz=0.3)
+    centre = np.column_stack([_sway(t, rng, 0.006), 0.6 * _sway(t, rng, 0.006), subject.z0_m + 0.0 * t])
+    # The body moves against the arm in the floor plane (the legs carry the vertical part).
+    centre[:, :2] -= 0.04 * np.einsum("nij,nj->ni", sy._rot_z(heading), reach)[:, :2]
+    rot = sy._rot_z(heading) @ sy._rot_x(_sway(t, rng, 0.01, high_hz=0.3))
+    heels = _feet_standing(subject, t.size)
+    return _still(subject, "arm-gestures", "standing and gesturing with the hand (not walking)", t, centre, rot,
+                  heels, heading, rng, seed, noise_m, dropouts, hand_m=rest + reach,
+                  gestures=",".join(kinds))  # fmt: skip
+
+
 def turn_on_the_spot(
     subject: sy.SyntheticSubject = sy.SUBJECTS[0],
     *,
@@ -670,6 +742,7 @@ def render(condition: str, subject: sy.SyntheticSubject = sy.SUBJECTS[0], *, see
         "standing-sway": standing_sway,
         "turn-on-the-spot": turn_on_the_spot,
         "shuffling": shuffling,
+        "arm-gestures": arm_gestures,
     }
     if condition not in makers:
         raise InputError(f"unknown synthetic condition {condition!r}; choose one of {', '.join(CONDITIONS)}")

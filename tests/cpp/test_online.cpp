@@ -541,6 +541,27 @@ TEST(OnlineEstimator, TreadmillWithoutFeetIsNotValidAndAKnownBeltServes) {
   EXPECT_TRUE(std::isnan(known.belt_speed_mps()));
 }
 
+// gait_in_place false (a hand followed): bobbing in place is no walking; the same bobs on a belt
+// whose speed is known are (the belt's travel counts); the default (a pelvis) walks in place.
+TEST(OnlineEstimator, WithoutGaitInPlaceWalkingNeedsTravel) {
+  SyntheticTreadmill walk;
+  OnlineConfig hand;
+  hand.gait_in_place = false;
+  OnlineEstimator pelvis(4, 2, 1.0), in_place(4, 2, 1.0, hand), on_belt(4, 2, 1.0, hand);
+  on_belt.set_belt_speed_mps(walk.belt_mps);
+  double p[18];
+  int pelvis_walking = 0, in_place_walking = 0, on_belt_walking = 0;
+  for (int k = 0; k < 2000; ++k) {
+    walk.frame(k / 100.0, p);
+    pelvis_walking += pelvis.update(k / 100.0, p).walking;
+    in_place_walking += in_place.update(k / 100.0, p).walking;
+    on_belt_walking += on_belt.update(k / 100.0, p).walking;
+  }
+  EXPECT_GT(pelvis_walking, 1500);
+  EXPECT_EQ(in_place_walking, 0);
+  EXPECT_GT(on_belt_walking, 1500);
+}
+
 // Heels overground (the pelvis travels, stance feet still): every output equals the run without them.
 TEST(OnlineEstimator, HeelsOvergroundChangeNothing) {
   SyntheticTreadmill walk;

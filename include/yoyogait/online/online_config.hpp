@@ -48,6 +48,8 @@ namespace yoyogait {
     "a rise or fall of the centre larger than this is no step (rising from or sitting on a chair: 0.3-0.45 m; a walker's: 2-6 cm): walking is not reported while one led to its last two extrema") \
   X(double, gait_keep_bob_m, 0.005, "m", "(", 0.0, 1e100, "]",                                                   \
     "once walking is reported, rises and falls of this much (at least 6 std of the noise left on the low-passed position) keep it so (a slow or timid walker's smaller steps; they do not start it, nor count in the centre's step frequency)") \
+  X(bool, gait_in_place, true, "", "[", 0, 1, "]",                                                                 \
+    "walking may be reported while the followed point stays in place (a treadmill without feet or belt speed, then NOT_MOVING): true for a point on the trunk (the pelvis), whose rise and fall at a step's rhythm is gait; false for a hand or a held object, whose bobs in place are gestures: walking then also needs the point to travel 0.5 m over 2 s (a belt from the feet or given counts). OnlineEstimator.for_recording, estimate --online and live set it false when the point followed is a hand") \
   X(double, heading_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                         \
     "low-pass of the horizontal velocity for the heading (its lag in turns is compensated)")                      \
   X(double, heading_min_speed_mps, 0.1, "m/s", "[", 0.0, 1e100, "]", "below this low-passed speed the heading is held") \

@@ -369,7 +369,9 @@ class OnlineEstimator {
     o.speed_mps = bounded(e.speed_mps);
     // The estimator's detector, where the centre rises and falls as in gait (online/gait_evidence.hpp).
     const bool detected = fed && e.walking && !stale;
-    o.walking = detected && gait_.gait(t_s);
+    // A hand's bobs in place are gestures (gait_in_place false): it must travel as a walker does.
+    o.walking = detected && gait_.gait(t_s) &&
+                (config_.gait_in_place || validity_.away(online::Validity::kWalkerTravelM));
     o.estimator_status = e.status;
     o.walk_a_mps = o.speed_mps * heading_.unit()[0];
     o.walk_b_mps = o.speed_mps * heading_.unit()[1];

@@ -56,6 +56,10 @@ class Validity {
   static constexpr double kImplausibleHoldS = 2.0, kTravelWindowS = 2.0, kJumpSpeedMps = 50.0;
   /// Less travel than this over the window is no walking that can be told from noise [m] (0.125 m/s).
   static constexpr double kMinTravelM = 0.25;
+  /// The travel over the window of a point that must travel to walk (OnlineConfig::gait_in_place
+  /// false: a hand) [m]: more than a standing person's hand sweeps in a gesture (reaching, pointing:
+  /// 0.2-0.4 m), within the slowest walker served (0.3 m/s: 0.6 m).
+  static constexpr double kWalkerTravelM = 0.5;
   /// Low-pass time constants: frame rate, speed, the centre's steps at changes of the visible set [s].
   static constexpr double kRateTauS = 1.0, kSpeedTauS = 0.25, kSetTauS = 1.0;
   /// The centre's steps at changes of the visible points, summed per second, above which the input
@@ -241,6 +245,27 @@ class Validity {
     return r;
   }
 
+  /// Whether the centre moved at least kMinTravelM away over the window (away(); a treadmill walk is
+  /// not taken for travel during its first seconds) and travelled at least min_travel_ratio x speed x
+  /// time along the window's marks (the path, 0.125 s apart: a tight turn travels its arc, not its
+  /// chord); true until two marks are kept. On a treadmill the belt's travel counts.
+  bool moved(double speed_mps) const noexcept {
+    if (ring_n_ < 2) return true;
+    const Mark& old = oldest();
+    const double dt = ring_t_s_ - old.t_s, need = s_.min_travel_ratio * std::fabs(speed_mps) * dt;
+    const double path_m = ring_path_m_ - old.seg_m;  // the oldest's segment leads to a mark no longer kept
+    return away(kMinTravelM) && path_m >= need;
+  }
+  /// Whether the centre is at least least_m from where it was at the window's start (in proportion
+  /// while the window fills after a restart); true until two marks are kept.
+  bool away(double least_m) const noexcept {
+    if (ring_n_ < 2) return true;
+    const Mark& old = oldest();
+    const double dt = ring_t_s_ - old.t_s, da = pa_m_ - old.a_m, db = pb_m_ - old.b_m;
+    const double least = dt < kTravelWindowS ? least_m * dt * (1.0 / kTravelWindowS) : least_m;
+    return da * da + db * db >= least * least;
+  }
+
   /// The marker noise estimated from the differentiator's innovations (the last front_end's) [m].
   double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
   /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
@@ -286,20 +311,7 @@ class Validity {
   /// Whether dt_s is the interval of the gains within 1e-6 (timestamps' rounding: no new divisions).
   bool near_gains_dt(double dt_s) const noexcept { return std::fabs(dt_s - gains_dt_s_) <= 1e-6 * dt_s; }
   static std::uint8_t bit(InvalidReason r) noexcept { return static_cast<std::uint8_t>(r); }
-
-  /// Whether the centre moved at least kMinTravelM away over the window (in proportion while the
-  /// window fills after a restart: a treadmill walk is not taken for travel during its first
-  /// seconds) and travelled at least min_travel_ratio x speed x time along the window's marks (the
-  /// path, 0.125 s apart: a tight turn travels its arc, not its chord); true until two marks are kept.
-  bool moved(double speed_mps) const noexcept {
-    if (ring_n_ < 2) return true;
-    const Mark& old = ring_n_ < kRing ? ring_[0] : ring_[ring_next_];  // the oldest mark
-    const double dt = ring_t_s_ - old.t_s, need = s_.min_travel_ratio * std::fabs(speed_mps) * dt;
-    const double da = pa_m_ - old.a_m, db = pb_m_ - old.b_m;
-    const double least = dt < kTravelWindowS ? kMinTravelM * dt * (1.0 / kTravelWindowS) : kMinTravelM;
-    const double path_m = ring_path_m_ - old.seg_m;  // the oldest's segment leads to a mark no longer kept
-    return da * da + db * db >= least * least && path_m >= need;
-  }
+  const Mark& oldest() const noexcept { return ring_n_ < kRing ? ring_[0] : ring_[ring_next_]; }
 
   Settings s_;
   double dt_lp_s_ = -1.0, noise2_lp_m2_ = 0.0, speed2_lp_ = 0.0, nis_lp_ = 2.0, centre_steps_mps_ = 0.0;

@@ -465,6 +465,7 @@ class OnlineConfig(_ConfigFile):
     gait_window_s: float = _field(ONLINE_SECTION, "gait_window_s")
     gait_max_bob_m: float = _field(ONLINE_SECTION, "gait_max_bob_m")
     gait_keep_bob_m: float = _field(ONLINE_SECTION, "gait_keep_bob_m")
+    gait_in_place: bool = _field(ONLINE_SECTION, "gait_in_place")
     heading_tau_s: float = _field(ONLINE_SECTION, "heading_tau_s")
     heading_min_speed_mps: float = _field(ONLINE_SECTION, "heading_min_speed_mps")
     latency_f_hz: float = _field(ONLINE_SECTION, "latency_f_hz")

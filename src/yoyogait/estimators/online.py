@@ -16,6 +16,7 @@ thread, or serialise the calls yourself.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -43,6 +44,7 @@ __all__ = [
     "MAX_POINTS",
     "MAX_FEET",
     "MAX_BELT_SPEED_MPS",
+    "config_for_point",
 ]
 
 OnlineStatus = _core.OnlineStatus
@@ -175,6 +177,13 @@ class OnlineResult:
         return Path(path)
 
 
+def config_for_point(choice: points.PointChoice, config: OnlineConfig | None = None) -> OnlineConfig:
+    """``config`` (default: the defaults) for following ``choice``: ``gait_in_place`` false for a hand
+    (:attr:`~yoyogait.pipeline.points.PointChoice.is_hand`), whose rise and fall in place are gestures."""
+    config = config if config is not None else OnlineConfig()
+    return dataclasses.replace(config, gait_in_place=False) if choice.is_hand else config
+
+
 class OnlineEstimator:
     """Online gait estimation from motion-capture frames (docs/online.md).
 
@@ -230,7 +239,8 @@ class OnlineEstimator:
         ``point`` as :func:`yoyogait.pipeline.points.choose_point` takes it; the up axis from the
         file, else detected (:func:`yoyogait.pipeline.points.resolve_up_axis`). Recordings are in metres.
         ``feet``: foot points for a treadmill's belt, as :func:`yoyogait.pipeline.events.feet_of` takes
-        them (``True``: found by name); None: none."""
+        them (``True``: found by name); None: none. Following a hand (:attr:`PointChoice.is_hand`), the
+        config's ``gait_in_place`` is set false: a hand's bobs in place are gestures."""
         choice = points.choose_point(rec, point)
         if len(choice.names) > MAX_POINTS:
             raise InputError(f"{rec.source or 'recording'}: {len(choice.names)} points, at most {MAX_POINTS}")
@@ -241,7 +251,7 @@ class OnlineEstimator:
             if not found:
                 raise InputError(f"{rec.source or 'recording'}: no foot points found (give them by name)")
             foot_names = list(found.values())
-        return cls(choice.names, up, 1.0, config, feet=foot_names)
+        return cls(choice.names, up, 1.0, config_for_point(choice, config), feet=foot_names)
 
     @staticmethod
     def _busy(what: str) -> ConcurrentUseError:

@@ -33,7 +33,7 @@ import numpy as np
 from scipy import signal
 
 from ..errors import InputError
-from ..estimators.online import OnlineEstimator
+from ..estimators.online import OnlineConfig, OnlineEstimator
 
 __all__ = [
     "SOURCE_NAMES",
@@ -128,7 +128,8 @@ class _LowPass(VelocitySource):
 class _Yoyogait(VelocitySource):
     def __init__(self, *, gated: bool = False, predict_s: float = 0.0):
         self.name = "yoyogait-gated" if gated else ("yoyogait-predicted" if predict_s > 0 else "yoyogait")
-        self.estimator = OnlineEstimator([HANDLE], up_axis="z")
+        # The handle is held: its rise and fall in place are no walking (gait_in_place false).
+        self.estimator = OnlineEstimator([HANDLE], up_axis="z", config=OnlineConfig(gait_in_place=False))
         self.gated = gated
         self.predict_s = float(predict_s)
         self._frame = np.zeros((1, 3))

@@ -56,6 +56,15 @@ class PointChoice:
             return f"hand {joined}" if len(self.names) == 1 else f"hand, centre of {joined}"
         return joined if len(self.names) == 1 else f"centre of {joined}"
 
+    @property
+    def is_hand(self) -> bool:
+        """A hand (found, or every named point a hand or wrist point by the marker-set table): its rise
+        and fall in place are gestures, not gait (OnlineConfig.gait_in_place)."""
+        if self.kind == "hand":
+            return True
+        k = marker_knowledge()
+        return self.kind == "named" and all(any(r[0] == "hand" for r in _roles(n, k)) for n in self.names)
+
 
 def find_pelvis(names: Sequence[str]) -> PointChoice:
     """The pelvis markers found by name (marker-set table), else a root joint; InputError if neither."""

@@ -51,6 +51,7 @@ from ..estimators.online import (
     OnlineEstimator,
     check_belt_speed,
     column_of,
+    config_for_point,
 )
 from ..io.recording import Recording
 from ..pipeline import points
@@ -396,9 +397,7 @@ def run_live(
     make_setup = functools.partial(
         _marker_setup, point=point, up_axis=up_axis, length_unit_m=length_unit_m, detect_imu=detect_imu
     )
-    path = _MarkerPath(
-        functools.partial(OnlineEstimator, config=config), _Belt(tuple(feet or ()), belt_speed_mps, belt_speed)
-    )
+    path = _MarkerPath(config, _Belt(tuple(feet or ()), belt_speed_mps, belt_speed))
     return connect_and_pump(
         source, estimate_stream_info(publish) if publish else None, recorder, make_setup, path,
         resolve_timeout_s=resolve_timeout_s, duration_s=duration_s, exit_on_end=exit_on_end, max_buffer_s=max_buffer_s,
@@ -675,13 +674,14 @@ def pump(
 class _MarkerPath:
     """The marker path of :func:`pump`: the chosen points (and feet) of each frame into an OnlineEstimator."""
 
-    def __init__(self, estimator_type: Any, belt: _Belt):
-        self._estimator_type, self._belt = estimator_type, belt
+    def __init__(self, config: OnlineConfig | None, belt: _Belt):
+        self._config, self._belt = config, belt
         self.time_channel: int | None = None
 
     def start(self, s: LiveSetup) -> None:
         chosen = [s.layout.point_names.index(n) for n in s.choice.names] + self._belt.feet_of(s)
-        self.estimator = self._estimator_type(s.choice.names, s.up_axis, s.length_unit_m, feet=self._belt.feet)
+        config = config_for_point(s.choice, self._config)  # a hand must travel to walk
+        self.estimator = OnlineEstimator(s.choice.names, s.up_axis, s.length_unit_m, config, feet=self._belt.feet)
         self._belt.start(self.estimator)
         self._channels = s.layout.position_channels[chosen].ravel()
         self.time_channel = s.layout.time_channel

@@ -43,7 +43,7 @@ from ..errors import InputError, YoyogaitError
 from ..estimators.config import OnlineConfig
 from ..estimators.frame_gate import DROP, RESTART, FrameCounts, FrameGate
 from ..estimators.imu import ImuConfig, ImuOnlineEstimator
-from ..estimators.online import OnlineEstimator
+from ..estimators.online import OnlineEstimator, config_for_point
 from ..io.imu_read import check_imu_plausible
 from ..io.imu_recording import ImuRecording
 from ..io.plausibility import check_plausible
@@ -213,7 +213,7 @@ class GaitNode:
         self.inputs: dict[str, str] = {}  # topic -> the type expected
         if p["pose_topic"]:
             topic = p["pose_topic"]
-            self._make_estimator([topic])
+            self._make_estimator(points.PointChoice((topic,), "named"))
             # Raw: the stamp, frame and position read from the bytes (no message object per frame).
             node.create_subscription(r.PoseStamped, topic, lambda m: self._on_pose(topic, m), qos_in, raw=True)
             self.inputs[topic] = _POSE
@@ -221,7 +221,7 @@ class GaitNode:
             topics = p["point_topics"]
             if len(set(topics)) != len(topics):
                 raise InputError(f"parameter point_topics: a topic given twice in {topics}")
-            self._make_estimator(topics)
+            self._make_estimator(points.PointChoice(tuple(topics), "named"))
             self.assembler = FrameAssembler(len(topics), p["assembly_window_s"], by_arrival=self.by_arrival)
             for k, topic in enumerate(topics):
                 node.create_subscription(r.PointStamped, topic, self._point_callback(k, topic), qos_in)
@@ -272,10 +272,11 @@ class GaitNode:
         config.to_native()  # InputError naming the setting out of range
         return config
 
-    def _make_estimator(self, names: Sequence[str]) -> None:
+    def _make_estimator(self, choice: points.PointChoice) -> None:
         p = self.params
-        self.point_names = tuple(names)
-        self.estimator = OnlineEstimator(list(names), p["up_axis"], p["length_unit_m"], self.config)
+        self.point_names = tuple(choice.names)
+        config = config_for_point(choice, self.config)  # a hand must travel to walk
+        self.estimator = OnlineEstimator(list(choice.names), p["up_axis"], p["length_unit_m"], config)
 
     def say(self, topic: str, kind: str, text: str, error: bool = False) -> None:
         """One line naming the topic, once per topic and kind."""
@@ -387,7 +388,7 @@ class GaitNode:
             except InputError as exc:
                 self.say(topic, "names", f"{exc}; set marker_names", error=True)
                 return
-            self._make_estimator(choice.names)
+            self._make_estimator(choice)
         index = {n: k for k, n in enumerate(names)}
         positions = np.full((len(self.point_names), 3), np.nan)
         for k, name in enumerate(self.point_names):

@@ -143,3 +143,27 @@ def test_depth_jitter_is_weighed_on_the_forward_channel_only(seed):
     err = np.abs(np.asarray(r.step_frequency_hz)[m] - truth.step_frequency_hz[m])
     assert np.median(err) < 0.02
     assert np.mean(err <= 2 * np.asarray(r.step_frequency_std_hz)[m]) >= 0.95
+
+
+def test_arm_gestures_followed_by_the_hand_are_not_walking():
+    """SYNTHETIC arm gestures (waving, pointing, pumping at 1-2.5 Hz), the hand followed, 3 subjects: walking <= 5 %."""
+    for subject in sy.SUBJECTS:
+        rec = sc.render("arm-gestures", subject).recording
+        r = OnlineEstimator.for_recording(rec, "hand").run(rec)
+        assert np.mean(r.walking) <= 0.05, subject.name
+
+
+def test_a_walk_followed_by_the_hand_is_walking_once_it_travels():
+    """The lab's straight walk, the hand followed (it must travel to walk): walking on >= 95 % of the frames 3 s in."""
+    walk = sy.make_walk(sy.SUBJECTS[0], "1-straight")
+    r = OnlineEstimator.for_recording(walk.recording, "hand").run(walk.recording)
+    t = np.asarray(r.time_s)
+    assert np.mean(r.walking[t > 3.0]) >= 0.95
+
+
+def test_only_a_hand_must_travel_to_walk():
+    """for_recording sets gait_in_place false for the hand (found or named) and keeps it for the pelvis."""
+    rec = sy.make_walk(sy.SUBJECTS[0], "1-straight").recording
+    assert not OnlineEstimator.for_recording(rec, "hand").config.gait_in_place
+    assert not OnlineEstimator.for_recording(rec, [sy.HAND_MARKER]).config.gait_in_place
+    assert OnlineEstimator.for_recording(rec).config.gait_in_place
