@@ -67,11 +67,29 @@ class SpectralInit {
     const Buffer b = ordered();
     const double step = s_.grid_step_hz;
     const auto nf = static_cast<std::size_t>((s_.f_max_hz - s_.f_min_hz) / step) + 1;
+    // cos and sin of w tau per sample at the grid's first frequency, then turned by the grid step's
+    // angle per sample: two sincos per sample for the whole grid instead of one per grid point (the
+    // turns' rounding, some 1e-14 over the grid, is far below the costs' differences).
+    Phases ph;
+    std::array<double, kMaxSpectralBuffer> turn_c{}, turn_s{};
+    for (std::size_t q = 0; q < n; ++q) {
+      ph.c[q] = std::cos(kTwoPi * s_.f_min_hz * b.tau[q]);
+      ph.s[q] = std::sin(kTwoPi * s_.f_min_hz * b.tau[q]);
+      turn_c[q] = std::cos(kTwoPi * step * b.tau[q]);
+      turn_s[q] = std::sin(kTwoPi * step * b.tau[q]);
+    }
     // Costs of the best grid point and its two neighbours, without storing the grid.
     std::size_t best_k = 0;
     double best = 0.0, prev = 0.0, before_best = 0.0, after_best = 0.0;
     for (std::size_t k = 0; k < nf; ++k) {
-      const double cost = ls_cost(kTwoPi * (s_.f_min_hz + static_cast<double>(k) * step), b, nullptr);
+      if (k > 0) {
+        for (std::size_t q = 0; q < n; ++q) {
+          const double c = ph.c[q], sn = ph.s[q];
+          ph.c[q] = c * turn_c[q] - sn * turn_s[q];
+          ph.s[q] = sn * turn_c[q] + c * turn_s[q];
+        }
+      }
+      const double cost = ls_cost(ph, b, nullptr);
       if (k == 0) best = cost;
       if (k == best_k + 1) after_best = cost;
       if (cost < best) {
@@ -88,7 +106,11 @@ class SpectralInit {
       if (den > 0.0) f_best += detail::py_max(-0.5, detail::py_min(0.5, 0.5 * (y0 - y2) / den)) * step;
     }
     out.f_hz = f_best;
-    ls_cost(kTwoPi * f_best, b, out.sol);
+    for (std::size_t q = 0; q < n; ++q) {  // the fit itself at the refined frequency, exactly
+      ph.c[q] = std::cos(kTwoPi * f_best * b.tau[q]);
+      ph.s[q] = std::sin(kTwoPi * f_best * b.tau[q]);
+    }
+    ls_cost(ph, b, out.sol);
     return true;
   }
 
@@ -125,13 +147,19 @@ class SpectralInit {
     return b;
   }
 
-  /// Weighted residual of two linear least-squares fits at angular frequency w over the buffer:
-  /// v_x(tau) = a + b tau + Xc cos(w tau) + Xs sin(w tau), v_z(tau) = c + Zc cos(w tau) + Zs sin(w tau).
-  double ls_cost(double w, const Buffer& b, double* sol) const noexcept {
+  /// cos(w tau) and sin(w tau) of each buffered sample at one frequency w.
+  struct Phases {
+    std::array<double, kMaxSpectralBuffer> c{}, s{};
+  };
+
+  /// Weighted residual of two linear least-squares fits at angular frequency w over the buffer
+  /// (ph: its cos and sin per sample): v_x(tau) = a + b tau + Xc cos(w tau) + Xs sin(w tau),
+  /// v_z(tau) = c + Zc cos(w tau) + Zs sin(w tau).
+  double ls_cost(const Phases& ph, const Buffer& b, double* sol) const noexcept {
     double A[4][4] = {}, bx[4] = {}, bz[3] = {};
     for (std::size_t q = 0; q < b.n; ++q) {
       const double tau = b.tau[q], x = b.x[q], z = b.z[q];
-      const double cs = std::cos(w * tau), sn = std::sin(w * tau);
+      const double cs = ph.c[q], sn = ph.s[q];
       // The rows of phi = (1, tau, cs, sn) that depend on w.
       A[0][2] += 1.0 * cs;
       A[0][3] += 1.0 * sn;
