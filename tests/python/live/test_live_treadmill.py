@@ -1,4 +1,4 @@
-"""Treadmills live: foot points of the stream, a belt speed that changes during the run (LSL on this machine only)."""
+"""Treadmills live (foot points, a belt speed that changes while running), a hand followed (LSL on this host only)."""
 
 from __future__ import annotations
 
@@ -86,3 +86,28 @@ def test_live_refuses_two_belt_speeds_in_one_line(capsys):
     assert main(["live", "--source", unique("x"), "--belt-speed-mps", "1", "--belt-speed-source", "b"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--belt-speed-mps" in err[0] and "--belt-speed-source" in err[0]
+
+
+def test_live_following_the_hand_reports_arm_gestures_as_not_walking():
+    """live --point hand: per frame what for_recording(rec, "hand") gives (a hand must travel); gestures <= 5 %."""
+    rec = sc.arm_gestures(duration_s=12.0).recording
+    points = (*PELVIS, "RWRI")
+    frames = pelvis_frames(rec, points)
+    name = unique("gestures")
+    outlet = pylsl.StreamOutlet(marker_info(pylsl, name, pelvis_labels(points)))
+    live = LiveThread(name, resolve_timeout_s=10, max_buffer_s=10, point="hand")
+    assert outlet.wait_for_consumers(10)
+    base = pylsl.local_clock()
+    for k in range(rec.n_frames):
+        outlet.push_sample(frames[k].tolist(), base + rec.time_s[k])
+    live.wait_for(rec.n_frames)
+    live.settle(0.3)
+    live.stop()
+    est = OnlineEstimator.for_recording(rec, "hand")
+    assert not est.config.gait_in_place
+    hand = frames[:, -3:].reshape(-1, 1, 3)
+    expected = [estimate_row(est.update(base + rec.time_s[k], hand[k])) for k in range(rec.n_frames)]
+    got = np.array(live.rows)
+    np.testing.assert_array_equal(got, np.array(expected))
+    walking = got[:, live_columns().index("walking")]
+    assert walking.mean() <= 0.05
