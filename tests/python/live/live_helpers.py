@@ -111,3 +111,16 @@ class LiveThread:
         if self.error is not None:
             raise self.error
         return self.counters
+
+
+def replay_frames(pylsl, outlet, live: LiveThread, time_s, frames) -> float:
+    """Once ``live`` has connected to ``outlet``, push every frame at the LSL clock now plus its time,
+    wait for the estimates and stop the run; returns that clock (the frames' time zero)."""
+    assert outlet.wait_for_consumers(10)
+    base = pylsl.local_clock()
+    for t_s, frame in zip(time_s, frames):
+        outlet.push_sample(np.ravel(frame).tolist(), base + t_s)
+    live.wait_for(len(frames))
+    live.settle(0.3)
+    live.stop()
+    return base

@@ -6,7 +6,7 @@ import time
 
 import numpy as np
 import pytest
-from live_helpers import PELVIS, LiveThread, marker_info, pelvis_frames, pelvis_labels, unique
+from live_helpers import PELVIS, LiveThread, marker_info, pelvis_frames, pelvis_labels, replay_frames, unique
 
 from yoyogait import OnlineEstimator
 from yoyogait import synthetic_conditions as sc
@@ -33,13 +33,7 @@ def test_live_feet_and_a_changing_belt_speed_give_the_estimates_of_the_same_fram
 
     outlet = pylsl.StreamOutlet(marker_info(pylsl, name, pelvis_labels(points)))
     live = LiveThread(name, resolve_timeout_s=10, max_buffer_s=10, feet=HEELS, belt_speed=belt_speed)
-    assert outlet.wait_for_consumers(10)
-    base = pylsl.local_clock()
-    for k in range(rec.n_frames):
-        outlet.push_sample(frames[k].tolist(), base + rec.time_s[k])
-    live.wait_for(rec.n_frames)
-    live.settle(0.3)
-    live.stop()
+    base = replay_frames(pylsl, outlet, live, rec.time_s, frames)
     est = OnlineEstimator(list(PELVIS), "z", 1.0, feet=HEELS)
     expected = []
     for k in range(rec.n_frames):
@@ -96,13 +90,7 @@ def test_live_following_the_hand_reports_arm_gestures_as_not_walking():
     name = unique("gestures")
     outlet = pylsl.StreamOutlet(marker_info(pylsl, name, pelvis_labels(points)))
     live = LiveThread(name, resolve_timeout_s=10, max_buffer_s=10, point="hand")
-    assert outlet.wait_for_consumers(10)
-    base = pylsl.local_clock()
-    for k in range(rec.n_frames):
-        outlet.push_sample(frames[k].tolist(), base + rec.time_s[k])
-    live.wait_for(rec.n_frames)
-    live.settle(0.3)
-    live.stop()
+    base = replay_frames(pylsl, outlet, live, rec.time_s, frames)
     est = OnlineEstimator.for_recording(rec, "hand")
     assert not est.config.gait_in_place
     hand = frames[:, -3:].reshape(-1, 1, 3)
