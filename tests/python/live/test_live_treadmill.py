@@ -89,7 +89,7 @@ def test_live_following_the_hand_reports_arm_gestures_as_not_walking():
     frames = pelvis_frames(rec, points)
     name = unique("gestures")
     outlet = pylsl.StreamOutlet(marker_info(pylsl, name, pelvis_labels(points)))
-    live = LiveThread(name, resolve_timeout_s=10, max_buffer_s=10, point="hand")
+    live = LiveThread(name, resolve_timeout_s=10, max_buffer_s=30, point="hand")  # 12 s pushed at once
     base = replay_frames(pylsl, outlet, live, rec.time_s, frames)
     est = OnlineEstimator.for_recording(rec, "hand")
     assert not est.config.gait_in_place
