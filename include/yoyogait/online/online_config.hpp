@@ -24,9 +24,9 @@ namespace yoyogait {
     "the differentiator's position noise and the estimator's velocity noise follow the marker noise estimated online") \
   X(double, noise_tau_s, 1.0, "s", "(", 0.0, 1e100, "]", "low-pass of the marker-noise estimate (input_noise_m)")  \
   X(double, noise_knee_m, 0.005, "m", "(", 0.0, 1e100, "]",                                                        \
-    "marker noise above which the front-end adapts to it (a laboratory capture stays below; below it nothing changes): the differentiator's jerk density stays that at the knee (its bandwidth falls as noise^(-1/3)), the noise estimate's first noise_tau_s is bounded by the innovations' share of their predicted variance, the walking detector's thresholds rise (walk_noise_sigmas), the forward speed before the first heading loses the noise's part") \
+    "marker noise above which the front-end adapts to it (a laboratory capture stays below; below it nothing changes): the differentiator's jerk density stays that at the knee (its bandwidth falls as noise^(-1/3)), the noise estimate's first noise_tau_s is bounded by the innovations' share of their predicted variance, the forward speed before the first heading loses the noise's part") \
   X(double, walk_noise_sigmas, 3.0, "", "[", 0.0, 1e100, "]",                                                     \
-    "above noise_knee_m the walking detector's thresholds are raised by this many standard deviations of what the input noise alone gives its low-passes (0: not raised)") \
+    "wherever the marker noise is above meas_position_std_m, the walking detector's thresholds are raised by this many standard deviations of what the input noise alone gives its low-passes (0: not raised; at a laboratory's noise, nothing)") \
   X(double, outlier_gate_nis, 25.0, "", "(", 0.0, 1e100, "]",                                                      \
     "a centre whose innovation's NIS (over the three axes) exceeds this is an outlier: not differentiated")       \
   X(double, max_outlier_s, 0.1, "s", "[", 0.0, 1e100, "]",                                                        \

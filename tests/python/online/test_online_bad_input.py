@@ -103,6 +103,30 @@ def test_standing_with_mm_noise_at_a_low_rate_does_not_start_the_estimators_walk
     assert not r.valid.any()
 
 
+@pytest.mark.parametrize("rate_hz", [25.0, 30.0])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_standing_with_8_mm_noise_below_the_knee_is_not_walking(rate_hz, seed):
+    """8 mm per marker at 25-30 Hz (4 mm on the centre, below noise_knee_m): walking <= 5 % of the frames."""
+    t, p = pelvis(rate_hz=rate_hz, dur_s=20.0, noise_m=0.008, seed=seed, standing=True)
+    _, r = run(t, p)
+    assert np.median(r.input_noise_m) < OnlineConfig().noise_knee_m
+    assert np.mean(r.walking) <= 0.05
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_noisy_walk_is_acquired_from_its_own_steps(seed):
+    """SYNTHETIC 30 Hz walk, 6 mm marker noise, after 2 s standing: nothing valid before a bank's window of walking."""
+    walk = synthetic.make_walk(
+        synthetic.SUBJECTS[0], "1-straight", seed=seed, rate_hz=30.0, noise_m=0.006, start_standing_s=2.0
+    )
+    r = OnlineEstimator.for_recording(walk.recording, list(synthetic.PELVIS_MARKERS), up_axis="z").run(walk.recording)
+    truth = walk.truth.at(r.time_s)
+    start_s = r.time_s[np.flatnonzero(truth.walking)[0]]
+    first_valid_s = r.time_s[np.flatnonzero(r.valid)[0]]
+    assert first_valid_s - start_s >= OnlineConfig().estimator.gait_filter.bank_window_s
+    assert not confidently_wrong(r, truth.speed_mps, truth.step_frequency_hz)[np.asarray(truth.walking)].any()
+
+
 def test_a_walk_at_30_hz_does_not_lock_on_the_standing_before_it():
     """SYNTHETIC walk at 30 Hz whose standing noise started the bank early (locked at 0.4-0.6 Hz for 16 s)."""
     walk = synthetic.make_walk(synthetic.SUBJECTS[2], "1-straight", seed=12, rate_hz=30.0)
