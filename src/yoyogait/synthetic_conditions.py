@@ -562,6 +562,11 @@ def standing_sway(
                   np.zeros_like(t), rng, seed, noise_m, dropouts, sway_m=float(sway_m))  # fmt: skip
 
 
+def _columns(t, x, y, z) -> np.ndarray:
+    """(n x 3) of three coordinates over the times ``t``, each an array over them or a constant."""
+    return np.column_stack(np.broadcast_arrays(x, y, z, t)[:3]).astype(float)
+
+
 GESTURES: tuple[str, ...] = ("wave", "point", "beats", "pump", "beckon")
 """The kinds of :func:`arm_gestures`, in the order of their first appearance."""
 
@@ -581,9 +586,9 @@ def arm_gestures(
     it holds a handle) waving overhead (12 cm sideways), pointing or reaching (30 cm forward, 25 cm up,
     held), beating while talking (5 cm), pumping up and down (10 cm) and beckoning (8 cm forward and
     back), each at a frequency drawn from ``gesture_hz`` (the gait band: a hand that moves at a step's
-    rhythm is still no walker). The pelvis moves against the arm by 4 % of the hand's horizontal excursion. The
-    point followed decides what is tested: the pelvis barely moves, the hand moves as much as a walker's
-    pelvis does, and more."""
+    rhythm is still no walker). The pelvis moves against the arm by 4 % of the hand's horizontal
+    excursion. The point followed decides what is tested: the pelvis barely moves, the hand moves as
+    much as a walker's pelvis does, and more."""
     rng = _rng(seed, subject, "arm-gestures")
     t = np.arange(int(round(duration_s * rate_hz)) + 1) / rate_hz
     rest = np.array(subject.hand_offset_m)
@@ -597,20 +602,20 @@ def arm_gestures(
         env = sy._smoothstep(t, start, 0.4) - sy._smoothstep(t, start + length - 0.4, 0.4)
         ph = 2 * np.pi * f * (t - start) + rng.uniform(0, 2 * np.pi)
         if kind == "wave":  # raised beside the head, waving sideways along an arc
-            move = np.column_stack([0.0 * t - 0.15, -0.15 + 0.12 * np.sin(ph), 0.50 - 0.03 * np.cos(2 * ph)])
+            move = _columns(t, -0.15, -0.15 + 0.12 * np.sin(ph), 0.50 - 0.03 * np.cos(2 * ph))
         elif kind == "point":  # reach forward and up, hold, back
-            move = np.column_stack([0.0 * t + 0.30, 0.0 * t + 0.05, 0.0 * t + 0.25])
+            move = _columns(t, 0.30, 0.05, 0.25)
         elif kind == "beats":  # short downward beats while talking, the hand before the chest
-            move = np.column_stack([0.05 + 0.02 * np.sin(ph), 0.0 * t + 0.10, 0.30 - 0.05 * np.abs(np.sin(ph))])
+            move = _columns(t, 0.05 + 0.02 * np.sin(ph), 0.10, 0.30 - 0.05 * np.abs(np.sin(ph)))
         elif kind == "pump":  # up and down at a steady rhythm, as a step's
-            move = np.column_stack([0.0 * t + 0.05, 0.0 * t, 0.10 * np.sin(ph)])
+            move = _columns(t, 0.05, 0.0, 0.10 * np.sin(ph))
         else:  # beckoning: forward and back, the forearm rising with it
-            move = np.column_stack([0.08 * np.sin(ph), 0.0 * t + 0.05, 0.15 + 0.03 * np.sin(ph)])
+            move = _columns(t, 0.08 * np.sin(ph), 0.05, 0.15 + 0.03 * np.sin(ph))
         reach += env[:, None] * move
         kinds.append(kind)
         start += length + float(rng.uniform(1.0, 2.5))
     heading = _sway(t, rng, 0.02, high_hz=0.3)
-    centre = np.column_stack([_sway(t, rng, 0.006), 0.6 * _sway(t, rng, 0.006), subject.z0_m + 0.0 * t])
+    centre = _columns(t, _sway(t, rng, 0.006), 0.6 * _sway(t, rng, 0.006), subject.z0_m)
     # The body moves against the arm in the floor plane (the legs carry the vertical part).
     centre[:, :2] -= 0.04 * np.einsum("nij,nj->ni", sy._rot_z(heading), reach)[:, :2]
     rot = sy._rot_z(heading) @ sy._rot_x(_sway(t, rng, 0.01, high_hz=0.3))
