@@ -113,14 +113,19 @@ def test_standing_with_8_mm_noise_below_the_knee_is_not_walking(rate_hz, seed):
     assert np.mean(r.walking) <= 0.05
 
 
+def _noisy_lab_walk(subject, seed: int, *, noise_m: float, start_standing_s: float):
+    """The lab's straight walk at 30 Hz with marker noise after standing, replayed online: (result, truth)."""
+    walk = synthetic.make_walk(
+        subject, "1-straight", seed=seed, rate_hz=30.0, noise_m=noise_m, start_standing_s=start_standing_s
+    )
+    r = OnlineEstimator.for_recording(walk.recording, list(synthetic.PELVIS_MARKERS), up_axis="z").run(walk.recording)
+    return r, walk.truth.at(r.time_s)
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_a_noisy_walk_is_acquired_from_its_own_steps(seed):
     """SYNTHETIC 30 Hz walk, 6 mm marker noise, after 2 s standing: nothing valid before a bank's window of walking."""
-    walk = synthetic.make_walk(
-        synthetic.SUBJECTS[0], "1-straight", seed=seed, rate_hz=30.0, noise_m=0.006, start_standing_s=2.0
-    )
-    r = OnlineEstimator.for_recording(walk.recording, list(synthetic.PELVIS_MARKERS), up_axis="z").run(walk.recording)
-    truth = walk.truth.at(r.time_s)
+    r, truth = _noisy_lab_walk(synthetic.SUBJECTS[0], seed, noise_m=0.006, start_standing_s=2.0)
     start_s = r.time_s[np.flatnonzero(truth.walking)[0]]
     first_valid_s = r.time_s[np.flatnonzero(r.valid)[0]]
     assert first_valid_s - start_s >= OnlineConfig().estimator.gait_filter.bank_window_s
@@ -140,11 +145,7 @@ def test_a_walk_at_30_hz_does_not_lock_on_the_standing_before_it():
 @pytest.mark.parametrize("seed", [4, 5])
 def test_a_noisy_start_is_not_locked_below_the_steps(seed):
     """SYNTHETIC 30 Hz walk, 3 mm marker noise, after 4 s standing: no lock below the steps, never confidently wrong."""
-    walk = synthetic.make_walk(
-        synthetic.SUBJECTS[2], "1-straight", seed=seed, rate_hz=30.0, noise_m=0.003, start_standing_s=4.0
-    )
-    r = OnlineEstimator.for_recording(walk.recording, list(synthetic.PELVIS_MARKERS), up_axis="z").run(walk.recording)
-    truth = walk.truth.at(r.time_s)
+    r, truth = _noisy_lab_walk(synthetic.SUBJECTS[2], seed, noise_m=0.003, start_standing_s=4.0)
     walking = np.asarray(truth.walking, dtype=bool)
     assert not confidently_wrong(r, truth.speed_mps, truth.step_frequency_hz)[walking].any()
     late = r.time_s > 10.0
