@@ -70,14 +70,8 @@ class SpectralInit {
     // cos and sin of w tau per sample at the grid's first frequency, then turned by the grid step's
     // angle per sample: two sincos per sample for the whole grid instead of one per grid point (the
     // turns' rounding, some 1e-14 over the grid, is far below the costs' differences).
-    Phases ph;
-    std::array<double, kMaxSpectralBuffer> turn_c{}, turn_s{};
-    for (std::size_t q = 0; q < n; ++q) {
-      ph.c[q] = std::cos(kTwoPi * s_.f_min_hz * b.tau[q]);
-      ph.s[q] = std::sin(kTwoPi * s_.f_min_hz * b.tau[q]);
-      turn_c[q] = std::cos(kTwoPi * step * b.tau[q]);
-      turn_s[q] = std::sin(kTwoPi * step * b.tau[q]);
-    }
+    Phases ph = phases(kTwoPi * s_.f_min_hz, b);
+    const Phases turn = phases(kTwoPi * step, b);
     // Costs of the best grid point and its two neighbours, without storing the grid.
     std::size_t best_k = 0;
     double best = 0.0, prev = 0.0, before_best = 0.0, after_best = 0.0;
@@ -85,8 +79,8 @@ class SpectralInit {
       if (k > 0) {
         for (std::size_t q = 0; q < n; ++q) {
           const double c = ph.c[q], sn = ph.s[q];
-          ph.c[q] = c * turn_c[q] - sn * turn_s[q];
-          ph.s[q] = sn * turn_c[q] + c * turn_s[q];
+          ph.c[q] = c * turn.c[q] - sn * turn.s[q];
+          ph.s[q] = sn * turn.c[q] + c * turn.s[q];
         }
       }
       const double cost = ls_cost(ph, b, nullptr);
@@ -106,11 +100,7 @@ class SpectralInit {
       if (den > 0.0) f_best += detail::py_max(-0.5, detail::py_min(0.5, 0.5 * (y0 - y2) / den)) * step;
     }
     out.f_hz = f_best;
-    for (std::size_t q = 0; q < n; ++q) {  // the fit itself at the refined frequency, exactly
-      ph.c[q] = std::cos(kTwoPi * f_best * b.tau[q]);
-      ph.s[q] = std::sin(kTwoPi * f_best * b.tau[q]);
-    }
-    ls_cost(ph, b, out.sol);
+    ls_cost(phases(kTwoPi * f_best, b), b, out.sol);  // the fit itself at the refined frequency, exactly
     return true;
   }
 
@@ -151,6 +141,14 @@ class SpectralInit {
   struct Phases {
     std::array<double, kMaxSpectralBuffer> c{}, s{};
   };
+  static Phases phases(double w, const Buffer& b) noexcept {
+    Phases ph;
+    for (std::size_t q = 0; q < b.n; ++q) {
+      ph.c[q] = std::cos(w * b.tau[q]);
+      ph.s[q] = std::sin(w * b.tau[q]);
+    }
+    return ph;
+  }
 
   /// Weighted residual of two linear least-squares fits at angular frequency w over the buffer
   /// (ph: its cos and sin per sample): v_x(tau) = a + b tau + Xc cos(w tau) + Xs sin(w tau),

@@ -325,15 +325,15 @@ class OnlineEstimator {
     const GaitState prior = est_.gait_state;
     // What the input noise adds to the estimator's measurement noise (online/velocity_noise.hpp; its
     // per-channel measure, used above the knee, runs once the noise is above the floor).
-    if (plausible && noise_.excess_share() > 0.0) vnoise_.update(m.vx_mps, m.vz_mps, dt_s);
+    const bool above_floor = noise_.excess_share() > 0.0;
+    if (plausible && above_floor) vnoise_.update(m.vx_mps, m.vz_mps, dt_s);
     const std::array<double, 2> e =
         online::extra_measurement_var(noise_, diff_.covariance()[1][1], vnoise_, config_.estimator.gait_filter, dt_s);
     // The floor's part is only kept out of the detector's RMS(v_z) (what one frame per sample leaves).
     // The detector's thresholds rise with any noise above the floor: below the knee too, where a
     // person standing with 8 mm per marker (4 mm on the centre) otherwise started the estimator.
     const double floor_vz = floor_noise_.var_m2_per_s2(diff_, dt_s / (m.frames > 0 ? m.frames : 1), m.frames);
-    estimator_.set_extra_measurement_variance(e[0], e[1], noise_.excess_share() > 0.0 ? config_.walk_noise_sigmas : 0.0,
-                                              floor_vz);
+    estimator_.set_extra_measurement_variance(e[0], e[1], above_floor ? config_.walk_noise_sigmas : 0.0, floor_vz);
     estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     // A lock below the steps the centre shows, held: a failed lock (online/validity.hpp).
     const bool below = est_.walking && !est_.acquiring &&
