@@ -58,6 +58,7 @@ def test_no_pelvis_like_point_is_an_error_listing_the_points():
     [
         (["RWRI", "LWRI", "RASI"], "right", ("RWRI",)),
         (["R.Wrist.Med", "R.Wrist.Lat", "L.Wrist.Med"], "right", ("R.Wrist.Med", "R.Wrist.Lat")),
+        (["R_wrist_radius", "R_wrist_ulna", "L_wrist_radius"], "right", ("R_wrist_radius", "R_wrist_ulna")),
         (["RFIN", "RLW", "RMW", "LFIN"], "right", ("RFIN",)),
         (["RightWrist", "rhand", "RFingers"], "right", ("rhand",)),
         (["Hand_L", "Hand_R"], "left", ("Hand_L",)),
