@@ -597,6 +597,12 @@ TEST(OnlineEstimator, TreadmillUpdateDoesNotAllocate) {
 }
 
 // The speed a lagging heading takes from v_x (|v_h| - v_x) is in the speed's transient variance.
+// Step length = speed / step frequency: 1.44 m (1.3 m/s at 0.9 Hz) is no walker's; 0.72 m is.
+TEST(Validity, StepsLongerThanAWalkersAreTooLong) {
+  EXPECT_TRUE(online::Validity::too_long_steps(0.9, 1.3));
+  EXPECT_FALSE(online::Validity::too_long_steps(1.8, 1.3));
+}
+
 TEST(Validity, HeadingLagLossIsInTheSpeedVariance) {
   online::Validity v{online::Validity::Settings{}};
   const double speed = 1.3, lag_rad = 0.5, loss = speed * (1.0 - std::cos(lag_rad));

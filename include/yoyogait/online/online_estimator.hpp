@@ -412,11 +412,15 @@ class OnlineEstimator {
     constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
     if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < pinned_std_hz)
       o.step_frequency_std_hz = pinned_std_hz;
-    // Below the steps the centre shows: 2 std reach them.
+    // Below the steps the centre shows: 2 std reach them. Steps longer than a walker's: 2 std reach
+    // twice the frequency (a lock on one per stride).
     if (o.walking && validity_.below_steps(e.step_frequency_hz, steps_hz)) {
       const double gap_std_hz = 0.5 * (steps_hz - e.step_frequency_hz);
       if (o.step_frequency_std_hz < gap_std_hz) o.step_frequency_std_hz = gap_std_hz;
     }
+    if (o.walking && online::Validity::too_long_steps(e.step_frequency_hz, e.speed_mps) &&
+        o.step_frequency_std_hz < 0.5 * e.step_frequency_hz)
+      o.step_frequency_std_hz = 0.5 * e.step_frequency_hz;
     o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
     // Walking without travelling (a treadmill without feet or belt speed, stepping in place): the
     // speed is unknown, anywhere from 0 to a walker's at this cadence; its std says so.

@@ -236,7 +236,7 @@ class Validity {
       r |= bit(InvalidReason::kInputMissing);
     const double f = in.step_frequency_hz, margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
     if (nis_lp_ > s_.max_nis || (in.walking && (f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin)) ||
-        (in.walking && in.gait && below_steps(f, in.steps_hz)))
+        (in.walking && in.gait && below_steps(f, in.steps_hz)) || (in.walking && too_long_steps(f, in.speed_mps)))
       r |= bit(InvalidReason::kModelNotHolding);
     if (t_s < implausible_until_s_ || !(std::fabs(in.speed_mps) <= s_.max_plausible_speed_mps))
       r |= bit(InvalidReason::kImplausibleInput);
@@ -279,6 +279,12 @@ class Validity {
   bool below_steps(double f_hz, double steps_hz) const noexcept {
     return steps_hz > 0.0 && f_hz < kBelowStepsRatio * steps_hz;
   }
+  /// No walker's step is longer than this [m] (step length = speed / step frequency: about 0.4 x body
+  /// height at a fast walk, 0.75-0.95 m; the valid estimates of the shared recordings and the SYNTHETIC
+  /// walks reach 0.94 m). Longer: the frequency is below the steps (a lock on one per stride, as a
+  /// hand that swings or dribbles once per stride shows), the model does not hold.
+  static constexpr double kMaxStepM = 1.0;
+  static bool too_long_steps(double f_hz, double speed_mps) noexcept { return speed_mps > kMaxStepM * f_hz; }
   /// A lock (walking, acquired, the centre moving as in gait) below_steps for kBelowStepsS of
   /// walking, net of the time it is not (gait/net_time.hpp), is a failed lock: true once, when the
   /// caller is to restart the acquisition. Per estimator sample, dt_s after the last.

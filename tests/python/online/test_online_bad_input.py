@@ -395,3 +395,13 @@ def test_a_short_jump_while_walking_is_cut_to_a_walking_speed():
     speed = np.hypot(moved.vh_a_mps, moved.vh_b_mps)
     # Cut for less than the shortest step (1 / f_max_hz), never beyond the longest (1 / f_min_hz).
     assert speed[1500:1525].max() <= limit + 1e-9 and speed[1500 + 200 : 1500 + 290].min() > limit
+
+
+def test_steps_longer_than_a_walkers_are_not_valid_and_their_std_reaches_twice_the_frequency():
+    """An oscillation at 0.9 Hz travelling at 1.3 m/s (1.44 m steps: one per stride, a dribbling hand) is not valid."""
+    t, p = pelvis(dur_s=20.0, f_hz=0.9, speed_mps=1.3)
+    _, r = run(t, p)
+    late = t > 6.0
+    assert not r.valid[late].any()
+    assert has(r, InvalidReason.MODEL_NOT_HOLDING)[late].all()
+    assert np.all(2.0 * r.step_frequency_std_hz[late] >= r.step_frequency_hz[late])
