@@ -61,6 +61,9 @@ TREADMILL_FEET = "SYNTHETIC treadmill, heels in the frames"
 TREADMILL_KNOWN = "SYNTHETIC treadmill, belt speed given"
 TREADMILL_REAL_FEET = "manifest treadmill recordings, heels in the frames"
 MANIFEST_FEET = "manifest, heels in the frames (the recordings with feet)"
+MARKERLESS_FEET = "markerless re-rendering, heels in the frames (the recordings with feet)"
+MARKERLESS_FEET_TRUSTED = "markerless re-rendering, heels in the frames, trusted references"
+MARKERLESS_SYNTHETIC_FEET = "SYNTHETIC markerless 30 and 60 Hz, heels in the frames"
 MANIFEST_TRUSTED = "manifest, trusted references"
 GESTURES_HAND = "SYNTHETIC arm-gestures, following the hand"
 WALKS_HAND = "SYNTHETIC stand-walk-stop, turns, very-slow, following the hand"
@@ -210,12 +213,15 @@ def main():
         for item in items:
             tasks.append(("manifest", item, None))
             tasks.append(("markerless re-rendering of the manifest", markerless_item(item, args.seed), item))
-            if item.feet:  # overground the heels must change nothing; on a treadmill they give the belt
+            if item.feet:  # overground the heels check the cadence; on a treadmill they give the belt
                 tasks.append((MANIFEST_FEET, item, None, {"feet": True}))
+                tasks.append((MARKERLESS_FEET, markerless_item(item, args.seed), item, {"feet": True}))
             if item.walk == "treadmill" and item.feet:
                 treadmill_real.add(item.name)
     for walk in sc.condition_walks(seed=args.seed):
         tasks.append((f"SYNTHETIC {walk.walk_type}", synthetic_item(walk), None))
+        if walk.walk_type.startswith("markerless"):  # the feet's steps check the lock
+            tasks.append((MARKERLESS_SYNTHETIC_FEET, synthetic_item(walk), None, {"feet": True}))
         if walk.walk_type == "treadmill":  # the same walks with the heels in the frames, and with the belt given
             tasks.append((TREADMILL_FEET, synthetic_item(walk), None, {"feet": True}))
             belt = {"belt_speed_mps": float(walk.recording.metadata["belt_speed_mps"])}
@@ -241,7 +247,7 @@ def main():
     walking_groups = (
         ["manifest", "markerless re-rendering of the manifest"]
         + [f"SYNTHETIC {c}" for c in sc.CONDITIONS if c not in sc.NOT_WALKING]
-        + [MANIFEST_FEET, TREADMILL_FEET, TREADMILL_KNOWN]
+        + [MANIFEST_FEET, MARKERLESS_FEET, MARKERLESS_SYNTHETIC_FEET, TREADMILL_FEET, TREADMILL_KNOWN]
     )
     groups = by_group
     # Issue 20 item 7: honesty is judged against the references that the reference's quality check
@@ -249,6 +255,11 @@ def main():
     trusted_rows = [(n, r) for n, r in groups.get("manifest", []) if r["reference_trusted"]]
     groups[MANIFEST_TRUSTED] = trusted_rows
     walking_groups.insert(1, MANIFEST_TRUSTED)
+    trusted_names = {n for n, _ in trusted_rows}
+    groups[MARKERLESS_FEET_TRUSTED] = [
+        (n, r) for n, r in groups.get(MARKERLESS_FEET, []) if n.removesuffix(" + markerless") in trusted_names
+    ]
+    walking_groups.insert(walking_groups.index(MARKERLESS_FEET) + 1, MARKERLESS_FEET_TRUSTED)
     print(f"{sum(len(r) for r in groups.values())} recordings in {time.perf_counter() - start:.0f} s\n")
     print("## Honesty (online estimate; the synthetic renderings: 3 subjects each)\n")
     print("\n".join(honesty_table([(g, groups.get(g, [])) for g in walking_groups])))
@@ -271,11 +282,16 @@ def main():
     clean = {n: r for n, r in groups.get("manifest", [])}
     noisy = groups.get("markerless re-rendering of the manifest", [])
     pairs = [(n, r) for n, r in noisy if n.removesuffix(" + markerless") in clean]
+    pairs_feet = [(n, r) for n, r in groups.get(MARKERLESS_FEET, []) if n.removesuffix(" + markerless") in clean]
     print(
         "\n".join(
             simple_table(
                 "## Markerless re-renderings of the shared recordings (2 cm jitter, swaps, dropouts, towards 60 Hz)",
-                [("as recorded", groups.get("manifest", [])), ("markerless re-rendering", pairs)],
+                [
+                    ("as recorded", groups.get("manifest", [])),
+                    ("markerless re-rendering", pairs),
+                    ("markerless re-rendering, heels in the frames", pairs_feet),
+                ],
                 (
                     ("f_err_median_hz", "f error after 3 s, Hz", 0.04, False),
                     ("frontend_speed_max_mps", "front-end speed while walking, highest, m/s", 3.0, False),

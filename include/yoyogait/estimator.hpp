@@ -78,6 +78,11 @@ class Estimator {
   void reacquire() noexcept {
     if (!is_paper_) gait_.reacquire();
   }
+  /// The gait filter's lock restarts at f_hz, which the caller's evidence shows (GaitFilter::relock;
+  /// paper: nothing).
+  void relock(double f_hz) noexcept {
+    if (!is_paper_) gait_.relock(f_hz);
+  }
 
   /// step() over n samples; out[i] is the estimate after sample i. Same results as n calls of step().
   /// dt_s: the time since the previous sample of each one [s], or nullptr for sample_time_s.

@@ -398,6 +398,7 @@ void bind_online(nb::module_& m) {
           },
           "speed_mps"_a)
       .def_prop_ro("belt_speed_mps", [](const Guarded& e) { return e.belt_speed_mps(); })
+      .def_prop_ro("feet_step_frequency_hz", [](const Guarded& e) { return e.feet_step_frequency_hz(); })
       .def_prop_ro("feet", [](const Guarded& e) { return e.feet(); })
       .def_prop_ro("points", [](const Guarded& e) { return e.points(); })
       .def_prop_ro("up_axis", [](const Guarded& e) { return e.up_axis(); })

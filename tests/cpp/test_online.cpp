@@ -768,3 +768,99 @@ TEST(GaitEvidence, SmallerBobsKeepGaitButDoNotStartIt) {
   // 1.5 s after 3 cm steps at 1 Hz turned into 8 mm bobs at 2 Hz: the steps' frequency, not the bobs'.
   EXPECT_NEAR(run(0.03, 0.008, 2.0).steps_hz_after_switch, 1.0, 0.02);
 }
+
+namespace {
+
+// The treadmill walk overground: the pelvis travels at the belt's speed and the heels step on the
+// floor (stance still, swing forward at about twice the speed); noise_m on every point.
+struct SyntheticOvergroundWithFeet {
+  SyntheticTreadmill walk;
+  explicit SyntheticOvergroundWithFeet(double noise_m, double rate_hz = 100.0) : rate_hz_(rate_hz) {
+    walk.pelvis.speed_mps = walk.belt_mps;
+    walk.pelvis.noise_m = walk.noise_m = noise_m;
+  }
+  void frame(double t, double* p) {
+    walk.frame(t, p);
+    for (int j = 0; j < 2; ++j) p[12 + 3 * j] += walk.belt_mps * t;
+  }
+  double rate_hz_;
+};
+
+}  // namespace
+
+// The feet's step frequency is the walk's, whatever the share of the step each extremum of their
+// separation takes (stance 60 %), and a left/right swap of the feet changes no bit of any output.
+TEST(OnlineEstimator, FeetShowTheStepFrequencyAndASwapChangesNothing) {
+  SyntheticOvergroundWithFeet walk(0.001);
+  OnlineEstimator est(4, 2, 1.0, OnlineConfig{}, 2), swapped(4, 2, 1.0, OnlineConfig{}, 2);
+  double p[18], q[18];
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k / 100.0;
+    walk.frame(t, p);
+    std::copy(p, p + 18, q);
+    if ((k / 150) % 2) std::swap_ranges(q + 12, q + 15, q + 15);  // swapped for 1.5 s every 3 s
+    const OnlineEstimate a = est.update(t, p), b = swapped.update(t, q);
+    ASSERT_EQ(a.step_frequency_hz, b.step_frequency_hz);
+    ASSERT_EQ(a.step_frequency_std_hz, b.step_frequency_std_hz);
+    ASSERT_EQ(a.valid, b.valid);
+    ASSERT_EQ(est.feet_step_frequency_hz(), swapped.feet_step_frequency_hz());
+  }
+  EXPECT_NEAR(est.feet_step_frequency_hz(), walk.walk.pelvis.f_hz, 0.03);
+  OnlineEstimator no_feet(4, 2, 1.0);
+  EXPECT_EQ(no_feet.feet_step_frequency_hz(), 0.0);
+}
+
+// Markerless-like noise (2 cm on every point, 60 Hz): without feet never valid (INPUT_NOISY); with
+// the feet's steps valid for at least half the walking after 3 s, and never confidently wrong (an
+// f or speed error above 0.15 while valid and beyond 2 std).
+TEST(OnlineEstimator, FeetMakeANoisyCaptureUsable) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SyntheticOvergroundWithFeet walk(0.02, 60.0);
+    walk.walk.pelvis.rng.seed(seed);
+    walk.walk.rng.seed(seed + 10);
+    OnlineEstimator with(4, 2, 1.0, OnlineConfig{}, 2), without(4, 2, 1.0);
+    double p[18];
+    int after = 0, valid = 0, valid_without = 0, wrong = 0;
+    for (int k = 0; k < 20 * 60; ++k) {
+      const double t = k / 60.0;
+      walk.frame(t, p);
+      const OnlineEstimate a = with.update(t, p), b = without.update(t, p);
+      ASSERT_TRUE(all_finite(a));
+      valid_without += b.valid;
+      if (t < 3.0) continue;
+      ++after;
+      valid += a.valid;
+      const double ef = std::fabs(a.step_frequency_hz - walk.walk.pelvis.f_hz);
+      const double es = std::fabs(a.speed_mps - walk.walk.belt_mps);
+      if (a.valid && ((ef > 0.15 && ef > 2.0 * a.step_frequency_std_hz) || (es > 0.15 && es > 2.0 * a.speed_std_mps)))
+        ++wrong;
+    }
+    EXPECT_EQ(valid_without, 0) << "seed " << seed;
+    EXPECT_GE(valid, 0.5 * after) << "seed " << seed;
+    EXPECT_EQ(wrong, 0) << "seed " << seed;
+  }
+}
+
+// A lock that the feet contradict (the pelvis rising and falling twice per step, the feet at the
+// walk's steps) is relocked at the feet's cadence, and never valid while off it.
+TEST(OnlineEstimator, ALockTheFeetContradictIsNotValid) {
+  SyntheticOvergroundWithFeet walk(0.001);
+  walk.walk.pelvis.f_hz = 1.5;  // (twice that within the frequency range)
+  OnlineEstimator with(4, 2, 1.0, OnlineConfig{}, 2), without(4, 2, 1.0);
+  double p[18];
+  int off_valid = 0, wrong_lock_valid = 0, relocked = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const double t = k / 100.0;
+    walk.frame(t, p);
+    // The pelvis bobs at twice the step frequency: its own, as a lock on it would be.
+    for (int j = 0; j < 4; ++j) p[3 * j + 2] += 0.01 * std::cos(2.0 * kPi * 2.0 * walk.walk.pelvis.f_hz * t) -
+                                               walk.walk.pelvis.r_m * std::cos(walk.walk.pelvis.theta(t));
+    const OnlineEstimate a = with.update(t, p), b = without.update(t, p);
+    off_valid += a.valid && std::fabs(a.step_frequency_hz - walk.walk.pelvis.f_hz) > 0.3;
+    wrong_lock_valid += b.valid && std::fabs(b.step_frequency_hz - 2.0 * walk.walk.pelvis.f_hz) < 0.1;
+    relocked += t > 10.0 && std::fabs(a.step_frequency_hz - walk.walk.pelvis.f_hz) < 0.1;
+  }
+  EXPECT_GT(wrong_lock_valid, 1000);  // without feet the lock on the pelvis's own rhythm is valid
+  EXPECT_EQ(off_valid, 0);
+  EXPECT_GT(relocked, 0);
+}

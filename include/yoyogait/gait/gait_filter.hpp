@@ -223,6 +223,15 @@ class GaitFilter {
   void reacquire() noexcept {
     if (!acquiring_ && detector_.walking()) start_acquisition(main_.x[gait::kA0], false, 0.0);
   }
+  /// A cadence that another evidence shows (the feet's steps, online/foot_cadence.hpp), against the
+  /// lock or before the bank has chosen: the one EKF restarts at f_hz, its phasors and their
+  /// covariance as a bank member's start, the speed kept; the bank stops (the evidence has chosen).
+  /// Nothing while standing, or for an f_hz outside the frequency range.
+  void relock(double f_hz) noexcept {
+    if (!detector_.walking() || !(f_hz >= cfg_.gait_filter.f_min_hz && f_hz <= cfg_.gait_filter.f_max_hz)) return;
+    start_acquisition(active().x[gait::kA0], true, f_hz);
+    collapse();
+  }
 
  private:
   using Ekf = gait::Ekf;

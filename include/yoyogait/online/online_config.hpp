@@ -67,6 +67,8 @@ namespace yoyogait {
     "while walking, a faster front-end horizontal velocity is cut to this unless it lasts longer than a step")      \
   X(double, max_input_noise_m, 0.005, "m", "(", 0.0, 1e100, "]",                                                    \
     "a higher marker noise, estimated from the differentiator's innovations, makes the estimates not valid")      \
+  X(double, feet_max_input_noise_m, 0.03, "m", "(", 0.0, 1e100, "]",                                               \
+    "with foot points in the frames, while the step frequency their separation shows agrees with the estimate (within 0.2 Hz), a higher marker noise than this makes the estimates not valid (max_input_noise_m: without feet, or while they disagree); the feet's evidence tells a right lock from one on the noise") \
   X(double, max_mean_nis, 10.0, "", "(", 0.0, 1e100, "]",                                                           \
     "the estimator's NIS averaged over about a second above this: the model does not hold (not valid); below it the stds are scaled by sqrt(NIS / 2)") \
   X(double, belt_tau_s, 0.5, "s", "(", 0.0, 1e100, "]",                                                            \

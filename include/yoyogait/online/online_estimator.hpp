@@ -9,7 +9,8 @@
 /// each frame's time by its own forecast over the delays behind it (online/latency.hpp), with the
 /// gait phase (online/gait_phase.hpp); whether it is valid, and why not (online/validity.hpp). With
 /// foot points after the centre's (a treadmill), the belt's velocity (online/belt.hpp) is taken out
-/// of the centre's: the walking velocity is the pelvis's relative to the belt.
+/// of the centre's: the walking velocity is the pelvis's relative to the belt. With two feet, the
+/// step frequency their separation shows (online/foot_cadence.hpp) checks the estimator's lock.
 #pragma once
 
 #include <array>
@@ -24,6 +25,7 @@
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
+#include "yoyogait/online/foot_cadence.hpp"
 #include "yoyogait/online/frame.hpp"
 #include "yoyogait/online/gait_evidence.hpp"
 #include "yoyogait/online/gait_phase.hpp"
@@ -63,6 +65,7 @@ class OnlineEstimator {
         belt_(n_feet, axes_.up, axes_.a, axes_.b, length_unit_m, config_.max_abs_position_m,
               online::belt_settings(config_)),
         feet_(n_feet),
+        foot_cadence_(online::foot_cadence_settings(config_)),
         q_f_(config_.estimator.gait_filter.q_omega_rad2_per_s3 * kInvTwoPi * kInvTwoPi) {
     reset();
   }
@@ -84,6 +87,7 @@ class OnlineEstimator {
     phase_.reset();
     validity_.reset();
     belt_.reset();
+    foot_cadence_.reset();
     belt_a_m_ = belt_b_m_ = 0.0;
     belt_seen_ = false;
     est_ = Estimate{};
@@ -121,6 +125,7 @@ class OnlineEstimator {
     // never the frame that restarted it (it has no velocity yet).
     const bool settled = !restart && t_s - start_t_s_ >= config_.settle_s;
     velocities(gap_s, settled);
+    if (feet_ >= 2 && heading_.known()) feet_separation(t_s, positions_xyz + 3 * frame_.size());
     if (settled && decimator_.push(t_s, o.vx_mps, o.vz_mps, gap_s)) feed(t_s, gap_s);
     o.input_latency_s = latency_.input_latency_s();
     carry_estimate(t_s);
@@ -175,6 +180,9 @@ class OnlineEstimator {
   /// The known belt speed, NaN when none is given.
   double belt_speed_mps() const noexcept { return belt_.known_mps(); }
   std::size_t feet() const noexcept { return feet_; }
+  /// The step frequency the first two feet show at the last frame (online/foot_cadence.hpp) [Hz]; 0
+  /// while not known (fewer than two feet, the first steps, an unsteady rhythm).
+  double feet_step_frequency_hz() const noexcept { return feet_step_frequency_hz(out_.t_s); }
 
   const OnlineConfig& config() const noexcept { return config_; }
   /// The estimator's last estimate (at its last sample, estimate_age_s ago).
@@ -333,12 +341,23 @@ class OnlineEstimator {
     // The detector's thresholds rise with any noise above the floor: below the knee too, where a
     // person standing with 8 mm per marker (4 mm on the centre) otherwise started the estimator.
     const double floor_vz = floor_noise_.var_m2_per_s2(diff_, dt_s / (m.frames > 0 ? m.frames : 1), m.frames);
-    estimator_.set_extra_measurement_variance(e[0], e[1], above_floor ? config_.walk_noise_sigmas : 0.0, floor_vz);
+    // Feet that step at a steady rhythm tell walking from noise: the thresholds need not rise then.
+    const double feet_hz = feet_step_frequency_hz(t_s);
+    const double sigmas = above_floor && !(feet_hz > 0.0) ? config_.walk_noise_sigmas : 0.0;
+    estimator_.set_extra_measurement_variance(e[0], e[1], sigmas, floor_vz);
     estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     // A lock below the steps the centre shows, held: a failed lock (online/validity.hpp).
     const bool below = est_.walking && !est_.acquiring &&
                        validity_.below_steps(est_.step_frequency_hz, gait_.step_frequency_hz(t_s)) && gait_.gait(t_s);
     if (validity_.failed_lock_below_steps(below, dt_s)) estimator_.reacquire();
+    // A lock far off the feet's steps, held, is relocked at theirs (online/validity.hpp); with noise
+    // above the knee, where the start-up bank locks on the noise, the EKF starts at their cadence.
+    if (feet_ >= 2) {
+      const bool off_feet = est_.walking && !est_.acquiring && online::Validity::far_off_feet(est_.step_frequency_hz, feet_hz);
+      const bool bank_on_noise = est_.walking && est_.acquiring && feet_hz > 0.0 && noise_.above_knee();
+      if (validity_.failed_lock_off_feet(off_feet, dt_s) || bank_on_noise)
+        estimator_.relock(feet_hz);  // (the estimate shows it from the next sample)
+    }
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     const Innovation innov = estimator_.innovation();
@@ -372,7 +391,9 @@ class OnlineEstimator {
     // The estimator's detector, where the centre rises and falls as in gait (online/gait_evidence.hpp).
     const bool detected = fed && e.walking && !stale;
     // A hand's bobs in place are gestures (gait_in_place false): it must travel as a walker does.
-    o.walking = detected && gait_.gait(t_s) &&
+    // (Feet that step at a steady rhythm are gait too: centimetres of noise hide the centre's bobs.)
+    const double feet_hz = feet_step_frequency_hz(t_s);
+    o.walking = detected && (gait_.gait(t_s) || feet_hz > 0.0) &&
                 (config_.gait_in_place || validity_.away(online::Validity::kWalkerTravelM));
     o.estimator_status = e.status;
     o.walk_a_mps = o.speed_mps * heading_.unit()[0];
@@ -390,6 +411,7 @@ class OnlineEstimator {
     in.step_frequency_hz = e.step_frequency_hz;
     const double steps_hz = gait_.step_frequency_hz(t_s);
     in.steps_hz = steps_hz;
+    in.feet_hz = feet_hz;
     o.invalid_reason = validity_.reasons(t_s, in);
     o.valid = o.invalid_reason == 0;
     if (!fed) {
@@ -418,6 +440,18 @@ class OnlineEstimator {
       const double gap_std_hz = 0.5 * (steps_hz - e.step_frequency_hz);
       if (o.step_frequency_std_hz < gap_std_hz) o.step_frequency_std_hz = gap_std_hz;
     }
+    // With the feet's steps: 2 std reach them, and, while the estimate agrees with a settled figure
+    // of theirs (four steps, the newest steady), reach no further than kFeetToleranceHz and the
+    // spread of those steps beyond them (the feet's own error within the one, their lag behind a
+    // change of cadence within the other).
+    if (o.walking && feet_hz > 0.0) {
+      const double gap_hz = std::fabs(feet_hz - e.step_frequency_hz);
+      const double most_std_hz = 0.5 * (gap_hz + online::Validity::kFeetToleranceHz + foot_cadence_.spread_hz());
+      if (foot_cadence_.settled() && !online::Validity::off_feet(e.step_frequency_hz, feet_hz) &&
+          o.step_frequency_std_hz > most_std_hz)
+        o.step_frequency_std_hz = most_std_hz;
+      if (o.step_frequency_std_hz < 0.5 * gap_hz) o.step_frequency_std_hz = 0.5 * gap_hz;
+    }
     if (o.walking && online::Validity::too_long_steps(e.step_frequency_hz, e.speed_mps) &&
         o.step_frequency_std_hz < 0.5 * e.step_frequency_hz)
       o.step_frequency_std_hz = 0.5 * e.step_frequency_hz;
@@ -437,6 +471,25 @@ class OnlineEstimator {
                   f.omega_rate_rad_s2, e.step_frequency_hz);
     o.next_step_in_s = phase_.next_step_in_s();
     o.gait_phase = phase_.phase();
+  }
+
+  /// The separation of the first two feet along the heading, |(p_0 - p_1) . u| (no side needed: a
+  /// label swap leaves it), for the feet's cadence; its noise from the centre's (n points averaged).
+  void feet_separation(double t_s, const double* feet_xyz) noexcept {
+    const double unit = frame_.length_unit_m(), lim = config_.max_abs_position_m;
+    const double da = (feet_xyz[axes_.a] - feet_xyz[3 + axes_.a]) * unit;
+    const double db = (feet_xyz[axes_.b] - feet_xyz[3 + axes_.b]) * unit;
+    const bool seen = std::fabs(feet_xyz[axes_.a] * unit) <= lim && std::fabs(feet_xyz[axes_.b] * unit) <= lim &&
+                      std::fabs(feet_xyz[3 + axes_.a] * unit) <= lim && std::fabs(feet_xyz[3 + axes_.b] * unit) <= lim;
+    if (!seen) return;  // NaN (missing) fails the comparisons too
+    const std::array<double, 2>& u = heading_.unit();
+    const double var_m2 = 2.0 * static_cast<double>(frame_.size()) * noise_.var_m2();
+    foot_cadence_.update(t_s, std::fabs(da * u[0] + db * u[1]), var_m2);
+  }
+
+  /// The feet's step frequency at t_s (0 without two feet: nothing to ask).
+  double feet_step_frequency_hz(double t_s) const noexcept {
+    return feet_ >= 2 ? foot_cadence_.step_frequency_hz(t_s) : 0.0;
   }
 
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
@@ -472,6 +525,7 @@ class OnlineEstimator {
   online::TimestampGate time_gate_;
   online::BeltTracker belt_;
   std::size_t feet_ = 0;
+  online::FootCadence foot_cadence_;  ///< the step frequency the first two feet show
   double belt_a_m_ = 0.0, belt_b_m_ = 0.0;  ///< the belt's travel since the reset (a treadmill) [m]
   bool belt_seen_ = false;                   ///< a belt was taken since the reset
   Estimate est_{};

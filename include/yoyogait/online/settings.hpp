@@ -6,6 +6,7 @@
 #include "yoyogait/online/belt.hpp"
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
+#include "yoyogait/online/foot_cadence.hpp"
 #include "yoyogait/online/differentiator.hpp"
 #include "yoyogait/online/gait_evidence.hpp"
 #include "yoyogait/online/heading.hpp"
@@ -59,6 +60,13 @@ inline GaitEvidence::Settings gait_evidence_settings(const OnlineConfig& c) noex
   return s;
 }
 
+/// The feet's cadence settings (the least swing of the separation, gait_window_s).
+inline FootCadence::Settings foot_cadence_settings(const OnlineConfig& c) noexcept {
+  FootCadence::Settings s;
+  s.window_s = c.gait_window_s;
+  return s;
+}
+
 /// The heading tracker's settings (heading_tau_s, heading_min_speed_mps).
 inline HeadingTracker::Settings heading_settings(const OnlineConfig& c) noexcept {
   HeadingTracker::Settings s;
@@ -91,6 +99,7 @@ inline Validity::Settings validity_settings(const OnlineConfig& c) noexcept {
   s.min_rate_hz = c.min_rate_hz;
   s.max_plausible_speed_mps = c.max_plausible_speed_mps;
   s.max_input_noise_m = c.max_input_noise_m;
+  s.feet_max_input_noise_m = c.feet_max_input_noise_m;
   s.max_nis = c.max_mean_nis;
   s.stale_s = c.max_gap_s + 2.0 * c.estimator.sample_time_s;
   s.f_min_hz = c.estimator.gait_filter.f_min_hz;

@@ -42,6 +42,7 @@ class Validity {
     double min_rate_hz = 10.0;            ///< a lower mean frame rate flags kRateTooLow [Hz]
     double max_plausible_speed_mps = 6.0;  ///< a front-end RMS speed (over ~0.25 s) above it: kImplausibleInput [m/s]
     double max_input_noise_m = 0.005;     ///< estimated marker noise above it: kInputNoisy [m]
+    double feet_max_input_noise_m = 0.03;  ///< the same while the feet's cadence agrees with the estimate [m]
     double max_nis = 6.0;                 ///< mean NIS of the estimator over about a second above it: kModelNotHolding
     double stale_s = 0.35;                ///< an estimate older than this: kInputMissing [s]
     double min_travel_ratio = 0.5;        ///< distance travelled / (speed x time) below it: kNotMoving
@@ -89,6 +90,7 @@ class Validity {
     nis_lp_ = 2.0;
     centre_steps_mps_ = 0.0;
     below_steps_.reset();
+    off_feet_.reset();
     implausible_until_s_ = -1e300;
     steady_since_s_ = 0.0;
     steady_ = false;
@@ -221,6 +223,7 @@ class Validity {
     bool gait = true;  ///< walking and the centre moves as in gait (online/gait_evidence.hpp)
     double estimate_age_s = 0.0, speed_mps = 0.0, step_frequency_hz = 0.0;
     double steps_hz = 0.0;  ///< the step frequency the centre's extrema show (0: not known)
+    double feet_hz = 0.0;   ///< the step frequency the feet show (online/foot_cadence.hpp; 0: not known)
   };
 
   /// The InvalidReason bits at t_s.
@@ -231,11 +234,15 @@ class Validity {
     steady_ = steady;
     if (!in.fed || in.acquiring || (steady && t_s - steady_since_s_ < s_.valid_after_s)) r |= bit(InvalidReason::kAcquiring);
     if (in.fed && !(in.walking && in.gait)) r |= bit(InvalidReason::kNotWalking);
-    if (noise2_lp_m2_ > s_.max_input_noise_m * s_.max_input_noise_m) r |= bit(InvalidReason::kInputNoisy);
+    // The feet's steps agreeing with the estimate tell a right lock from one on the noise: more
+    // noise is served then.
+    const double f = in.step_frequency_hz, margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
+    const bool off_feet_now = off_feet(f, in.feet_hz);
+    const double max_noise = in.feet_hz > 0.0 && !off_feet_now ? s_.feet_max_input_noise_m : s_.max_input_noise_m;
+    if (noise2_lp_m2_ > max_noise * max_noise) r |= bit(InvalidReason::kInputNoisy);
     if (in.frame_ignored || in.estimate_age_s > s_.stale_s || centre_steps_mps_ > kMaxCentreStepsMps)
       r |= bit(InvalidReason::kInputMissing);
-    const double f = in.step_frequency_hz, margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);
-    if (nis_lp_ > s_.max_nis || (in.walking && (f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin)) ||
+    if ((in.walking && off_feet_now) || nis_lp_ > s_.max_nis || (in.walking && (f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin)) ||
         (in.walking && in.gait && below_steps(f, in.steps_hz)) || (in.walking && too_long_steps(f, in.speed_mps)))
       r |= bit(InvalidReason::kModelNotHolding);
     if (t_s < implausible_until_s_ || !(std::fabs(in.speed_mps) <= s_.max_plausible_speed_mps))
@@ -299,6 +306,33 @@ class Validity {
     return true;
   }
 
+  /// An estimate further than this from the step frequency the feet show is off their steps [Hz]:
+  /// beyond the 0.15 Hz the evaluation calls wrong by the feet's own error over two steps (0.04 Hz
+  /// median on the shared recordings, 0.07 with markerless noise; docs/online.md, "Feet").
+  static constexpr double kFeetToleranceHz = 0.2;
+  static bool off_feet(double f_hz, double feet_hz) noexcept {
+    return feet_hz > 0.0 && std::fabs(f_hz - feet_hz) > kFeetToleranceHz;
+  }
+  /// A lock (walking, acquired) further than kRelockHz from the feet's steps for kOffFeetS of walking,
+  /// net (gait/net_time.hpp), is a failed lock: true once, when the caller is to relock at the feet's
+  /// cadence. Per estimator sample, dt_s after the last. Wider and longer than off_feet: a relock
+  /// starts the lock again, and the feet's figure has its own error (its 95th percentile: 0.12 Hz
+  /// with markerless noise).
+  static constexpr double kRelockHz = 0.3, kOffFeetS = 1.0;
+  static bool far_off_feet(double f_hz, double feet_hz) noexcept {
+    return feet_hz > 0.0 && std::fabs(f_hz - feet_hz) > kRelockHz;
+  }
+  bool failed_lock_off_feet(bool locked_off, double dt_s) noexcept {
+    if (locked_off)
+      off_feet_.up(dt_s);
+    else
+      off_feet_.down(dt_s);
+    if (!(off_feet_.s() > kOffFeetS)) return false;
+    off_feet_.reset();
+    steady_ = false;  // a new lock: valid_after_s of walking again
+    return true;
+  }
+
   /// The frequency std reported at a bound of the range, at least [Hz]: a bound is no estimate.
   static constexpr double kPinnedStdHz = 0.5;
   /// Whether the frequency lies at a bound of its range (within 2 % of the range).
@@ -324,6 +358,7 @@ class Validity {
   double gains_dt_s_ = -1.0, g_rate_ = 1.0, g_set_ = 1.0, g_speed_ = 1.0, g_loss_ = 1.0;  ///< gains at that dt
   double heading_loss_lp_ = 0.0;  ///< the low-passed |v_h| - v_x [m/s]
   gait::NetTime below_steps_;     ///< the walking time locked below the steps, net (failed_lock_below_steps)
+  gait::NetTime off_feet_;        ///< the walking time locked off the feet's steps, net (failed_lock_off_feet)
   double implausible_until_s_ = -1e300, steady_since_s_ = 0.0;
   bool steady_ = false, have_last_ = false;
   double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates

@@ -110,9 +110,10 @@ def command(
     used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite),
     input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
     standing), valid, invalid_reason and belt_speed_mps; --out defaults to FILE's name + .online.csv.
-    On a treadmill, --feet NAME,NAME puts those foot points into the frames (the belt speed is then
-    estimated from the stance feet) and --belt-speed-mps gives the belt speed; without either a
-    treadmill walk is marked not valid (not moving: the pelvis stays in place).
+    --feet NAME,NAME puts those foot points (one per foot: heels or ankles) into the frames: their
+    steps check the estimate's cadence (a markerless capture is valid only with them), and on a
+    treadmill the belt speed is estimated from the stance feet. --belt-speed-mps gives the belt speed;
+    without either a treadmill walk is marked not valid (not moving: the pelvis stays in place).
 
     An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, a Movella DOT .csv, an APDM .h5) is
     estimated online by nature: one row per sample, every field of the IMU estimate (docs/imu.md),
@@ -224,6 +225,13 @@ def online_estimate(
         f"front-end latency {1e3 * float(np.median(res.input_latency_s)):.1f} ms"
     )
     click.echo(validity_line(res))
+    if not est.feet and noisy_like(res):
+        found = events.feet_of(recording) if recording.point_names else {}
+        names = ",".join(found.values()) if len(found) == 2 else "NAME,NAME"
+        click.echo(
+            "the input is too noisy for the pelvis alone (a markerless capture?): give --feet "
+            f"{names} (heels or ankles) to check the estimates on the feet's steps"
+        )
     if est.feet or belt_speed_mps is not None:
         click.echo(belt_line(res, est.feet, belt_speed_mps))
     elif treadmill_like(res):
@@ -232,6 +240,15 @@ def online_estimate(
             "not valid; give --feet NAME,NAME (heels) or --belt-speed-mps for the walking speed"
         )
     click.echo(f"wrote {out}")
+
+
+def noisy_like(res) -> bool:
+    """Whether most of the walking frames are marked INPUT_NOISY."""
+    walking = np.asarray(res.walking, dtype=bool)
+    if not walking.any():
+        return False
+    noisy = (np.asarray(res.invalid_reason, dtype=int) & int(InvalidReason.INPUT_NOISY)) != 0
+    return float(noisy[walking].mean()) > 0.5
 
 
 def treadmill_like(res) -> bool:
@@ -250,7 +267,10 @@ def belt_line(res, feet, belt_speed_mps) -> str:
     belt = np.asarray(res.belt_speed_mps, dtype=float)
     on = belt > 0
     if not on.any():
-        return f"no treadmill belt found from the stance feet ({', '.join(feet)}): overground"
+        return (
+            f"no treadmill belt found from the stance feet ({', '.join(feet)}): overground; "
+            "their steps check the cadence"
+        )
     return (
         f"treadmill belt found from the stance feet ({', '.join(feet)}) on {100.0 * on.mean():.0f} % of the frames, "
         f"median {float(np.median(belt[on])):.2f} m/s, added to the pelvis's own speed"

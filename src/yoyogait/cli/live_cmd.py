@@ -54,7 +54,8 @@ from .options import POSITIVE, config_file_option, split_names
     metavar="NAME,NAME",
     default=None,
     callback=split_names,
-    help="Foot points of the stream (heels) for a treadmill: the belt speed from the stance feet.",
+    help="Foot points of the stream, one per foot (heels or ankles): their steps check the estimate's cadence "
+    "(a markerless stream is valid only with them); on a treadmill, the belt speed from the stance feet.",
 )
 @click.option("--belt-speed-mps", type=float, default=None, metavar="M/S", help="Treadmill belt speed (known, fixed).")
 @click.option(
@@ -131,7 +132,8 @@ def command(
     """Estimate gait live from the LSL stream SOURCE (markers, or a lower-back IMU): publish, record and show
     the estimates.
 
-    On a treadmill: --feet NAME,NAME (the belt speed from the stance feet), --belt-speed-mps (known) or
+    --feet NAME,NAME: the feet's steps check the cadence (a markerless stream is valid only with them). On
+    a treadmill: --feet (the belt speed from the stance feet), --belt-speed-mps (known) or
     --belt-speed-source NAME (an LSL stream of the belt speed, which may change); without any of them a
     treadmill walk is marked not valid (not moving).
     """

@@ -476,6 +476,7 @@ class OnlineConfig(_ConfigFile):
     max_plausible_speed_mps: float = _field(ONLINE_SECTION, "max_plausible_speed_mps")
     max_walking_speed_mps: float = _field(ONLINE_SECTION, "max_walking_speed_mps")
     max_input_noise_m: float = _field(ONLINE_SECTION, "max_input_noise_m")
+    feet_max_input_noise_m: float = _field(ONLINE_SECTION, "feet_max_input_noise_m")
     max_mean_nis: float = _field(ONLINE_SECTION, "max_mean_nis")
     belt_tau_s: float = _field(ONLINE_SECTION, "belt_tau_s")
     treadmill_min_belt_mps: float = _field(ONLINE_SECTION, "treadmill_min_belt_mps")

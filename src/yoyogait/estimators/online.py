@@ -348,6 +348,14 @@ class OnlineEstimator:
             raise self._busy("reset") from None
 
     @property
+    def feet_step_frequency_hz(self) -> float | None:
+        """The step frequency the first two feet show at the last frame [Hz] (their separation along
+        the heading: docs/online.md, "Feet"); None while not known (fewer than two feet, the first
+        steps, an unsteady rhythm)."""
+        v = float(self._impl.feet_step_frequency_hz)
+        return v if v > 0.0 else None
+
+    @property
     def ignored_frames(self) -> int:
         """Frames ignored since the last reset (timestamp not finite, absurd, not increasing, or an
         unconfirmed jump ahead)."""

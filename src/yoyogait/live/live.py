@@ -379,8 +379,9 @@ def run_live(
     """Estimate gait live from the marker stream ``source`` until ``duration_s``, its end (with
     ``exit_on_end``) or ``stop``. Returns the counters.
 
-    Treadmills (docs/online.md, "Treadmills"): ``feet`` names foot points of the stream (heels) that go
-    into the frames after the followed points (the belt from the stance feet); ``belt_speed_mps`` a
+    Feet and treadmills (docs/online.md, "Feet", "Treadmills"): ``feet`` names foot points of the stream
+    (one per foot, heels or ankles) that go into the frames after the followed points (their steps
+    check the cadence; on a treadmill, the belt from the stance feet); ``belt_speed_mps`` a
     known belt speed; ``belt_speed()``, called before each frame, the belt speed at that frame (None:
     unknown), e.g. :class:`BeltSpeedStream` or a treadmill controller's reading: it may change at any time.
 

@@ -167,3 +167,23 @@ def test_only_a_hand_must_travel_to_walk():
     assert not OnlineEstimator.for_recording(rec, "hand").config.gait_in_place
     assert not OnlineEstimator.for_recording(rec, [sy.HAND_MARKER]).config.gait_in_place
     assert OnlineEstimator.for_recording(rec).config.gait_in_place
+
+
+def test_markerless_renderings_with_heels_are_valid_and_never_confidently_wrong():
+    """SYNTHETIC markerless renderings (30, 60 Hz, 3 subjects): valid on less than 20 % of the walking after 3 s
+    without the heels (INPUT_NOISY), on at least 80 % with them, never with an f error above 0.15 Hz beyond 2 std."""
+    for condition in ("markerless-30hz", "markerless-60hz"):
+        for subject in sy.SUBJECTS:
+            walk = sc.render(condition, subject)
+            rec = walk.recording
+            without = OnlineEstimator.for_recording(rec, None).run(rec)
+            r = OnlineEstimator.for_recording(rec, None, feet=True).run(rec)
+            t = np.asarray(r.time_s)
+            tr = walk.truth.at(t)
+            walking = np.asarray(tr.walking, dtype=bool)
+            after = walking & (t >= t[np.flatnonzero(walking)[0]] + 3.0)
+            err = np.abs(r.step_frequency_hz - tr.step_frequency_hz)
+            wrong = r.valid & after & (err > 0.15) & (err > 2 * r.step_frequency_std_hz)
+            assert without.valid[after].mean() < 0.2, (condition, subject.name)
+            assert r.valid[after].mean() >= 0.8, (condition, subject.name)
+            assert not wrong.any(), (condition, subject.name)

@@ -1,0 +1,119 @@
+/// @file online/foot_cadence.hpp
+/// @brief The step frequency the feet show: an evidence of the cadence that centimetres of marker
+/// noise do not blur (docs/online.md, "Feet").
+///
+/// The separation of the two feet along the walking direction, |(p_0 - p_1) . u|, is a step length
+/// at each double support and 0 when the swinging foot passes the standing one: it rises and falls
+/// once per step, by 0.3-0.8 m, against the 2-6 cm the pelvis bobs. Taken as an absolute value it
+/// needs no side: a left/right label swap (markerless capture) leaves it as it was. Its extrema are
+/// followed with a hysteresis of swing_m (at least kNoiseSigmas standard deviations of the
+/// separation's noise); the step frequency is that of the last kSteps intervals between extrema (a
+/// maximum and a minimum per step; of the kMinSteps or more there are at a start) where no step is
+/// shorter than kMinRatio of the longest (a missed or an extra pair of extrema is no rhythm); it is held over an unsteady stretch of up to window_s
+/// (settled() tells a held figure). A few comparisons and one division per frame; no allocation.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace yoyogait::online {
+
+class FootCadence {
+ public:
+  struct Settings {
+    double swing_m = 0.1;    ///< the least rise or fall of the separation counted [m]
+    double window_s = 2.5;   ///< the last extremum within this: the frequency is current [s]
+  };
+
+  /// Intervals between extrema averaged (four steps; from kMinSteps, two steps, on), and their ring's size.
+  static constexpr std::size_t kSteps = 8, kMinSteps = 4, kRing = kSteps + 1;
+  /// The hysteresis is at least this many standard deviations of the separation's noise.
+  static constexpr double kNoiseSigmas = 4.0;
+  /// Every step of the ring at least this fraction of the longest: a steady rhythm (a missed pair
+  /// of extrema makes a step of 1.5 or more, an extra pair one of half or less).
+  static constexpr double kMinRatio = 0.7;
+
+  FootCadence() noexcept = default;
+  explicit FootCadence(const Settings& s) noexcept : s_(s) { reset(); }
+
+  void reset() noexcept {
+    dir_ = 0;
+    have_ = false;
+    hi_ = lo_ = 0.0;
+    m_ = 0;
+    last_ = 0;
+    hz_ = spread_hz_ = 0.0;
+    steady_t_s_ = -1e300;
+  }
+
+  /// The separation sep_m [m] (>= 0; not finite: the feet not seen, skipped) at t_s, with the
+  /// variance of its noise [m^2].
+  void update(double t_s, double sep_m, double noise_var_m2) noexcept {
+    if (!std::isfinite(sep_m)) return;
+    if (!have_) {
+      hi_ = lo_ = sep_m;
+      have_ = true;
+      return;
+    }
+    const double h2 = kNoiseSigmas * kNoiseSigmas * noise_var_m2;
+    const double h = h2 > s_.swing_m * s_.swing_m ? std::sqrt(h2) : s_.swing_m;
+    if (sep_m > hi_) hi_ = sep_m;
+    if (sep_m < lo_) lo_ = sep_m;
+    bool turned = false;
+    if (dir_ >= 0 && sep_m < hi_ - h) {  // a maximum, left downwards
+      turned = dir_ > 0;
+      dir_ = -1;
+      lo_ = sep_m;
+    } else if (dir_ <= 0 && sep_m > lo_ + h) {  // a minimum, left upwards
+      turned = dir_ < 0;
+      dir_ = 1;
+      hi_ = sep_m;
+    }
+    if (!turned) return;
+    times_[last_ = last_ + 1 < kRing ? last_ + 1 : 0] = t_s;  // the oldest's slot takes the newest
+    if (m_ < kRing) ++m_;
+    if (m_ < kMinSteps + 1) return;
+    // The intervals kept (kMinSteps to kSteps), oldest to newest; each step is two successive
+    // intervals (a maximum and a minimum: their shares of the step differ with the gait), and the
+    // steps are within kMinRatio of each other.
+    const std::size_t n = m_ - 1, first = (last_ + kRing - n) % kRing;
+    double short_step = 1e300, long_step = 0.0;
+    for (std::size_t i = 0; i + 2 <= n; ++i) {
+      const double d = times_[(first + i + 2) % kRing] - times_[(first + i) % kRing];
+      if (d < short_step) short_step = d;
+      if (d > long_step) long_step = d;
+    }
+    const double span_s = t_s - times_[first];
+    if (span_s > 0.0 && short_step >= kMinRatio * long_step) {
+      hz_ = 0.5 * static_cast<double>(n) / span_s;
+      steady_t_s_ = t_s;
+      spread_hz_ = 1.0 / short_step - 1.0 / long_step;
+    }
+  }
+
+  /// The step frequency of the last steady ring (its intervals / 2 steps over its span) while it and
+  /// the last extremum lie within window_s of t_s; 0 otherwise [Hz].
+  double step_frequency_hz(double t_s) const noexcept {
+    return t_s - times_[last_] <= s_.window_s && t_s - steady_t_s_ <= s_.window_s ? hz_ : 0.0;
+  }
+  /// Whether the figure is of a full ring (kSteps intervals) that is the newest: no unsteady
+  /// extremum since. Only then is it taken as within Validity::kFeetToleranceHz of the cadence.
+  bool settled() const noexcept { return m_ == kRing && steady_t_s_ == times_[last_]; }
+  /// The spread of the steps of the last steady ring: the fastest step's frequency less the slowest's
+  /// [Hz] (a walk that changes its cadence, turns, stops: the figure lags it by up to this).
+  double spread_hz() const noexcept { return spread_hz_; }
+
+ private:
+  Settings s_;
+  int dir_ = 0;  ///< +1 rising, -1 falling, 0 not yet known
+  bool have_ = false;
+  double hi_ = 0.0, lo_ = 0.0;  ///< the extremes since the last turn [m]
+  std::array<double, kRing> times_{};  ///< the times of the last kRing extrema (last_: the newest)
+  std::size_t m_ = 0, last_ = 0;
+  double hz_ = 0.0;  ///< the step frequency over the last steady ring [Hz]
+  double steady_t_s_ = -1e300;  ///< the time of the last steady ring's newest extremum [s]
+  double spread_hz_ = 0.0;      ///< the spread of its steps' frequencies [Hz]
+};
+
+}  // namespace yoyogait::online
