@@ -78,6 +78,11 @@ class Estimator {
   void reacquire() noexcept {
     if (!is_paper_) gait_.reacquire();
   }
+  /// The step frequency f_hz [Hz] with variance var_hz2 [Hz^2] from the caller's evidence: an
+  /// observation of the gait filter's frequency (GaitFilter::observe_frequency; paper: nothing).
+  void observe_frequency(double f_hz, double var_hz2) noexcept {
+    if (!is_paper_) gait_.observe_frequency(f_hz, var_hz2);
+  }
   /// The gait filter's lock restarts at f_hz, which the caller's evidence shows (GaitFilter::relock;
   /// paper: nothing).
   void relock(double f_hz) noexcept {

@@ -187,6 +187,27 @@ TEST(GaitEstimator, ConvergesToThePositiveFrequencyWithTheRealPhaseRelation) {
   }
 }
 
+// An observed frequency (the feet's steps) is a scalar Kalman update of w: w moves towards it by
+// P_ww / (P_ww + r) of the difference and P_ww shrinks by the same factor; nothing while acquiring.
+TEST(GaitEstimator, AnObservedFrequencyIsAKalmanUpdateOfW) {
+  const Walk w = make_walk(12.0, 1.8, 1.3, 0.02, kPi, 0.015, 3);
+  Estimator est, acquiring;
+  for (std::size_t i = 0; i < w.vx.size(); ++i) {
+    est.step(w.vx[i], w.vz[i]);
+    if (i < 10) acquiring.step(w.vx[i], w.vz[i]);
+  }
+  ASSERT_FALSE(est.step(w.vx.back(), w.vz.back()).acquiring);
+  const double w0 = est.gait_state()[kW], p0 = est.gait_covariance()[kW][kW];
+  const double r = p0, w_meas = w0 + 2.0 * kPi * 0.2;  // 0.2 Hz above, as certain as the filter
+  est.observe_frequency(w_meas / (2.0 * kPi), r / (4.0 * kPi * kPi));
+  const double gain = p0 / (p0 + r);
+  EXPECT_NEAR(est.gait_state()[kW], w0 + gain * (w_meas - w0), 1e-9);
+  EXPECT_NEAR(est.gait_covariance()[kW][kW], (1.0 - gain) * p0, 1e-9 * p0);
+  const GaitState before = acquiring.gait_state();
+  acquiring.observe_frequency(2.5, 0.01);
+  EXPECT_EQ(acquiring.gait_state(), before);
+}
+
 TEST(GaitEstimator, TheYoyoRelationGivesTheMirrorPhase) {
   // On eq. 3-4 as written (offset 0) the estimated relation is the Yoyo one: phase near -pi/2, signed amplitude > 0.
   const Walk w = make_walk(20.0, 1.6, 1.2, 0.02, 0.0, 0.01, 4);

@@ -223,6 +223,12 @@ class GaitFilter {
   void reacquire() noexcept {
     if (!acquiring_ && detector_.walking()) start_acquisition(main_.x[gait::kA0], false, 0.0);
   }
+  /// The step frequency f_hz with variance var_hz2 [Hz^2] from another evidence (the feet's steps):
+  /// an observation of w in the one EKF. Nothing while acquiring or standing.
+  void observe_frequency(double f_hz, double var_hz2) noexcept {
+    if (acquiring_ || !detector_.walking() || !(var_hz2 > 0.0)) return;
+    model_.observe_w(main_, kTwoPi * f_hz, kTwoPi * kTwoPi * var_hz2);
+  }
   /// A cadence that another evidence shows (the feet's steps, online/foot_cadence.hpp), against the
   /// lock or before the bank has chosen: the one EKF restarts at f_hz, its phasors and their
   /// covariance as a bank member's start, the speed kept; the bank stops (the evidence has chosen).

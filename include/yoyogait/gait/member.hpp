@@ -273,6 +273,23 @@ struct MemberModel {
     return rejected;
   }
 
+  /// A measurement of w itself, w_meas [rad/s] with variance r [(rad/s)^2] (another evidence of the
+  /// cadence: the feet's steps, online/foot_cadence.hpp): one scalar update, H = e_W, after the
+  /// step's; the covariance guard tests the result (it is outside the step's certificate).
+  void observe_w(Ekf& e, double w_meas, double r) const noexcept {
+    double ph[kDim], k[kDim];
+    const double zero[kDim] = {};
+    column<kW>(e.P, ph);
+    const double nu = w_meas - e.x[kW], inv_S = 1.0 / (ph[kW] + r);
+    for (std::size_t i = 0; i < kDim; ++i) {
+      k[i] = ph[i] * inv_S;
+      e.x[i] += k[i] * nu;
+    }
+    downdate(e.P, k, ph, zero, zero);
+    clamp(e);
+    settle(e, false);
+  }
+
   // The covariance guard (docs/default_estimator.md, sec. 2.7).
 
   /// P[i][i] += add, but not beyond the variance bound (nor below the current value).

@@ -45,6 +45,7 @@ class FootCadence {
     last_ = 0;
     hz_ = spread_hz_ = 0.0;
     steady_t_s_ = -1e300;
+    figures_ = 0;
   }
 
   /// The separation sep_m [m] (>= 0; not finite: the feet not seen, skipped) at t_s, with the
@@ -89,6 +90,7 @@ class FootCadence {
       hz_ = 0.5 * static_cast<double>(n) / span_s;
       steady_t_s_ = t_s;
       spread_hz_ = 1.0 / short_step - 1.0 / long_step;
+      ++figures_;
     }
   }
 
@@ -100,6 +102,8 @@ class FootCadence {
   /// Whether the figure is of a full ring (kSteps intervals) that is the newest: no unsteady
   /// extremum since. Only then is it taken as within Validity::kFeetToleranceHz of the cadence.
   bool settled() const noexcept { return m_ == kRing && steady_t_s_ == times_[last_]; }
+  /// Steady figures since the reset (one more per steady ring: a caller tells a new figure by it).
+  unsigned long figures() const noexcept { return figures_; }
   /// The spread of the steps of the last steady ring: the fastest step's frequency less the slowest's
   /// [Hz] (a walk that changes its cadence, turns, stops: the figure lags it by up to this).
   double spread_hz() const noexcept { return spread_hz_; }
@@ -114,6 +118,7 @@ class FootCadence {
   double hz_ = 0.0;  ///< the step frequency over the last steady ring [Hz]
   double steady_t_s_ = -1e300;  ///< the time of the last steady ring's newest extremum [s]
   double spread_hz_ = 0.0;      ///< the spread of its steps' frequencies [Hz]
+  unsigned long figures_ = 0;   ///< steady rings since the reset
 };
 
 }  // namespace yoyogait::online
