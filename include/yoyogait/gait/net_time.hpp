@@ -17,6 +17,17 @@ class NetTime {
   }
   /// The net time [s].
   double s() const noexcept { return t_s_; }
+  /// up(dt_s) while holds, else down(dt_s); true once the net time exceeds limit_s (then it starts
+  /// again from 0): a failed lock's one-time alarm.
+  bool held_beyond(bool holds, double dt_s, double limit_s) noexcept {
+    if (holds)
+      up(dt_s);
+    else
+      down(dt_s);
+    if (!(t_s_ > limit_s)) return false;
+    reset();
+    return true;
+  }
 
  private:
   double t_s_ = 0.0;

@@ -297,18 +297,12 @@ class Validity {
   /// caller is to restart the acquisition. Per estimator sample, dt_s after the last.
   static constexpr double kBelowStepsS = 1.0;
   bool failed_lock_below_steps(bool locked_below, double dt_s) noexcept {
-    if (locked_below)
-      below_steps_.up(dt_s);
-    else
-      below_steps_.down(dt_s);
-    if (!(below_steps_.s() > kBelowStepsS)) return false;
-    below_steps_.reset();
-    return true;
+    return below_steps_.held_beyond(locked_below, dt_s, kBelowStepsS);
   }
 
   /// An estimate further than this from the step frequency the feet show is off their steps [Hz]:
-  /// beyond the 0.15 Hz the evaluation calls wrong by the feet's own error over two steps (0.04 Hz
-  /// median on the shared recordings, 0.07 with markerless noise; docs/online.md, "Feet").
+  /// beyond the 0.15 Hz the evaluation calls wrong by the feet's own error over four steps (0.031 Hz
+  /// median on the shared recordings, 0.053 with markerless noise; docs/online.md, "Feet").
   static constexpr double kFeetToleranceHz = 0.2;
   static bool off_feet(double f_hz, double feet_hz) noexcept {
     return feet_hz > 0.0 && std::fabs(f_hz - feet_hz) > kFeetToleranceHz;
@@ -323,12 +317,7 @@ class Validity {
     return feet_hz > 0.0 && std::fabs(f_hz - feet_hz) > kRelockHz;
   }
   bool failed_lock_off_feet(bool locked_off, double dt_s) noexcept {
-    if (locked_off)
-      off_feet_.up(dt_s);
-    else
-      off_feet_.down(dt_s);
-    if (!(off_feet_.s() > kOffFeetS)) return false;
-    off_feet_.reset();
+    if (!off_feet_.held_beyond(locked_off, dt_s, kOffFeetS)) return false;
     steady_ = false;  // a new lock: valid_after_s of walking again
     return true;
   }

@@ -244,20 +244,21 @@ def online_estimate(
 
 def noisy_like(res) -> bool:
     """Whether most of the walking frames are marked INPUT_NOISY."""
-    walking = np.asarray(res.walking, dtype=bool)
-    if not walking.any():
-        return False
-    noisy = (np.asarray(res.invalid_reason, dtype=int) & int(InvalidReason.INPUT_NOISY)) != 0
-    return float(noisy[walking].mean()) > 0.5
+    return _walking_share_flagged(res, InvalidReason.INPUT_NOISY) > 0.5
 
 
 def treadmill_like(res) -> bool:
     """Whether most of the walking frames are marked not moving (the pelvis stays in place: a treadmill)."""
+    return _walking_share_flagged(res, InvalidReason.NOT_MOVING) > 0.5
+
+
+def _walking_share_flagged(res, reason) -> float:
+    """The share of the walking frames whose invalid_reason has ``reason`` (0 without walking)."""
     walking = np.asarray(res.walking, dtype=bool)
     if not walking.any():
-        return False
-    still = (np.asarray(res.invalid_reason, dtype=int) & int(InvalidReason.NOT_MOVING)) != 0
-    return float(still[walking].mean()) > 0.5
+        return 0.0
+    flagged = (np.asarray(res.invalid_reason, dtype=int) & int(reason)) != 0
+    return float(flagged[walking].mean())
 
 
 def belt_line(res, feet, belt_speed_mps) -> str:
