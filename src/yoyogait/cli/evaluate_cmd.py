@@ -77,7 +77,7 @@ def with_overrides(items, *, point=None, feet=None, up_axis=None, length_unit_m=
 
 def _evaluate_and_write(
     dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online=False,
-    online_config=None,
+    online_config=None, online_feet=False,
 ):  # fmt: skip
     """The evaluation of :func:`run_evaluation`, its printout, and then its report."""
     items, problems, synthetic = ev.resolve_dataset(dataset, seed=seed)
@@ -99,7 +99,7 @@ def _evaluate_and_write(
                 items = [ev.datasets.shipped(item) for item in items]
         click.echo(f"Evaluating {', '.join(names)} on {len(items)} recordings ({where}): {label}", err=True)
         run = (
-            functools.partial(ev.evaluate_online, config=online_config)
+            functools.partial(ev.evaluate_online, config=online_config, feet=online_feet)
             if online
             else functools.partial(ev.evaluate, names=names, configs=configs)
         )
@@ -145,6 +145,7 @@ def run_evaluation(
     scheduler=None,
     ship_files=False,
     online=False,
+    online_feet=False,
 ):
     """Evaluate, print the summary and Table I, write the report; returns the evaluation.
 
@@ -152,10 +153,13 @@ def run_evaluation(
     ``figures``: a mode of :data:`yoyogait.evaluation.report.FIGURE_MODES`, True/False, or None
     (by the size of the data set). ``jobs``: worker processes (None: every core). ``scheduler``:
     the address of a Dask scheduler that evaluates the recordings instead (figures are drawn here).
-    ``online``: the online evaluation (:func:`yoyogait.evaluation.evaluate_online`).
+    ``online``: the online evaluation (:func:`yoyogait.evaluation.evaluate_online`); ``online_feet``:
+    with it, each recording's foot points in the frames.
     The whole run holds the lock on ``out``: a second run on it fails at once.
     """
     online_config = None
+    if online_feet and not online:
+        raise InputError("--online-feet goes with --online")
     if online:
         if len(config_files) > 1:
             raise InputError("--online takes one --config (the online estimator's settings), not several")
@@ -180,7 +184,7 @@ def run_evaluation(
         check_output_folder(out, force, "--out", expected)  # again: a run that just finished may have written it
         result = _evaluate_and_write(
             dataset, out, names, configs, force, figures, seed, overrides, jobs, scheduler, ship_files, online,
-            online_config,
+            online_config, online_feet,
         )  # fmt: skip
     click.echo(f"\nReport: {out / 'index.md'}")
     echo_problems("not evaluated", result.failures, out / "not_evaluated.csv")
@@ -261,6 +265,13 @@ REPORT_FORCE_HELP = (
     help="Online evaluation: replay each recording frame by frame through "
     "OnlineEstimator (the oscillator beside it; --estimators is not used). See docs/online.md.",
 )
+@click.option(
+    "--online-feet",
+    is_flag=True,
+    help="With --online: each recording's foot points (--feet, or found by name) go into the frames, "
+    "as estimate --online --feet puts them: their steps check the cadence (markerless capture), and on a "
+    "treadmill the belt speed comes from the stance feet. A recording without feet is reported.",
+)
 def command(
     dataset,
     point,
@@ -279,6 +290,7 @@ def command(
     seed,
     config_files,
     online,
+    online_feet,
 ):
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
@@ -313,6 +325,7 @@ def command(
         scheduler=scheduler,
         ship_files=ship_files,
         online=online,
+        online_feet=online_feet,
     )
     if result.failures or result.figure_failures:
         raise click.exceptions.Exit(1)

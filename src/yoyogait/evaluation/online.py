@@ -20,6 +20,7 @@ evaluation".
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from types import SimpleNamespace
@@ -603,14 +604,17 @@ def evaluate_online(
     jobs: int = 1,
     executor=None,
     config: OnlineConfig | None = None,
+    feet: bool = False,
 ) -> OnlineEvaluation:
     """The online evaluation of every item; an item that cannot be read or processed is reported.
 
     ``jobs`` > 1: in that many worker processes; ``executor``: any ``concurrent.futures.Executor``
     (e.g. :func:`~yoyogait.evaluation.parallel.dask_executor`). Same result, in the order of ``items``.
+    ``feet``: each item's foot points go into the frames (:func:`evaluate_item_online`; an item
+    without them is reported).
     """
     done, failures = evaluate_items(
-        evaluate_item_online,
+        functools.partial(evaluate_item_online, feet=True) if feet else evaluate_item_online,
         items,
         (config,),
         progress="evaluating online" if progress else None,

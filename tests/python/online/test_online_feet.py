@@ -58,3 +58,22 @@ def test_estimate_online_says_to_give_the_feet_and_is_valid_with_them(tmp_path, 
     table = np.genfromtxt(out, delimiter=",", names=True)
     late = table["time_s"] >= 5.0
     assert table["valid"][late].mean() > 0.5
+
+
+def test_evaluate_online_feet_puts_the_feet_into_the_frames(tmp_path, capsys):
+    """evaluate --online --online-feet on a SYNTHETIC markerless walk: valid on most of the walking (about never
+    without the flag); --online-feet without --online: exit 2, one line naming it."""
+    data = tmp_path / "walks"
+    data.mkdir()
+    write_trc(data / "markerless.trc", sc.render("markerless-60hz", sy.SUBJECTS[0]).recording)
+    shares = []
+    for extra in ([], ["--online-feet"]):
+        out = tmp_path / f"report{len(extra)}"
+        assert main(["evaluate", str(data), "--online", *extra, "--out", str(out), "--no-figures", "--jobs", "1"]) == 0
+        rows = np.genfromtxt(out / "recordings.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+        shares.append(float(rows["valid_fraction"][rows["estimator"] == "online"][0]))
+    assert shares[0] < 0.2 < 0.5 < shares[1], shares
+    capsys.readouterr()
+    assert main(["evaluate", str(data), "--online-feet", "--out", str(tmp_path / "r"), "--no-figures"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--online-feet" in err[0]
