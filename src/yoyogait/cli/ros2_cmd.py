@@ -24,6 +24,13 @@ from .options import POSITIVE, config_file_option
     metavar="TOPIC",
     help="geometry_msgs/PointStamped of one marker; repeat for each marker (averaged, as the pelvis points).",
 )
+@click.option(
+    "--foot-topic",
+    "foot_topics",
+    multiple=True,
+    metavar="TOPIC",
+    help="With --point-topic: geometry_msgs/PointStamped of one foot (heel or ankle); twice, one per foot.",
+)
 @click.option("--markers-topic", default=None, metavar="TOPIC", help="mocap4r2_msgs/Markers (mocap4r2_msgs needed).")
 @click.option(
     "--imu-topic", default=None, metavar="TOPIC", help="sensor_msgs/Imu of one IMU at the lower back (docs/imu.md)."
@@ -50,14 +57,15 @@ from .options import POSITIVE, config_file_option
 @click.option("--duration", type=POSITIVE, metavar="SECONDS", default=None, help="Stop after this many seconds.")
 @click.argument("ros_args", nargs=-1, type=click.UNPROCESSED)
 def command(
-    pose_topic, point_topics, markers_topic, imu_topic, forward_axis, sensor_height_m, up_axis, length_unit_m,
-    time_source, qos, predict_horizon_s, config_file, duration, ros_args,
+    pose_topic, point_topics, foot_topics, markers_topic, imu_topic, forward_axis, sensor_height_m, up_axis,
+    length_unit_m, time_source, qos, predict_horizon_s, config_file, duration, ros_args,
 ):  # fmt: skip
     """Estimate gait from ROS 2 motion-capture or IMU topics; publish walking, current and predicted velocity, the gait
     state and diagnostics (docs/ros2.md). ROS_ARGS: --ros-args -p name:=value -r from:=to ..."""
     options = {
         "pose_topic": pose_topic,
         "point_topics": list(point_topics) or None,
+        "foot_topics": list(foot_topics) or None,
         "markers_topic": markers_topic,
         "imu_topic": imu_topic,
         "forward_axis": forward_axis,

@@ -63,6 +63,8 @@ PARAMETERS: dict[str, tuple[Any, str]] = {
     "point_topics": ([], "geometry_msgs/PointStamped topics, one per marker, averaged as the pelvis points are"),
     "markers_topic": ("", "mocap4r2_msgs/Markers (needs mocap4r2_msgs importable)"),
     "marker_names": ([], "the Markers' markers to follow by name (default: the pelvis, found by name)"),
+    "foot_topics": ([], "with point_topics: two PointStamped topics, one per foot (heels or ankles), in the frames"),
+    "foot_names": ([], "with markers_topic: the Markers' two foot markers (heels or ankles), in the frames"),
     "imu_topic": ("", "sensor_msgs/Imu of one IMU at the lower back (m/s^2 with gravity, rad/s: REP 145)"),
     "forward_axis": ("x", "IMU input: the sensor axis pointing forward, x y z -x -y -z (REP 103: x)"),
     "sensor_height_m": (0.0, "IMU input: the sensor's height above the floor standing [m] (0: the configuration's)"),
@@ -172,6 +174,7 @@ class GaitNode:
                 "give one input: pose_topic (PoseStamped), point_topics (PointStamped per marker), markers_topic "
                 f"(mocap4r2_msgs/Markers) or imu_topic (sensor_msgs/Imu); got {', '.join(given) if given else 'none'}"
             )
+        self._check_feet(p)
         if p["predict_horizon_s"] > OnlineEstimator(["p"]).max_horizon_s:
             raise InputError(f"parameter predict_horizon_s: at most {OnlineEstimator(['p']).max_horizon_s:g} s")
         self.imu: ImuOnlineEstimator | None = None
@@ -221,9 +224,10 @@ class GaitNode:
             topics = p["point_topics"]
             if len(set(topics)) != len(topics):
                 raise InputError(f"parameter point_topics: a topic given twice in {topics}")
-            self._make_estimator(points.PointChoice(tuple(topics), "named"))
-            self.assembler = FrameAssembler(len(topics), p["assembly_window_s"], by_arrival=self.by_arrival)
-            for k, topic in enumerate(topics):
+            feet = p["foot_topics"]
+            self._make_estimator(points.PointChoice(tuple(topics), "named"), feet)
+            self.assembler = FrameAssembler(len(topics) + len(feet), p["assembly_window_s"], by_arrival=self.by_arrival)
+            for k, topic in enumerate([*topics, *feet]):
                 node.create_subscription(r.PointStamped, topic, self._point_callback(k, topic), qos_in)
                 self.inputs[topic] = _POINT
             node.create_timer(min(0.01, p["assembly_window_s"]), self._expire)
@@ -272,11 +276,29 @@ class GaitNode:
         config.to_native()  # InputError naming the setting out of range
         return config
 
-    def _make_estimator(self, choice: points.PointChoice) -> None:
+    def _make_estimator(self, choice: points.PointChoice, feet=()) -> None:
+        """The estimator of the points followed, and the feet after them in each frame (docs/online.md, "Feet")."""
         p = self.params
         self.point_names = tuple(choice.names)
+        self.foot_names = tuple(feet)
         config = config_for_point(choice, self.config)  # a hand must travel to walk
-        self.estimator = OnlineEstimator(list(choice.names), p["up_axis"], p["length_unit_m"], config)
+        self.estimator = OnlineEstimator(list(choice.names), p["up_axis"], p["length_unit_m"], config, feet=list(feet))
+
+    @staticmethod
+    def _check_feet(p: dict) -> None:
+        """foot_topics goes with point_topics, foot_names with markers_topic: two distinct names each, not
+        among the points followed."""
+        for key, partner in (("foot_topics", "point_topics"), ("foot_names", "markers_topic")):
+            feet = p[key]
+            if not feet:
+                continue
+            if not p[partner]:
+                raise InputError(f"parameter {key}: goes with {partner}")
+            if len(feet) != 2 or len(set(feet)) != 2:
+                raise InputError(f"parameter {key}: two distinct names, one per foot, not {feet}")
+            followed = set(p[partner]) if key == "foot_topics" else set(p["marker_names"])
+            if followed & set(feet):
+                raise InputError(f"parameter {key}: {sorted(followed & set(feet))} also followed")
 
     def say(self, topic: str, kind: str, text: str, error: bool = False) -> None:
         """One line naming the topic, once per topic and kind."""
@@ -388,10 +410,11 @@ class GaitNode:
             except InputError as exc:
                 self.say(topic, "names", f"{exc}; set marker_names", error=True)
                 return
-            self._make_estimator(choice)
+            self._make_estimator(choice, self.params["foot_names"])
         index = {n: k for k, n in enumerate(names)}
-        positions = np.full((len(self.point_names), 3), np.nan)
-        for k, name in enumerate(self.point_names):
+        wanted = (*self.point_names, *self.foot_names)
+        positions = np.full((len(wanted), 3), np.nan)
+        for k, name in enumerate(wanted):
             j = index.get(name)
             if j is not None:
                 q = msg.markers[j].translation
@@ -465,7 +488,7 @@ class GaitNode:
         self.last_estimate = est
         self._publish(stamp, est)
         if self._plausibility is not None:
-            self._check_plausible(topic, t_s, np.reshape(positions, (-1, 3)))
+            self._check_plausible(topic, t_s, np.reshape(positions, (-1, 3))[: len(self.point_names)])
         return est
 
     def _publish(self, stamp: tuple[int, int, str], est: Any) -> None:

@@ -91,6 +91,18 @@ def _check_against_run(out, expected, stamps_ns):
             assert np.linalg.eigvalsh(c).min() >= -1e-9 * np.abs(c).max(), key
 
 
+def _point_sender(pubs, markers, stamps_ns):
+    """send(k): frame k's markers, one PointStamped per publisher, stamped stamps_ns[k]."""
+
+    def send(k):
+        for j, pub in enumerate(pubs):
+            msg = _stamp(PointStamped(), stamps_ns[k])
+            msg.point.x, msg.point.y, msg.point.z = (float(v) for v in markers[k, j])
+            pub.publish(msg)
+
+    return send
+
+
 def _replay(loop, publish_frame, n, out, window=8):
     """Frames published as fast as the node takes them (at most ``window`` ahead of its estimates)."""
     for k in range(n):
@@ -134,14 +146,7 @@ def test_point_stamped_markers_assembled_by_stamp_give_the_online_run_of_the_pel
         out = _outputs(loop)
         pubs = [loop.test.create_publisher(PointStamped, t, loop.qos()) for t in topics]
         assert loop.wait(lambda: _connected(loop, pubs), 15), "no discovery on loopback"
-
-        def send(k):
-            for j, pub in enumerate(pubs):
-                msg = _stamp(PointStamped(), walk["stamps_ns"][k])
-                msg.point.x, msg.point.y, msg.point.z = (float(v) for v in markers[k, j])
-                pub.publish(msg)
-
-        _replay(loop, send, markers.shape[0], out)
+        _replay(loop, _point_sender(pubs, markers, walk["stamps_ns"]), markers.shape[0], out)
     finally:
         loop.close()
     expected = OnlineEstimator(names, walk["up"], 1.0).run(walk["t_s"], markers, predict_ahead_s=[HORIZON_S])
@@ -149,6 +154,35 @@ def test_point_stamped_markers_assembled_by_stamp_give_the_online_run_of_the_pel
     c = loop.gait.counts
     assert c.incomplete_frames == 0 and c.late_points == 0 and c.repeated_points == 0
     assert c.non_finite == int(np.isnan(markers).any(axis=2).sum())  # every lost marker counted
+
+
+def test_foot_topics_go_into_the_frames_and_make_a_markerless_walk_valid():
+    """A SYNTHETIC markerless walk (60 Hz, 2 cm jitter, swaps, dropouts; 10 s): its pelvis markers and heels as
+    PointStamped topics, the heels as foot_topics: estimated as OnlineEstimator.run with feet=the heels, valid on
+    part of the walk (never without the heels)."""
+    from yoyogait import synthetic as sy
+    from yoyogait import synthetic_conditions as sc
+
+    rec = sc.render("markerless-60hz", sy.SUBJECTS[0]).recording
+    n = int(np.searchsorted(rec.time_s, 10.0))
+    pelvis, heels = ["LASI", "RASI", "LPSI", "RPSI"], list(sy.HEEL_MARKERS)
+    markers = rec.points(pelvis + heels)[:n]
+    stamps_ns = (time.time_ns() - 100 * 10**9 + np.round(rec.time_s[:n] * 1e9).astype(np.int64)).tolist()
+    t_s = np.array([(ns // 10**9) + (ns % 10**9) * 1e-9 for ns in stamps_ns])
+    topics = [f"/test/feet/{name}" for name in pelvis + heels]
+    params = {"point_topics": topics[:4], "foot_topics": topics[4:], "up_axis": "z", "assembly_window_s": 2.0}
+    loop = Loopback(rclpy, params)
+    try:
+        out = _outputs(loop)
+        pubs = [loop.test.create_publisher(PointStamped, t, loop.qos()) for t in topics]
+        assert loop.wait(lambda: _connected(loop, pubs), 15), "no discovery on loopback"
+        _replay(loop, _point_sender(pubs, markers, stamps_ns), n, out)
+    finally:
+        loop.close()
+    expected = OnlineEstimator(pelvis, "z", 1.0, feet=heels).run(t_s, markers, predict_ahead_s=[HORIZON_S])
+    _check_against_run(out, expected, stamps_ns)
+    without = OnlineEstimator(pelvis, "z", 1.0).run(t_s, markers[:, :4])
+    assert expected.valid.mean() > 0.2 and not without.valid.any()
 
 
 def test_bad_input_is_one_line_naming_the_topic_and_the_node_keeps_running(walk, capfd):
@@ -267,6 +301,15 @@ def test_node_from_the_command_line_says_its_topics_and_stops_at_a_signal_with_1
         (["ros2"], "give one input: pose_topic (PoseStamped), point_topics"),
         (["ros2", "--pose-topic", "bad topic"], "parameter pose_topic: 'bad topic' is not a topic name"),
         (["ros2", "--markers-topic", "/markers"], "mocap4r2_msgs is not importable"),
+        (
+            ["ros2", "--pose-topic", "/p", "--foot-topic", "/l", "--foot-topic", "/r"],
+            "foot_topics: goes with point_topics",
+        ),
+        (["ros2", "--point-topic", "/a", "--foot-topic", "/l"], "foot_topics: two distinct names, one per foot"),
+        (
+            ["ros2", "--point-topic", "/a", "--foot-topic", "/a", "--foot-topic", "/r"],
+            "foot_topics: ['/a'] also followed",
+        ),
         (
             ["ros2", "--ros-args", "-p", "imu_topic:=/imu", "-p", "forward_axis:=w"],
             "parameter forward_axis: one of x, y, z, -x, -y, -z, not 'w'",
