@@ -864,3 +864,26 @@ TEST(OnlineEstimator, ALockTheFeetContradictIsNotValid) {
   EXPECT_EQ(off_valid, 0);
   EXPECT_GT(relocked, 0);
 }
+
+// Feet whose midpoint is 1 m beside the pelvis (another walker's, at another cadence) are not its
+// feet: no figure, and every estimate is the one without them.
+TEST(OnlineEstimator, FeetFarFromThePelvisAreNotItsFeet) {
+  SyntheticOvergroundWithFeet walk(0.001), other(0.001);
+  other.walk.pelvis.f_hz = 2.4;
+  OnlineEstimator with(4, 2, 1.0, OnlineConfig{}, 2), without(4, 2, 1.0);
+  double p[18], q[18];
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k / 100.0;
+    walk.frame(t, p);
+    other.frame(t, q);
+    for (int j = 12; j < 18; j += 3) {
+      p[j] = q[j];
+      p[j + 1] = q[j + 1] + 1.0;
+      p[j + 2] = q[j + 2];
+    }
+    const OnlineEstimate a = with.update(t, p), b = without.update(t, p);
+    ASSERT_EQ(with.feet_step_frequency_hz(), 0.0);
+    ASSERT_EQ(a.step_frequency_hz, b.step_frequency_hz);
+    ASSERT_EQ(a.valid, b.valid);
+  }
+}

@@ -483,6 +483,8 @@ class OnlineEstimator {
 
   /// The separation of the first two feet along the heading, |(p_0 - p_1) . u| (no side needed: a
   /// label swap leaves it), for the feet's cadence; its noise from the centre's (n points averaged).
+  /// Feet whose midpoint is further from the point followed than a walker's are (horizontally; kMaxFeetFromTrunkM,
+  /// kMaxFeetFromHandM) are not its feet (another person's, a tracking swap): not taken.
   void feet_separation(double t_s, const double* feet_xyz) noexcept {
     const double unit = frame_.length_unit_m(), lim = config_.max_abs_position_m;
     const double da = (feet_xyz[axes_.a] - feet_xyz[3 + axes_.a]) * unit;
@@ -490,6 +492,11 @@ class OnlineEstimator {
     const bool seen = std::fabs(feet_xyz[axes_.a] * unit) <= lim && std::fabs(feet_xyz[axes_.b] * unit) <= lim &&
                       std::fabs(feet_xyz[3 + axes_.a] * unit) <= lim && std::fabs(feet_xyz[3 + axes_.b] * unit) <= lim;
     if (!seen) return;  // NaN (missing) fails the comparisons too
+    const std::array<double, 3> c = diff_.position_m();
+    const double ma = 0.5 * (feet_xyz[axes_.a] + feet_xyz[3 + axes_.a]) * unit - c[axes_.a];
+    const double mb = 0.5 * (feet_xyz[axes_.b] + feet_xyz[3 + axes_.b]) * unit - c[axes_.b];
+    const double reach = config_.gait_in_place ? kMaxFeetFromTrunkM : kMaxFeetFromHandM;
+    if (!(ma * ma + mb * mb <= reach * reach)) return;
     const std::array<double, 2>& u = heading_.unit();
     const double var_m2 = 2.0 * static_cast<double>(frame_.size()) * noise_.var_m2();
     foot_cadence_.update(t_s, std::fabs(da * u[0] + db * u[1]), var_m2);
@@ -499,6 +506,10 @@ class OnlineEstimator {
   double feet_step_frequency_hz(double t_s) const noexcept {
     return feet_ >= 2 ? foot_cadence_.step_frequency_hz(t_s) : 0.0;
   }
+
+  /// The farthest a walker's feet's midpoint is from the point followed, horizontally [m]: a trunk point
+  /// (the pelvis: at most 0.60 m on the shared recordings, 0.52 m walking), a hand (its arm's reach more).
+  static constexpr double kMaxFeetFromTrunkM = 0.75, kMaxFeetFromHandM = 1.5;
 
   /// The variance of one feet's figure [Hz^2]: its error after 3 s of walking on the markerless
   /// re-renderings, 0.053 Hz median and 0.121 Hz 95th percentile (docs/online.md, "Feet"), as a normal

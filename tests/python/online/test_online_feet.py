@@ -11,6 +11,7 @@ from builders import write_trc
 from yoyogait import synthetic as sy
 from yoyogait import synthetic_conditions as sc
 from yoyogait.cli import main
+from yoyogait.estimators import OnlineEstimator
 from yoyogait.evaluation.datasets import manifest_items
 from yoyogait.evaluation.online import evaluate_item_online
 from yoyogait.evaluation.tables import trusted
@@ -77,3 +78,24 @@ def test_evaluate_online_feet_puts_the_feet_into_the_frames(tmp_path, capsys):
     assert main(["evaluate", str(data), "--online-feet", "--out", str(tmp_path / "r"), "--no-figures"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--online-feet" in err[0]
+
+
+def test_another_walkers_feet_beside_the_pelvis_make_nothing_valid():
+    """SYNTHETIC markerless walk of subject 1 (1.80 steps/s) with the heels of subject 3's (1.99 steps/s) 1 m beside
+    it in the frames: they are not taken (no feet's figure), so it is as valid as without feet and never confidently
+    wrong."""
+    own = sc.render("markerless-60hz", sy.SUBJECTS[0])
+    other = sc.render("markerless-60hz", sy.SUBJECTS[2]).recording
+    pelvis, heels = ["LASI", "RASI", "LPSI", "RPSI"], list(sy.HEEL_MARKERS)
+    n = min(own.recording.n_frames, other.n_frames)
+    t = np.asarray(own.recording.time_s[:n])
+    feet = other.points(heels)[:n] + np.array([0.0, 1.0, 0.0])
+    frames = np.concatenate([own.recording.points(pelvis)[:n], feet], axis=1)
+    est = OnlineEstimator(pelvis, "z", feet=heels)
+    r = est.run(t, frames)
+    without = OnlineEstimator(pelvis, "z").run(t, frames[:, :4])
+    tr = own.truth.at(t)
+    err = np.abs(r.step_frequency_hz - tr.step_frequency_hz)
+    assert est.feet_step_frequency_hz is None
+    np.testing.assert_array_equal(r.valid, without.valid)
+    assert not (r.valid & np.asarray(tr.walking, dtype=bool) & (err > 0.15) & (err > 2 * r.step_frequency_std_hz)).any()
