@@ -1,6 +1,7 @@
 /// @file gait/forecast.hpp
-/// @brief GaitFilter::forecast, a yoyogait::Forecast: the mean of the filter's own model h_s ahead,
-/// rates included, and the covariance propagated by its prediction (docs/online.md sec. 5).
+/// @brief GaitFilter::predict and GaitFilter::forecast, a yoyogait::Forecast: the mean of the filter's
+/// own model h_s ahead (rates included in the forecast) and the covariance propagated by its
+/// prediction (docs/online.md sec. 5).
 /// Included by gait/gait_filter.hpp.
 #pragma once
 
@@ -20,6 +21,34 @@ inline double known_part(double x, double var) noexcept {
   return d > 0.0 ? x * (x2 / d) : 0.0;
 }
 }  // namespace gait
+
+inline GaitFilter::Prediction GaitFilter::predict(double h_s, bool harmonics) const noexcept {
+  using namespace gait;
+  const GaitState& x = active().x;
+  if (!detector_.walking()) return Prediction{x[kA0], 0.0};
+  return turned(x[kW] * h_s + 0.5 * x[kDW] * h_s * h_s, x[kA0], harmonics);
+}
+
+inline GaitFilter::Prediction GaitFilter::turned(double angle_rad, double A0, bool harmonics,
+                                                  double coherence) const noexcept {
+  using namespace gait;
+  const GaitState& x = active().x;
+  double s, c;
+  sincos(angle_rad, s, c);
+  const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
+  const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
+  Prediction p{A0 + coherence * X1, coherence * Z1};
+  if (harmonics && model_.use_harmonic && !acquiring_) {
+    const gait::Harmonic* fh = active_harmonics();
+    double ux, vx2, uz, vz2;
+    harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
+    harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
+    const double c2 = coherence * coherence, c4 = c2 * c2;
+    p.vx_mps += c4 * fh[kVx].value(ux, vx2);
+    p.vz_mps += c4 * fh[kVz].value(uz, vz2);
+  }
+  return p;
+}
 
 inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
   const GaitFilterConfig& g = cfg_.gait_filter;

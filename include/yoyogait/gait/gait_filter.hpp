@@ -171,12 +171,8 @@ class GaitFilter {
 
   /// (v_x, v_z) h_s [s] after the last sample: phasors turned by w h + dw h^2 / 2, A0 held, second
   /// harmonics added unless harmonics is false or the bank is running. Standing: (A0, 0).
-  Prediction predict(double h_s, bool harmonics = true) const noexcept {
-    using namespace gait;
-    const GaitState& x = active().x;
-    if (!detector_.walking()) return Prediction{x[kA0], 0.0};
-    return turned(x[kW] * h_s + 0.5 * x[kDW] * h_s * h_s, x[kA0], harmonics);
-  }
+  Prediction predict(double h_s, bool harmonics = true) const noexcept;  // gait/forecast.hpp
+
 
   /// The model's forecast (yoyogait::Forecast, rates included; docs/online.md sec. 5): the mean of
   /// the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
@@ -264,25 +260,8 @@ class GaitFilter {
   // (harmonics asked, enabled, and the bank not running): what predict and forecast share.
   // coherence: E[cos(phase error)] of the turn, on the fundamental; the harmonic, at twice the
   // phase, gets its fourth power (a Gaussian phase error of variance s2: exp(-s2 / 2), exp(-2 s2)).
-  Prediction turned(double angle_rad, double A0, bool harmonics, double coherence = 1.0) const noexcept {
-    using namespace gait;
-    const GaitState& x = active().x;
-    double s, c;
-    sincos(angle_rad, s, c);
-    const double X1 = c * x[kX1] - s * x[kX2], X2 = s * x[kX1] + c * x[kX2];
-    const double Z1 = c * x[kZ1] - s * x[kZ2], Z2 = s * x[kZ1] + c * x[kZ2];
-    Prediction p{A0 + coherence * X1, coherence * Z1};
-    if (harmonics && model_.use_harmonic && !acquiring_) {
-      const gait::Harmonic* fh = active_harmonics();
-      double ux, vx2, uz, vz2;
-      harmonic_basis(X1, X2, model_.harm_min2, ux, vx2);
-      harmonic_basis(Z1, Z2, model_.harm_min2, uz, vz2);
-      const double c2 = coherence * coherence, c4 = c2 * c2;
-      p.vx_mps += c4 * fh[kVx].value(ux, vx2);
-      p.vz_mps += c4 * fh[kVz].value(uz, vz2);
-    }
-    return p;
-  }
+  Prediction turned(double angle_rad, double A0, bool harmonics, double coherence = 1.0) const noexcept;
+
 
   Forecast forecast_at(double h_s, bool with_std, double ea, double eb) const noexcept;  // gait/forecast.hpp
   const Ekf& active() const noexcept { return acquiring_ ? bank_.best() : main_; }

@@ -10,7 +10,7 @@
 /// gait phase (online/gait_phase.hpp); whether it is valid, and why not (online/validity.hpp). With
 /// foot points after the centre's (a treadmill), the belt's velocity (online/belt.hpp) is taken out
 /// of the centre's: the walking velocity is the pelvis's relative to the belt. With two feet, the
-/// step frequency their separation shows (online/foot_cadence.hpp) checks the estimator's lock.
+/// step frequency their separation shows checks the estimator's lock (online/feet_evidence.hpp).
 #pragma once
 
 #include <array>
@@ -25,7 +25,7 @@
 #include "yoyogait/online/centre.hpp"
 #include "yoyogait/online/decimator.hpp"
 #include "yoyogait/online/differentiator.hpp"
-#include "yoyogait/online/foot_cadence.hpp"
+#include "yoyogait/online/feet_evidence.hpp"
 #include "yoyogait/online/frame.hpp"
 #include "yoyogait/online/gait_evidence.hpp"
 #include "yoyogait/online/gait_phase.hpp"
@@ -65,7 +65,8 @@ class OnlineEstimator {
         belt_(n_feet, axes_.up, axes_.a, axes_.b, length_unit_m, config_.max_abs_position_m,
               online::belt_settings(config_)),
         feet_(n_feet),
-        foot_cadence_(online::foot_cadence_settings(config_)),
+        feet_evidence_(n_feet, axes_.a, axes_.b, length_unit_m, config_.max_abs_position_m, config_.gait_in_place,
+                       online::foot_cadence_settings(config_)),
         q_f_(config_.estimator.gait_filter.q_omega_rad2_per_s3 * kInvTwoPi * kInvTwoPi) {
     reset();
   }
@@ -87,8 +88,7 @@ class OnlineEstimator {
     phase_.reset();
     validity_.reset();
     belt_.reset();
-    foot_cadence_.reset();
-    feet_figures_ = 0;
+    feet_evidence_.reset();
     belt_a_m_ = belt_b_m_ = 0.0;
     belt_seen_ = false;
     est_ = Estimate{};
@@ -126,7 +126,9 @@ class OnlineEstimator {
     // never the frame that restarted it (it has no velocity yet).
     const bool settled = !restart && t_s - start_t_s_ >= config_.settle_s;
     velocities(gap_s, settled);
-    if (feet_ >= 2 && heading_.known()) feet_separation(t_s, positions_xyz + 3 * frame_.size());
+    if (feet_evidence_.two() && heading_.known())
+      feet_evidence_.frame(t_s, positions_xyz + 3 * frame_.size(), diff_.position_m(), heading_.unit(), noise_.var_m2(),
+                           frame_.size());
     if (settled && decimator_.push(t_s, o.vx_mps, o.vz_mps, gap_s)) feed(t_s, gap_s);
     o.input_latency_s = latency_.input_latency_s();
     carry_estimate(t_s);
@@ -150,29 +152,7 @@ class OnlineEstimator {
   /// random walk beyond), so that the cost is bounded. valid: the last estimate's. Before the estimator
   /// has been fed: the front-end's velocities held (= vx_hat_mps, vz_hat_mps), stds infinite, valid
   /// false; for a horizon outside [0, kMaxHorizonS]: velocities 0, stds infinite, valid false.
-  OnlinePrediction predict(double horizon_s) const noexcept {
-    OnlinePrediction p;
-    p.horizon_s = horizon_s;
-    p.t_s = out_.t_s + horizon_s;
-    if (!(horizon_s >= 0.0 && horizon_s <= kMaxHorizonS)) {
-      p.vx_mps = p.vz_mps = 0.0;
-      return p;
-    }
-    if (!latency_.fed()) {
-      p.vx_mps = out_.vx_hat_mps;
-      p.vz_mps = out_.vz_hat_mps;
-      return p;
-    }
-    const double h_s = latency_.horizon_s() + horizon_s;
-    const Forecast f = estimator_.forecast(h_s < kMaxCarryS + kMaxHorizonS ? h_s : kMaxCarryS + kMaxHorizonS, true);
-    const double k = validity_.std_inflation();
-    p.vx_mps = bounded(f.vx_mps);
-    p.vz_mps = bounded(f.vz_mps);
-    p.vx_std_mps = std::sqrt(k * k * f.vx_std_mps * f.vx_std_mps + grown_var_speed(h_s - kMaxCarryS - kMaxHorizonS));
-    p.vz_std_mps = k * f.vz_std_mps;
-    p.valid = out_.valid;
-    return p;
-  }
+  OnlinePrediction predict(double horizon_s) const noexcept;  // online/carry.hpp
 
   /// A known treadmill belt speed [m/s] from now on (it may change at any frame); NaN: unknown again
   /// (the feet's estimate, if there are feet). Its direction: the stance feet's, else against
@@ -181,9 +161,9 @@ class OnlineEstimator {
   /// The known belt speed, NaN when none is given.
   double belt_speed_mps() const noexcept { return belt_.known_mps(); }
   std::size_t feet() const noexcept { return feet_; }
-  /// The step frequency the first two feet show at the last frame (online/foot_cadence.hpp) [Hz]; 0
+  /// The step frequency the first two feet show at the last frame (online/feet_evidence.hpp) [Hz]; 0
   /// while not known (fewer than two feet, the first steps, an unsteady rhythm).
-  double feet_step_frequency_hz() const noexcept { return feet_step_frequency_hz(out_.t_s); }
+  double feet_step_frequency_hz() const noexcept { return feet_evidence_.step_frequency_hz(out_.t_s); }
 
   const OnlineConfig& config() const noexcept { return config_; }
   /// The estimator's last estimate (at its last sample, estimate_age_s ago).
@@ -343,7 +323,7 @@ class OnlineEstimator {
     // person standing with 8 mm per marker (4 mm on the centre) otherwise started the estimator.
     const double floor_vz = floor_noise_.var_m2_per_s2(diff_, dt_s / (m.frames > 0 ? m.frames : 1), m.frames);
     // Feet that step at a steady rhythm tell walking from noise: the thresholds need not rise then.
-    const double feet_hz = feet_step_frequency_hz(t_s);
+    const double feet_hz = feet_evidence_.step_frequency_hz(t_s);
     const double sigmas = above_floor && !(feet_hz > 0.0) ? config_.walk_noise_sigmas : 0.0;
     estimator_.set_extra_measurement_variance(e[0], e[1], sigmas, floor_vz);
     estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
@@ -351,20 +331,17 @@ class OnlineEstimator {
     const bool below = est_.walking && !est_.acquiring &&
                        validity_.below_steps(est_.step_frequency_hz, gait_.step_frequency_hz(t_s)) && gait_.gait(t_s);
     if (validity_.failed_lock_below_steps(below, dt_s)) estimator_.reacquire();
-    // A lock far off the feet's steps, held, is relocked at theirs (online/validity.hpp); with noise
-    // above the knee, where the start-up bank locks on the noise, the EKF starts at their cadence.
-    if (feet_ >= 2) {
-      const bool off_feet = est_.walking && !est_.acquiring && online::Validity::far_off_feet(est_.step_frequency_hz, feet_hz);
-      const bool bank_on_noise = est_.walking && est_.acquiring && feet_hz > 0.0 && noise_.above_knee();
-      if (validity_.failed_lock_off_feet(off_feet, dt_s) || bank_on_noise) {
-        estimator_.relock(feet_hz);  // (the estimate shows it from the next sample)
-      } else if (foot_cadence_.figures() != feet_figures_ && noise_.above_knee() && est_.walking && !est_.acquiring &&
-                 !online::Validity::off_feet(est_.step_frequency_hz, feet_hz)) {
-        // Above the knee, each new figure of the feet's is an observation of the frequency; the
-        // figures overlap in kSteps - 1 of their kSteps intervals, so each counts that many times less.
-        estimator_.observe_frequency(feet_hz, kFeetFigureVarHz2 * static_cast<double>(online::FootCadence::kSteps));
-      }
-      feet_figures_ = foot_cadence_.figures();
+    // The feet's steps: a lock far off them, held, relocked at theirs (online/feet_evidence.hpp; the
+    // estimate shows it from the next sample), or a new figure of theirs observed.
+    if (feet_evidence_.two()) {
+      using online::Validity;
+      const bool off =
+          est_.walking && !est_.acquiring && Validity::off_feet(est_.step_frequency_hz, feet_hz, Validity::kRelockHz);
+      const auto act = feet_evidence_.after_sample(validity_.failed_lock_off_feet(off, dt_s), est_.walking,
+                                                   est_.acquiring, est_.step_frequency_hz, feet_hz, noise_.above_knee());
+      if (act == online::FeetEvidence::Action::kRelock) estimator_.relock(feet_hz);
+      if (act == online::FeetEvidence::Action::kObserve)
+        estimator_.observe_frequency(feet_hz, online::FeetEvidence::kObservedVarHz2);
     }
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
@@ -387,134 +364,7 @@ class OnlineEstimator {
 
   /// The estimator's last estimate carried to t_s: its forecast over the time since its sample plus
   /// the delays behind that sample (online/latency.hpp), and the gait phase at t_s.
-  void carry_estimate(double t_s) noexcept {
-    OnlineEstimate& o = out_;
-    const Estimate& e = est_;
-    const bool fed = latency_.fed();
-    const double h_s = latency_.carry_to(t_s);
-    o.estimate_age_s = fed ? latency_.sample_age_s(t_s) : 0.0;
-    const bool stale = o.estimate_age_s > validity_stale_s();
-    o.step_frequency_hz = e.step_frequency_hz;
-    o.speed_mps = bounded(e.speed_mps);
-    // The estimator's detector, where the centre rises and falls as in gait (online/gait_evidence.hpp).
-    const bool detected = fed && e.walking && !stale;
-    // A hand's bobs in place are gestures (gait_in_place false): it must travel as a walker does.
-    // (Feet that step at a steady rhythm are gait too: centimetres of noise hide the centre's bobs.)
-    const double feet_hz = feet_step_frequency_hz(t_s);
-    o.walking = detected && (gait_.gait(t_s) || feet_hz > 0.0) &&
-                (config_.gait_in_place || validity_.away(online::Validity::kWalkerTravelM));
-    o.estimator_status = e.status;
-    o.walk_a_mps = o.speed_mps * heading_.unit()[0];
-    o.walk_b_mps = o.speed_mps * heading_.unit()[1];
-    o.input_noise_m = validity_.input_noise_m();
-    o.belt_speed_mps = belt_.speed_mps();
-    o.belt_speed_std_mps = belt_.std_mps();
-    online::Validity::Inputs in;
-    in.fed = fed;
-    in.walking = detected;
-    in.gait = o.walking;
-    in.acquiring = e.acquiring;
-    in.estimate_age_s = o.estimate_age_s;
-    in.speed_mps = e.speed_mps;
-    in.step_frequency_hz = e.step_frequency_hz;
-    const double steps_hz = gait_.step_frequency_hz(t_s);
-    in.steps_hz = steps_hz;
-    in.feet_hz = feet_hz;
-    o.invalid_reason = validity_.reasons(t_s, in);
-    o.valid = o.invalid_reason == 0;
-    if (!fed) {
-      // No estimate yet (the front-end settles, the first interval fills): the measured velocity
-      // is the best there is; zero would tell a controller that the walker stands. Nothing is known
-      // of the estimator's outputs: infinite stds, as predict() gives.
-      o.step_frequency_std_hz = o.speed_std_mps = std::numeric_limits<double>::infinity();
-      o.vx_hat_mps = bounded(o.vx_mps);
-      o.vz_hat_mps = bounded(o.vz_mps);
-      phase_.hold();
-      o.next_step_in_s = phase_.next_step_in_s();
-      return;
-    }
-    // The stds (scaled at the sample: feed()), grown by the model's random walks over the
-    // estimate's age, and never confident at a bound of the range.
-    // (Within two sample times of the sample the growth is below 1e-4 Hz and 3e-4 m/s: not computed.)
-    const double age = o.estimate_age_s;
-    const bool grown = age > 2.0 * config_.estimator.sample_time_s;
-    o.step_frequency_std_hz = grown ? sqrt1(f_var_ + q_f_ * age) : f_std_;
-    constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
-    if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < pinned_std_hz)
-      o.step_frequency_std_hz = pinned_std_hz;
-    // Below the steps the centre shows: 2 std reach them. Steps longer than a walker's: 2 std reach
-    // twice the frequency (a lock on one per stride).
-    if (o.walking && validity_.below_steps(e.step_frequency_hz, steps_hz)) {
-      const double gap_std_hz = 0.5 * (steps_hz - e.step_frequency_hz);
-      if (o.step_frequency_std_hz < gap_std_hz) o.step_frequency_std_hz = gap_std_hz;
-    }
-    // With the feet's steps: 2 std reach them, and, while the estimate agrees with a settled figure
-    // of theirs (four steps, the newest steady), reach no further than kFeetToleranceHz and the
-    // spread of those steps beyond them (the feet's own error within the one, their lag behind a
-    // change of cadence within the other).
-    if (o.walking && feet_hz > 0.0) {
-      const double gap_hz = std::fabs(feet_hz - e.step_frequency_hz);
-      const double most_std_hz = 0.5 * (gap_hz + online::Validity::kFeetToleranceHz + foot_cadence_.spread_hz());
-      if (foot_cadence_.settled() && !online::Validity::off_feet(e.step_frequency_hz, feet_hz) &&
-          o.step_frequency_std_hz > most_std_hz)
-        o.step_frequency_std_hz = most_std_hz;
-      if (o.step_frequency_std_hz < 0.5 * gap_hz) o.step_frequency_std_hz = 0.5 * gap_hz;
-    }
-    if (o.walking && online::Validity::too_long_steps(e.step_frequency_hz, e.speed_mps) &&
-        o.step_frequency_std_hz < 0.5 * e.step_frequency_hz)
-      o.step_frequency_std_hz = 0.5 * e.step_frequency_hz;
-    o.speed_std_mps = grown ? sqrt1(s_var_ + grown_var_speed(age)) : s_std_;
-    // Walking without travelling (a treadmill without feet or belt speed, stepping in place): the
-    // speed is unknown, anywhere from 0 to a walker's at this cadence; its std says so.
-    if (o.invalid_reason & static_cast<std::uint8_t>(InvalidReason::kNotMoving)) {
-      const double unknown = 0.5 * kLongStepM * e.step_frequency_hz;
-      if (o.speed_std_mps < unknown) o.speed_std_mps = unknown;
-    }
-    if (o.belt_speed_std_mps > 0.0)  // the belt's uncertainty is the walking speed's too
-      o.speed_std_mps = sqrt1(o.speed_std_mps * o.speed_std_mps + o.belt_speed_std_mps * o.belt_speed_std_mps);
-    const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false, &carry_decay_);
-    o.vx_hat_mps = bounded(f.vx_mps);
-    o.vz_hat_mps = bounded(f.vz_mps);
-    phase_.update(o.walking, e.gait_state[gait::kZ1], e.gait_state[gait::kZ2], f.phase_advance_rad, f.omega_rad_s,
-                  f.omega_rate_rad_s2, e.step_frequency_hz);
-    o.next_step_in_s = phase_.next_step_in_s();
-    o.gait_phase = phase_.phase();
-  }
-
-  /// The separation of the first two feet along the heading, |(p_0 - p_1) . u| (no side needed: a
-  /// label swap leaves it), for the feet's cadence; its noise from the centre's (n points averaged).
-  /// Feet whose midpoint is further from the point followed than a walker's are (horizontally; kMaxFeetFromTrunkM,
-  /// kMaxFeetFromHandM) are not its feet (another person's, a tracking swap): not taken.
-  void feet_separation(double t_s, const double* feet_xyz) noexcept {
-    const double unit = frame_.length_unit_m(), lim = config_.max_abs_position_m;
-    const double da = (feet_xyz[axes_.a] - feet_xyz[3 + axes_.a]) * unit;
-    const double db = (feet_xyz[axes_.b] - feet_xyz[3 + axes_.b]) * unit;
-    const bool seen = std::fabs(feet_xyz[axes_.a] * unit) <= lim && std::fabs(feet_xyz[axes_.b] * unit) <= lim &&
-                      std::fabs(feet_xyz[3 + axes_.a] * unit) <= lim && std::fabs(feet_xyz[3 + axes_.b] * unit) <= lim;
-    if (!seen) return;  // NaN (missing) fails the comparisons too
-    const std::array<double, 3> c = diff_.position_m();
-    const double ma = 0.5 * (feet_xyz[axes_.a] + feet_xyz[3 + axes_.a]) * unit - c[axes_.a];
-    const double mb = 0.5 * (feet_xyz[axes_.b] + feet_xyz[3 + axes_.b]) * unit - c[axes_.b];
-    const double reach = config_.gait_in_place ? kMaxFeetFromTrunkM : kMaxFeetFromHandM;
-    if (!(ma * ma + mb * mb <= reach * reach)) return;
-    const std::array<double, 2>& u = heading_.unit();
-    const double var_m2 = 2.0 * static_cast<double>(frame_.size()) * noise_.var_m2();
-    foot_cadence_.update(t_s, std::fabs(da * u[0] + db * u[1]), var_m2);
-  }
-
-  /// The feet's step frequency at t_s (0 without two feet: nothing to ask).
-  double feet_step_frequency_hz(double t_s) const noexcept {
-    return feet_ >= 2 ? foot_cadence_.step_frequency_hz(t_s) : 0.0;
-  }
-
-  /// The farthest a walker's feet's midpoint is from the point followed, horizontally [m]: a trunk point
-  /// (the pelvis: at most 0.60 m on the shared recordings, 0.52 m walking), a hand (its arm's reach more).
-  static constexpr double kMaxFeetFromTrunkM = 0.75, kMaxFeetFromHandM = 1.5;
-
-  /// The variance of one feet's figure [Hz^2]: its error after 3 s of walking on the markerless
-  /// re-renderings, 0.053 Hz median and 0.121 Hz 95th percentile (docs/online.md, "Feet"), as a normal
-  /// spread of 0.07 Hz.
-  static constexpr double kFeetFigureVarHz2 = 0.07 * 0.07;
+  void carry_estimate(double t_s) noexcept;  // online/carry.hpp
 
   /// A long step [m]: walking without travelling, 2 speed stds reach kLongStepM x the step frequency.
   static constexpr double kLongStepM = 0.8;
@@ -549,8 +399,7 @@ class OnlineEstimator {
   online::TimestampGate time_gate_;
   online::BeltTracker belt_;
   std::size_t feet_ = 0;
-  online::FootCadence foot_cadence_;  ///< the step frequency the first two feet show
-  unsigned long feet_figures_ = 0;    ///< its figures taken so far
+  online::FeetEvidence feet_evidence_;  ///< what the first two feet tell about the lock
   double belt_a_m_ = 0.0, belt_b_m_ = 0.0;  ///< the belt's travel since the reset (a treadmill) [m]
   bool belt_seen_ = false;                   ///< a belt was taken since the reset
   Estimate est_{};
@@ -571,3 +420,6 @@ class OnlineEstimator {
 };
 
 }  // namespace yoyogait
+
+// The estimate carried to a frame's time and ahead (predict, carry_estimate): online/carry.hpp.
+#include "yoyogait/online/carry.hpp"

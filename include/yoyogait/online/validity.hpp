@@ -242,8 +242,10 @@ class Validity {
     if (noise2_lp_m2_ > max_noise * max_noise) r |= bit(InvalidReason::kInputNoisy);
     if (in.frame_ignored || in.estimate_age_s > s_.stale_s || centre_steps_mps_ > kMaxCentreStepsMps)
       r |= bit(InvalidReason::kInputMissing);
-    if ((in.walking && off_feet_now) || nis_lp_ > s_.max_nis || (in.walking && (f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin)) ||
-        (in.walking && in.gait && below_steps(f, in.steps_hz)) || (in.walking && too_long_steps(f, in.speed_mps)))
+    const bool at_bound = f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin;
+    if (nis_lp_ > s_.max_nis ||
+        (in.walking && (off_feet_now || at_bound || too_long_steps(f, in.speed_mps) ||
+                        (in.gait && below_steps(f, in.steps_hz)))))
       r |= bit(InvalidReason::kModelNotHolding);
     if (t_s < implausible_until_s_ || !(std::fabs(in.speed_mps) <= s_.max_plausible_speed_mps))
       r |= bit(InvalidReason::kImplausibleInput);
@@ -304,18 +306,15 @@ class Validity {
   /// beyond the 0.15 Hz the evaluation calls wrong by the feet's own error over four steps (0.031 Hz
   /// median on the shared recordings, 0.053 with markerless noise; docs/online.md, "Feet").
   static constexpr double kFeetToleranceHz = 0.2;
-  static bool off_feet(double f_hz, double feet_hz) noexcept {
-    return feet_hz > 0.0 && std::fabs(f_hz - feet_hz) > kFeetToleranceHz;
+  static bool off_feet(double f_hz, double feet_hz, double tolerance_hz = kFeetToleranceHz) noexcept {
+    return feet_hz > 0.0 && std::fabs(f_hz - feet_hz) > tolerance_hz;
   }
-  /// A lock (walking, acquired) further than kRelockHz from the feet's steps for kOffFeetS of walking,
-  /// net (gait/net_time.hpp), is a failed lock: true once, when the caller is to relock at the feet's
+  /// A lock (walking, acquired) off_feet by more than kRelockHz for kOffFeetS of walking, net
+  /// (gait/net_time.hpp), is a failed lock: true once, when the caller is to relock at the feet's
   /// cadence. Per estimator sample, dt_s after the last. Wider and longer than off_feet: a relock
   /// starts the lock again, and the feet's figure has its own error (its 95th percentile: 0.12 Hz
   /// with markerless noise).
   static constexpr double kRelockHz = 0.3, kOffFeetS = 1.0;
-  static bool far_off_feet(double f_hz, double feet_hz) noexcept {
-    return feet_hz > 0.0 && std::fabs(f_hz - feet_hz) > kRelockHz;
-  }
   bool failed_lock_off_feet(bool locked_off, double dt_s) noexcept {
     if (!off_feet_.held_beyond(locked_off, dt_s, kOffFeetS)) return false;
     steady_ = false;  // a new lock: valid_after_s of walking again
