@@ -156,11 +156,12 @@ def command(
         res = run(vel)
         noise_line = noise_adapted(config, vel)[1] if config is not None else ""
         ev = reference_events(recording, feet, vel.up_axis) if fig is not None else None
-    f = res.step_frequency_hz[vel.walking] if vel.walking.any() else res.step_frequency_hz
-    summary = (
-        f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; "
-        f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
-    )
+    walked = vel.walking.any()
+    f = res.step_frequency_hz[vel.walking] if walked else res.step_frequency_hz
+    medians = f"median step frequency {np.nanmedian(f):.2f} Hz, median speed {np.nanmedian(res.speed_mps):.2f} m/s"
+    # No walking found (no steps, no travel): the estimator's figures are not a walker's; say so.
+    gait = medians if walked else f"no walking found in the recording (steps, travel); over all samples {medians}"
+    summary = f"{stem}: {len(vel.time_s)} samples at {vel.rate_hz:g} Hz of {vel.point}; {gait}"
     writers = {out: lambda p: res.to_csv(p, velocities=vel)}
     if fig is not None:
         cadence = ev.step_frequency_at(vel.time_s, stride_average=True) if ev is not None else None

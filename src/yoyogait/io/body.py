@@ -42,7 +42,7 @@ class PointChoice:
     """Named points to follow, averaged when there are several."""
 
     names: tuple[str, ...]
-    kind: str  # "pelvis markers", "root joint", "hand", "named"
+    kind: str  # "pelvis markers", "root joint", "hip joints", "hand", "named"
 
     @property
     def label(self) -> str:
@@ -52,6 +52,8 @@ class PointChoice:
             return f"pelvis centre of {joined}"
         if self.kind == "root joint":
             return f"root joint {joined}"
+        if self.kind == "hip joints":
+            return f"pelvis centre of the hip joints {joined}"
         if self.kind == "hand":
             return f"hand {joined}" if len(self.names) == 1 else f"hand, centre of {joined}"
         return joined if len(self.names) == 1 else f"centre of {joined}"
@@ -72,7 +74,7 @@ def find_pelvis(names: Sequence[str]) -> PointChoice:
     if found:
         return PointChoice(tuple(found), kind)
     raise InputError(
-        "no pelvis-like point (ASIS/PSIS/sacrum markers or a Hips/pelvis/root joint) among: "
+        "no pelvis-like point (ASIS/PSIS/sacrum markers, a Hips/pelvis/root joint or left and right hip joints) among: "
         + (", ".join(names) or "(no points)")
         + "; name one with --point, or add your marker set to a file named by $"
         + MARKER_SETS_ENV

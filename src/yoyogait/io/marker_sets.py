@@ -109,6 +109,9 @@ def _knowledge(files: tuple) -> MarkerKnowledge:
                 k.exact.setdefault(_exact_key(name, k), []).append(("pelvis", None, 0))
             for name in spec.get("root", []):  # after the generic roots, whose order is a preference
                 k.exact.setdefault(_exact_key(name, k), []).append(("root", None, 100))
+            for side, names in spec.get("hips", {}).items():
+                for name in names:
+                    k.exact.setdefault(_exact_key(name, k), []).append(("hips", side, 0))
             for role, rank in (("hand", 0), ("wrist", 2)):
                 for side, names in spec.get(role, {}).items():
                     for name in names:
@@ -203,12 +206,13 @@ def normalise_name(name: str) -> str:
 
 
 def roles(name: str) -> list[tuple[str, str | None, int]]:
-    """What a name is, by the table: (role, side, rank) with role "pelvis", "root", "hand" or "foot"."""
+    """What a name is, by the table: (role, side, rank) with role "pelvis", "root", "hips", "hand" or "foot"."""
     return _roles(name, marker_knowledge())
 
 
 def pelvis_names(names: Sequence[str]) -> tuple[list[str], str]:
-    """(the pelvis markers, "pelvis markers") if any, else ([the preferred root joint], "root joint"), else ([], "")."""
+    """(the pelvis markers, "pelvis markers") if any, else ([the preferred root joint], "root joint"), else
+    ([the left and right hip joint centres], "hip joints"), else ([], "")."""
     k = marker_knowledge()
     found = {n: _roles(n, k) for n in names}
     markers = [n for n in names if any(r[0] == "pelvis" for r in found[n])]
@@ -221,4 +225,7 @@ def pelvis_names(names: Sequence[str]) -> tuple[list[str], str]:
     ]
     if roots:
         return [min(roots)[2]], "root joint"
+    hips = {side: [n for n in names if ("hips", side, 0) in found[n]] for side in SIDES}
+    if all(hips.values()):  # the hip joint centres of both sides (video keypoints): their midpoint
+        return [hips[side][0] for side in SIDES], "hip joints"
     return [], ""

@@ -198,7 +198,7 @@ _KNOWLEDGE = points.marker_knowledge()
 
 def _set_names(spec) -> list[str]:
     names = list(spec.get("pelvis", [])) + list(spec.get("root", []))
-    for role in ("hand", "wrist"):
+    for role in ("hips", "hand", "wrist"):
         for side in ("left", "right"):
             names += spec.get(role, {}).get(side, [])
     for side in ("left", "right"):
@@ -226,6 +226,9 @@ def test_every_marker_set_of_the_table_is_recognised_from_a_file(tmp_path, set_n
     if spec.get("pelvis"):
         assert choice.kind == "pelvis markers"
         assert {f"Sub:{n}" for n in spec["pelvis"]} <= set(choice.names)
+    elif not spec.get("root"):  # hip joints: the first of each side
+        assert choice.kind == "hip joints"
+        assert choice.names == tuple(f"Sub:{spec['hips'][side][0]}" for side in ("left", "right"))
     else:
         assert choice.kind == "root joint" and choice.names[0] == f"Sub:{spec['root'][0]}"
     groups = points.find_foot_groups(rec.point_names)
@@ -253,10 +256,13 @@ def test_every_marker_set_of_the_table_is_recognised_from_a_file(tmp_path, set_n
         (["midHip", "LHeel", "RHeel"], {"midHip"}, "LHeel"),
         (["Skeleton_Hip", "Skeleton_LFoot", "Skeleton_RFoot"], {"Skeleton_Hip"}, "Skeleton_LFoot"),
         (["Skeleton 001_Hip", "Skeleton 001_LFoot"], {"Skeleton 001_Hip"}, "Skeleton 001_LFoot"),
+        (["RHip", "RKnee", "RHeel", "LHip", "LKnee", "LHeel", "Neck"], {"RHip", "LHip"}, "LHeel"),
+        (["nose", "left_hip", "right_hip", "left_heel", "right_heel"], {"left_hip", "right_hip"}, "left_heel"),
     ],
 )
 def test_pelvis_and_feet_of_xsens_mocap_toolbox_opencap_isb_and_skeletons(names, pelvis, left_foot):
-    """Xsens, MoCap Toolbox, OpenCap, ISB names and prefixed skeleton bones give the pelvis and the left foot."""
+    """Xsens, MoCap Toolbox, OpenCap, ISB names, prefixed skeleton bones and video keypoints (hip joints: their
+    midpoint) give the pelvis and the left foot."""
     assert set(points.find_pelvis(names).names) == pelvis
     assert points.find_feet(names)["left"] == left_foot
 
@@ -286,3 +292,13 @@ def test_users_extend_the_table_with_a_file_named_by_the_environment(tmp_path, m
     monkeypatch.setenv(points.MARKER_SETS_ENV, str(bad))
     with pytest.raises(InputError, match="bad.json: not valid JSON"):
         points.find_pelvis(names)
+
+
+def test_hip_joints_give_the_pelvis_only_where_nothing_better_is_named():
+    """Left and right hip joints (video keypoints) are the pelvis only without pelvis markers or a root joint, and
+    only as a pair."""
+    assert points.find_pelvis(["RHip", "LHip", "midHip"]).names == ("midHip",)
+    assert set(points.find_pelvis(["RHip", "LHip", "LASI", "RASI"]).names) == {"LASI", "RASI"}
+    assert points.find_pelvis(["RHip", "LHip"]).kind == "hip joints"
+    with pytest.raises(InputError, match="no pelvis-like point"):
+        points.find_pelvis(["RHip", "RKnee"])
