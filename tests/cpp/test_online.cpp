@@ -865,6 +865,46 @@ TEST(OnlineEstimator, ALockTheFeetContradictIsNotValid) {
   EXPECT_GT(relocked, 0);
 }
 
+// Each maximum of the feet's separation is a step's length: a walker that travels a step per step
+// has a carry ratio of about 1, one that stays in place 0.
+TEST(FootCadence, TheWalkersTravelOverItsStepLengthsIsAboutOne) {
+  for (const double speed_mps : {1.3, 0.0}) {
+    online::FootCadence c{online::FootCadence::Settings{}};
+    const double f_hz = 1.8, step_m = 1.3 / f_hz;
+    for (int k = 0; k < 1000; ++k) {  // 10 s at 100 Hz: |sin| peaks once per step
+      const double t = 0.01 * k;
+      c.update(t, step_m * std::fabs(std::sin(kPi * f_hz * t)), 1e-6, speed_mps * t, 0.0);
+    }
+    EXPECT_NEAR(c.step_frequency_hz(10.0), f_hz, 0.01);
+    EXPECT_NEAR(c.carry_ratio(), speed_mps > 0.0 ? 1.0 : 0.0, 0.02);
+  }
+}
+
+// Points given as feet under a noisy pelvis (2 cm, 60 Hz) that swing against each other at a rhythm
+// of their own (1.2 m apart at 2.4 steps/s while the walker makes 0.67 m steps at 1.8): the walker
+// travels 0.5 m per step of theirs, 0.42 of their steps' length: not its feet, no figure, never
+// confidently wrong.
+TEST(OnlineEstimator, FeetWhoseStepsDoNotCarryTheWalkerAreNotItsFeet) {
+  SyntheticOvergroundWithFeet walk(0.02, 60.0);
+  OnlineEstimator with(4, 2, 1.0, OnlineConfig{}, 2);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  double p[18];
+  int wrong = 0;
+  for (int k = 0; k < 20 * 60; ++k) {
+    const double t = k / 60.0;
+    walk.frame(t, p);
+    const double swing_m = 0.6 * std::sin(kPi * 2.4 * t), x_m = walk.walk.belt_mps * t;
+    p[12] = x_m + swing_m + noise(rng);  // both about the pelvis, along the walk
+    p[15] = x_m - swing_m + noise(rng);
+    const OnlineEstimate a = with.update(t, p);
+    ASSERT_EQ(with.feet_step_frequency_hz(), 0.0) << "t " << t;
+    const double ef = std::fabs(a.step_frequency_hz - walk.walk.pelvis.f_hz);
+    wrong += a.valid && ef > 0.15 && ef > 2.0 * a.step_frequency_std_hz;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
 // Feet whose midpoint is 1 m beside the pelvis (another walker's, at another cadence) are not its
 // feet: no figure, and every estimate is the one without them.
 TEST(OnlineEstimator, FeetFarFromThePelvisAreNotItsFeet) {

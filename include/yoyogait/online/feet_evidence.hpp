@@ -20,6 +20,12 @@ class FeetEvidence {
   /// The farthest a walker's feet's midpoint is from the point followed, horizontally [m]: a trunk point
   /// (the pelvis: at most 0.60 m on the shared recordings, 0.52 m walking), a hand (its arm's reach more).
   static constexpr double kMaxFeetFromTrunkM = 0.75, kMaxFeetFromHandM = 1.5;
+  /// The walker's travel per step over the feet's step length (FootCadence::carry_ratio) of a walker's own
+  /// feet: 0.80-1.38 on the shared recordings as captured, 0.57-1.38 re-rendered markerless (a tight
+  /// turn's lowest); a rhythm outside it (a tracker's points swinging at their own rhythm, points that
+  /// are no feet) is not the walker's steps. Points above the heels (ankles, knees) part less: the
+  /// upper bound leaves them room.
+  static constexpr double kMinCarry = 0.6, kMaxCarry = 2.0;
   /// The variance of one feet's figure [Hz^2]: its error after 3 s of walking on the markerless
   /// re-renderings, 0.053 Hz median and 0.121 Hz 95th percentile (docs/online.md, "Feet"), as a normal
   /// spread of 0.07 Hz. Observed, it counts kSteps times less: successive figures share kSteps - 1 of
@@ -46,11 +52,13 @@ class FeetEvidence {
   bool two() const noexcept { return two_; }
 
   /// One frame at t_s: the feet (feet_xyz, in the length unit), the point followed (centre_m [m]), the
-  /// heading's unit vector on the axes a, b, and the centre's noise variance over its n points [m^2].
+  /// heading's unit vector on the axes a, b, the centre's noise variance over its n points [m^2], and
+  /// the walker's travel on the axes a, b (on a treadmill, relative to the belt) [m].
   /// The separation |(p_0 - p_1) . u| needs no side (a label swap leaves it); feet whose midpoint is
   /// further from the point followed than a walker's (another person's, a tracking swap) are not taken.
   void frame(double t_s, const double* feet_xyz, const std::array<double, 3>& centre_m,
-             const std::array<double, 2>& u, double centre_var_m2, std::size_t n_points) noexcept {
+             const std::array<double, 2>& u, double centre_var_m2, std::size_t n_points, double travel_a_m,
+             double travel_b_m) noexcept {
     const double* p = feet_xyz;
     const double* q = feet_xyz + 3;
     const double lim = max_abs_m_;
@@ -61,11 +69,15 @@ class FeetEvidence {
     if (!(ma * ma + mb * mb <= reach_m_ * reach_m_)) return;
     const double da = (p[a_] - q[a_]) * unit_, db = (p[b_] - q[b_]) * unit_;
     const double var_m2 = 2.0 * static_cast<double>(n_points) * centre_var_m2;
-    cadence_.update(t_s, std::fabs(da * u[0] + db * u[1]), var_m2);
+    cadence_.update(t_s, std::fabs(da * u[0] + db * u[1]), var_m2, travel_a_m, travel_b_m);
   }
 
-  /// The feet's step frequency at t_s [Hz] (0: not known, or fewer than two feet).
-  double step_frequency_hz(double t_s) const noexcept { return two_ ? cadence_.step_frequency_hz(t_s) : 0.0; }
+  /// The feet's step frequency at t_s [Hz] (0: not known, fewer than two feet, or steps that do not
+  /// carry the walker: FootCadence::carry_ratio outside [kMinCarry, kMaxCarry]).
+  double step_frequency_hz(double t_s) const noexcept {
+    const double carry = cadence_.carry_ratio();
+    return two_ && carry >= kMinCarry && carry <= kMaxCarry ? cadence_.step_frequency_hz(t_s) : 0.0;
+  }
 
   /// After an estimator sample with the estimate (walking, acquiring, f_hz) and the feet's figure
   /// feet_hz: a failed lock off the feet (Validity::failed_lock_off_feet), or the start-up bank

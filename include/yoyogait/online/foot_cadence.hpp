@@ -10,7 +10,10 @@
 /// separation's noise); the step frequency is that of the last kSteps intervals between extrema (a
 /// maximum and a minimum per step; of the kMinSteps or more there are at a start) where no step is
 /// shorter than kMinRatio of the longest (a missed or an extra pair of extrema is no rhythm); it is held over an unsteady stretch of up to window_s
-/// (settled() tells a held figure). A few comparisons and one division per frame; no allocation.
+/// (settled() tells a held figure). Each maximum is the length of the step just made, so the walker's
+/// travel between the ring's first and last maxima over their steps' lengths (carry_ratio) is about 1
+/// for the walker's own feet (0.8-1.4 on the shared recordings): a rhythm that does not carry the
+/// walker is not its feet'. A few comparisons and one division per frame; no allocation.
 #pragma once
 
 #include <array>
@@ -43,14 +46,15 @@ class FootCadence {
     hi_ = lo_ = 0.0;
     m_ = 0;
     last_ = 0;
-    hz_ = spread_hz_ = 0.0;
+    hz_ = spread_hz_ = carry_ratio_ = 0.0;
     steady_t_s_ = -1e300;
     figures_ = 0;
   }
 
   /// The separation sep_m [m] (>= 0; not finite: the feet not seen, skipped) at t_s, with the
-  /// variance of its noise [m^2].
-  void update(double t_s, double sep_m, double noise_var_m2) noexcept {
+  /// variance of its noise [m^2], and where the walker is on the ground it walks on (travel_a_m,
+  /// travel_b_m [m]: horizontal; on a treadmill, relative to the belt).
+  void update(double t_s, double sep_m, double noise_var_m2, double travel_a_m = 0.0, double travel_b_m = 0.0) noexcept {
     if (!std::isfinite(sep_m)) return;
     if (!have_) {
       hi_ = lo_ = sep_m;
@@ -62,8 +66,10 @@ class FootCadence {
     if (sep_m > hi_) hi_ = sep_m;
     if (sep_m < lo_) lo_ = sep_m;
     bool turned = false;
+    double step_m = 0.0;  // a maximum's separation: the step just made (0 at a minimum)
     if (dir_ >= 0 && sep_m < hi_ - h) {  // a maximum, left downwards
       turned = dir_ > 0;
+      step_m = hi_;
       dir_ = -1;
       lo_ = sep_m;
     } else if (dir_ <= 0 && sep_m > lo_ + h) {  // a minimum, left upwards
@@ -73,6 +79,8 @@ class FootCadence {
     }
     if (!turned) return;
     times_[last_ = last_ + 1 < kRing ? last_ + 1 : 0] = t_s;  // the oldest's slot takes the newest
+    steps_m_[last_] = step_m;
+    travel_m_[last_] = {travel_a_m, travel_b_m};
     if (m_ < kRing) ++m_;
     if (m_ < kMinSteps + 1) return;
     // The intervals kept (kMinSteps to kSteps), oldest to newest; each step is two successive
@@ -90,6 +98,7 @@ class FootCadence {
       hz_ = 0.5 * static_cast<double>(n) / span_s;
       steady_t_s_ = t_s;
       spread_hz_ = 1.0 / short_step - 1.0 / long_step;
+      carry_ratio_ = carried(first, n);
       ++figures_;
     }
   }
@@ -107,17 +116,44 @@ class FootCadence {
   /// The spread of the steps of the last steady ring: the fastest step's frequency less the slowest's
   /// [Hz] (a walk that changes its cadence, turns, stops: the figure lags it by up to this).
   double spread_hz() const noexcept { return spread_hz_; }
+  /// The last steady ring's travel per step over its steps' mean length (the walker's travel between
+  /// its first and last maxima, over the maxima after the first): about 1 for the walker's own feet;
+  /// 0 while not known (fewer than two maxima, or no length).
+  double carry_ratio() const noexcept { return carry_ratio_; }
 
  private:
+  /// The travel per step over the mean step length of the ring of n intervals from slot first.
+  double carried(std::size_t first, std::size_t n) const noexcept {
+    std::size_t first_max = kRing, last_max = kRing, maxima = 0;
+    double length_m = 0.0;
+    for (std::size_t i = 0; i <= n; ++i) {
+      const std::size_t k = (first + i) % kRing;
+      if (!(steps_m_[k] > 0.0)) continue;
+      if (first_max == kRing)
+        first_max = k;
+      else
+        length_m += steps_m_[k];
+      last_max = k;
+      ++maxima;
+    }
+    if (maxima < 2 || !(length_m > 0.0)) return 0.0;
+    const double da = travel_m_[last_max][0] - travel_m_[first_max][0];
+    const double db = travel_m_[last_max][1] - travel_m_[first_max][1];
+    return std::sqrt(da * da + db * db) / length_m;
+  }
+
   Settings s_;
   int dir_ = 0;  ///< +1 rising, -1 falling, 0 not yet known
   bool have_ = false;
   double hi_ = 0.0, lo_ = 0.0;  ///< the extremes since the last turn [m]
   std::array<double, kRing> times_{};  ///< the times of the last kRing extrema (last_: the newest)
+  std::array<double, kRing> steps_m_{};  ///< their separations if maxima (a step's length), else 0 [m]
+  std::array<std::array<double, 2>, kRing> travel_m_{};  ///< where the walker was at each [m]
   std::size_t m_ = 0, last_ = 0;
   double hz_ = 0.0;  ///< the step frequency over the last steady ring [Hz]
   double steady_t_s_ = -1e300;  ///< the time of the last steady ring's newest extremum [s]
   double spread_hz_ = 0.0;      ///< the spread of its steps' frequencies [Hz]
+  double carry_ratio_ = 0.0;    ///< its travel per step over its mean step length
   unsigned long figures_ = 0;   ///< steady rings since the reset
 };
 

@@ -56,7 +56,7 @@ class GaitPhase {
 
   /// The phase in [0, 1) (0 before the first walking estimate).
   double phase() const noexcept { return phase_; }
-  /// Time to the next step [s]; NaN while not walking.
+  /// Time to the next step [s]; NaN while not walking or while the phasor is at zero (no phase).
   double next_step_in_s() const noexcept { return next_step_in_s_; }
 
  private:

@@ -58,7 +58,8 @@ enum class InvalidReason : std::uint8_t {
   X(double, gait_phase, 0.0, "", kAll,                                                                            \
     "phase within the step in [0, 1): v_z ~ |Z| cos(2 pi gait_phase); 0.25 highest, 0.75 lowest; held while standing") \
   X(double, next_step_in_s, 0.0, "s", kAll,                                                                       \
-    "time to the next gait_phase 0.75 (pelvis low point, about heel strike), in [0, 1/f); NaN while not walking")  \
+    "time to the next gait_phase 0.75 (pelvis low point, about heel strike), in [0, 1/f); NaN while not walking "  \
+    "or while no phase is known (an acquisition restarted: its oscillation at zero)")                              \
   X(double, input_latency_s, 0.0, "s", kAll, "delay of vx_mps, vz_mps behind the true velocity at latency_f_hz") \
   X(double, estimate_age_s, 0.0, "s", kAll, "time since the estimator's last sample")                            \
   X(::yoyogait::OnlineStatus, status, ::yoyogait::OnlineStatus::kUsed, "", kAll, "what update() did with the frame (OnlineStatus)")     \

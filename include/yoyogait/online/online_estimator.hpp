@@ -126,9 +126,11 @@ class OnlineEstimator {
     // never the frame that restarted it (it has no velocity yet).
     const bool settled = !restart && t_s - start_t_s_ >= config_.settle_s;
     velocities(gap_s, settled);
-    if (feet_evidence_.two() && heading_.known())
-      feet_evidence_.frame(t_s, positions_xyz + 3 * frame_.size(), diff_.position_m(), heading_.unit(), noise_.var_m2(),
-                           frame_.size());
+    if (feet_evidence_.two() && heading_.known()) {
+      const std::array<double, 3> c = diff_.position_m();
+      feet_evidence_.frame(t_s, positions_xyz + 3 * frame_.size(), c, heading_.unit(), noise_.var_m2(), frame_.size(),
+                           c[axes_.a] - belt_a_m_, c[axes_.b] - belt_b_m_);
+    }
     if (settled && decimator_.push(t_s, o.vx_mps, o.vz_mps, gap_s)) feed(t_s, gap_s);
     o.input_latency_s = latency_.input_latency_s();
     carry_estimate(t_s);

@@ -109,7 +109,8 @@ def command(
     step_frequency_std_hz, speed_mps, speed_std_mps, heading_rad, gait_phase, walking, status (0
     used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite),
     input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
-    standing), valid, invalid_reason and belt_speed_mps; --out defaults to FILE's name + .online.csv.
+    standing or while no phase is known), valid, invalid_reason and belt_speed_mps; --out defaults
+    to FILE's name + .online.csv.
     --feet NAME,NAME puts those foot points (one per foot: heels or ankles) into the frames: their
     steps check the estimate's cadence (a markerless capture is valid only with them), and on a
     treadmill the belt speed is estimated from the stance feet. --belt-speed-mps gives the belt speed;

@@ -140,7 +140,7 @@ class OnlineResult:
     speed_std_mps: np.ndarray
     gait_phase: np.ndarray
     next_step_in_s: np.ndarray
-    """Time to the next step (gait_phase 0.75, the pelvis low point) [s]; NaN while not walking."""
+    """Time to the next step (gait_phase 0.75, the pelvis low point) [s]; NaN while not walking or no phase is known."""
     input_latency_s: np.ndarray
     estimate_age_s: np.ndarray
     status: np.ndarray

@@ -6,12 +6,14 @@ import dataclasses
 import functools
 
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from builders import write_trc
 from yoyogait import synthetic as sy
 from yoyogait import synthetic_conditions as sc
 from yoyogait.cli import main
-from yoyogait.estimators import OnlineEstimator
+from yoyogait.estimators import OnlineConfig, OnlineEstimator
 from yoyogait.evaluation.datasets import manifest_items
 from yoyogait.evaluation.online import evaluate_item_online
 from yoyogait.evaluation.tables import trusted
@@ -99,3 +101,73 @@ def test_another_walkers_feet_beside_the_pelvis_make_nothing_valid():
     assert est.feet_step_frequency_hz is None
     np.testing.assert_array_equal(r.valid, without.valid)
     assert not (r.valid & np.asarray(tr.walking, dtype=bool) & (err > 0.15) & (err > 2 * r.step_frequency_std_hz)).any()
+
+
+@functools.cache
+def _walk_with_heels(condition: str):
+    """A SYNTHETIC walk (a lab walk, or a markerless rendering at 60 Hz) and its pelvis and heel frames."""
+    subject = sy.SUBJECTS[1]
+    walk = sy.make_walk(subject, "1-straight", seed=3) if condition == "lab" else sc.render(condition, subject)
+    pelvis = list(sy.PELVIS_MARKERS)
+    frames = walk.recording.points(pelvis + list(sy.HEEL_MARKERS))
+    frames.setflags(write=False)
+    return walk, pelvis, np.asarray(walk.recording.time_s), frames
+
+
+def _broken_feet(kind: str, t, frames, rng):
+    """The frames with their two feet broken as a tracker breaks them (the pelvis untouched)."""
+    out = frames.copy()
+    feet = out[:, -2:, :]
+    n = len(t)
+    if kind == "flicker":  # each foot missing on most frames
+        feet[rng.random((n, 2)) < rng.uniform(0.2, 0.9)] = np.nan
+    elif kind == "absurd":  # a few frames with a foot at 1e6 m, 1e300 m or inf
+        feet[rng.random(n) < 0.02, int(rng.integers(0, 2)), int(rng.integers(0, 3))] = rng.choice([1e6, -1e300, np.inf])
+    elif kind == "zeros":  # a tracker's lost point at the origin
+        feet[rng.random(n) < 0.3] = 0.0
+    elif kind == "jump":  # one foot's track jumps for good
+        feet[int(rng.integers(0, n)) :, 0] += rng.normal(0.0, 2.0, 3)
+    elif kind == "frozen":  # both feet stuck where they were first seen
+        feet[:] = feet[0]
+    elif kind == "same":  # both labels on one foot
+        feet[:, 1] = feet[:, 0]
+    elif kind == "swaps":  # left and right exchanged on a third of the frames
+        swap = rng.random(n) < 0.3
+        feet[swap] = feet[swap][:, ::-1]
+    elif kind == "one":  # one foot never seen
+        feet[:, 1] = np.nan
+    elif kind == "far":  # both feet displaced by metres
+        feet += np.array([rng.uniform(-5.0, 5.0), rng.uniform(-5.0, 5.0), 0.0])
+    return out
+
+
+@settings(max_examples=16, deadline=None)
+@given(
+    condition=st.sampled_from(["lab", "markerless-60hz"]),
+    kind=st.sampled_from(["flicker", "absurd", "zeros", "jump", "frozen", "same", "swaps", "one", "far"]),
+    seed=st.integers(0, 10**6),
+)
+def test_broken_feet_keep_outputs_finite_bounded_deterministic_and_never_confidently_wrong(condition, kind, seed):
+    """Feet a tracker breaks (missing, absurd, at the origin, jumping, frozen, one point twice, swapped, far off) on
+    SYNTHETIC walks: no exception, outputs finite and within max_plausible_speed_mps, stds never NaN, the same run
+    twice, and valid estimates never confidently wrong."""
+    walk, pelvis, t, frames = _walk_with_heels(condition)
+    broken = _broken_feet(kind, t, frames, np.random.default_rng(seed))
+    runs = [OnlineEstimator(pelvis, "z", feet=list(sy.HEEL_MARKERS)).run(t, broken) for _ in range(2)]
+    r = runs[0]
+    limit = OnlineConfig().max_plausible_speed_mps
+    for name in ("vx_hat_mps", "vz_hat_mps", "speed_mps", "walk_a_mps", "walk_b_mps", "vx_mps", "vz_mps"):
+        v = getattr(r, name)
+        assert np.all(np.isfinite(v)) and np.all(np.abs(v) <= limit), name
+        np.testing.assert_array_equal(v, getattr(runs[1], name))
+    for name in ("step_frequency_std_hz", "speed_std_mps", "step_frequency_hz", "gait_phase"):
+        assert not np.isnan(getattr(r, name)).any(), name
+    np.testing.assert_array_equal(r.valid, runs[1].valid)
+    truth = walk.truth.at(t)
+    f_err = np.abs(r.step_frequency_hz - truth.step_frequency_hz)
+    s_err = np.abs(r.speed_mps - truth.speed_mps)
+    walking = np.asarray(truth.walking, dtype=bool)
+    wrong = (r.valid & walking) & (
+        ((f_err > 0.15) & (f_err > 2 * r.step_frequency_std_hz)) | ((s_err > 0.15) & (s_err > 2 * r.speed_std_mps))
+    )
+    assert wrong.sum() <= 0.01 * walking.sum(), (kind, wrong.sum())
