@@ -75,8 +75,9 @@ class FeetEvidence {
   /// The feet's step frequency at t_s [Hz] (0: not known, fewer than two feet, or steps that do not
   /// carry the walker: FootCadence::carry_ratio outside [kMinCarry, kMaxCarry]).
   double step_frequency_hz(double t_s) const noexcept {
+    if (!two_) return 0.0;
     const double carry = cadence_.carry_ratio();
-    return two_ && carry >= kMinCarry && carry <= kMaxCarry ? cadence_.step_frequency_hz(t_s) : 0.0;
+    return carry >= kMinCarry && carry <= kMaxCarry ? cadence_.step_frequency_hz(t_s) : 0.0;
   }
 
   /// After an estimator sample with the estimate (walking, acquiring, f_hz) and the feet's figure
