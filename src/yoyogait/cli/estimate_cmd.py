@@ -16,6 +16,7 @@ from ..estimators.online import InvalidReason, OnlineEstimator, check_belt_speed
 from ..estimators.registry import estimators, noise_adapted, preset_runner
 from ..evaluation import figures as plots
 from ..pipeline import events
+from ..pipeline.treadmill import detect_treadmill
 from ..pipeline.velocities import check_point_motion, gait_velocities
 from .imu_cmd import estimate_imu, imu_options, is_imu_file
 from .options import (
@@ -237,11 +238,27 @@ def online_estimate(
     if est.feet or belt_speed_mps is not None:
         click.echo(belt_line(res, est.feet, belt_speed_mps))
     elif treadmill_like(res):
-        click.echo(
-            "the pelvis stays in place while the estimator says walking (a treadmill?): its speed is marked "
-            "not valid; give --feet NAME,NAME (heels) or --belt-speed-mps for the walking speed"
-        )
+        click.echo(in_place_line(recording, est.up_axis))
     click.echo(f"wrote {out}")
+
+
+def in_place_line(recording, up_axis: str) -> str:
+    """What to say of a walk whose pelvis stays in place: with feet in the file that stay too, that
+    it steps or bobs in place; else that it may be a treadmill, and the feet or belt speed to give."""
+    found = events.feet_of(recording) if recording.point_names else {}
+    names = ",".join(found.values()) if len(found) == 2 else "NAME,NAME"
+    if len(found) == 2:
+        treadmill = detect_treadmill(recording, up_axis, feet=list(found.values()))
+        if treadmill.in_place:
+            return (
+                f"the pelvis stays in place while the estimator says walking, and so do the feet in stance "
+                f"({', '.join(found.values())} at {treadmill.stance_foot_speed_mps:.2f} m/s): stepping or bobbing "
+                "in place, not a treadmill; its speed is marked not valid"
+            )
+    return (
+        "the pelvis stays in place while the estimator says walking (a treadmill?): its speed is marked "
+        f"not valid; give --feet {names} (heels) or --belt-speed-mps for the walking speed"
+    )
 
 
 def noisy_like(res) -> bool:

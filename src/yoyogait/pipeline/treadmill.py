@@ -43,6 +43,12 @@ class Treadmill:
     pelvis_range_m: float  # the largest horizontal distance between two pelvis positions
     stance_foot_speed_mps: float | None  # median speed of the feet in stance (NaN without feet)
     reason: str  # one sentence for reports
+    pelvis_stays: bool = False  # the pelvis stays in place (a treadmill, or standing or stepping in place)
+
+    @property
+    def in_place(self) -> bool:
+        """The pelvis stays in place and the feet in stance do too: standing or stepping in place."""
+        return self.pelvis_stays and not self.detected and self.stance_foot_speed_mps is not None
 
     def belt_velocity(self) -> np.ndarray:
         """The belt's contribution to the walking velocity (over the horizontal axes): speed times direction."""
@@ -102,6 +108,7 @@ def detect_treadmill(
         pelvis_net_speed_mps=net,
         pelvis_range_m=pelvis_range,
         stance_foot_speed_mps=None if stance is None else stance_speed,
+        pelvis_stays=bool(stays),
     )
     if belt_speed_mps is not None:
         if median_vector is not None and np.linalg.norm(median_vector) > 0:

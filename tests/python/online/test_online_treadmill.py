@@ -15,6 +15,7 @@ from yoyogait.estimators import OnlineEstimator
 from yoyogait.estimators.online import InvalidReason
 from yoyogait.evaluation.datasets import manifest_items
 from yoyogait.evaluation.online import evaluate_item_online
+from yoyogait.io import Recording
 
 PELVIS = ["LASI", "RASI", "LPSI", "RPSI"]
 HEELS = list(synthetic.HEEL_MARKERS)
@@ -129,7 +130,8 @@ def test_estimate_online_with_feet_or_a_belt_speed_and_a_hint_without(treadmill,
     assert main(["estimate", str(path), "--online", "--belt-speed-mps", "1.2", "--out", str(out), "--force"]) == 0
     assert "belt 1.20 m/s (--belt-speed-mps)" in capsys.readouterr().out
     assert main(["estimate", str(path), "--online", "--out", str(out), "--force"]) == 0
-    assert "give --feet NAME,NAME (heels) or --belt-speed-mps" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "(a treadmill?)" in said and "give --feet LHEE,RHEE (heels) or --belt-speed-mps" in said
     assert main(["estimate", str(path), "--online", "--belt-speed-mps", "-1", "--out", str(out), "--force"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--belt-speed-mps" in err[0]
@@ -168,3 +170,20 @@ def test_treadmill_walk_is_not_moving_before_the_travel_window_fills():
     early = res.walking & (t < 2.0)
     assert early.any()
     assert np.all(res.invalid_reason[early] & int(InvalidReason.NOT_MOVING))
+
+
+def test_estimate_online_says_a_walk_in_place_with_feet_that_stay_is_no_treadmill(tmp_path, capsys):
+    """estimate --online on a pelvis bobbing in place at 1.8 Hz over heels that stand still (knee bends, as a
+    video-keypoint demo shows): the line says bobbing in place, not a treadmill, and names no option to give."""
+    t = np.arange(800) / 100.0
+    bob = 0.03 * np.sin(2 * np.pi * 1.8 * t)
+    pelvis = [(0.1, 0.12, 1.0), (0.1, -0.12, 1.0), (-0.1, 0.0, 1.0)]
+    heels = [(-0.05, 0.1, 0.05), (-0.05, -0.1, 0.05)]
+    pos = np.array([[(x, y, z + (b if z > 0.5 else 0.0)) for x, y, z in pelvis + heels] for b in bob])
+    rec = Recording(pos, ["LASI", "RASI", "SACR", "LHEE", "RHEE"], t, rate_hz=100.0, up_axis="z", source="test")
+    path = tmp_path / "in_place.csv"
+    _write(rec, path)
+    assert main(["estimate", str(path), "--online", "--out", str(tmp_path / "o.csv")]) == 0
+    said = capsys.readouterr().out
+    assert "stepping or bobbing in place, not a treadmill" in said and "LHEE, RHEE at 0.00 m/s" in said
+    assert "a treadmill?" not in said and "give --feet" not in said
