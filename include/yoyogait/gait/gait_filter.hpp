@@ -173,7 +173,6 @@ class GaitFilter {
   /// harmonics added unless harmonics is false or the bank is running. Standing: (A0, 0).
   Prediction predict(double h_s, bool harmonics = true) const noexcept;  // gait/forecast.hpp
 
-
   /// The model's forecast (yoyogait::Forecast, rates included; docs/online.md sec. 5): the mean of
   /// the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
   /// exp(-t / tau) (accel_tau_s, omega_rate_tau_s), so A0(h) = A0 + dA0 tau_a (1 - e^{-h/tau_a}),
@@ -261,7 +260,6 @@ class GaitFilter {
   // coherence: E[cos(phase error)] of the turn, on the fundamental; the harmonic, at twice the
   // phase, gets its fourth power (a Gaussian phase error of variance s2: exp(-s2 / 2), exp(-2 s2)).
   Prediction turned(double angle_rad, double A0, bool harmonics, double coherence = 1.0) const noexcept;
-
 
   Forecast forecast_at(double h_s, bool with_std, double ea, double eb) const noexcept;  // gait/forecast.hpp
   const Ekf& active() const noexcept { return acquiring_ ? bank_.best() : main_; }

@@ -92,8 +92,7 @@ inline void OnlineEstimator::carry_estimate(double t_s) noexcept {
   constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
   if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < pinned_std_hz)
     o.step_frequency_std_hz = pinned_std_hz;
-  // Below the steps the centre shows: 2 std reach them. Steps longer than a walker's: 2 std reach
-  // twice the frequency (a lock on one per stride).
+  // Below the steps the centre shows: 2 std reach them.
   if (o.walking && validity_.below_steps(e.step_frequency_hz, steps_hz)) {
     const double gap_std_hz = 0.5 * (steps_hz - e.step_frequency_hz);
     if (o.step_frequency_std_hz < gap_std_hz) o.step_frequency_std_hz = gap_std_hz;
@@ -101,6 +100,7 @@ inline void OnlineEstimator::carry_estimate(double t_s) noexcept {
   // With the feet's steps: 2 std reach them, and no further than their own error beyond them.
   if (o.walking && feet_hz > 0.0)
     o.step_frequency_std_hz = feet_evidence_.bounded_std_hz(o.step_frequency_std_hz, e.step_frequency_hz, feet_hz);
+  // Steps longer than a walker's: 2 std reach twice the frequency (a lock on one per stride).
   if (o.walking && online::Validity::too_long_steps(e.step_frequency_hz, e.speed_mps) &&
       o.step_frequency_std_hz < 0.5 * e.step_frequency_hz)
     o.step_frequency_std_hz = 0.5 * e.step_frequency_hz;

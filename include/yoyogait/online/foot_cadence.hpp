@@ -54,7 +54,7 @@ class FootCadence {
   /// The separation sep_m [m] (>= 0; not finite: the feet not seen, skipped) at t_s, with the
   /// variance of its noise [m^2], and where the walker is on the ground it walks on (travel_a_m,
   /// travel_b_m [m]: horizontal; on a treadmill, relative to the belt).
-  void update(double t_s, double sep_m, double noise_var_m2, double travel_a_m = 0.0, double travel_b_m = 0.0) noexcept {
+  void update(double t_s, double sep_m, double noise_var_m2, double travel_a_m, double travel_b_m) noexcept {
     if (!std::isfinite(sep_m)) return;
     if (!have_) {
       hi_ = lo_ = sep_m;

@@ -229,8 +229,7 @@ def online_estimate(
     )
     click.echo(validity_line(res))
     if not est.feet and noisy_like(res):
-        found = events.feet_of(recording) if recording.point_names else {}
-        names = ",".join(found.values()) if len(found) == 2 else "NAME,NAME"
+        names = ",".join(_feet_in_file(recording)) or "NAME,NAME"
         click.echo(
             "the input is too noisy for the pelvis alone (a markerless capture?): give --feet "
             f"{names} (heels or ankles) to check the estimates on the feet's steps"
@@ -245,20 +244,25 @@ def online_estimate(
 def in_place_line(recording, up_axis: str) -> str:
     """What to say of a walk whose pelvis stays in place: with feet in the file that stay too, that
     it steps or bobs in place; else that it may be a treadmill, and the feet or belt speed to give."""
-    found = events.feet_of(recording) if recording.point_names else {}
-    names = ",".join(found.values()) if len(found) == 2 else "NAME,NAME"
-    if len(found) == 2:
-        treadmill = detect_treadmill(recording, up_axis, feet=list(found.values()))
+    feet = _feet_in_file(recording)
+    if feet:
+        treadmill = detect_treadmill(recording, up_axis, feet=feet)
         if treadmill.in_place:
             return (
                 f"the pelvis stays in place while the estimator says walking, and so do the feet in stance "
-                f"({', '.join(found.values())} at {treadmill.stance_foot_speed_mps:.2f} m/s): stepping or bobbing "
+                f"({', '.join(feet)} at {treadmill.stance_foot_speed_mps:.2f} m/s): stepping or bobbing "
                 "in place, not a treadmill; its speed is marked not valid"
             )
     return (
         "the pelvis stays in place while the estimator says walking (a treadmill?): its speed is marked "
-        f"not valid; give --feet {names} (heels) or --belt-speed-mps for the walking speed"
+        f"not valid; give --feet {','.join(feet) or 'NAME,NAME'} (heels) or --belt-speed-mps for the walking speed"
     )
+
+
+def _feet_in_file(recording) -> list[str]:
+    """The recording's foot points found by name, one per foot; empty unless both are found."""
+    found = events.feet_of(recording) if recording.point_names else {}
+    return list(found.values()) if len(found) == 2 else []
 
 
 def noisy_like(res) -> bool:
