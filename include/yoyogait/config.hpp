@@ -95,7 +95,7 @@ struct FrequencyList {
   X(double, bank_forget_s, 1.5, "s", "[", 0.01, 600.0, "]", "memory of the members' innovation log-likelihood")    \
   X(double, bank_prior_f_hz, 1.8, "Hz", "[", 0.05, 20.0, "]", "typical step frequency: its member starts with the log-prior bonus") \
   X(double, bank_prior_bonus_nats, 2.0, "nats", "[", -100.0, 100.0, "]",                                           \
-    "log-prior bonus (on re-acquisition: for the member at the last frequency)")                                   \
+    "log-prior bonus (on re-acquisition: for the member at the last chosen lock's frequency)")                     \
   X(double, bank_q_omega_rad2_per_s3, 0.05, "(rad/s)^2/s", "[", 0.0, 1e4, "]",                                      \
     "random walk of w in the start-up bank's members (0.25 follows a start's rising cadence better, docs/default_estimator.md)") \
   X(double, p0_f_std_hz, 0.25, "Hz", "[", 0.0, 10.0, "]", "initial frequency std of each member")                  \

@@ -282,6 +282,59 @@ TEST(GaitEstimator, RunEqualsStepByStepWithAndWithoutDt) {
   }
 }
 
+namespace {
+
+struct Restart {
+  double held_hz = -1.0;     ///< f held while standing
+  double restart_hz = -1.0;  ///< f at the first sample walking again
+};
+
+// A walk at f1_hz for walk1_s (fail_before_end_s >= 0: the caller finds the lock failed that long
+// before the walk ends, GaitFilter::reacquire), 3 s of standing, then a walk at 1.5 Hz. The bank's
+// window is 3 s, longer than a short walk and the detector's hold after it.
+Restart restart_after(double f1_hz, double walk1_s, double fail_before_end_s = -1.0) {
+  const Walk first = make_walk(walk1_s, f1_hz, 1.2, 0.025, kPi, 0.01, 11);
+  const Walk again = make_walk(4.0, 1.5, 1.2, 0.025, kPi, 0.01, 12);
+  std::mt19937 gen(13);
+  std::normal_distribution<double> nd(0.0, 0.01);
+  EstimatorConfig config;
+  config.gait_filter.bank_window_s = 3.0;
+  Estimator est(config);
+  const double fail_at_s = walk1_s - fail_before_end_s;
+  for (std::size_t i = 0; i < first.vx.size(); ++i) {
+    if (fail_before_end_s >= 0.0 && first.t[i] >= fail_at_s && first.t[i] < fail_at_s + 0.04) est.reacquire();
+    est.step(first.vx[i], first.vz[i]);
+  }
+  Restart out;
+  for (int i = 0; i < 75; ++i) {
+    const Estimate e = est.step(nd(gen), nd(gen));
+    out.held_hz = e.walking ? -1.0 : e.step_frequency_hz;
+  }
+  for (std::size_t i = 0; i < again.vx.size() && out.restart_hz < 0.0; ++i) {
+    const Estimate e = est.step(again.vx[i], again.vz[i]);
+    if (e.walking) out.restart_hz = e.step_frequency_hz;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(GaitEstimator, ARestartStartsFromTheLastLockTheEvidenceChoseAndFromNothingElse) {
+  // A lock the bank chose (it walked its window) is the restart's hint; the frequency of a bank a
+  // stop cut short, or of a lock found failed, is not: the typical 1.8 Hz leads then (on noisy
+  // input a wrong lock would otherwise win every restart with the hint's bonus).
+  const Restart chosen = restart_after(1.1, 10.0);
+  ASSERT_GT(chosen.held_hz, 0.0);
+  EXPECT_GT(std::fabs(chosen.held_hz - 1.8), 0.5);
+  EXPECT_NEAR(chosen.restart_hz, chosen.held_hz, 0.05);
+  const Restart cut_short = restart_after(2.6, 0.8);
+  EXPECT_GT(std::fabs(cut_short.held_hz - 1.8), 0.3);
+  EXPECT_NEAR(cut_short.restart_hz, 1.8, 0.05);
+  const Restart failed = restart_after(1.1, 10.0, 0.5);
+  EXPECT_GT(std::fabs(failed.held_hz - 1.8), 0.2);
+  EXPECT_NEAR(failed.restart_hz, 1.8, 0.05);
+}
+
 TEST(GaitEstimator, ResetReturnsToTheInitialState) {
   // After reset() the estimator repeats its first run exactly (bank, spectral seed and all).
   const Walk w = make_walk(6.0, 1.7, 1.2, 0.025, kPi, 0.05, 7);

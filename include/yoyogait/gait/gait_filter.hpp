@@ -95,6 +95,7 @@ class GaitFilter {
     detector_.reset();
     radii_.reset();
     last_w_ = kTwoPi * cfg_.gait_filter.bank_prior_f_hz;
+    chosen_ = have_hint_ = false;
     gate_.reset();
     watchdog_.reset();
     scale_.reset();
@@ -216,7 +217,9 @@ class GaitFilter {
   /// Sec. 2.3: a failed lock (a frequency pinned at a bound, the watchdog; or one its user finds
   /// below the steps): the acquisition restarts. Nothing while acquiring or standing.
   void reacquire() noexcept {
-    if (!acquiring_ && detector_.walking()) start_acquisition(main_.x[gait::kA0], false, 0.0);
+    if (acquiring_ || !detector_.walking()) return;
+    have_hint_ = false;  // the failed lock's frequency is no hint for the next restarts either
+    start_acquisition(main_.x[gait::kA0], false, 0.0);
   }
   /// The step frequency f_hz with variance var_hz2 [Hz^2] from another evidence (the feet's steps):
   /// an observation of w in the one EKF. Nothing while acquiring or standing.
@@ -231,7 +234,7 @@ class GaitFilter {
   void relock(double f_hz) noexcept {
     if (!detector_.walking() || !(f_hz >= cfg_.gait_filter.f_min_hz && f_hz <= cfg_.gait_filter.f_max_hz)) return;
     start_acquisition(active().x[gait::kA0], true, f_hz);
-    collapse();
+    choose();
   }
 
  private:
@@ -274,6 +277,7 @@ class GaitFilter {
   void start_acquisition(double A0, bool has_hint, double f_hint_hz) noexcept {
     bank_.start(model_, A0, has_hint, f_hint_hz);
     acquiring_ = true;
+    chosen_ = false;
     spectral_.reset();
     watchdog_.reset();
     cadence_.reset();
@@ -317,7 +321,7 @@ class GaitFilter {
     out_hz_ = hz ? active_harmonics()[kVz].value((x[kZ1] * x[kZ1] - x[kZ2] * x[kZ2]) * (w * dx * inv),
                                               2.0 * x[kZ1] * x[kZ2] * (w * dx * inv))
                  : 0.0;
-    last_w_ = w;
+    if (chosen_) last_w_ = w;
     radii_.update(x[kA0] * inv_w, std::sqrt(az2) * inv_w, radii_gain);
     radii_updated_ = true;
   }
@@ -373,23 +377,23 @@ class GaitFilter {
     return 0.0;
   }
 
-  /// A gap longer than max_gap_s: the acquisition restarts around the last frequency, with the
+  /// A gap longer than max_gap_s: the acquisition restarts around the last chosen lock's frequency, with the
   /// speed kept. Returns the time step of the fresh members, 0 (not propagated over the gap).
   double bridge_gap() noexcept {
-    start_acquisition(active().x[gait::kA0], radii_.have_estimate(), last_w_ / kTwoPi);
+    start_acquisition(active().x[gait::kA0], have_hint_, last_w_ / kTwoPi);
     return 0.0;
   }
 
   /// Sec. 2.4: the walking detector over dt_walk (the sample's own interval, also over a gap);
-  /// walking (re)starting re-opens the acquisition (bias from this sample, one member at the
-  /// frozen frequency), stopping freezes the oscillator. Returns whether walking.
+  /// walking (re)starting re-opens the acquisition (bias from this sample, one member at the last
+  /// chosen lock's frequency), stopping freezes the oscillator. Returns whether walking.
   bool detect_walking(double vx, double vz, bool use_x, bool use_z, double dt_walk, double dt,
                       const gait::DecayFactors::Values& fc) noexcept {
     const bool was_walking = detector_.walking();
     detector_.update(vx, vz, use_x, use_z, dt_walk == dt ? fc.walk_gain : detector_.gain(dt_walk));
     const bool walking = detector_.walking();
     if (walking && !was_walking)
-      start_acquisition(use_x ? vx : active().x[gait::kA0], radii_.have_estimate(), last_w_ / kTwoPi);
+      start_acquisition(use_x ? vx : active().x[gait::kA0], have_hint_, last_w_ / kTwoPi);
     if (was_walking && !walking) stop_walking();
     return walking;
   }
@@ -432,7 +436,16 @@ class GaitFilter {
       if (spectral_.due(bank_.walk_time_s()) && spectral_.fit(fit)) bank_.seed(model_, fit);
     }
     bank_.select_best();
-    if (bank_.walk_time_s() >= cfg_.gait_filter.bank_window_s) collapse();
+    if (bank_.walk_time_s() >= cfg_.gait_filter.bank_window_s) choose();
+  }
+
+  /// The evidence has chosen (the bank walked its window, or another evidence relocked): the one
+  /// EKF's frequency becomes the re-acquisition hint from now on. A bank cut short by a stop
+  /// chose little but the prior: its frequency is no hint (a wrong lock on noisy input would
+  /// otherwise win every restart with the hint's bonus).
+  void choose() noexcept {
+    collapse();
+    chosen_ = have_hint_ = true;
   }
 
   /// Whether the active EKF act and the outputs are finite. Never false with in-range samples; it
@@ -457,7 +470,7 @@ class GaitFilter {
     scale_.reset();
     gate_.reset();
     out_hx_ = out_hz_ = 0.0;
-    start_acquisition(A0, radii_.have_estimate(), last_w_ / kTwoPi);
+    start_acquisition(A0, have_hint_, last_w_ / kTwoPi);
     collapse();
     acquiring_ = true;
   }
@@ -476,7 +489,9 @@ class GaitFilter {
   gait::BoundWatchdog watchdog_;
   gait::CadenceChangeDetector cadence_;
   double nominal_dt_ = 0.04, speed_floor2_ = 0.0;
-  double last_w_ = 0.0;                 ///< the last walking frequency: the re-acquisition hint
+  double last_w_ = 0.0;                 ///< the last frequency of a chosen lock: the re-acquisition hint
+  bool chosen_ = false;                 ///< the one EKF is a lock the evidence chose (choose)
+  bool have_hint_ = false;              ///< a lock has been chosen since the reset: last_w_ is a hint
   double out_hx_ = 0.0, out_hz_ = 0.0;  ///< second harmonics at the posterior phasors, for output()
   double t_now_s_ = 0.0;
   bool started_ = false, acquiring_ = true, radii_updated_ = false;

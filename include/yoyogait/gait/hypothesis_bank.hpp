@@ -30,7 +30,7 @@ class HypothesisBank {
   explicit HypothesisBank(const Settings& s) noexcept : s_(s) {}
 
   /// Every member restarts at its frequency with speed A0; the member nearest to the hint
-  /// (re-acquisition: the last frequency) or to the typical frequency gets the log-prior, and the hint.
+  /// (re-acquisition: the last chosen lock's frequency) or to the typical frequency gets the log-prior, and the hint.
   void start(const MemberModel& model, double A0, bool has_hint, double f_hint_hz) noexcept {
     for (std::size_t i = 0; i < s_.size; ++i) {
       model.reset(members_[i], s_.f_hz[i], A0);
