@@ -12,7 +12,8 @@
 /// This class composes the parts, each in its own header and built from its settings
 /// (gait/settings.hpp): the EKF kernels (gait/ekf.hpp), one EKF with its noise model, gate and
 /// harmonics (gait/member.hpp, gait/harmonic.hpp), the start-up bank (gait/hypothesis_bank.hpp) and
-/// its spectral initialisation (gait/spectral_init.hpp, sec. 2.3), the walking detector (sec. 2.4),
+/// its spectral initialisation and re-acquisition hint (gait/spectral_init.hpp, gait/lock_hint.hpp,
+/// sec. 2.3), the walking detector (sec. 2.4),
 /// the innovation gate and the dt-dependent factors (sec. 2.5), the bound watchdog, the radii and the
 /// std scale (sec. 2.6), the cadence-change detector (sec. 2.8). step() makes no heap allocation and
 /// cannot throw. The steady state (walking, one EKF, the same dt) runs no exp, log, bank or spectral code.
@@ -34,6 +35,7 @@
 #include "yoyogait/gait/harmonic.hpp"
 #include "yoyogait/gait/hypothesis_bank.hpp"
 #include "yoyogait/gait/innovation_gate.hpp"
+#include "yoyogait/gait/lock_hint.hpp"
 #include "yoyogait/gait/member.hpp"
 #include "yoyogait/gait/radii.hpp"
 #include "yoyogait/gait/settings.hpp"
@@ -94,8 +96,7 @@ class GaitFilter {
     acquiring_ = true;
     detector_.reset();
     radii_.reset();
-    last_w_ = kTwoPi * cfg_.gait_filter.bank_prior_f_hz;
-    chosen_ = have_hint_ = false;
+    hint_.reset();
     gate_.reset();
     watchdog_.reset();
     scale_.reset();
@@ -106,7 +107,7 @@ class GaitFilter {
     out_hx_ = out_hz_ = 0.0;
     factors_.reset();
     // Defined outputs (w > 0) even before the first finite sample.
-    start_acquisition(0.0, false, 0.0);
+    start_acquisition(0.0, 0.0);
     collapse();
     acquiring_ = true;
   }
@@ -218,8 +219,8 @@ class GaitFilter {
   /// below the steps): the acquisition restarts. Nothing while acquiring or standing.
   void reacquire() noexcept {
     if (acquiring_ || !detector_.walking()) return;
-    have_hint_ = false;  // the failed lock's frequency is no hint for the next restarts either
-    start_acquisition(main_.x[gait::kA0], false, 0.0);
+    hint_.fail();
+    start_acquisition(main_.x[gait::kA0], 0.0);
   }
   /// The step frequency f_hz with variance var_hz2 [Hz^2] from another evidence (the feet's steps):
   /// an observation of w in the one EKF. Nothing while acquiring or standing.
@@ -233,8 +234,9 @@ class GaitFilter {
   /// Nothing while standing, or for an f_hz outside the frequency range.
   void relock(double f_hz) noexcept {
     if (!detector_.walking() || !(f_hz >= cfg_.gait_filter.f_min_hz && f_hz <= cfg_.gait_filter.f_max_hz)) return;
-    start_acquisition(active().x[gait::kA0], true, f_hz);
-    choose();
+    start_acquisition(active().x[gait::kA0], f_hz);
+    collapse();
+    hint_.choose(kTwoPi * f_hz);
   }
 
  private:
@@ -273,11 +275,12 @@ class GaitFilter {
   gait::Harmonic* active_harmonics() noexcept { return acquiring_ ? bank_.best_harmonics() : main_h_.data(); }
   bool harmonics_on() const noexcept { return model_.use_harmonic && !acquiring_; }
 
-  /// Sec. 2.3: the bank restarts (around the hint, if any), with a fresh spectral buffer and watchdog.
-  void start_acquisition(double A0, bool has_hint, double f_hint_hz) noexcept {
-    bank_.start(model_, A0, has_hint, f_hint_hz);
+  /// Sec. 2.3: the bank restarts (around f_hint_hz, if positive: the evidence's, or the last chosen
+  /// lock's, hint_.f_hz()), with a fresh spectral buffer and watchdog.
+  void start_acquisition(double A0, double f_hint_hz) noexcept {
+    bank_.start(model_, A0, f_hint_hz > 0.0, f_hint_hz);
     acquiring_ = true;
-    chosen_ = false;
+    hint_.acquiring();
     spectral_.reset();
     watchdog_.reset();
     cadence_.reset();
@@ -321,7 +324,7 @@ class GaitFilter {
     out_hz_ = hz ? active_harmonics()[kVz].value((x[kZ1] * x[kZ1] - x[kZ2] * x[kZ2]) * (w * dx * inv),
                                               2.0 * x[kZ1] * x[kZ2] * (w * dx * inv))
                  : 0.0;
-    if (chosen_) last_w_ = w;
+    hint_.follow(w);
     radii_.update(x[kA0] * inv_w, std::sqrt(az2) * inv_w, radii_gain);
     radii_updated_ = true;
   }
@@ -371,7 +374,7 @@ class GaitFilter {
   double start_filter(double vx, double vz, bool use_z) noexcept {
     started_ = true;
     detector_.start(vx, vz, use_z);
-    start_acquisition(vx, false, 0.0);
+    start_acquisition(vx, 0.0);
     collapse();
     acquiring_ = true;
     return 0.0;
@@ -380,7 +383,7 @@ class GaitFilter {
   /// A gap longer than max_gap_s: the acquisition restarts around the last chosen lock's frequency, with the
   /// speed kept. Returns the time step of the fresh members, 0 (not propagated over the gap).
   double bridge_gap() noexcept {
-    start_acquisition(active().x[gait::kA0], have_hint_, last_w_ / kTwoPi);
+    start_acquisition(active().x[gait::kA0], hint_.f_hz());
     return 0.0;
   }
 
@@ -393,7 +396,7 @@ class GaitFilter {
     detector_.update(vx, vz, use_x, use_z, dt_walk == dt ? fc.walk_gain : detector_.gain(dt_walk));
     const bool walking = detector_.walking();
     if (walking && !was_walking)
-      start_acquisition(use_x ? vx : active().x[gait::kA0], have_hint_, last_w_ / kTwoPi);
+      start_acquisition(use_x ? vx : active().x[gait::kA0], hint_.f_hz());
     if (was_walking && !walking) stop_walking();
     return walking;
   }
@@ -436,16 +439,9 @@ class GaitFilter {
       if (spectral_.due(bank_.walk_time_s()) && spectral_.fit(fit)) bank_.seed(model_, fit);
     }
     bank_.select_best();
-    if (bank_.walk_time_s() >= cfg_.gait_filter.bank_window_s) choose();
-  }
-
-  /// The evidence has chosen (the bank walked its window, or another evidence relocked): the one
-  /// EKF's frequency becomes the re-acquisition hint from now on. A bank cut short by a stop
-  /// chose little but the prior: its frequency is no hint (a wrong lock on noisy input would
-  /// otherwise win every restart with the hint's bonus).
-  void choose() noexcept {
-    collapse();
-    chosen_ = have_hint_ = true;
+    if (bank_.walk_time_s() < cfg_.gait_filter.bank_window_s) return;
+    collapse();  // the bank has chosen: its lock's frequency is the hint from now on
+    hint_.choose(main_.x[gait::kW]);
   }
 
   /// Whether the active EKF act and the outputs are finite. Never false with in-range samples; it
@@ -466,11 +462,10 @@ class GaitFilter {
   void recover() noexcept {
     const double A0 = detector_.recover();
     radii_.recover();
-    if (!std::isfinite(last_w_)) last_w_ = kTwoPi * cfg_.gait_filter.bank_prior_f_hz;
     scale_.reset();
     gate_.reset();
     out_hx_ = out_hz_ = 0.0;
-    start_acquisition(A0, have_hint_, last_w_ / kTwoPi);
+    start_acquisition(A0, hint_.f_hz());
     collapse();
     acquiring_ = true;
   }
@@ -489,9 +484,7 @@ class GaitFilter {
   gait::BoundWatchdog watchdog_;
   gait::CadenceChangeDetector cadence_;
   double nominal_dt_ = 0.04, speed_floor2_ = 0.0;
-  double last_w_ = 0.0;                 ///< the last frequency of a chosen lock: the re-acquisition hint
-  bool chosen_ = false;                 ///< the one EKF is a lock the evidence chose (choose)
-  bool have_hint_ = false;              ///< a lock has been chosen since the reset: last_w_ is a hint
+  gait::LockHint hint_;                 ///< the re-acquisition hint (gait/lock_hint.hpp)
   double out_hx_ = 0.0, out_hz_ = 0.0;  ///< second harmonics at the posterior phasors, for output()
   double t_now_s_ = 0.0;
   bool started_ = false, acquiring_ = true, radii_updated_ = false;
