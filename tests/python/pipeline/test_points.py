@@ -258,11 +258,12 @@ def test_every_marker_set_of_the_table_is_recognised_from_a_file(tmp_path, set_n
         (["Skeleton 001_Hip", "Skeleton 001_LFoot"], {"Skeleton 001_Hip"}, "Skeleton 001_LFoot"),
         (["RHip", "RKnee", "RHeel", "LHip", "LKnee", "LHeel", "Neck"], {"RHip", "LHip"}, "LHeel"),
         (["nose", "left_hip", "right_hip", "left_heel", "right_heel"], {"left_hip", "right_hip"}, "left_heel"),
+        (["C7", "Psis", "RxAsis", "LxAsis", "RxHeel", "LxHeel", "LxToe1"], {"Psis", "RxAsis", "LxAsis"}, "LxHeel"),
     ],
 )
 def test_pelvis_and_feet_of_xsens_mocap_toolbox_opencap_isb_and_skeletons(names, pelvis, left_foot):
-    """Xsens, MoCap Toolbox, OpenCap, ISB names, prefixed skeleton bones and video keypoints (hip joints: their
-    midpoint) give the pelvis and the left foot."""
+    """Xsens, MoCap Toolbox, OpenCap, ISB names, prefixed skeleton bones, video keypoints (hip joints: their
+    midpoint) and Rx/Lx side prefixes give the pelvis and the left foot."""
     assert set(points.find_pelvis(names).names) == pelvis
     assert points.find_feet(names)["left"] == left_foot
 
