@@ -18,8 +18,9 @@ from ..evaluation import figures as plots
 from ..pipeline import events
 from ..pipeline.treadmill import detect_treadmill
 from ..pipeline.velocities import check_point_motion, gait_velocities
-from .imu_cmd import estimate_imu, imu_options, is_imu_file
+from .imu_cmd import IMU_OPTIONS, estimate_imu, imu_options, is_imu_file
 from .options import (
+    MARKER_OPTIONS,
     belt_speed_option,
     check_points,
     estimator_config_option,
@@ -27,6 +28,7 @@ from .options import (
     input_options,
     preset_option,
     read_overrides,
+    refuse_options,
 )
 
 
@@ -119,12 +121,17 @@ def command(
 
     An IMU file (Mobilise-D data.mat, an IMU CSV, an Xsens .txt, a Movella DOT .csv, an APDM .h5) is
     estimated online by nature: one row per sample, every field of the IMU estimate (docs/imu.md),
-    --out defaulting to FILE's name + .imu.csv; --config FILE's [imu] table configures it.
+    --out defaulting to FILE's name + .imu.csv; --config FILE's [imu] table configures it; a figure
+    (cadence and speed over time with their 2-std bands, against the file's reference bouts where it
+    has them) only with --figure FILE. The options of marker files (--point, --feet, --up-axis,
+    --length-unit-m, --preset, --belt-speed-mps) are refused for it, as the IMU options for a marker file.
     """
     if is_imu_file(file):
-        return estimate_imu(file, out=out, force=force, config_file=config_file, acc_unit=acc_unit,
+        refuse_options(ctx, file, MARKER_OPTIONS, "motion-capture files")
+        return estimate_imu(file, out=out, figure=figure, force=force, config_file=config_file, acc_unit=acc_unit,
                             gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m,
                             trial=trial, sensor=sensor)  # fmt: skip
+    refuse_options(ctx, file, IMU_OPTIONS, "IMU files")
     if online:
         return online_estimate(
             file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file,

@@ -12,14 +12,25 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .._files import atomic_file, check_output_folder, install_folder
-from ..errors import InputError, OutputError, about_file
+from .._files import atomic_files, check_distinct, check_output_file, check_output_folder, install_folder
+from ..errors import InputError, about_file
 from ..estimators.config import ImuConfig
 from ..estimators.imu import ImuReason, estimator_for
 from ..evaluation import imu as ev
 from ..io.imu_read import is_imu_file, read_imu
 
-__all__ = ["imu_options", "is_imu_file", "inspect_imu", "estimate_imu", "evaluate_imu", "is_imu_dataset"]
+__all__ = [
+    "IMU_OPTIONS",
+    "imu_options",
+    "is_imu_file",
+    "inspect_imu",
+    "estimate_imu",
+    "evaluate_imu",
+    "is_imu_dataset",
+]
+
+#: The parameters of :func:`imu_options`: for an IMU file only (a marker file refuses them).
+IMU_OPTIONS = ("acc_unit", "gyr_unit", "sensor_height_m", "trial", "sensor")
 
 
 def imu_options(f):
@@ -140,13 +151,19 @@ def inspect_imu(
         click.echo(f"{k:<{width}}  {v}")
 
 
-def estimate_imu(file, *, out=None, force=False, config_file=None, acc_unit=None, gyr_unit=None, rate_hz=None,
-                 sensor_height_m=None, trial=None, sensor=None) -> None:  # fmt: skip
-    """The online IMU estimate of FILE as CSV, one row per sample (every field of ImuEstimate)."""
+def estimate_imu(file, *, out=None, figure=None, force=False, config_file=None, acc_unit=None, gyr_unit=None,
+                 rate_hz=None, sensor_height_m=None, trial=None, sensor=None) -> None:  # fmt: skip
+    """The online IMU estimate of FILE as CSV, one row per sample (every field of ImuEstimate), and with
+    ``figure`` (a path; None or 'none': no figure) cadence and speed over time against the file's reference
+    bouts where it has them."""
     config = ImuConfig.from_file(config_file) if config_file is not None else None
     target = Path(out or f"{Path(file).name}.imu.csv")
-    if target.exists() and not force:
-        raise OutputError(f"--out {target}: exists; use --force to overwrite it")
+    fig = None if figure in (None, "none") else Path(figure)
+    inputs = (file, config_file)
+    check_distinct((("--out", target), ("--figure", fig)))
+    for option, path in (("--out", target), ("--figure", fig)):
+        if path is not None:
+            check_output_file(path, option, force, inputs)
     rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial, sensor)
     res = _estimator(rec, config).run_recording(rec)
     names = res.column_names()
@@ -161,9 +178,14 @@ def estimate_imu(file, *, out=None, force=False, config_file=None, acc_unit=None
             for i in range(len(res)):
                 w.writerow([_cell(c[i]) for c in cols])
 
-    atomic_file(target, write)
+    writers = {target: write}
+    if fig is not None:
+        writers[fig] = lambda p: ev.imu_figure(rec, res, p)
+    # Both or neither: the figure is drawn before the CSV is renamed into place.
+    atomic_files(writers)
     valid = res["valid"].astype(bool)
-    click.echo(f"wrote {target}: {len(res)} samples, {valid.mean() * 100:.0f} % valid")
+    wrote = f"{target} and {fig}" if fig else f"{target}"
+    click.echo(f"wrote {wrote}: {len(res)} samples, {valid.mean() * 100:.0f} % valid")
     for line in _clipped_lines(rec):
         click.echo(f"{file}: {line}", err=True)
 

@@ -11,8 +11,8 @@ from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
 from ..pipeline.velocities import MIN_USABLE_S, gait_velocities
-from .imu_cmd import imu_options, inspect_imu, is_imu_file
-from .options import belt_speed_option, input_options, read_overrides
+from .imu_cmd import IMU_OPTIONS, imu_options, inspect_imu, is_imu_file
+from .options import MARKER_OPTIONS, belt_speed_option, input_options, read_overrides, refuse_options
 
 
 def inspect_file(
@@ -177,8 +177,9 @@ def _fmt(value, unit: str, digits: int = 2) -> str:
 @click.option("--all-points", is_flag=True, help="List every point name.")
 @click.option("--json", "as_json", is_flag=True, help="Print the report as JSON.")
 @imu_options
+@click.pass_context
 def command(
-    file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json,
+    ctx, file, point, feet, up_axis, length_unit_m, rate_hz, forward, belt_speed_mps, all_points, as_json,
     acc_unit, gyr_unit, sensor_height_m, trial, sensor,
 ) -> None:  # fmt: skip
     """Print a recording's rate, duration, points, chosen pelvis and up axis, walking time,
@@ -186,8 +187,10 @@ def command(
     data.mat, an IMU CSV, an Xsens .txt, a Movella DOT .csv, an APDM .h5): its rate, units, gravity
     and the online IMU estimate."""
     if is_imu_file(file):
+        refuse_options(ctx, file, MARKER_OPTIONS, "motion-capture files")
         return inspect_imu(file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz,
                            sensor_height_m=sensor_height_m, trial=trial, sensor=sensor, as_json=as_json)  # fmt: skip
+    refuse_options(ctx, file, IMU_OPTIONS, "IMU files")
     report = inspect_file(
         file,
         point=point,

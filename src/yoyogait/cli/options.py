@@ -207,3 +207,18 @@ def check_points(recording, point=None, feet=None) -> None:
             events.feet_of(recording, feet)
         except InputError as exc:
             raise InputError(f"--feet: {exc}") from None
+
+
+#: Parameters for motion-capture files only (an IMU file refuses them where a command has them).
+MARKER_OPTIONS = ("point", "feet", "up_axis", "length_unit_m", "belt_speed_mps", "preset", "forward", "all_points")
+
+
+def refuse_options(ctx: click.Context, file, names, applies_to: str) -> None:
+    """InputError naming the options of ``names`` (parameter names) given for ``file`` although they
+    apply only to ``applies_to`` (an IMU file's units for a marker file, a marker file's points for an
+    IMU file): a given option is never ignored in silence."""
+    typed = (click.core.ParameterSource.COMMANDLINE, click.core.ParameterSource.ENVIRONMENT)
+    given = [p.opts[0] for p in ctx.command.params if p.name in names and ctx.get_parameter_source(p.name) in typed]
+    if given:
+        them, it = ("it applies", "it") if len(given) == 1 else ("they apply", "them")
+        raise InputError(f"{file}: {', '.join(given)}: {them} to {applies_to} only; leave {it} out")

@@ -9,8 +9,8 @@ from .. import io
 from ..errors import about_file
 from ..io.imu_read import is_imu_file, read_imu
 from ..live.replay import replay, replay_imu
-from .imu_cmd import imu_options
-from .options import POSITIVE, read_overrides
+from .imu_cmd import IMU_OPTIONS, imu_options
+from .options import MARKER_OPTIONS, POSITIVE, read_overrides, refuse_options
 
 
 @click.command("replay")
@@ -48,9 +48,11 @@ from .options import POSITIVE, read_overrides
     help="Wait up to this many seconds for a consumer before the first frame (error when none comes).",
 )
 @imu_options
+@click.pass_context
 def command(
-    file, name, speed, loop, up_axis, length_unit_m, rate_hz, wait_s, acc_unit, gyr_unit, sensor_height_m, trial, sensor
-):
+    ctx, file, name, speed, loop, up_axis, length_unit_m, rate_hz, wait_s, acc_unit, gyr_unit, sensor_height_m, trial,
+    sensor,
+):  # fmt: skip
     """Play a motion-capture FILE (C3D, TRC, BVH, CSV) into an LSL marker stream NAME.
 
     Channels <point>_x/_y/_z in metres (NaN where missing) and time_s (the file's time), at the
@@ -60,6 +62,7 @@ def command(
     height in its description.
     """
     if is_imu_file(file):
+        refuse_options(ctx, file, MARKER_OPTIONS, "motion-capture files")
         with about_file(file):
             imu = read_imu(
                 file,
@@ -77,6 +80,7 @@ def command(
         stats = replay_imu(imu, name, speed=speed, loop=loop, wait_for_consumer_s=wait_s, on_ready=imu_ready)
         click.echo(f"pushed {stats.frames} samples in {stats.wall_s:.1f} s", err=True)
         return
+    refuse_options(ctx, file, IMU_OPTIONS, "IMU files")
     rec = io.read(file, **read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz))
 
     def ready():

@@ -6,9 +6,11 @@ import csv
 
 import numpy as np
 
+from builders import write_trc
 from yoyogait.cli import main
 from yoyogait.io.imu_read import read_imu
 from yoyogait.io.imu_recording import GRAVITY_MPS2
+from yoyogait.synthetic import SUBJECTS, make_walk
 from yoyogait.synthetic_imu import make_imu_walk
 
 MOBGAP = "imu_mobgap/example_data"
@@ -52,6 +54,42 @@ def test_estimate_does_not_overwrite_without_force(tmp_path, capsys, monkeypatch
     assert code != 0 and len(err.strip().splitlines()) == 1 and "--force" in err
     assert (tmp_path / "mine.csv").read_text() == "keep\n"
     assert main(["estimate", "walk.csv", "--out", "mine.csv", "--force"]) == 0
+
+
+def test_estimate_draws_a_figure_only_when_asked(tmp_path, capsys, monkeypatch):
+    """estimate on an IMU file writes the CSV alone by default, and the CSV with a PNG under --figure."""
+    monkeypatch.chdir(tmp_path)
+    _csv(tmp_path / "walk.csv")
+    assert main(["estimate", "walk.csv"]) == 0
+    assert not list(tmp_path.glob("*.png"))
+    assert main(["estimate", "walk.csv", "--out", "b.csv", "--figure", "b.png"]) == 0
+    assert (tmp_path / "b.csv").is_file() and (tmp_path / "b.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "b.png" in capsys.readouterr().out
+
+
+def test_options_of_the_other_kind_of_file_are_refused_not_ignored(tmp_path, capsys, monkeypatch):
+    """A marker file's option given for an IMU file, or an IMU option for a marker file: one line naming it, exit 2."""
+    monkeypatch.chdir(tmp_path)
+    _csv(tmp_path / "walk.csv")
+    for argv, named in (
+        (["estimate", "walk.csv", "--point", "hand"], "--point"),
+        (["estimate", "walk.csv", "--feet", "LHEE,RHEE", "--belt-speed-mps", "1"], "--feet, --belt-speed-mps"),
+        (["inspect", "walk.csv", "--up-axis", "y"], "--up-axis"),
+        (["replay", "walk.csv", "--name", "w", "--length-unit-m", "0.001"], "--length-unit-m"),
+    ):
+        code = main(argv)
+        err = capsys.readouterr().err
+        assert code == 2 and len(err.strip().splitlines()) == 1 and named in err and "walk.csv" in err, (argv, err)
+    assert not list(tmp_path.glob("walk.csv.imu.csv"))
+    write_trc(tmp_path / "markers.trc", make_walk(SUBJECTS[0], "1-straight", duration_s=6.0).recording)
+    for argv, named in (
+        (["estimate", "markers.trc", "--acc-unit", "g"], "--acc-unit"),
+        (["inspect", "markers.trc", "--trial", "Test5/Trial1", "--sensor-height-m", "1"], "--sensor-height-m, --trial"),
+    ):
+        code = main(argv)
+        err = capsys.readouterr().err
+        assert code == 2 and len(err.strip().splitlines()) == 1 and named in err and "markers.trc" in err, (argv, err)
+    assert not list(tmp_path.glob("markers.trc.estimate.*"))
 
 
 def test_gravity_in_g_is_one_line_naming_the_option(tmp_path, capsys, monkeypatch):
