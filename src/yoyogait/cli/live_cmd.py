@@ -17,7 +17,7 @@ from ..live.imu_live import IMU_COLUMNS, INPUT_KINDS, ImuLiveOptions, ImuLiveSet
 from ..live.live import BeltSpeedStream, describe_source
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
-from .options import POSITIVE, config_file_option, split_names
+from .options import MARKER_OPTIONS, POSITIVE, config_file_option, refuse_options, split_names
 
 
 @click.command("live")
@@ -124,8 +124,9 @@ from .options import POSITIVE, config_file_option, split_names
     metavar="TOPIC",
     help="Also publish on this ROS 2 topic (yoyogait[ros2]; docs/live.md).",
 )
+@click.pass_context
 def command(
-    source, input_kind, publish, record, force, point, feet, belt_speed_mps, belt_speed_source, up_axis,
+    ctx, source, input_kind, publish, record, force, point, feet, belt_speed_mps, belt_speed_source, up_axis,
     length_unit_m, duration, exit_on_end, timeout, max_buffer_s, list_points, config_file, acc_unit, gyr_unit,
     sensor_height_m, ros2_topic,
 ):  # fmt: skip
@@ -187,6 +188,10 @@ def command(
         )
 
     def imu_found():
+        # A marker stream's options on an IMU stream would be ignored: refused, named, as for a file.
+        refuse_options(
+            ctx, f"stream {source!r} is an IMU stream", (*MARKER_OPTIONS, "belt_speed_source"), "marker streams"
+        )
         if ros2_topic:
             raise InputError(
                 f"stream {source!r} is an IMU stream: --ros2-topic publishes the marker path's estimates only"

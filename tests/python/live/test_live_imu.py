@@ -339,6 +339,19 @@ def test_an_imu_stream_read_as_markers_says_to_pass_input_imu():
     assert f"stream {name!r}: an IMU stream (type 'IMU'), not markers; pass --input imu" in err
 
 
+def test_a_marker_streams_options_on_an_imu_stream_are_refused_not_ignored():
+    """--feet and --belt-speed-mps on an IMU stream: one line naming the stream and both options, exit 2."""
+    name = unique("imu-with-feet")
+    walk = make_imu_walk(duration_s=2.0).recording
+    samples = np.column_stack([walk.acc_mps2, walk.gyr_rad_s])
+    code, err = _cli_on_stream(
+        name, imu_info(name, LABELS, UNITS), samples, ["--feet", "LHEE,RHEE", "--belt-speed-mps", "1"]
+    )
+    lines = [line for line in err.splitlines() if not line.startswith("live:")]
+    assert code == 2 and len(lines) == 1 and "Traceback" not in err, err
+    assert f"stream {name!r} is an IMU stream: --feet, --belt-speed-mps" in lines[0], err
+
+
 def test_list_points_describes_an_imu_stream(capsys):
     """--list-points on an IMU stream: its acc and gyro channels, their units, the time base, the sensor height."""
     name = unique("imu-list")
