@@ -22,12 +22,28 @@ from ..evaluation import parallel
 from .imu_cmd import evaluate_imu, is_imu_dataset
 from .options import (
     ESTIMATOR_NAMES,
+    MARKER_OPTIONS,
     check_points,
     estimator_config_option,
     estimators_option,
     force_option,
     input_options,
     read_overrides,
+    refuse_options,
+)
+
+#: What an IMU data set (Mobilise-D data.mat files) does not use: the marker path's input options and
+#: the marker evaluation's estimators, parallelism and synthetic lab.
+IMU_DATASET_REFUSED = (
+    *MARKER_OPTIONS,
+    "rate_hz",
+    "estimators",
+    "jobs",
+    "scheduler",
+    "ship_files",
+    "seed",
+    "online",
+    "online_feet",
 )
 
 
@@ -272,7 +288,9 @@ REPORT_FORCE_HELP = (
     "as estimate --online --feet puts them: their steps check the cadence (markerless capture), and on a "
     "treadmill the belt speed comes from the stance feet. A recording without feet is reported.",
 )
+@click.pass_context
 def command(
+    ctx,
     dataset,
     point,
     feet,
@@ -307,6 +325,10 @@ def command(
         raise InputError(f"--no-figures contradicts --figures {figures}")
     mode = "none" if no_figures else figures
     if dataset != "synthetic" and is_imu_dataset(dataset):
+        # Options of the marker evaluation would be ignored here: refused, named.
+        refuse_options(ctx, dataset, IMU_DATASET_REFUSED, "motion-capture data sets")
+        if len(config_files) > 1:
+            raise InputError(f"{dataset}: an IMU data set is evaluated with one --config (its [imu] table)")
         imu_config = config_files[0] if config_files else None
         evaluate_imu(dataset, Path(out), force=force, figures=mode != "none", config_file=imu_config)
         return

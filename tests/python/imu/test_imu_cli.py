@@ -92,6 +92,17 @@ def test_options_of_the_other_kind_of_file_are_refused_not_ignored(tmp_path, cap
     assert not list(tmp_path.glob("markers.trc.estimate.*"))
 
 
+def test_evaluate_refuses_the_marker_evaluations_options_for_an_imu_data_set(tmp_path, capsys):
+    """evaluate on a folder of data.mat files with --point or --jobs: one line naming them, exit 2, no report."""
+    (tmp_path / "lab" / "HA").mkdir(parents=True)
+    (tmp_path / "lab" / "HA" / "data.mat").write_bytes(b"")
+    out = tmp_path / "report"
+    code = main(["evaluate", str(tmp_path / "lab"), "--out", str(out), "--point", "hand", "--jobs", "2"])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--point, --jobs" in err, err
+    assert not out.exists()
+
+
 def test_gravity_in_g_is_one_line_naming_the_option(tmp_path, capsys, monkeypatch):
     """An IMU CSV whose acceleration is in g but labelled m/s^2: one line naming --acc-unit, exit 2, no output."""
     monkeypatch.chdir(tmp_path)
