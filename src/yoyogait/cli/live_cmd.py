@@ -17,6 +17,7 @@ from ..live.imu_live import IMU_COLUMNS, INPUT_KINDS, ImuLiveOptions, ImuLiveSet
 from ..live.live import BeltSpeedStream, describe_source
 from ..live.ros2 import Ros2Publisher
 from ..live.status import StatusLine
+from .imu_cmd import IMU_OPTIONS
 from .options import MARKER_OPTIONS, POSITIVE, config_file_option, refuse_options, split_names
 
 
@@ -180,6 +181,8 @@ def command(
                 f"sensor height {s.sensor_height_m:g} m)"
             )
         else:
+            # The IMU options on a marker stream would be ignored: refused, named.
+            refuse_options(ctx, f"stream {source!r} is a marker stream", IMU_OPTIONS, "IMU streams")
             what = f"following {s.choice.label}, up {s.up_axis}"
         click.echo(
             f"live: {s.source!r} at {s.nominal_rate_hz:g} Hz, {what}; "

@@ -32,6 +32,7 @@ from yoyogait.live.imu_live import (
     imu_setup_from_info,
     run_live_source,
 )
+from yoyogait.live.layout import marker_stream_info
 from yoyogait.live.replay import replay_imu
 from yoyogait.synthetic_imu import make_imu_walk
 
@@ -350,6 +351,17 @@ def test_a_marker_streams_options_on_an_imu_stream_are_refused_not_ignored():
     lines = [line for line in err.splitlines() if not line.startswith("live:")]
     assert code == 2 and len(lines) == 1 and "Traceback" not in err, err
     assert f"stream {name!r} is an IMU stream: --feet, --belt-speed-mps" in lines[0], err
+
+
+def test_the_imu_options_on_a_marker_stream_are_refused_not_ignored():
+    """--acc-unit and --sensor-height-m on a marker stream: one line naming the stream and both options, exit 2."""
+    name = unique("markers-with-imu-options")
+    info = marker_stream_info(name, ["LASI", "RASI", "LPSI", "RPSI"], 100.0, "z")
+    frames = np.zeros((100, 13))
+    code, err = _cli_on_stream(name, info, frames, ["--acc-unit", "g", "--sensor-height-m", "1"])
+    lines = [line for line in err.splitlines() if not line.startswith("live:")]
+    assert code == 2 and len(lines) == 1 and "Traceback" not in err, err
+    assert f"stream {name!r} is a marker stream: --acc-unit, --sensor-height-m" in lines[0], err
 
 
 def test_list_points_describes_an_imu_stream(capsys):
