@@ -18,9 +18,8 @@ from ..evaluation import figures as plots
 from ..pipeline import events
 from ..pipeline.treadmill import detect_treadmill
 from ..pipeline.velocities import check_point_motion, gait_velocities
-from .imu_cmd import IMU_OPTIONS, estimate_imu, imu_options, is_imu_file
+from .imu_cmd import estimate_imu, imu_options, is_imu_file, refuse_other_kind
 from .options import (
-    MARKER_OPTIONS,
     belt_speed_option,
     check_points,
     estimator_config_option,
@@ -28,7 +27,6 @@ from .options import (
     input_options,
     preset_option,
     read_overrides,
-    refuse_options,
 )
 
 
@@ -126,12 +124,12 @@ def command(
     has them) only with --figure FILE. The options of marker files (--point, --feet, --up-axis,
     --length-unit-m, --preset, --belt-speed-mps) are refused for it, as the IMU options for a marker file.
     """
-    if is_imu_file(file):
-        refuse_options(ctx, file, MARKER_OPTIONS, "motion-capture files")
+    imu = is_imu_file(file)
+    refuse_other_kind(ctx, file, imu)
+    if imu:
         return estimate_imu(file, out=out, figure=figure, force=force, config_file=config_file, acc_unit=acc_unit,
                             gyr_unit=gyr_unit, rate_hz=rate_hz, sensor_height_m=sensor_height_m,
                             trial=trial, sensor=sensor)  # fmt: skip
-    refuse_options(ctx, file, IMU_OPTIONS, "IMU files")
     if online:
         return online_estimate(
             file, point, up_axis, length_unit_m, rate_hz, preset, out, figure, force, config_file,

@@ -18,9 +18,11 @@ from ..estimators.config import ImuConfig
 from ..estimators.imu import ImuReason, estimator_for
 from ..evaluation import imu as ev
 from ..io.imu_read import is_imu_file, read_imu
+from .options import MARKER_OPTIONS, refuse_options
 
 __all__ = [
     "IMU_OPTIONS",
+    "refuse_other_kind",
     "imu_options",
     "is_imu_file",
     "inspect_imu",
@@ -31,6 +33,15 @@ __all__ = [
 
 #: The parameters of :func:`imu_options`: for an IMU file only (a marker file refuses them).
 IMU_OPTIONS = ("acc_unit", "gyr_unit", "sensor_height_m", "trial", "sensor")
+
+
+def refuse_other_kind(ctx: click.Context, file, imu: bool) -> None:
+    """InputError naming the options given for ``file`` that only the other kind of file takes (``imu``:
+    the file is an IMU's): the marker options for an IMU file, the IMU options for a marker file."""
+    if imu:
+        refuse_options(ctx, file, MARKER_OPTIONS, "motion-capture files")
+    else:
+        refuse_options(ctx, file, IMU_OPTIONS, "IMU files")
 
 
 def imu_options(f):

@@ -11,8 +11,8 @@ from ..errors import InputError, about_file
 from ..io import read
 from ..pipeline import events, points, spectral
 from ..pipeline.velocities import MIN_USABLE_S, gait_velocities
-from .imu_cmd import IMU_OPTIONS, imu_options, inspect_imu, is_imu_file
-from .options import MARKER_OPTIONS, belt_speed_option, input_options, read_overrides, refuse_options
+from .imu_cmd import imu_options, inspect_imu, is_imu_file, refuse_other_kind
+from .options import belt_speed_option, input_options, read_overrides
 
 
 def inspect_file(
@@ -186,11 +186,11 @@ def command(
     mean speed, dominant step frequency and the DFT check of the Yoyo-model. An IMU file (Mobilise-D
     data.mat, an IMU CSV, an Xsens .txt, a Movella DOT .csv, an APDM .h5): its rate, units, gravity
     and the online IMU estimate."""
-    if is_imu_file(file):
-        refuse_options(ctx, file, MARKER_OPTIONS, "motion-capture files")
+    imu = is_imu_file(file)
+    refuse_other_kind(ctx, file, imu)
+    if imu:
         return inspect_imu(file, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz,
                            sensor_height_m=sensor_height_m, trial=trial, sensor=sensor, as_json=as_json)  # fmt: skip
-    refuse_options(ctx, file, IMU_OPTIONS, "IMU files")
     report = inspect_file(
         file,
         point=point,

@@ -192,9 +192,7 @@ def command(
 
     def imu_found():
         # A marker stream's options on an IMU stream would be ignored: refused, named, as for a file.
-        refuse_options(
-            ctx, f"stream {source!r} is an IMU stream", (*MARKER_OPTIONS, "belt_speed_source"), "marker streams"
-        )
+        refuse_options(ctx, f"stream {source!r} is an IMU stream", MARKER_OPTIONS, "marker streams")
         if ros2_topic:
             raise InputError(
                 f"stream {source!r} is an IMU stream: --ros2-topic publishes the marker path's estimates only"

@@ -210,7 +210,17 @@ def check_points(recording, point=None, feet=None) -> None:
 
 
 #: Parameters for motion-capture files only (an IMU file refuses them where a command has them).
-MARKER_OPTIONS = ("point", "feet", "up_axis", "length_unit_m", "belt_speed_mps", "preset", "forward", "all_points")
+MARKER_OPTIONS = (
+    "point",
+    "feet",
+    "up_axis",
+    "length_unit_m",
+    "belt_speed_mps",
+    "belt_speed_source",
+    "preset",
+    "forward",
+    "all_points",
+)
 
 
 def refuse_options(ctx: click.Context, file, names, applies_to: str) -> None:

@@ -9,8 +9,8 @@ from .. import io
 from ..errors import about_file
 from ..io.imu_read import is_imu_file, read_imu
 from ..live.replay import replay, replay_imu
-from .imu_cmd import IMU_OPTIONS, imu_options
-from .options import MARKER_OPTIONS, POSITIVE, read_overrides, refuse_options
+from .imu_cmd import imu_options, refuse_other_kind
+from .options import POSITIVE, read_overrides
 
 
 @click.command("replay")
@@ -61,8 +61,9 @@ def command(
     an APDM .h5) is played into an IMU stream: acc_x/_y/_z in m/s^2, gyr_x/_y/_z in rad/s and time_s, the sensor
     height in its description.
     """
-    if is_imu_file(file):
-        refuse_options(ctx, file, MARKER_OPTIONS, "motion-capture files")
+    imu = is_imu_file(file)
+    refuse_other_kind(ctx, file, imu)
+    if imu:
         with about_file(file):
             imu = read_imu(
                 file,
@@ -80,7 +81,6 @@ def command(
         stats = replay_imu(imu, name, speed=speed, loop=loop, wait_for_consumer_s=wait_s, on_ready=imu_ready)
         click.echo(f"pushed {stats.frames} samples in {stats.wall_s:.1f} s", err=True)
         return
-    refuse_options(ctx, file, IMU_OPTIONS, "IMU files")
     rec = io.read(file, **read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz))
 
     def ready():
