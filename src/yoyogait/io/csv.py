@@ -34,6 +34,7 @@ import re
 import numpy as np
 
 from ..errors import InputError
+from .imu_read import is_imu_header
 from .recording import (
     AXES,
     MAX_SPEED_MPS,
@@ -166,10 +167,12 @@ def _refuse_inertial(header: list[str], where) -> None:
     inertial = [h for h in lower if h.split("_")[0] in _INERTIAL_PREFIXES]
     has_points = any(h.endswith(("_x", ".x", " x")) and h.split("_")[0] not in _INERTIAL_PREFIXES for h in lower)
     if len(inertial) >= 3 and not has_points:
-        raise InputError(
-            f"{where}: an IMU recording ({', '.join(header[lower.index(h)] for h in inertial[:6])}), "
-            "not point positions: read it with yoyogait.io.imu_read.read_imu (the CLI does; docs/imu.md)"
-        )
+        columns = ", ".join(header[lower.index(h)] for h in inertial[:6])
+        if is_imu_header(header):
+            how = "read it with yoyogait.io.imu_read.read_imu (the CLI does; docs/imu.md)"
+        else:  # the CLI took it for motion capture: say what the IMU readers need
+            how = "an IMU table needs acc and gyr columns for each axis: x, y, z or is, ml, pa (docs/imu.md)"
+        raise InputError(f"{where}: an IMU recording ({columns}), not point positions: {how}")
 
 
 def _points(header: list[str], table: np.ndarray, where) -> tuple[list[str], np.ndarray]:

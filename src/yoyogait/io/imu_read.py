@@ -4,7 +4,8 @@
 ``data.mat``           Mobilise-D MATLAB format (acc in g, gyr in deg/s)            :func:`read_mobilised_mat`
 ``.csv`` (mobgap)      ``samples,acc_x..acc_z,gyr_x..gyr_z``: g, deg/s, 100 Hz       :func:`read_imu_csv`
 ``.csv`` (yoyogait)    ``time_s,acc_x_mps2..,gyr_x_rad_s..``: units in the header   :func:`read_imu_csv`
-``.csv`` (generic)     ``acc_x..``, ``gyr_x..`` with ``acc_unit``/``gyr_unit``        :func:`read_imu_csv`
+``.csv`` (generic)     ``acc_x..`` (or ``acc_is, acc_ml, acc_pa``), ``gyr_x..`` with   :func:`read_imu_csv`
+                       ``acc_unit``/``gyr_unit``
 ``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z``         :func:`read_xsens_txt`
 ``.csv`` (Movella DOT) ``DeviceTag:,..`` lines, ``PacketCounter,SampleTimeFine,..``    :func:`read_dot_csv`
 ``.h5`` (APDM/Opal)    ``/Sensors/<id>/Accelerometer`` (v5), ``/<case>/Calibrated``   :func:`read_apdm_h5`
@@ -50,6 +51,8 @@ ACC_UNITS = {"mps2": 1.0, "m/s^2": 1.0, "g": GRAVITY_MPS2}
 GYR_UNITS = {"rad_s": 1.0, "rad/s": 1.0, "deg_s": np.pi / 180.0, "deg/s": np.pi / 180.0}
 
 _AXES = ("x", "y", "z")
+#: Each axis with mobgap's body-frame name for it (``to_body_frame``: x -> is, y -> ml, z -> pa, a renaming).
+_AXIS_NAMES = {"x": "(?:x|is)", "y": "(?:y|ml)", "z": "(?:z|pa)"}
 #: The calibrated channels of Xsens exports (MT Manager and Movella DOT name them alike).
 _XSENS_CHANNELS = ("Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z")
 _MOBGAP_HEADER = ["samples", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"]
@@ -65,10 +68,12 @@ def _unit(value, table: dict, option: str, where) -> float:
 
 
 def is_imu_header(header: list[str]) -> bool:
-    """True for a CSV header with accelerometer and gyro columns (x, y, z each) and no point positions."""
+    """True for a CSV header with accelerometer and gyro columns (x, y, z each, or mobgap's body-frame
+    is, ml, pa) and no point positions."""
     lower = [h.strip().lower() for h in header]
-    acc = [h for h in lower if re.match(r"^acc(el)?[_ .:]?[xyz](?![a-z])", h)]
-    gyr = [h for h in lower if re.match(r"^gyr(o)?[_ .:]?[xyz](?![a-z])", h)]
+    axis = "(?:[xyz]|is|ml|pa)"
+    acc = [h for h in lower if re.match(rf"^acc(el)?[_ .:]?{axis}(?![a-z])", h)]
+    gyr = [h for h in lower if re.match(rf"^gyr(o)?[_ .:]?{axis}(?![a-z])", h)]
     return len(acc) >= 3 and len(gyr) >= 3
 
 
@@ -214,7 +219,7 @@ def _columns(lower, kind, units, override, option, where) -> tuple[list[int], fl
     for a in _AXES:
         found = None
         for i, h in enumerate(lower):
-            m = re.match(rf"^{kind}(?:o|el)?[_ .:]?{a}(?:[_ ]?(?:\[)?([a-z0-9/^_]+?)(?:\])?)?$", h)
+            m = re.match(rf"^{kind}(?:o|el)?[_ .:]?{_AXIS_NAMES[a]}(?:[_ ]?(?:\[)?([a-z0-9/^_]+?)(?:\])?)?$", h)
             if m:
                 found = (i, m.group(1))
                 break

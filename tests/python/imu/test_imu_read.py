@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from yoyogait.errors import InputError
+from yoyogait.io import read
 from yoyogait.io.imu_read import is_imu_file, read_imu, read_mobilised_trials
 from yoyogait.io.imu_recording import GRAVITY_MPS2
 from yoyogait.synthetic_imu import make_imu_walk
@@ -87,6 +88,27 @@ def test_generic_csv_without_units_names_the_option(tmp_path):
         read_imu(p)
     back = read_imu(p, acc_unit="mps2", gyr_unit="rad_s")
     assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-9)
+
+
+def test_mobgap_body_frame_columns_are_the_sensor_axes(tmp_path):
+    """acc_is, acc_ml, acc_pa and gyr_is.. (mobgap's body frame: x -> is, y -> ml, z -> pa) read as x, y, z."""
+    rec = make_imu_walk(duration_s=4.0).recording
+    p = tmp_path / "body_frame.csv"
+    _write_yoyogait_csv(p, rec, 1.0, "acc_{}", "gyr_{}")
+    p.write_text(p.read_text().replace("_x", "_is", 2).replace("_y", "_ml", 2).replace("_z", "_pa", 2))
+    assert p.read_text().startswith("time_s,acc_is,acc_ml,acc_pa,gyr_is,gyr_ml,gyr_pa\n")
+    assert is_imu_file(p)
+    back = read_imu(p, acc_unit="mps2", gyr_unit="rad_s")
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-9) and np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-9)
+
+
+def test_an_inertial_table_the_imu_readers_cannot_take_says_what_they_need(tmp_path):
+    """Accelerometer columns without a gyro, read as motion capture: one line naming what an IMU table needs."""
+    p = tmp_path / "acc_only.csv"
+    p.write_text("time,acc_x,acc_y,acc_z\n0,0,0,9.8\n0.01,0,0,9.8\n")
+    assert not is_imu_file(p)
+    with pytest.raises(InputError, match="an IMU table needs acc and gyr columns for each axis: x, y, z or is, ml, pa"):
+        read(p)
 
 
 def test_gravity_in_the_wrong_unit_names_the_option(tmp_path):
