@@ -326,9 +326,9 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
         ax.legend(loc="upper right", fontsize=7, ncol=3)
         ax.grid(alpha=0.3)
     label = "SYNTHETIC " if rec.synthetic else ""
+    against = "reference bouts vs " if rec.references else ""
     fig.suptitle(
-        f"{label}{rec.source.split('example_data/')[-1]}: reference bouts vs online IMU estimate (band: 2 std)",
-        fontsize=9,
+        f"{label}{rec.source.split('example_data/')[-1]}: {against}online IMU estimate (band: 2 std)", fontsize=9
     )
     fig.subplots_adjust(left=0.07, right=0.98, top=0.94, bottom=0.07, hspace=0.12)
     fig.savefig(path, dpi=90)
