@@ -65,7 +65,8 @@ def reference_events(recording, feet, up_axis):
     "--figure",
     type=click.Path(dir_okay=False),
     default=None,
-    help="PNG to write [default: FILE's name + .estimate.png, here]; 'none' for no figure.",
+    help="PNG to write [default: FILE's name + .estimate.png, here; with --online or an IMU file: only "
+    "when given]; 'none' for no figure.",
 )
 @belt_speed_option
 @force_option(
@@ -105,13 +106,15 @@ def command(
     last walking values) and status (0: the sample was used).
 
     --online replays FILE frame by frame through the online estimator (nothing from the future;
-    the default estimator, or the one --config FILE sets with its [online] table; no figure): one
+    the default estimator, or the one --config FILE sets with its [online] table): one
     row per capture frame with time_s, vx_mps, vz_mps, vx_hat_mps, vz_hat_mps, step_frequency_hz,
     step_frequency_std_hz, speed_mps, speed_std_mps, heading_rad, gait_phase, walking, status (0
     used, 1 no point seen, 2 timestamp not increasing, 3 restart after a gap, 4 non-finite),
     input_latency_s and next_step_in_s (time to the next lowest point of the pelvis, NaN while
     standing or while no phase is known), valid, invalid_reason and belt_speed_mps; --out defaults
-    to FILE's name + .online.csv.
+    to FILE's name + .online.csv. With --figure PNG also a figure (written with the CSV or neither):
+    v_z, step frequency and speed with their 2-std bands, solid where valid, and a strip of when the
+    estimate is valid and why not.
     --feet NAME,NAME puts those foot points (one per foot: heels or ankles) into the frames: their
     steps check the estimate's cadence (a markerless capture is valid only with them), and on a
     treadmill the belt speed is estimated from the stance feet. --belt-speed-mps gives the belt speed;
@@ -205,11 +208,14 @@ def online_estimate(
     belt speed."""
     if preset != "default":
         raise InputError(f"--online runs the default estimator; --preset {preset} is not available online")
-    if figure not in (None, "none"):
-        raise InputError("--online writes no figure; leave out --figure")
     stem = Path(file).name
     out = Path(out or f"{stem}.online.csv")
-    check_output_file(out, "--out", force, inputs=(file, config_file))
+    fig = None if figure in (None, "none") else Path(figure)
+    inputs = (file, config_file)
+    check_distinct((("--out", out), ("--figure", fig)))
+    for option, target in (("--out", out), ("--figure", fig)):
+        if target is not None:
+            check_output_file(target, option, force, inputs)
     check_belt_speed(belt_speed_mps, "--belt-speed-mps")
     config = OnlineConfig.from_file(config_file) if config_file is not None else None
     overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
@@ -221,7 +227,18 @@ def online_estimate(
         if belt_speed_mps is not None:
             est.set_belt_speed_mps(belt_speed_mps)
         res = est.run(recording)
-    res.to_csv(out)
+    writers = {out: res.to_csv}
+    if fig is not None:
+        title = f"{stem}: {', '.join(est.point_names)}" + (f"; feet {', '.join(est.feet)}" if est.feet else "")
+        writers[fig] = lambda p: plots.online_figure(
+            res,
+            conditions=plots.recording_conditions(recording),
+            title=title,
+            synthetic=bool(recording.metadata.get("synthetic")),
+            path=p,
+        )
+    # Both or neither: the figure is drawn before the CSV is renamed into place.
+    atomic_files(writers)
     walking = np.asarray(res.walking, dtype=bool)
     gait = (
         f"median step frequency while walking {np.median(res.step_frequency_hz[walking]):.2f} Hz"
@@ -243,7 +260,7 @@ def online_estimate(
         click.echo(belt_line(res, est.feet, belt_speed_mps))
     elif treadmill_like(res):
         click.echo(in_place_line(recording, est.up_axis))
-    click.echo(f"wrote {out}")
+    click.echo(f"wrote {out}" + (f" and {fig}" if fig else ""))
 
 
 def in_place_line(recording, up_axis: str) -> str:

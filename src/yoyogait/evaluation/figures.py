@@ -38,6 +38,7 @@ __all__ = [
     "parameter_figure",
     "velocity_figure",
     "estimate_figure",
+    "online_figure",
     "distribution_figure",
     "recording_title",
     "recording_conditions",
@@ -732,12 +733,172 @@ def estimate_figure(
     return _finish(fig, path, synthetic)
 
 
+_VALID = "tab:green"
+_INVALID = "tab:red"
+
+
+def _reason_rows(result) -> list[tuple[str, np.ndarray, np.ndarray, str]]:
+    """(label, times, mask, colour) of the validity strip: walking, valid, then each reason that occurs."""
+    from ..estimators.online import InvalidReason
+
+    t = np.asarray(result.time_s, dtype=float)
+    reasons = np.asarray(result.invalid_reason, dtype=int)
+    rows = [
+        ("walking", t, np.asarray(result.walking, dtype=bool), "0.45"),
+        ("valid", t, np.asarray(result.valid, dtype=bool), _VALID),
+    ]
+    for reason in InvalidReason:
+        mask = (reasons & int(reason)) != 0
+        if mask.any():
+            rows.append((reason.name.lower().replace("_", " "), t, mask, _INVALID))
+    return rows
+
+
+def _strip(ax, rows) -> None:
+    """One horizontal bar per row, top to bottom, over the frames where its mask holds (each frame
+    until the next)."""
+    for k, (_, times, mask, colour) in enumerate(rows):
+        step = times[-1] - times[-2] if times.size > 1 else 0.01
+        edges = np.concatenate([times, [times[-1] + step]])
+        bars = [(edges[a], edges[b] - edges[a]) for a, b in runs(mask)]
+        ax.broken_barh(bars, (len(rows) - 1 - k - 0.35, 0.7), facecolors=colour, lw=0)
+    ax.set_yticks(range(len(rows)))
+    ax.set_yticklabels([row[0] for row in reversed(rows)], fontsize="small")
+    ax.set_ylim(-0.6, len(rows) - 0.4)
+    ax.grid(True, axis="x", alpha=0.3)
+
+
+def _valid_and_not(ax, t, y, std, valid, *, colour, label) -> None:
+    """An online estimate: solid with its ±2σ band where it is valid, thin grey (band pale) where not."""
+    y, std = np.asarray(y, dtype=float), np.asarray(std, dtype=float)
+    band = np.isfinite(std) & np.isfinite(y)
+    ax.fill_between(t, y - 2 * std, y + 2 * std, where=band & valid, color=colour, alpha=0.25, lw=0,
+                    label="±2σ" if (band & valid).any() else None)  # fmt: skip
+    ax.fill_between(t, y - 2 * std, y + 2 * std, where=band & ~valid, color="0.6", alpha=0.15, lw=0)
+    ax.plot(t, np.where(valid, y, np.nan), color=colour, lw=1.2, label=f"{label} (valid)" if valid.any() else None)
+    ax.plot(t, np.where(valid, np.nan, y), color="0.55", lw=0.8, label=None if valid.all() else f"{label} (not valid)")
+
+
+def _limits(ax, *series, low: float, high: float, cap: float) -> None:
+    """y from 0 to the largest finite value of the series (at least ``low``), padded, at most ``cap``."""
+    top = high
+    for v in series:
+        if v is not None:
+            v = np.asarray(v, dtype=float)
+            v = v[np.isfinite(v)]
+            if v.size:
+                top = max(top, float(np.max(v)))
+    ax.set_ylim(low, min(cap, 1.12 * top))
+
+
+def online_figure(
+    result,
+    *,
+    reference_time_s=None,
+    reference_vz_mps=None,
+    reference_step_frequency_hz=None,
+    reference_speed_mps=None,
+    reference_walking=None,
+    reference_quality=None,
+    conditions=(),
+    title: str = "",
+    synthetic: bool = False,
+    path=None,
+) -> Figure:
+    """What ``yoyogait estimate --online --figure`` and ``evaluate --online`` draw: an online estimate
+    (:class:`~yoyogait.estimators.online.OnlineResult`) frame by frame, as a controller gating on
+    ``valid`` would see it.
+
+    Rows, on one time axis: the front-end's vertical velocity and the reconstruction at the frame
+    time; the step frequency and the speed, solid with their ±2σ bands where the estimate is
+    valid, grey where it is not; a strip of when the estimator says walking, when the estimate is
+    valid and each reason it is not (docs/online.md, "Validity"). With references (on
+    ``reference_time_s``: the offline v_z, the foot-contact cadence and stride-averaged speed, the
+    reference's walking part) each row shows them too, and the strip their walking part.
+    """
+    t = np.asarray(result.time_s, dtype=float)
+    if t.size == 0:
+        raise InputError("the online result has no frames to draw")
+    valid = np.asarray(result.valid, dtype=bool)
+    f_valid = np.asarray(result.step_frequency_hz, dtype=float)[valid]
+    s_valid = np.asarray(result.speed_mps, dtype=float)[valid]
+    # The references, on their own time axis; none without one.
+    given = reference_time_s is not None
+    ref_t = np.asarray(reference_time_s if given else t, dtype=float)
+    ref = {
+        name: np.asarray(value, dtype=float) if given and value is not None else None
+        for name, value in (
+            ("vz", reference_vz_mps),
+            ("f", reference_step_frequency_hz),
+            ("speed", reference_speed_mps),
+            ("walking", reference_walking),
+        )
+    }
+    _check(ref_t, **{k: v for k, v in ref.items() if v is not None})
+
+    rows = _reason_rows(result)
+    n_rows = len(rows) + (ref["walking"] is not None)
+    fig = _new_figure("online", 10.0, 8.0 + 0.16 * n_rows)
+    grid = fig.add_gridspec(4, 1, height_ratios=(1.0, 1.0, 1.0, 0.17 * (n_rows + 1)), left=0.17, right=0.98,
+                            top=0.9, bottom=0.07, hspace=0.28)  # fmt: skip
+    ax_z = fig.add_subplot(grid[0])
+    ax_f = fig.add_subplot(grid[1], sharex=ax_z)
+    ax_s = fig.add_subplot(grid[2], sharex=ax_z)
+    ax_v = fig.add_subplot(grid[3], sharex=ax_z)
+    for ax in (ax_z, ax_f, ax_s):
+        ax.tick_params(labelbottom=False)
+        ax.grid(True, alpha=0.3)
+        ax.margins(x=0)
+
+    ax_z.plot(t, np.asarray(result.vz_mps, dtype=float), color="0.6", lw=0.7, label="front-end $v_z$")
+    if ref["vz"] is not None:
+        ax_z.plot(ref_t, ref["vz"], color=_REF, lw=0.8, ls="--", label="offline $v_z$ (centred)")
+    ax_z.plot(t, np.asarray(result.vz_hat_mps, dtype=float), color=_EST, lw=1.0, label="reconstructed $v_z$")
+    ax_z.set_ylabel("vertical $v_z$ (m/s)")
+    finite_vz = np.asarray(result.vz_hat_mps, dtype=float)[valid]
+    finite_vz = finite_vz[np.isfinite(finite_vz)]
+    if finite_vz.size:  # the front-end's start-up and noise must not flatten the gait
+        half = max(0.3, 1.5 * float(np.max(np.abs(finite_vz))))
+        ax_z.set_ylim(-half, half)
+
+    _valid_and_not(ax_f, t, result.step_frequency_hz, result.step_frequency_std_hz, valid, colour=_EST,
+                   label="estimate")  # fmt: skip
+    if ref["f"] is not None and np.isfinite(ref["f"]).any():
+        label, style = _reference_style(reference_quality, synthetic and reference_quality is None)
+        ax_f.plot(ref_t, ref["f"], label=label, **style)
+    ax_f.set_ylabel("step frequency (Hz)")
+    _limits(ax_f, f_valid, ref["f"], low=0.0, high=2.5, cap=4.0)
+
+    _valid_and_not(ax_s, t, result.speed_mps, result.speed_std_mps, valid, colour=_EST2, label="speed")
+    if ref["speed"] is not None and np.isfinite(ref["speed"]).any():
+        truth = synthetic and reference_quality is None
+        ax_s.plot(
+            ref_t, ref["speed"], color=_REF, lw=1.0, ls="--", label="truth" if truth else "reference (stride mean)"
+        )
+    ax_s.set_ylabel("speed (m/s)")
+    _limits(ax_s, s_valid, ref["speed"], low=0.0, high=1.5, cap=3.5)
+
+    if ref["walking"] is not None:
+        rows.insert(0, (f"walking ({'truth' if synthetic else 'reference'})", ref_t, ref["walking"] > 0.5, _REF))
+    _strip(ax_v, rows)
+    ax_v.set_xlabel("time (s)")
+    ax_v.set_xlim(float(t[0]), float(t[-1]))
+
+    for ax in (ax_z, ax_f, ax_s):
+        _legend_above(ax)
+    if not synthetic and given:
+        _reference_note(ax_f, reference_quality, ref["f"])
+    text = _with_conditions(title or "online estimate", conditions)
+    fig.suptitle(_title(f"{text}: online, frame by frame", synthetic), y=0.985)
+    return _finish(fig, path, synthetic)
+
+
 def distribution_figure(values: dict, *, labels: dict | None = None, title: str = "", path=None) -> Figure:
     """The distribution over recordings of some metrics, one panel per metric, one box per estimator.
 
     ``values``: estimator -> metric -> one value per recording (NaN where unknown, left out).
     Boxes span the quartiles around the median, whiskers reach 1.5 interquartile ranges, and every
-    recording is a dot. A panel whose values are all positive has a log scale.
+    recording is a dot. A panel whose values are all positive and span more than a decade has a log scale.
     """
     estimators = list(values)
     keys = list(dict.fromkeys(k for est in estimators for k in values[est]))
@@ -761,8 +922,12 @@ def distribution_figure(values: dict, *, labels: dict | None = None, title: str 
                 # Spread the dots evenly across the box by rank: deterministic, no overlap in order.
                 offsets = (np.argsort(np.argsort(d)) / max(d.size - 1, 1) - 0.5) * 0.3
                 ax.plot(p + offsets, d, "o", ms=2.5, alpha=0.5, color=_EST, mec="none")
-            if all(d.min() > 0 for _, d in shown):
+            low, high = min(d.min() for _, d in shown), max(d.max() for _, d in shown)
+            if low > 0 and high > 10.0 * low:  # errors over decades; shares and narrow spreads stay linear
+                from matplotlib.ticker import NullFormatter
+
                 ax.set_yscale("log")
+                ax.yaxis.set_minor_formatter(NullFormatter())  # labels at the decades only: none overlap
         ax.set_xticks(positions, estimators)
         ax.set_xlim(-0.6, len(estimators) - 0.4)
         ax.set_ylabel(labels.get(key, key), fontsize="small")

@@ -539,6 +539,14 @@ SUMMARY_ONLINE_KEYS = (
 """The rows of the online summary: (column, label); the worst recording is the highest value except for
 the columns in :data:`HIGHER_IS_BETTER` (the lowest) and :data:`BY_MAGNITUDE` (the farthest from 0)."""
 
+ONLINE_DISTRIBUTION_KEYS = (
+    ("f_err_whole_median_hz", "step freq. error, whole walking part (Hz)"),
+    ("vz_sq_err_mean_1e-2", "v_z error vs offline (1e-2 (m/s)^2)"),
+    ("f_cover2std_fraction", "step freq. within 2 std, share of walking"),
+    ("valid_after3s_fraction", "valid, share of walking after 3 s"),
+)
+"""The metrics whose distribution over recordings an online report's summary figure shows."""
+
 HIGHER_IS_BETTER = frozenset(k for k in HONESTY_KEYS if "cover2std" in k or k.startswith("valid"))
 BY_MAGNITUDE = frozenset(("latency_vz_ms", "latency_vz_input_ms"))
 #: The rows judged against the gait-event reference: again over the trusted references (issue 20's
@@ -552,11 +560,17 @@ REFERENCE_ONLINE_KEYS = frozenset(
 @dataclass
 class OnlineEvaluation(Evaluation):
     """An :class:`~yoyogait.evaluation.running.Evaluation` of the online estimator: its own columns,
-    a preamble for the report, no per-recording figures."""
+    a preamble for the report, and its own figures (the online estimate of each recording, as
+    :func:`~yoyogait.evaluation.figures.online_figure` draws it; the oscillator, which reports no
+    validity, has none; summary: the distributions of :data:`ONLINE_DISTRIBUTION_KEYS` and the best
+    and worst recording by the step frequency's error over the whole walking part)."""
 
     metric_keys: tuple = ONLINE_METRIC_KEYS
     title: str = "yoyogait online evaluation"
-    figures: bool = False
+    figure_kind: str = "online"
+    figure_estimators: tuple = ("online",)
+    rank_key: tuple = ("f_err_whole_median_hz", "step frequency error over the whole walking part")
+    distribution_keys: tuple = ONLINE_DISTRIBUTION_KEYS
 
     @property
     def preamble(self) -> list[str]:

@@ -200,6 +200,26 @@ def _recording_task(r, est: str, figdir: Path, stem: str) -> tuple:
     return ("recording", spec)
 
 
+def _online_task(r, est: str, figdir: Path, stem: str) -> tuple:
+    """What drawing one recording's online figure needs (an online evaluation's item)."""
+    vel = r.velocities
+    truth = r.item.truth is not None
+    spec = {
+        "result": r.results[est],
+        "reference_time_s": vel.time_s,
+        "reference_vz_mps": vel.vz,
+        "reference_step_frequency_hz": r.reference_step_frequency_hz,
+        "reference_speed_mps": r.reference_speed_mps,
+        "reference_walking": r.walking,
+        "reference_quality": None if truth else r.reference_quality,
+        "conditions": tuple(getattr(r, "conditions", ())),
+        "title": f"{r.item.name} [{est}]",
+        "synthetic": r.item.synthetic,
+        "path": str(figdir / f"{stem}_{_slug(est)}.png"),
+    }
+    return ("online", spec)
+
+
 _DRAWN: dict = {}
 """The last figure of each kind each thread of this process drew, by (process id, thread id, kind):
 the next one is drawn into it (``into``), about twice as fast as a new figure. A figure made before
@@ -244,6 +264,8 @@ def draw_figures(kind: str, spec: dict) -> float:
             path=spec["stem"] + "_velocities.png",
             into=_DRAWN.get(me + ("velocity",)),
         )
+    elif kind == "online":
+        plots.online_figure(**spec)
     elif kind == "distribution":
         plots.distribution_figure(spec["values"], labels=spec["labels"], title=spec["title"], path=spec["path"])
     else:
@@ -266,9 +288,9 @@ def _collector_spared():
         gc.unfreeze()
 
 
-def _best_and_worst(ev: Evaluation, est: str) -> tuple[int, int] | None:
-    """Indices of the recordings with the lowest and the highest :data:`RANK_KEY` of ``est``."""
-    values = [r.metrics[est].get(RANK_KEY, math.nan) for r in ev.items]
+def _best_and_worst(ev: Evaluation, est: str, key: str = RANK_KEY) -> tuple[int, int] | None:
+    """Indices of the recordings with the lowest and the highest ``key`` of ``est``."""
+    values = [r.metrics[est].get(key, math.nan) for r in ev.items]
     known = [i for i, v in enumerate(values) if isinstance(v, float) and math.isfinite(v)]
     if not known:
         return None
@@ -282,9 +304,18 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
     lines: list[str] = []
     label = "SYNTHETIC data" if ev.synthetic else "recordings"
     stems = _stems(ev)
+    # An online evaluation draws its own figure of the estimators that report validity; the offline
+    # one two per recording and estimator, ranked by Table I's v_x error.
+    online = getattr(ev, "figure_kind", "recording") == "online"
+    drawn = tuple(getattr(ev, "figure_estimators", ev.estimators))
+    task = _online_task if online else _recording_task
+    rank_key, rank_label = getattr(ev, "rank_key", (RANK_KEY, "v_x error"))
+    distribution_keys = getattr(ev, "distribution_keys", DISTRIBUTION_KEYS)
 
     def links(r, est: str) -> str:
         stem = f"{stems[id(r)]}_{_slug(est)}"
+        if online:
+            return f"[{md_text(est)} estimate](figures/{stem}.png)"
         return (
             f"[{md_text(est)}: parameters](figures/{stem}_parameters.png), [velocities](figures/{stem}_velocities.png)"
         )
@@ -293,13 +324,13 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
         values = {
             est: {
                 key: np.array([r.metrics[est].get(key, np.nan) for r in ev.items], float)
-                for key, _ in DISTRIBUTION_KEYS
+                for key, _ in distribution_keys
             }
             for est in ev.estimators
         }
         spec = {
             "values": values,
-            "labels": dict(DISTRIBUTION_KEYS),
+            "labels": dict(distribution_keys),
             "title": f"{len(ev.items)} {label}: the main metrics over recordings, per estimator",
             "path": str(figdir / "distributions.png"),
         }
@@ -309,18 +340,18 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
             "(box: quartiles and median; whiskers: 1.5 interquartile ranges; dots: recordings): "
             "[distributions](figures/distributions.png)",
             "",
-            f"Best and worst recording of each estimator by its v_x error ({RANK_KEY}):",
+            f"Best and worst recording of each estimator by its {rank_label} ({rank_key}):",
             "",
         ]
-        for est in ev.estimators:
-            pair = _best_and_worst(ev, est)
+        for est in drawn:
+            pair = _best_and_worst(ev, est, rank_key)
             if pair is None:
-                lines.append(f"- {md_code(est)}: no recording with a finite v_x error")
+                lines.append(f"- {md_code(est)}: no recording with a finite {rank_label}")
                 continue
             for which, i in zip(("best", "worst"), pair):
                 r = ev.items[i]
-                value = r.metrics[est][RANK_KEY]
-                tasks.append(_recording_task(r, est, figdir, stems[id(r)]))
+                value = r.metrics[est][rank_key]
+                tasks.append(task(r, est, figdir, stems[id(r)]))
                 lines.append(
                     f"- {md_code(est)}, {which}: {md_code(r.item.name)} ({md_text(r.item.subject)}, {value:.3g}): "
                     + links(r, est)
@@ -329,11 +360,11 @@ def _figures(ev: Evaluation, folder: Path, *, mode: str, progress: bool, jobs: i
                     break
     else:
         for r in ev.items:
-            for est in ev.estimators:
-                tasks.append(_recording_task(r, est, figdir, stems[id(r)]))
+            for est in drawn:
+                tasks.append(task(r, est, figdir, stems[id(r)]))
             lines.append(
                 f"- {md_code(r.item.name)} ({md_text(r.item.subject)}, {md_text(r.item.walk)}): "
-                + "; ".join(links(r, est) for est in ev.estimators)
+                + "; ".join(links(r, est) for est in drawn)
             )
     plots.load_matplotlib()  # here, not in each worker process
     try:
