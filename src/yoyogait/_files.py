@@ -163,6 +163,19 @@ def check_distinct(outputs: Iterable[tuple[str, str | os.PathLike | None]]) -> N
         seen.append((option, Path(path)))
 
 
+def check_outputs(
+    outputs: Iterable[tuple[str, str | os.PathLike | None]], force: bool = False, inputs: Iterable = ()
+) -> None:
+    """The checks of a command's output files, (option, path) pairs (None: not written): no two the
+    same (:func:`check_distinct`), each one writable (:func:`check_output_file`)."""
+    outputs = tuple(outputs)
+    inputs = tuple(inputs)
+    check_distinct(outputs)
+    for option, path in outputs:
+        if path is not None:
+            check_output_file(path, option, force, inputs)
+
+
 def temporary_beside(path: Path) -> tuple[int, Path]:
     """A new private file beside ``path`` (in the folder the name is in, never a link's target folder),
     keeping its extension: (descriptor, name)."""

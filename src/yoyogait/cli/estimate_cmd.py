@@ -8,7 +8,7 @@ import click
 import numpy as np
 
 from .. import io
-from .._files import atomic_files, check_distinct, check_output_file
+from .._files import atomic_files, check_outputs
 from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError, about_file
 from ..estimators.config import PRESETS, EstimatorConfig, OnlineConfig
@@ -151,11 +151,7 @@ def command(
     stem = Path(file).name
     out = Path(out or f"{stem}.estimate.csv")
     fig = None if figure == "none" else Path(figure or f"{stem}.estimate.png")
-    inputs = (file, config_file)
-    check_distinct((("--out", out), ("--figure", fig)))
-    for option, target in (("--out", out), ("--figure", fig)):
-        if target is not None:
-            check_output_file(target, option, force, inputs)
+    check_outputs((("--out", out), ("--figure", fig)), force, inputs=(file, config_file))
     overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     with about_file(file):
         recording = io.read(file, **overrides)
@@ -211,11 +207,7 @@ def online_estimate(
     stem = Path(file).name
     out = Path(out or f"{stem}.online.csv")
     fig = None if figure in (None, "none") else Path(figure)
-    inputs = (file, config_file)
-    check_distinct((("--out", out), ("--figure", fig)))
-    for option, target in (("--out", out), ("--figure", fig)):
-        if target is not None:
-            check_output_file(target, option, force, inputs)
+    check_outputs((("--out", out), ("--figure", fig)), force, inputs=(file, config_file))
     check_belt_speed(belt_speed_mps, "--belt-speed-mps")
     config = OnlineConfig.from_file(config_file) if config_file is not None else None
     overrides = read_overrides(up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)

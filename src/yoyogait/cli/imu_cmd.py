@@ -12,7 +12,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .._files import atomic_files, check_distinct, check_output_file, check_output_folder, install_folder
+from .._files import atomic_files, check_output_folder, check_outputs, install_folder
 from ..errors import InputError, about_file
 from ..estimators.config import ImuConfig
 from ..estimators.imu import ImuReason, estimator_for
@@ -170,11 +170,7 @@ def estimate_imu(file, *, out=None, figure=None, force=False, config_file=None, 
     config = ImuConfig.from_file(config_file) if config_file is not None else None
     target = Path(out or f"{Path(file).name}.imu.csv")
     fig = None if figure in (None, "none") else Path(figure)
-    inputs = (file, config_file)
-    check_distinct((("--out", target), ("--figure", fig)))
-    for option, path in (("--out", target), ("--figure", fig)):
-        if path is not None:
-            check_output_file(path, option, force, inputs)
+    check_outputs((("--out", target), ("--figure", fig)), force, inputs=(file, config_file))
     rec = _read(file, acc_unit, gyr_unit, rate_hz, sensor_height_m, trial, sensor)
     res = _estimator(rec, config).run_recording(rec)
     names = res.column_names()
