@@ -228,11 +228,13 @@ class ImuOnlineEstimator {
       o.reason = ImuReason::kGap;
     else if (std::fabs(acc_norm_lp_ - kGravityMps2) > config_.gravity_tolerance * kGravityMps2)
       o.reason = ImuReason::kGravity;
-    else if (!fed_ || est_.acquiring || harmonic_off_ ||
+    else if (!fed_)
+      o.reason = ImuReason::kAcquiring;
+    else if (!o.walking)  // standing says more than a bank waiting for steps (it restarts at each stop)
+      o.reason = ImuReason::kNotWalking;
+    else if (est_.acquiring || harmonic_off_ ||
              !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
       o.reason = ImuReason::kAcquiring;
-    else if (!o.walking)
-      o.reason = ImuReason::kNotWalking;
     else if (irregular_)
       o.reason = ImuReason::kIrregular;
     else if (!(o.speed_mps >= 0.0 && o.speed_mps <= config_.max_speed_mps))

@@ -39,6 +39,7 @@ __all__ = [
     "velocity_figure",
     "estimate_figure",
     "online_figure",
+    "validity_strip",
     "distribution_figure",
     "recording_title",
     "recording_conditions",
@@ -754,9 +755,9 @@ def _reason_rows(result) -> list[tuple[str, np.ndarray, np.ndarray, str]]:
     return rows
 
 
-def _strip(ax, rows) -> None:
-    """One horizontal bar per row, top to bottom, over the frames where its mask holds (each frame
-    until the next)."""
+def validity_strip(ax, rows) -> None:
+    """A strip of when things hold: one horizontal bar per row, top to bottom, over the samples
+    where its mask holds (each sample until the next); rows: (label, times, mask, colour)."""
     for k, (_, times, mask, colour) in enumerate(rows):
         step = times[-1] - times[-2] if times.size > 1 else 0.01
         edges = np.concatenate([times, [times[-1] + step]])
@@ -880,7 +881,7 @@ def online_figure(
 
     if ref["walking"] is not None:
         rows.insert(0, (f"walking ({'truth' if synthetic else 'reference'})", ref_t, ref["walking"] > 0.5, _REF))
-    _strip(ax_v, rows)
+    validity_strip(ax_v, rows)
     ax_v.set_xlabel("time (s)")
     ax_v.set_xlim(float(t[0]), float(t[-1]))
 

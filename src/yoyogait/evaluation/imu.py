@@ -36,10 +36,11 @@ import numpy as np
 
 from ..errors import InputError
 from ..estimators.config import ImuConfig
-from ..estimators.imu import ImuResult, estimator_for
+from ..estimators.imu import ImuReason, ImuResult, estimator_for
 from ..estimators.oscillator import run_oscillator
 from ..io.imu_read import read_mobilised_trials
 from ..io.imu_recording import ImuBout, ImuRecording
+from . import figures as plots
 from . import metrics
 from .online import WRONG_F_HZ, WRONG_SPEED_MPS
 
@@ -279,16 +280,26 @@ def summary(rows: list[BoutRow]) -> list[dict]:
     return out
 
 
-def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
-    """Cadence and speed over time against the reference bouts and initial contacts (and the peer's bouts)."""
+def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None):
+    """Cadence and speed over time against the reference bouts and initial contacts (and the peer's
+    bouts), and a strip of when the estimate is valid and why not; the figure, saved to ``path``."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(11, 6.5))
-    FigureCanvasAgg(fig)
-    ax1, ax2, ax3 = fig.subplots(3, 1, sharex=True)
     t = result.time_s
     valid = result["valid"].astype(bool)
+    reason = np.asarray(result["reason"], dtype=int)
+    strip = [("walking", t, result["walking"].astype(bool), "0.45"), ("valid", t, valid, "tab:green")]
+    strip += [
+        (r.name.lower().replace("_", " "), t, reason == int(r), "tab:red")
+        for r in ImuReason
+        if int(r) != 0 and (reason == int(r)).any()
+    ]
+    fig = Figure(figsize=(11, 7.2 + 0.17 * len(strip)))
+    FigureCanvasAgg(fig)
+    ax1, ax2, ax3, ax4 = fig.subplots(
+        4, 1, sharex=True, gridspec_kw={"height_ratios": (1.0, 1.0, 1.0, 0.17 * (len(strip) + 1))}
+    )
     cad = np.where(valid, 60.0 * result["step_frequency_hz"], np.nan)
     spd = np.where(valid, result["speed_mps"], np.nan)
     ax1.plot(t, result["vz_mps"], lw=0.6, color="0.4", label="vertical velocity (IMU front-end)")
@@ -319,7 +330,9 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
     ax1.set_ylabel("v_z [m/s]")
     ax2.set_ylabel("cadence [steps/min]")
     ax3.set_ylabel("speed [m/s]")
-    ax3.set_xlabel("time [s]")
+    plots.validity_strip(ax4, strip)  # why not valid, where not
+    ax4.set_xlabel("time [s]")
+    ax4.set_xlim(float(t[0]), float(t[-1]))
     ax2.set_ylim(40, 160)
     ax3.set_ylim(0, 2.0)
     for ax in (ax1, ax2, ax3):
@@ -330,8 +343,9 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None) -> None:
     fig.suptitle(
         f"{label}{rec.source.split('example_data/')[-1]}: {against}online IMU estimate (band: 2 std)", fontsize=9
     )
-    fig.subplots_adjust(left=0.07, right=0.98, top=0.94, bottom=0.07, hspace=0.12)
+    fig.subplots_adjust(left=0.11, right=0.98, top=0.95, bottom=0.06, hspace=0.12)
     fig.savefig(path, dpi=90)
+    return fig
 
 
 def reference_at(rec: ImuRecording, reference: str, time_s) -> tuple[np.ndarray, np.ndarray]:

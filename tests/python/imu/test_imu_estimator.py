@@ -274,3 +274,26 @@ def test_a_vertical_motion_smaller_than_a_walkers_is_not_walking():
         return int(np.sum(v & (err > 0.15) & (err > 2.0 * res["step_frequency_std_hz"])))
 
     assert wrong(on) <= wrong(off)
+
+
+def test_a_person_standing_reads_not_walking_not_acquiring():
+    """SYNTHETIC stop-and-go: once fed, every sample the detector calls standing has the reason
+    NOT_WALKING (unless saturation, a gap or gravity come first), however long the stop has lasted."""
+    res = _run(make_imu_walk(walk_type="5-stop-and-go"))
+    fed_standing = res["estimator_fed"].astype(bool) & ~res["walking"].astype(bool)
+    first = {int(ImuReason.SATURATED), int(ImuReason.GAP), int(ImuReason.GRAVITY)}
+    reasons = res["reason"][fed_standing & ~np.isin(res["reason"], list(first))]
+    assert reasons.size > 100
+    assert set(np.unique(reasons)) == {int(ImuReason.NOT_WALKING)}
+
+
+def test_the_imu_figure_shows_why_the_estimate_is_not_valid(tmp_path):
+    """The figure's strip names walking, valid and every reason that occurs in the estimate, and nothing else."""
+    from yoyogait.evaluation.imu import imu_figure
+
+    walk = make_imu_walk(walk_type="5-stop-and-go")
+    res = _run(walk)
+    fig = imu_figure(walk.recording, res, tmp_path / "f.png")
+    occurring = {ImuReason(int(r)).name.lower().replace("_", " ") for r in np.unique(res["reason"]) if r != 0}
+    assert len(occurring) >= 2 and (tmp_path / "f.png").stat().st_size > 10_000
+    assert {t.get_text() for t in fig.axes[-1].get_yticklabels()} == {"walking", "valid"} | occurring
