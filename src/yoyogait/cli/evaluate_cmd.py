@@ -279,7 +279,7 @@ REPORT_FORCE_HELP = (
     "--online",
     is_flag=True,
     help="Online evaluation: replay each recording frame by frame through "
-    "OnlineEstimator (the oscillator beside it; --estimators is not used). See docs/online.md.",
+    "OnlineEstimator (the oscillator beside it; --estimators is refused). See docs/online.md.",
 )
 @click.option(
     "--online-feet",
@@ -332,6 +332,8 @@ def command(
         imu_config = config_files[0] if config_files else None
         evaluate_imu(dataset, Path(out), force=force, figures=mode != "none", config_file=imu_config)
         return
+    if online:  # the online evaluation runs the online estimator and the oscillator: a list would be ignored
+        refuse_options(ctx, "--online", ("estimators",), "the offline evaluation")
     overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)
     overrides = {k: v for k, v in overrides.items() if v is not None}
     result = run_evaluation(

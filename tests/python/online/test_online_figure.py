@@ -77,3 +77,12 @@ def test_evaluate_online_draws_each_recordings_online_figure_or_the_summary(walk
     figures = sorted(p.name for p in (out / "figures").iterdir())
     assert "distributions.png" in figures and len(figures) == 3
     assert "`online`, worst:" in (out / "index.md").read_text()
+
+
+def test_evaluate_online_refuses_an_estimator_list_it_would_ignore(walks, tmp_path, capsys):
+    """--online compares the online estimator and the oscillator: --estimators is refused in one line."""
+    out = tmp_path / "r"
+    assert main(["evaluate", str(walks), "--online", "--estimators", "paper", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--estimators" in err[0] and "--online" in err[0]
+    assert not out.exists()
