@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import InputError
+from ..estimators.online import InvalidReason
 from ..pipeline.signals import moving_mean, runs
 from . import metrics as _metrics
 
@@ -740,8 +741,6 @@ _INVALID = "tab:red"
 
 def _reason_rows(result) -> list[tuple[str, np.ndarray, np.ndarray, str]]:
     """(label, times, mask, colour) of the validity strip: walking, valid, then each reason that occurs."""
-    from ..estimators.online import InvalidReason
-
     t = np.asarray(result.time_s, dtype=float)
     reasons = np.asarray(result.invalid_reason, dtype=int)
     rows = [
