@@ -1,4 +1,4 @@
-"""The one-line live status on a terminal: rate, step frequency, speed, latency."""
+"""The one-line live status on a terminal: rate, step frequency, speed, validity, latency."""
 
 from __future__ import annotations
 
@@ -8,7 +8,11 @@ from typing import TextIO
 
 import numpy as np
 
+from ..estimators.imu import ImuReason
+from ..estimators.online import InvalidReason
 from .live import ESTIMATE_COLUMNS, LiveCounters
+
+_IMU_CODES = frozenset(int(r) for r in ImuReason)
 
 
 class StatusLine:
@@ -30,8 +34,8 @@ class StatusLine:
         latency_ms = f"{1e3 * float(np.median(latency)):.2f} ms" if latency else "-"
         at = self.columns.index
         valid = ""
-        if "reason" in self.columns:  # the IMU path: its validity and reason (ImuReason) shown
-            valid = "valid | " if row[at("valid")] else f"not valid ({int(row[at('reason')])}) | "
+        if "valid" in self.columns:  # what a controller gates on, and why not, by name
+            valid = "valid | " if row[at("valid")] else f"not valid ({self._why(row)}) | "
         text = (
             f"{rate:6.1f} frames/s | step {row[at('step_frequency_hz')]:4.2f} Hz | "
             f"speed {row[at('speed_mps')]:4.2f} m/s | "
@@ -41,6 +45,18 @@ class StatusLine:
         self.stream.write("\r" + text.ljust(self._width))
         self.stream.flush()
         self._width = len(text)
+
+    def _why(self, row: list[float]) -> str:
+        """The reason an estimate is not valid, by name: the IMU path's one (ImuReason), the marker
+        path's set of bits (InvalidReason), lower case."""
+        at = self.columns.index
+        if "reason" in self.columns:
+            code = int(row[at("reason")])
+            names = [ImuReason(code).name] if code in _IMU_CODES else [str(code)]
+        else:
+            bits = int(row[at("invalid_reason")])
+            names = [r.name for r in InvalidReason if bits & int(r)]
+        return ", ".join(n.lower().replace("_", " ") for n in names) or "-"
 
     def close(self) -> None:
         if self._width:

@@ -26,6 +26,9 @@ from live_helpers import (
 from yoyogait import OnlineEstimator, io
 from yoyogait.cli import main
 from yoyogait.errors import InputError
+from yoyogait.estimators.imu import ImuReason
+from yoyogait.estimators.online import InvalidReason
+from yoyogait.live.imu_live import IMU_COLUMNS
 from yoyogait.live.live import ESTIMATE_COLUMNS, LiveCounters, estimate_row, setup_from_info
 from yoyogait.live.replay import LOOP_PAUSE_S, replay
 from yoyogait.live.status import StatusLine
@@ -407,6 +410,23 @@ def test_status_line_shows_rate_step_frequency_speed_and_latency_on_one_line():
     assert text.startswith("\r") and text.endswith("\n") and text.count("\n") == 1
     assert "step 1.85 Hz" in text and "speed 1.30 m/s" in text and "walking" in text
     assert "latency 0.50 ms" in text and "dropped 2 missing 3" in text and "frames/s" in text
+
+
+def test_status_line_says_whether_the_estimate_is_valid_and_why_not_by_name():
+    """valid, or not valid with the reasons named (the marker path's bits; the IMU path's one reason)."""
+
+    def shown(columns, **values):
+        stream, row = StringIO(), [0.0] * len(columns)
+        for name, value in values.items():
+            row[columns.index(name)] = float(value)
+        StatusLine(stream, columns).show(LiveCounters(frames=1), row)
+        return stream.getvalue()
+
+    bits = int(InvalidReason.ACQUIRING) | int(InvalidReason.MODEL_NOT_HOLDING)
+    assert "| not valid (acquiring, model not holding) |" in shown(ESTIMATE_COLUMNS, invalid_reason=bits)
+    assert "| valid |" in shown(ESTIMATE_COLUMNS, valid=1)
+    assert "| not valid (not walking) |" in shown(IMU_COLUMNS, reason=int(ImuReason.NOT_WALKING))
+    assert "| valid |" in shown(IMU_COLUMNS, valid=1)
 
 
 def test_looped_replay_starts_over_after_a_pause_with_time_still_increasing():
