@@ -22,7 +22,7 @@ from ..io.imu_recording import ImuRecording
 from .config import ImuConfig
 from .online import ConcurrentUseError
 
-__all__ = ["IMU_ESTIMATE_FIELDS", "ImuConfig", "ImuOnlineEstimator", "ImuReason", "ImuResult"]
+__all__ = ["IMU_ESTIMATE_FIELDS", "ImuConfig", "ImuOnlineEstimator", "ImuReason", "ImuResult", "why_not_valid"]
 
 ImuReason = _core.ImuReason
 """Why an estimate is not valid: OK, NON_FINITE, TIME_NOT_INCREASING, SATURATED, GAP, GRAVITY,
@@ -61,6 +61,18 @@ class ImuResult:
     def column_names(self) -> list[str]:
         """The columns in the record table's order (``time_s`` first)."""
         return ["time_s" if n == "t_s" else n for n, _, _ in IMU_ESTIMATE_FIELDS]
+
+
+_REASON_CODES = frozenset(int(r) for r in ImuReason)
+
+
+def why_not_valid(reason: int) -> str:
+    """An IMU estimate's ``reason`` by name, in lower-case words ("not walking"); "" when valid (OK);
+    the number itself when it is no ImuReason."""
+    code = int(reason)
+    if code not in _REASON_CODES:
+        return str(code)
+    return "" if code == int(ImuReason.OK) else ImuReason(code).name.lower().replace("_", " ")
 
 
 def _three(name: str, value) -> np.ndarray:

@@ -45,12 +45,21 @@ __all__ = [
     "MAX_FEET",
     "MAX_BELT_SPEED_MPS",
     "config_for_point",
+    "why_not_valid",
 ]
 
 OnlineStatus = _core.OnlineStatus
 #: The bits of ``invalid_reason`` (docs/online.md, "Validity").
 InvalidReason = _core.InvalidReason
 """What ``update`` did with a frame: USED, ALL_MISSING, TIME_NOT_INCREASING, GAP_RESTART, NON_FINITE."""
+
+
+def why_not_valid(invalid_reason: int) -> str:
+    """The reasons of an ``invalid_reason`` by name, in lower-case words ("acquiring, model not
+    holding"); "" when there is none (valid)."""
+    bits = int(invalid_reason)
+    return ", ".join(r.name.lower().replace("_", " ") for r in InvalidReason if bits & int(r))
+
 
 MAX_POINTS = 16
 #: The most foot points an estimator takes (for a treadmill's belt).

@@ -8,11 +8,9 @@ from typing import TextIO
 
 import numpy as np
 
-from ..estimators.imu import ImuReason
-from ..estimators.online import InvalidReason
+from ..estimators.imu import why_not_valid as imu_why_not_valid
+from ..estimators.online import why_not_valid
 from .live import ESTIMATE_COLUMNS, LiveCounters
-
-_IMU_CODES = frozenset(int(r) for r in ImuReason)
 
 
 class StatusLine:
@@ -47,16 +45,11 @@ class StatusLine:
         self._width = len(text)
 
     def _why(self, row: list[float]) -> str:
-        """The reason an estimate is not valid, by name: the IMU path's one (ImuReason), the marker
-        path's set of bits (InvalidReason), lower case."""
+        """Why not valid, by name: the IMU path's one reason, the marker path's set of bits."""
         at = self.columns.index
         if "reason" in self.columns:
-            code = int(row[at("reason")])
-            names = [ImuReason(code).name] if code in _IMU_CODES else [str(code)]
-        else:
-            bits = int(row[at("invalid_reason")])
-            names = [r.name for r in InvalidReason if bits & int(r)]
-        return ", ".join(n.lower().replace("_", " ") for n in names) or "-"
+            return imu_why_not_valid(int(row[at("reason")])) or "-"
+        return why_not_valid(int(row[at("invalid_reason")])) or "-"
 
     def close(self) -> None:
         if self._width:

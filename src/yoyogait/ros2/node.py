@@ -43,7 +43,8 @@ from ..errors import InputError, YoyogaitError
 from ..estimators.config import OnlineConfig
 from ..estimators.frame_gate import DROP, RESTART, FrameCounts, FrameGate
 from ..estimators.imu import ImuConfig, ImuOnlineEstimator
-from ..estimators.online import OnlineEstimator, config_for_point
+from ..estimators.imu import why_not_valid as imu_why_not_valid
+from ..estimators.online import OnlineEstimator, config_for_point, why_not_valid
 from ..io.imu_read import check_imu_plausible
 from ..io.imu_recording import ImuRecording
 from ..io.plausibility import check_plausible
@@ -52,6 +53,16 @@ from ..pipeline import points
 from . import messages
 from ._ros import markers_type, ros
 from .assembly import FrameAssembler
+
+
+def _why_not_valid(estimate) -> str:
+    """Why the last estimate is not valid, by name ("" when valid or when there is none yet: no input)."""
+    if estimate is None or estimate.valid:
+        return ""
+    if hasattr(estimate, "invalid_reason"):  # marker input: a set of InvalidReason bits
+        return why_not_valid(int(estimate.invalid_reason))
+    return imu_why_not_valid(int(estimate.reason))
+
 
 __all__ = ["NODE_NAME", "PARAMETERS", "NodeCounts", "GaitNode", "run_node", "main", "startup_line", "summary_line"]
 
@@ -560,6 +571,7 @@ class GaitNode:
         c.latency_s.clear()
         est = self.last_estimate
         walking = bool(est is not None and est.walking)
+        why = _why_not_valid(est)
         status = r.DiagnosticStatus()
         status.name = f"{self.node.get_name()}: gait estimator"
         status.hardware_id = ", ".join(self.inputs)
@@ -572,12 +584,16 @@ class GaitNode:
             status.message = (
                 f"walking {est.step_frequency_hz:.2f} Hz, {est.speed_mps:.2f} m/s" if walking else "not walking"
             )
+            if why:  # what a controller gating on valid sees: the estimate held back, and why
+                status.message += f"; not valid: {why}"
         values = {
             "input_rate_hz": f"{input_rate:.1f}",
             "estimate_rate_hz": f"{estimate_rate:.1f}",
             "latency_median_ms": f"{1e3 * statistics.median(latencies):.3f}" if latencies else "nan",
             "latency_max_ms": f"{1e3 * max(latencies):.3f}" if latencies else "nan",
             "walking": str(walking).lower(),
+            "valid": str(bool(est is not None and est.valid)).lower(),
+            "not_valid_because": why,
             # OnlineStatus of marker input; ImuReason (why not valid) of IMU input
             "status": str(int(getattr(est, "status", getattr(est, "reason", 0)))) if est is not None else "",
         }

@@ -16,7 +16,7 @@ import pytest
 from ros2_helpers import Loopback, require_ros
 
 from yoyogait import io
-from yoyogait.estimators.online import ONLINE_ESTIMATE_COLUMNS, OnlineEstimator
+from yoyogait.estimators.online import ONLINE_ESTIMATE_COLUMNS, InvalidReason, OnlineEstimator
 from yoyogait.pipeline import points
 from yoyogait.ros2.messages import GAIT_STATE_LABELS
 
@@ -115,10 +115,13 @@ def _replay(loop, publish_frame, n, out, window=8):
 def test_pose_stamped_replay_gives_every_estimate_in_order_stamped_equal_to_the_online_run(walk):
     """The pelvis centre of a real walk as PoseStamped: one estimate per frame, in order, with its stamp and frame,
     equal to OnlineEstimator.run of the same frames; covariances symmetric and PSD."""
+    from diagnostic_msgs.msg import DiagnosticArray
+
     centre = walk["centre"]
-    loop = Loopback(rclpy, {"pose_topic": "/test/pelvis/pose", "up_axis": walk["up"]})
+    loop = Loopback(rclpy, {"pose_topic": "/test/pelvis/pose", "up_axis": walk["up"], "diagnostics_period_s": 0.2})
     try:
         out = _outputs(loop)  # the consumer, connected before the source starts
+        health = loop.collect(DiagnosticArray, "/diagnostics")
         pub = loop.test.create_publisher(PoseStamped, "/test/pelvis/pose", loop.qos())
         assert loop.wait(lambda: _connected(loop, [pub]), 15), "no discovery on loopback"
 
@@ -134,6 +137,15 @@ def test_pose_stamped_replay_gives_every_estimate_in_order_stamped_equal_to_the_
     expected = estimator.run(walk["t_s"], centre[:, None, :], predict_ahead_s=[HORIZON_S])
     _check_against_run(out, expected, walk["stamps_ns"])
     assert loop.gait.counts.estimates == len(centre) and loop.gait.counts.dropped_not_increasing == 0
+    # /diagnostics says whether the last estimate was valid and why not, by name.
+    said = [{kv.key: kv.value for kv in m.status[0].values} | {"": m.status[0].message} for m in health]
+    said = [d for d in said if d.get("estimate_rate_hz", "0.0") != "0.0"]
+    assert said and all(d["valid"] in ("true", "false") for d in said)
+    for d in said:
+        assert (d["valid"] == "false") == bool(d["not_valid_because"])
+        assert ("not valid: " + d["not_valid_because"] in d[""]) if d["not_valid_because"] else "not valid" not in d[""]
+    names = {r.name.lower().replace("_", " ") for r in InvalidReason}
+    assert all(set(d["not_valid_because"].split(", ")) <= names for d in said if d["not_valid_because"])
 
 
 def test_point_stamped_markers_assembled_by_stamp_give_the_online_run_of_the_pelvis_markers(walk):
