@@ -73,7 +73,11 @@ def reference_events(recording, feet, up_axis):
     "Overwrite the --out and --figure files if they exist (a link is replaced itself; never a device, "
     "FIFO, socket or an input: docs/files.md)."
 )
-@click.option("--online", is_flag=True, help="Replay FILE frame by frame through the online estimator (CSV only).")
+@click.option(
+    "--online",
+    is_flag=True,
+    help="Replay FILE frame by frame through the online estimator (a CSV; a figure only with --figure).",
+)
 @imu_options
 @click.pass_context
 def command(
