@@ -13,6 +13,7 @@ import ezc3d
 import numpy as np
 import pytest
 
+from yoyogait import synthetic
 from yoyogait.io import Recording
 
 STEP_M = 0.7
@@ -169,3 +170,11 @@ def identity(path: Path) -> tuple:
     st = os.lstat(path)
     content = path.read_bytes() if stat.S_ISREG(st.st_mode) else None
     return stat.S_IFMT(st.st_mode), st.st_ino, st.st_rdev, content
+
+
+def write_two_walks(folder: Path) -> Path:
+    """Two short synthetic walks (12 s) as TRC files in ``folder``: a straight walk and one with stops."""
+    for subject, walk_type in ((synthetic.SUBJECTS[0], "1-straight"), (synthetic.SUBJECTS[1], "5-stop-and-go")):
+        walk = synthetic.make_walk(subject, walk_type, duration_s=12.0)
+        write_trc(folder / f"{subject.name}_{walk_type}.trc", walk.recording)
+    return folder

@@ -332,6 +332,8 @@ def command(
         imu_config = config_files[0] if config_files else None
         evaluate_imu(dataset, Path(out), force=force, figures=mode != "none", config_file=imu_config)
         return
+    if dataset not in (None, "synthetic"):  # the seed draws the synthetic lab's walks, nothing else
+        refuse_options(ctx, dataset, ("seed",), "the synthetic lab")
     if online:  # the online evaluation runs the online estimator and the oscillator: a list would be ignored
         refuse_options(ctx, "--online", ("estimators",), "the offline evaluation")
     overrides = dict(point=point, feet=feet, up_axis=up_axis, length_unit_m=length_unit_m, rate_hz=rate_hz)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from builders import write_trc
-from yoyogait import OnlineEstimator, io, synthetic
+from builders import write_two_walks
+from yoyogait import OnlineEstimator, io
 from yoyogait.cli import main
 from yoyogait.estimators.online import InvalidReason
 from yoyogait.evaluation import figures as plots
@@ -15,12 +15,8 @@ from yoyogait.evaluation import figures as plots
 
 @pytest.fixture(scope="module")
 def walks(tmp_path_factory):
-    """A folder with two short synthetic walks as TRC files."""
-    d = tmp_path_factory.mktemp("walks")
-    for subject, walk_type in ((synthetic.SUBJECTS[0], "1-straight"), (synthetic.SUBJECTS[1], "5-stop-and-go")):
-        walk = synthetic.make_walk(subject, walk_type, duration_s=12.0)
-        write_trc(d / f"{subject.name}_{walk_type}.trc", walk.recording)
-    return d
+    """A folder with two short synthetic walks as TRC files, one with stops."""
+    return write_two_walks(tmp_path_factory.mktemp("walks"))
 
 
 def _png_size(path):
@@ -77,12 +73,3 @@ def test_evaluate_online_draws_each_recordings_online_figure_or_the_summary(walk
     figures = sorted(p.name for p in (out / "figures").iterdir())
     assert "distributions.png" in figures and len(figures) == 3
     assert "`online`, worst:" in (out / "index.md").read_text()
-
-
-def test_evaluate_online_refuses_an_estimator_list_it_would_ignore(walks, tmp_path, capsys):
-    """--online compares the online estimator and the oscillator: --estimators is refused in one line."""
-    out = tmp_path / "r"
-    assert main(["evaluate", str(walks), "--online", "--estimators", "paper", "--out", str(out)]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "--estimators" in err[0] and "--online" in err[0]
-    assert not out.exists()
