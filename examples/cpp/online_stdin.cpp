@@ -6,7 +6,7 @@
 // Input line:  t_s, x1, y1, z1, x2, y2, z2, ...   (the number of points from the first frame, <= 16;
 //              an empty cell or "nan" is a missing coordinate; lines that are not numbers are skipped)
 // Output line: t_s, vx_mps, vz_mps, vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz,
-//              speed_mps, speed_std_mps, heading_rad, gait_phase, walking, status
+//              speed_mps, speed_std_mps, heading_rad, gait_phase, walking, status, valid, invalid_reason
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
   std::string line;
   std::printf(
       "t_s,vx_mps,vz_mps,vx_hat_mps,vz_hat_mps,step_frequency_hz,step_frequency_std_hz,speed_mps,speed_std_mps,"
-      "heading_rad,gait_phase,walking,status\n");
+      "heading_rad,gait_phase,walking,status,valid,invalid_reason\n");
   std::fflush(stdout);
   char buf[65536];
   while (std::fgets(buf, sizeof buf, stdin)) {
@@ -85,10 +85,11 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < frame.size(); ++i) frame[i] = i + 1 < cells.size() ? cells[i + 1] : std::nan("");
     const double t = cells[0];
     const yoyogait::OnlineEstimate e = est->update(t, frame.data());  // noexcept, no allocation
-    std::printf("%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", std::isfinite(t) ? t : e.t_s,
+    // A controller acts on an estimate only where valid is 1; invalid_reason holds why not (InvalidReason bits).
+    std::printf("%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%d,%d\n", std::isfinite(t) ? t : e.t_s,
                 e.vx_mps, e.vz_mps, e.vx_hat_mps, e.vz_hat_mps, e.step_frequency_hz, e.step_frequency_std_hz,
                 e.speed_mps, e.speed_std_mps, e.heading_rad, e.gait_phase, e.walking ? 1 : 0,
-                static_cast<int>(e.status));
+                static_cast<int>(e.status), e.valid ? 1 : 0, static_cast<int>(e.invalid_reason));
     std::fflush(stdout);
   }
   return 0;

@@ -7,10 +7,10 @@
 // Siciliano, IEEE T-RO 37(3), 2021, and its human-state-aware follow-up; docs/guidance.md):
 //   M_A dv_R/dt = -B_A v_R - f_c + u_A,   u_A = K_H e_R + f_c^r + B_A v_H_hat,
 // with v_H_hat the estimate's walking velocity (speed along the heading, no step oscillation), gated on
-// the estimate's walking flag. The cable (1 m, k_c) pulls only when taut. The handle moves as given (the
+// the estimate's valid flag. The cable (1 m, k_c) pulls only when taut. The handle moves as given (the
 // walker is not simulated here): the controller keeps its reference point a cable's length ahead of the
 // handle along the walking direction and pulls with f_c^r along it.
-// Output, one line per frame: t_s, walking, speed_mps, vh_hat_x_mps, vh_hat_y_mps, u_x_n, u_y_n,
+// Output, one line per frame: t_s, walking, valid, speed_mps, vh_hat_x_mps, vh_hat_y_mps, u_x_n, u_y_n,
 // robot_x_m, robot_y_m, robot_vx_mps, robot_vy_mps, tension_n
 #include <cmath>
 #include <cstdio>
@@ -87,8 +87,8 @@ int main(int argc, char** argv) {
   yoyogait::OnlineEstimator est(1, 2, 1.0);  // one point (the handle), z up, metres
   Admittance robot;
   std::printf(
-      "t_s,walking,speed_mps,vh_hat_x_mps,vh_hat_y_mps,u_x_n,u_y_n,robot_x_m,robot_y_m,robot_vx_mps,robot_vy_mps,"
-      "tension_n\n");
+      "t_s,walking,valid,speed_mps,vh_hat_x_mps,vh_hat_y_mps,u_x_n,u_y_n,robot_x_m,robot_y_m,robot_vx_mps,"
+      "robot_vy_mps,tension_n\n");
   double t_last = 0.0, h[3] = {0, 0, 0}, f[3] = {0, 0, 0};
   char buf[4096];
   for (long k = 0;; ++k) {
@@ -111,8 +111,11 @@ int main(int argc, char** argv) {
       robot.started = true;
       t_last = t;
     }
-    const bool walking = e.walking;  // the gate: switch to a validity flag where the estimate has one
-    const double vhx = walking ? e.walk_a_mps : 0.0, vhy = walking ? e.walk_b_mps : 0.0;
+    const bool walking = e.walking;
+    // The gate: the walking velocity is fed forward only while the estimate may be used (valid); while it
+    // is acquiring, or says its model does not hold, the robot follows the cable alone.
+    const bool use = e.valid;
+    const double vhx = use ? e.walk_a_mps : 0.0, vhy = use ? e.walk_b_mps : 0.0;
     const double cx = std::cos(e.heading_rad), cy = std::sin(e.heading_rad);
     const double lead = std::sqrt(robot.cable_m * robot.cable_m - robot.height_m * robot.height_m);
     const double fr = walking || t > 1.0 ? robot.reference_force_n : 0.0;
@@ -120,8 +123,9 @@ int main(int argc, char** argv) {
     const double uy = robot.gain_n_per_m * (h[1] + lead * cy - robot.y) + fr * cy + robot.damping_ns_per_m * vhy;
     robot.step(t - t_last, h, ux, uy, f);
     t_last = t;
-    std::printf("%.3f,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", t, walking ? 1 : 0, e.speed_mps, vhx,
-                vhy, ux, uy, robot.x, robot.y, robot.vx, robot.vy, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+    std::printf("%.3f,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", t, walking ? 1 : 0, use ? 1 : 0,
+                e.speed_mps, vhx, vhy, ux, uy, robot.x, robot.y, robot.vx, robot.vy,
+                std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
   }
   return 0;
 }

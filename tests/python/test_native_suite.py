@@ -106,7 +106,8 @@ def test_installed_package_is_found_by_find_package(tmp_path):
 
 
 def _feed_online_stdin(exe):
-    """examples/cpp/online_stdin answers each CSV frame with one estimate line and finds the walk's cadence."""
+    """examples/cpp/online_stdin answers each CSV frame with one estimate line, finds the walk's cadence and
+    says when it may be used (valid, and why not before)."""
     import math
 
     lines = ["t_s,LASI_x,LASI_y,LASI_z,RASI_x,RASI_y,RASI_z"]
@@ -124,3 +125,6 @@ def _feed_online_stdin(exe):
     last = dict(zip(rows[0].split(","), rows[-1].split(",")))
     assert abs(float(last["step_frequency_hz"]) - 1.8) < 0.05 and abs(float(last["speed_mps"]) - 1.2) < 0.05, last
     assert last["walking"] == "1" and last["status"] == "0"
+    assert last["valid"] == "1" and last["invalid_reason"] == "0"
+    first = dict(zip(rows[0].split(","), rows[1].split(",")))
+    assert first["valid"] == "0" and int(first["invalid_reason"]) & 1  # acquiring

@@ -65,13 +65,18 @@ def _rows(text: str) -> dict[str, np.ndarray]:
 
 def test_the_controller_follows_a_synthetic_walk_at_its_speed(controller):
     """On the built-in SYNTHETIC walk (1.2 m/s) the robot ends up flying at the walking speed, pulling (taut cable),
-    with the estimate walking and the velocity it uses free of the step oscillation."""
+    with the estimate walking and valid, the velocity it uses free of the step oscillation, and none fed forward
+    while the estimate is not valid."""
     out = _rows(_run([controller, "--synthetic"]).stdout)
     late = out["t_s"] > 8.0
     assert len(out["t_s"]) == 1501 and np.all(out["walking"][late] == 1)
     assert abs(np.mean(out["robot_vx_mps"][late]) - 1.2) < 0.05
     assert np.all(out["tension_n"][late] > 0) and np.all(np.isfinite(out["tension_n"]))
     assert np.std(out["vh_hat_x_mps"][late]) < 0.05  # the handle's own oscillation is 2 pi 1.8 Hz x 2 cm ~ 0.23 m/s
+    # The velocity is fed forward only from an estimate that may be used: none while it is acquiring.
+    held = out["valid"] == 0
+    assert np.all(out["valid"][late] == 1) and held[:50].all()
+    assert np.all(out["vh_hat_x_mps"][held] == 0) and np.all(out["vh_hat_y_mps"][held] == 0)
 
 
 def test_the_controller_reads_frames_on_stdin(controller):
