@@ -457,9 +457,10 @@ class GaitNode:
         heading, twist, cov = est.heading_rad, self._twist_bytes, messages.velocity_covariance
         c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
         speed, vx = est.speed_mps, est.vx_mps
-        self.pub_walking.publish(
-            twist(sec, nanosec, frame, (speed * c, speed * s, 0.0), cov(_IMU_AXES, heading, est.speed_std_mps))
-        )
+        # Not valid: published all the same, with the covariance of what is not observed (a consumer
+        # that weighs by covariance then gives it no weight; one that reads valid, in gait_state, skips it).
+        std = est.speed_std_mps if est.valid else math.inf
+        self.pub_walking.publish(twist(sec, nanosec, frame, (speed * c, speed * s, 0.0), cov(_IMU_AXES, heading, std)))
         self.pub_velocity.publish(
             twist(sec, nanosec, frame, (vx * c, vx * s, est.vz_mps), cov(_IMU_AXES, heading, math.inf))
         )
@@ -507,9 +508,16 @@ class GaitNode:
         axes, v, cov, twist = self.axes, messages.velocity_vector, messages.velocity_covariance, self._twist_bytes
         sec, nanosec, frame = stamp
         heading = est.heading_rad
+        # Not valid: the estimates published with the covariance of what is not observed (a consumer that
+        # weighs by covariance gives them no weight; one that reads valid, in gait_state, skips them).
+        valid = bool(est.valid)
         self.pub_walking.publish(
             twist(
-                sec, nanosec, frame, v(axes, est.walk_a_mps, est.walk_b_mps, 0.0), cov(axes, heading, est.speed_std_mps)
+                sec,
+                nanosec,
+                frame,
+                v(axes, est.walk_a_mps, est.walk_b_mps, 0.0),
+                cov(axes, heading, est.speed_std_mps if valid else math.inf),
             ),
         )
         self.pub_velocity.publish(
@@ -526,7 +534,9 @@ class GaitNode:
                 nanosec,
                 frame,
                 v(axes, vx * c, vx * s, prediction.vz_mps),
-                cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps),
+                cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps)
+                if valid
+                else cov(axes, heading, math.inf),
             )
         )
         gait = self.estimator.estimate

@@ -104,6 +104,13 @@ def test_imu_replay_gives_every_estimate_in_order_stamped_equal_to_the_offline_r
             c = np.array(m.twist.covariance).reshape(6, 6)
             assert np.array_equal(c, c.T), key
             assert np.linalg.eigvalsh(c).min() >= -1e-9 * np.abs(c).max(), key
+    # The speed's std along the heading while valid; nothing observed while not valid.
+    lowest = np.array(
+        [np.linalg.eigvalsh(np.array(m.twist.covariance).reshape(6, 6)[:3, :3])[0] for m in out["walking"]]
+    )
+    valid = expected["valid"].astype(bool) & np.isfinite(heading)
+    np.testing.assert_allclose(lowest[valid], expected["speed_std_mps"][valid] ** 2, rtol=1e-6)
+    assert np.all(lowest[~expected["valid"].astype(bool)] >= 0.99e6)
     assert counts.estimates == n and counts.dropped_not_increasing == 0
 
 

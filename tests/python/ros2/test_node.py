@@ -89,6 +89,13 @@ def _check_against_run(out, expected, stamps_ns):
             c = np.array(m.twist.covariance).reshape(6, 6)
             assert np.array_equal(c, c.T), key
             assert np.linalg.eigvalsh(c).min() >= -1e-9 * np.abs(c).max(), key
+    # The walking velocity's covariance: the speed's std along the heading while valid; while not valid
+    # nothing is observed (a consumer weighing by covariance gives it no weight).
+    linear = [np.array(m.twist.covariance).reshape(6, 6)[:3, :3] for m in out["walking"]]
+    lowest = np.array([np.linalg.eigvalsh(c)[0] for c in linear])
+    valid = expected.valid.astype(bool)
+    np.testing.assert_allclose(lowest[valid], expected.speed_std_mps[valid] ** 2, rtol=1e-6)
+    assert np.all(lowest[~valid] >= 0.99e6)
 
 
 def _point_sender(pubs, markers, stamps_ns):
