@@ -12,7 +12,7 @@ from .._files import atomic_files, check_outputs
 from .._sample_time import RESAMPLE_RATE_HZ
 from ..errors import InputError, about_file
 from ..estimators.config import PRESETS, EstimatorConfig, OnlineConfig
-from ..estimators.online import InvalidReason, OnlineEstimator, check_belt_speed
+from ..estimators.online import InvalidReason, OnlineEstimator, check_belt_speed, reason_words
 from ..estimators.registry import estimators, noise_adapted, preset_runner
 from ..evaluation import figures as plots
 from ..pipeline import events
@@ -327,6 +327,6 @@ def validity_line(res) -> str:
     noise_mm = 1e3 * float(np.median(res.input_noise_m)) if len(res) else 0.0
     line = f"estimates valid {100.0 * valid.mean() if len(res) else 0.0:.0f} % of the time"
     if (~valid).any():
-        counts = {r.name.lower().replace("_", " "): int(np.sum((reasons & int(r)) != 0)) for r in InvalidReason}
+        counts = {reason_words(r): int(np.sum((reasons & int(r)) != 0)) for r in InvalidReason}
         line += f" (not valid mostly: {max(counts, key=lambda name: counts[name])})"
     return line + f"; input noise {noise_mm:.1f} mm"

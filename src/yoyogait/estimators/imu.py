@@ -20,7 +20,7 @@ from .. import _core
 from ..errors import InputError
 from ..io.imu_recording import ImuRecording
 from .config import ImuConfig
-from .online import ConcurrentUseError
+from .online import ConcurrentUseError, reason_words
 
 __all__ = ["IMU_ESTIMATE_FIELDS", "ImuConfig", "ImuOnlineEstimator", "ImuReason", "ImuResult", "why_not_valid"]
 
@@ -72,7 +72,7 @@ def why_not_valid(reason: int) -> str:
     code = int(reason)
     if code not in _REASON_CODES:
         return str(code)
-    return "" if code == int(ImuReason.OK) else ImuReason(code).name.lower().replace("_", " ")
+    return "" if code == int(ImuReason.OK) else reason_words(ImuReason(code))
 
 
 def _three(name: str, value) -> np.ndarray:

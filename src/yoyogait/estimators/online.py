@@ -46,6 +46,7 @@ __all__ = [
     "MAX_BELT_SPEED_MPS",
     "config_for_point",
     "why_not_valid",
+    "reason_words",
 ]
 
 OnlineStatus = _core.OnlineStatus
@@ -54,11 +55,16 @@ InvalidReason = _core.InvalidReason
 """What ``update`` did with a frame: USED, ALL_MISSING, TIME_NOT_INCREASING, GAP_RESTART, NON_FINITE."""
 
 
+def reason_words(reason) -> str:
+    """A reason (InvalidReason, ImuReason) as lower-case words: MODEL_NOT_HOLDING -> "model not holding"."""
+    return reason.name.lower().replace("_", " ")
+
+
 def why_not_valid(invalid_reason: int) -> str:
     """The reasons of an ``invalid_reason`` by name, in lower-case words ("acquiring, model not
     holding"); "" when there is none (valid)."""
     bits = int(invalid_reason)
-    return ", ".join(r.name.lower().replace("_", " ") for r in InvalidReason if bits & int(r))
+    return ", ".join(reason_words(r) for r in InvalidReason if bits & int(r))
 
 
 MAX_POINTS = 16

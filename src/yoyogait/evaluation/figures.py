@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import InputError
-from ..estimators.online import InvalidReason
+from ..estimators.online import InvalidReason, reason_words
 from ..pipeline.signals import moving_mean, runs
 from . import metrics as _metrics
 
@@ -41,6 +41,7 @@ __all__ = [
     "estimate_figure",
     "online_figure",
     "validity_strip",
+    "validity_rows",
     "distribution_figure",
     "recording_title",
     "recording_conditions",
@@ -739,19 +740,22 @@ _VALID = "tab:green"
 _INVALID = "tab:red"
 
 
-def _reason_rows(result) -> list[tuple[str, np.ndarray, np.ndarray, str]]:
-    """(label, times, mask, colour) of the validity strip: walking, valid, then each reason that occurs."""
-    t = np.asarray(result.time_s, dtype=float)
-    reasons = np.asarray(result.invalid_reason, dtype=int)
+def validity_rows(time_s, walking, valid, reasons) -> list[tuple[str, np.ndarray, np.ndarray, str]]:
+    """The rows of :func:`validity_strip`: walking, valid, then each reason that occurs; ``reasons``:
+    (reason, mask) pairs (an InvalidReason bit set, an ImuReason equal)."""
+    t = np.asarray(time_s, dtype=float)
     rows = [
-        ("walking", t, np.asarray(result.walking, dtype=bool), "0.45"),
-        ("valid", t, np.asarray(result.valid, dtype=bool), _VALID),
+        ("walking", t, np.asarray(walking, dtype=bool), "0.45"),
+        ("valid", t, np.asarray(valid, dtype=bool), _VALID),
     ]
-    for reason in InvalidReason:
-        mask = (reasons & int(reason)) != 0
-        if mask.any():
-            rows.append((reason.name.lower().replace("_", " "), t, mask, _INVALID))
-    return rows
+    return rows + [(reason_words(r), t, mask, _INVALID) for r, mask in reasons if mask.any()]
+
+
+def _reason_rows(result) -> list[tuple[str, np.ndarray, np.ndarray, str]]:
+    """The strip's rows of an online result (its invalid_reason bits)."""
+    bits = np.asarray(result.invalid_reason, dtype=int)
+    reasons = [(r, (bits & int(r)) != 0) for r in InvalidReason]
+    return validity_rows(result.time_s, result.walking, result.valid, reasons)
 
 
 def validity_strip(ax, rows) -> None:

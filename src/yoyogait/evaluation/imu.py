@@ -289,12 +289,8 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None):
     t = result.time_s
     valid = result["valid"].astype(bool)
     reason = np.asarray(result["reason"], dtype=int)
-    strip = [("walking", t, result["walking"].astype(bool), "0.45"), ("valid", t, valid, "tab:green")]
-    strip += [
-        (r.name.lower().replace("_", " "), t, reason == int(r), "tab:red")
-        for r in ImuReason
-        if int(r) != 0 and (reason == int(r)).any()
-    ]
+    reasons = [(r, reason == int(r)) for r in ImuReason if int(r) != int(ImuReason.OK)]
+    strip = plots.validity_rows(t, result["walking"], valid, reasons)
     fig = Figure(figsize=(11, 7.2 + 0.17 * len(strip)))
     FigureCanvasAgg(fig)
     ax1, ax2, ax3, ax4 = fig.subplots(

@@ -71,7 +71,7 @@ def is_imu_header(header: list[str]) -> bool:
     """True for a CSV header with accelerometer and gyro columns (x, y, z each, or mobgap's body-frame
     is, ml, pa) and no point positions."""
     lower = [h.strip().lower() for h in header]
-    axis = "(?:[xyz]|is|ml|pa)"
+    axis = "(?:" + "|".join(_AXIS_NAMES.values()) + ")"
     acc = [h for h in lower if re.match(rf"^acc(el)?[_ .:]?{axis}(?![a-z])", h)]
     gyr = [h for h in lower if re.match(rf"^gyr(o)?[_ .:]?{axis}(?![a-z])", h)]
     return len(acc) >= 3 and len(gyr) >= 3

@@ -54,16 +54,6 @@ from . import messages
 from ._ros import markers_type, ros
 from .assembly import FrameAssembler
 
-
-def _why_not_valid(estimate) -> str:
-    """Why the last estimate is not valid, by name ("" when valid or when there is none yet: no input)."""
-    if estimate is None or estimate.valid:
-        return ""
-    if hasattr(estimate, "invalid_reason"):  # marker input: a set of InvalidReason bits
-        return why_not_valid(int(estimate.invalid_reason))
-    return imu_why_not_valid(int(estimate.reason))
-
-
 __all__ = ["NODE_NAME", "PARAMETERS", "NodeCounts", "GaitNode", "run_node", "main", "startup_line", "summary_line"]
 
 NODE_NAME = "yoyogait"
@@ -122,6 +112,15 @@ class NodeCounts(FrameCounts):
 
 def _seconds(stamp: Any) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
+
+
+def _why_not_valid(estimate) -> str:
+    """Why the last estimate is not valid, by name ("" when valid or when there is none yet: no input)."""
+    if estimate is None or estimate.valid:
+        return ""
+    if hasattr(estimate, "invalid_reason"):  # marker input: a set of InvalidReason bits
+        return why_not_valid(int(estimate.invalid_reason))
+    return imu_why_not_valid(int(estimate.reason))
 
 
 class GaitNode:
@@ -528,15 +527,14 @@ class GaitNode:
         prediction = self.estimator.predict(horizon_s)
         c, s = (math.cos(heading), math.sin(heading)) if math.isfinite(heading) else (math.nan, math.nan)
         vx = prediction.vx_mps
+        stds = (prediction.vx_std_mps, prediction.vz_std_mps) if valid else (math.inf, math.inf)
         self.pub_predicted.publish(
             twist(
                 sec,
                 nanosec,
                 frame,
                 v(axes, vx * c, vx * s, prediction.vz_mps),
-                cov(axes, heading, prediction.vx_std_mps, prediction.vz_std_mps)
-                if valid
-                else cov(axes, heading, math.inf),
+                cov(axes, heading, *stds),
             )
         )
         gait = self.estimator.estimate
