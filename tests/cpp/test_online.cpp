@@ -596,13 +596,23 @@ TEST(OnlineEstimator, TreadmillUpdateDoesNotAllocate) {
   EXPECT_EQ(g_allocations.load(), before);
 }
 
-// The speed a lagging heading takes from v_x (|v_h| - v_x) is in the speed's transient variance.
 // Step length = speed / step frequency: 1.44 m (1.3 m/s at 0.9 Hz) is no walker's; 0.72 m is.
 TEST(Validity, StepsLongerThanAWalkersAreTooLong) {
   EXPECT_TRUE(online::Validity::too_long_steps(0.9, 1.3));
   EXPECT_FALSE(online::Validity::too_long_steps(1.8, 1.3));
 }
 
+// An estimate below the centre's extrema (jitter's at 4 Hz) is below the steps unless the feet's
+// steps agree with it; feet that disagree, or none, leave the centre's figure to judge.
+TEST(Validity, FeetThatAgreeOverruleTheCentresExtrema) {
+  using online::Validity;
+  EXPECT_TRUE(Validity::below_steps(1.7, 4.0, 0.0));
+  EXPECT_FALSE(Validity::below_steps(1.7, 4.0, 1.75));
+  EXPECT_TRUE(Validity::below_steps(1.7, 4.0, 3.5));
+  EXPECT_FALSE(Validity::below_steps(1.7, 2.5, 0.0));
+}
+
+// The speed a lagging heading takes from v_x (|v_h| - v_x) is in the speed's transient variance.
 TEST(Validity, HeadingLagLossIsInTheSpeedVariance) {
   online::Validity v{online::Validity::Settings{}};
   const double speed = 1.3, lag_rad = 0.5, loss = speed * (1.0 - std::cos(lag_rad));

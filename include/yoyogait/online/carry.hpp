@@ -93,7 +93,7 @@ inline void OnlineEstimator::carry_estimate(double t_s) noexcept {
   if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < pinned_std_hz)
     o.step_frequency_std_hz = pinned_std_hz;
   // Below the steps the centre shows: 2 std reach them.
-  if (o.walking && validity_.below_steps(e.step_frequency_hz, steps_hz)) {
+  if (o.walking && online::Validity::below_steps(e.step_frequency_hz, steps_hz, feet_hz)) {
     const double gap_std_hz = 0.5 * (steps_hz - e.step_frequency_hz);
     if (o.step_frequency_std_hz < gap_std_hz) o.step_frequency_std_hz = gap_std_hz;
   }

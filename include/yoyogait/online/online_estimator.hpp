@@ -330,8 +330,8 @@ class OnlineEstimator {
     estimator_.set_extra_measurement_variance(e[0], e[1], sigmas, floor_vz);
     estimator_.step_into(est_, plausible ? m.vx_mps : nan, plausible ? m.vz_mps : nan, dt_s);
     // A lock below the steps the centre shows, held: a failed lock (online/validity.hpp).
-    const bool below = est_.walking && !est_.acquiring &&
-                       validity_.below_steps(est_.step_frequency_hz, gait_.step_frequency_hz(t_s)) && gait_.gait(t_s);
+    const bool below = est_.walking && !est_.acquiring && gait_.gait(t_s) &&
+                       online::Validity::below_steps(est_.step_frequency_hz, gait_.step_frequency_hz(t_s), feet_hz);
     if (validity_.failed_lock_below_steps(below, dt_s)) estimator_.reacquire();
     // The feet's steps: a lock far off them, held, relocked at theirs (online/feet_evidence.hpp; the
     // estimate shows it from the next sample), or a new figure of theirs observed.

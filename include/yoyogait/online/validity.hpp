@@ -245,7 +245,7 @@ class Validity {
     const bool at_bound = f <= s_.f_min_hz + margin || f >= s_.f_max_hz - margin;
     if (nis_lp_ > s_.max_nis ||
         (in.walking && (off_feet_now || at_bound || too_long_steps(f, in.speed_mps) ||
-                        (in.gait && below_steps(f, in.steps_hz)))))
+                        (in.gait && below_steps(f, in.steps_hz, in.feet_hz)))))
       r |= bit(InvalidReason::kModelNotHolding);
     if (t_s < implausible_until_s_ || !(std::fabs(in.speed_mps) <= s_.max_plausible_speed_mps))
       r |= bit(InvalidReason::kImplausibleInput);
@@ -284,9 +284,12 @@ class Validity {
   /// does not hold. On the shared recordings and the SYNTHETIC walks the valid estimates lie at 0.71
   /// and more of it (1st percentile; slow walks' small bobs are missed, which only lowers the
   /// extrema's figure); a lock on half the steps lies at 0.5 (docs/online.md, "Validity").
+  /// The feet's steps, where known (feet_hz > 0) and agreeing with the estimate (not off_feet),
+  /// overrule the centre's: centimetres of markerless jitter make extrema of the centre at 3-5 Hz
+  /// that no step made, while the feet's cadence stays within 0.05 Hz (docs/online.md, "Feet").
   static constexpr double kBelowStepsRatio = 0.6;
-  bool below_steps(double f_hz, double steps_hz) const noexcept {
-    return steps_hz > 0.0 && f_hz < kBelowStepsRatio * steps_hz;
+  static bool below_steps(double f_hz, double steps_hz, double feet_hz) noexcept {
+    return steps_hz > 0.0 && f_hz < kBelowStepsRatio * steps_hz && !(feet_hz > 0.0 && !off_feet(f_hz, feet_hz));
   }
   /// No walker's step is longer than this [m] (step length = speed / step frequency: about 0.4 x body
   /// height at a fast walk, 0.75-0.95 m; the valid estimates of the shared recordings and the SYNTHETIC
