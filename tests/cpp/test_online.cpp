@@ -890,6 +890,32 @@ TEST(FootCadence, TheWalkersTravelOverItsStepLengthsIsAboutOne) {
   }
 }
 
+// A tracking slip in the feet's first steps (a spurious rise and fall of 0.25 m within 60 ms) delays
+// their figure by two steps, not by the four the whole ring holds it; that first figure is within
+// the relock tolerance of the cadence (two steps' figure is not four's) and not settled (the std is
+// not bounded by it) until the whole ring is steady again.
+TEST(FootCadence, AnIrregularStepDelaysTheFigureByTwoStepsNotFour) {
+  online::FootCadence c{online::FootCadence::Settings{}};
+  const double f_hz = 1.8, step_m = 1.3 / f_hz, slip_s = 0.6;
+  double first_s = -1.0, first_hz = 0.0, settled_s = -1.0;
+  for (int k = 0; k < 600; ++k) {  // 6 s at 100 Hz
+    const double t = 0.01 * k;
+    const double slip = t >= slip_s && t < slip_s + 0.06 ? 0.25 : 0.0;
+    c.update(t, step_m * std::fabs(std::sin(kPi * f_hz * t)) + slip, 1e-6, 1.3 * t, 0.0);
+    if (first_s < 0.0 && c.step_frequency_hz(t) > 0.0) {
+      first_s = t;
+      first_hz = c.step_frequency_hz(t);
+      EXPECT_FALSE(c.settled());
+    }
+    if (settled_s < 0.0 && c.settled()) settled_s = t;
+  }
+  EXPECT_GT(first_s, slip_s);
+  EXPECT_LT(first_s - slip_s, 3.0 / f_hz);
+  EXPECT_NEAR(first_hz, f_hz, online::Validity::kRelockHz);
+  EXPECT_GT(settled_s, first_s);
+  EXPECT_NEAR(c.step_frequency_hz(6.0), f_hz, 0.01);
+}
+
 // Points given as feet under a noisy pelvis (2 cm, 60 Hz) that swing against each other at a rhythm
 // of their own (1.2 m apart at 2.4 steps/s while the walker makes 0.67 m steps at 1.8): the walker
 // travels 0.5 m per step of theirs, 0.42 of their steps' length: not its feet, no figure, never

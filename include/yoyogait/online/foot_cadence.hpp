@@ -8,9 +8,11 @@
 /// needs no side: a left/right label swap (markerless capture) leaves it as it was. Its extrema are
 /// followed with a hysteresis of swing_m (at least kNoiseSigmas standard deviations of the
 /// separation's noise); the step frequency is that of the last kSteps intervals between extrema (a
-/// maximum and a minimum per step; of the kMinSteps or more there are at a start) where no step is
-/// shorter than kMinRatio of the longest (a missed or an extra pair of extrema is no rhythm); it is held over an unsteady stretch of up to window_s
-/// (settled() tells a held figure). Each maximum is the length of the step just made, so the walker's
+/// maximum and a minimum per step) where no step is shorter than kMinRatio of the longest (a missed
+/// or an extra pair of extrema is no rhythm), or, where those are not steady and no such figure is
+/// current, of the newest steady span of kMinSteps or more (a start's first steps, the steps after
+/// an irregular one); it is held over an unsteady stretch of up to window_s (settled() tells a
+/// figure of the whole ring at the newest extremum from the others). Each maximum is the length of the step just made, so the walker's
 /// travel between the ring's first and last maxima over their steps' lengths (carry_ratio) is about 1
 /// for the walker's own feet (0.8-1.4 on the shared recordings): a rhythm that does not carry the
 /// walker is not its feet'. A few comparisons and one division per frame; no allocation.
@@ -48,6 +50,7 @@ class FootCadence {
     last_ = 0;
     hz_ = spread_hz_ = carry_ratio_ = 0.0;
     steady_t_s_ = -1e300;
+    full_t_s_ = -1e300;
     figures_ = 0;
   }
 
@@ -82,24 +85,31 @@ class FootCadence {
     steps_m_[last_] = step_m;
     travel_m_[last_] = {travel_a_m, travel_b_m};
     if (m_ < kRing) ++m_;
-    if (m_ < kMinSteps + 1) return;
-    // The intervals kept (kMinSteps to kSteps), oldest to newest; each step is two successive
-    // intervals (a maximum and a minimum: their shares of the step differ with the gait), and the
-    // steps are within kMinRatio of each other.
-    const std::size_t n = m_ - 1, first = (last_ + kRing - n) % kRing;
-    double short_step = 1e300, long_step = 0.0;
-    for (std::size_t i = 0; i + 2 <= n; ++i) {
-      const double d = times_[(first + i + 2) % kRing] - times_[(first + i) % kRing];
-      if (d < short_step) short_step = d;
-      if (d > long_step) long_step = d;
-    }
-    const double span_s = t_s - times_[first];
-    if (span_s > 0.0 && short_step >= kMinRatio * long_step) {
-      hz_ = 0.5 * static_cast<double>(n) / span_s;
-      steady_t_s_ = t_s;
-      spread_hz_ = 1.0 / short_step - 1.0 / long_step;
-      carry_ratio_ = carried(first, n);
-      ++figures_;
+    // The newest intervals (all kept, up to kSteps; else fewer, down to kMinSteps), oldest to newest;
+    // each step is two successive intervals (a maximum and a minimum: their shares of the step
+    // differ with the gait), and the steps are within kMinRatio of each other. The newest steady
+    // span gives the figure: an irregular step (a start's first, a stumble, a tracking slip) keeps
+    // it away for two steps, not four. A figure of the whole ring that is still current is held
+    // rather than replaced by a shorter span's (two steps' figure varies by 0.1-0.2 Hz in a turn).
+    for (std::size_t n = m_ - 1; n >= kMinSteps; --n) {
+      const std::size_t first = (last_ + kRing - n) % kRing;
+      double short_step = 1e300, long_step = 0.0;
+      for (std::size_t i = 0; i + 2 <= n; ++i) {
+        const double d = times_[(first + i + 2) % kRing] - times_[(first + i) % kRing];
+        if (d < short_step) short_step = d;
+        if (d > long_step) long_step = d;
+      }
+      const double span_s = t_s - times_[first];
+      if (span_s > 0.0 && short_step >= kMinRatio * long_step) {
+        if (n < kSteps && t_s - full_t_s_ <= s_.window_s) return;
+        hz_ = 0.5 * static_cast<double>(n) / span_s;
+        steady_t_s_ = t_s;
+        if (n == kSteps) full_t_s_ = t_s;
+        spread_hz_ = 1.0 / short_step - 1.0 / long_step;
+        carry_ratio_ = carried(first, n);
+        ++figures_;
+        return;
+      }
     }
   }
 
@@ -110,7 +120,7 @@ class FootCadence {
   }
   /// Whether the figure is of a full ring (kSteps intervals) that is the newest: no unsteady
   /// extremum since. Only then is it taken as within Validity::kFeetToleranceHz of the cadence.
-  bool settled() const noexcept { return m_ == kRing && steady_t_s_ == times_[last_]; }
+  bool settled() const noexcept { return full_t_s_ == times_[last_]; }
   /// Steady figures since the reset (one more per steady ring: a caller tells a new figure by it).
   unsigned long figures() const noexcept { return figures_; }
   /// The spread of the steps of the last steady ring: the fastest step's frequency less the slowest's
@@ -152,6 +162,7 @@ class FootCadence {
   std::size_t m_ = 0, last_ = 0;
   double hz_ = 0.0;  ///< the step frequency over the last steady ring [Hz]
   double steady_t_s_ = -1e300;  ///< the time of the last steady ring's newest extremum [s]
+  double full_t_s_ = -1e300;    ///< the time of the last steady figure of the whole ring (kSteps intervals) [s]
   double spread_hz_ = 0.0;      ///< the spread of its steps' frequencies [Hz]
   double carry_ratio_ = 0.0;    ///< its travel per step over its mean step length
   unsigned long figures_ = 0;   ///< steady rings since the reset
