@@ -26,7 +26,8 @@ def _markerless(load):
 def test_markerless_re_renderings_with_heels_are_never_confidently_wrong_on_a_trusted_reference(datasets_dir):
     """The shared recordings with feet and a trusted reference, re-rendered markerless (2 cm, swaps, dropouts, 60 Hz):
     with the heels confidently wrong on at most 1 % of the walking of each, valid on more than half of it after 3 s
-    (median over them); without the heels, never valid (median)."""
+    (median over them) and on at least the issue's 80 % of it on four in five of them; without the heels, never
+    valid (median)."""
     items, _ = manifest_items(datasets_dir / "manifest.json")
     wrong, valid, valid_without = [], [], []
     for item in items:
@@ -46,6 +47,7 @@ def test_markerless_re_renderings_with_heels_are_never_confidently_wrong_on_a_tr
     worst = max(wrong)
     assert worst[0] <= 0.01, worst
     assert np.median(valid) > 0.5 and np.median(valid_without) == 0.0
+    assert np.mean(np.asarray(valid) >= 0.8) >= 0.8, sorted(valid)
 
 
 def test_estimate_online_says_to_give_the_feet_and_is_valid_with_them(tmp_path, capsys):
