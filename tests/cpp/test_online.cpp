@@ -886,7 +886,7 @@ TEST(FootCadence, TheWalkersTravelOverItsStepLengthsIsAboutOne) {
       c.update(t, step_m * std::fabs(std::sin(kPi * f_hz * t)), 1e-6, speed_mps * t, 0.0);
     }
     EXPECT_NEAR(c.step_frequency_hz(10.0), f_hz, 0.01);
-    EXPECT_NEAR(c.carry_ratio(), speed_mps > 0.0 ? 1.0 : 0.0, 0.02);
+    EXPECT_NEAR(c.figure(10.0).carry_ratio, speed_mps > 0.0 ? 1.0 : 0.0, 0.02);
   }
 }
 

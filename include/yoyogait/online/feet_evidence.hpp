@@ -20,7 +20,7 @@ class FeetEvidence {
   /// The farthest a walker's feet's midpoint is from the point followed, horizontally [m]: a trunk point
   /// (the pelvis: at most 0.60 m on the shared recordings, 0.52 m walking), a hand (its arm's reach more).
   static constexpr double kMaxFeetFromTrunkM = 0.75, kMaxFeetFromHandM = 1.5;
-  /// The walker's travel per step over the feet's step length (FootCadence::carry_ratio) of a walker's own
+  /// The walker's travel per step over the feet's step length (FootCadence::Figure::carry_ratio) of a walker's own
   /// feet: 0.80-1.38 on the shared recordings as captured, 0.57-1.38 re-rendered markerless (a tight
   /// turn's lowest); a rhythm outside it (a tracker's points swinging at their own rhythm, points that
   /// are no feet) is not the walker's steps. Points above the heels (ankles, knees) part less: the
@@ -73,11 +73,11 @@ class FeetEvidence {
   }
 
   /// The feet's step frequency at t_s [Hz] (0: not known, fewer than two feet, or steps that do not
-  /// carry the walker: FootCadence::carry_ratio outside [kMinCarry, kMaxCarry]).
+  /// carry the walker: FootCadence::Figure::carry_ratio outside [kMinCarry, kMaxCarry]).
   double step_frequency_hz(double t_s) const noexcept {
     if (!two_) return 0.0;
-    const double carry = cadence_.carry_ratio();
-    return carry >= kMinCarry && carry <= kMaxCarry ? cadence_.step_frequency_hz(t_s) : 0.0;
+    const FootCadence::Figure f = cadence_.figure(t_s);
+    return f.carry_ratio >= kMinCarry && f.carry_ratio <= kMaxCarry ? f.hz : 0.0;
   }
 
   /// After an estimator sample with the estimate (walking, acquiring, f_hz) and the feet's figure
@@ -99,7 +99,7 @@ class FeetEvidence {
   /// error within the one, its lag behind a change of cadence within the other).
   double bounded_std_hz(double std_hz, double f_hz, double feet_hz) const noexcept {
     const double gap_hz = std::fabs(feet_hz - f_hz);
-    const double most_std_hz = 0.5 * (gap_hz + Validity::kFeetToleranceHz + cadence_.spread_hz());
+    const double most_std_hz = 0.5 * (gap_hz + Validity::kFeetToleranceHz + cadence_.whole_ring().spread_hz);
     if (cadence_.settled() && !Validity::off_feet(f_hz, feet_hz) && std_hz > most_std_hz) std_hz = most_std_hz;
     return std_hz < 0.5 * gap_hz ? 0.5 * gap_hz : std_hz;
   }

@@ -48,9 +48,7 @@ class FootCadence {
     hi_ = lo_ = 0.0;
     m_ = 0;
     last_ = 0;
-    hz_ = spread_hz_ = carry_ratio_ = 0.0;
-    steady_t_s_ = -1e300;
-    full_t_s_ = -1e300;
+    whole_ = newest_ = Figure{};
     figures_ = 0;
   }
 
@@ -88,9 +86,9 @@ class FootCadence {
     // The newest intervals (all kept, up to kSteps; else fewer, down to kMinSteps), oldest to newest;
     // each step is two successive intervals (a maximum and a minimum: their shares of the step
     // differ with the gait), and the steps are within kMinRatio of each other. The newest steady
-    // span gives the figure: an irregular step (a start's first, a stumble, a tracking slip) keeps
-    // it away for two steps, not four. A figure of the whole ring that is still current is held
-    // rather than replaced by a shorter span's (two steps' figure varies by 0.1-0.2 Hz in a turn).
+    // span gives a figure: an irregular step (a start's first, a stumble, a tracking slip) keeps
+    // one away for two steps, not four. A figure of the whole ring is kept beside it and preferred
+    // while current (two steps' figure varies by 0.1-0.2 Hz in a turn).
     for (std::size_t n = m_ - 1; n >= kMinSteps; --n) {
       const std::size_t first = (last_ + kRing - n) % kRing;
       double short_step = 1e300, long_step = 0.0;
@@ -101,36 +99,44 @@ class FootCadence {
       }
       const double span_s = t_s - times_[first];
       if (span_s > 0.0 && short_step >= kMinRatio * long_step) {
-        if (n < kSteps && t_s - full_t_s_ <= s_.window_s) return;
-        hz_ = 0.5 * static_cast<double>(n) / span_s;
-        steady_t_s_ = t_s;
-        if (n == kSteps) full_t_s_ = t_s;
-        spread_hz_ = 1.0 / short_step - 1.0 / long_step;
-        carry_ratio_ = carried(first, n);
-        ++figures_;
+        // A new figure in use (figures()): the whole ring's, or a shorter span's where none is current.
+        if (n == kSteps || !(t_s - whole_.t_s <= s_.window_s)) ++figures_;
+        newest_ = {0.5 * static_cast<double>(n) / span_s, t_s, 1.0 / short_step - 1.0 / long_step, carried(first, n)};
+        if (n == kSteps) whole_ = newest_;
         return;
       }
     }
   }
 
-  /// The step frequency of the last steady ring (its intervals / 2 steps over its span) while it and
-  /// the last extremum lie within window_s of t_s; 0 otherwise [Hz].
-  double step_frequency_hz(double t_s) const noexcept {
-    return t_s - times_[last_] <= s_.window_s && t_s - steady_t_s_ <= s_.window_s ? hz_ : 0.0;
+  /// A steady span's figure.
+  struct Figure {
+    double hz = 0.0;       ///< the step frequency: the span's intervals / 2 steps over its duration [Hz]
+    double t_s = -1e300;   ///< the time of its newest extremum [s]
+    /// The fastest step's frequency less the slowest's [Hz] (a walk that changes its cadence, turns,
+    /// stops: the figure lags it by up to this).
+    double spread_hz = 0.0;
+    /// The walker's travel per step over the steps' mean length (between the span's first and last
+    /// maxima, over the maxima after the first): about 1 for the walker's own feet; 0 while not known
+    /// (fewer than two maxima, or no length).
+    double carry_ratio = 0.0;
+  };
+  /// The figure at t_s: the whole ring's while it and the last extremum lie within window_s of t_s,
+  /// else the newest steady span's while they do; none (hz 0) otherwise.
+  Figure figure(double t_s) const noexcept {
+    if (!(t_s - times_[last_] <= s_.window_s)) return Figure{};
+    if (t_s - whole_.t_s <= s_.window_s) return whole_;
+    return t_s - newest_.t_s <= s_.window_s ? newest_ : Figure{};
   }
+  /// The step frequency of figure(t_s) [Hz] (0: none).
+  double step_frequency_hz(double t_s) const noexcept { return figure(t_s).hz; }
   /// Whether the figure is of a full ring (kSteps intervals) that is the newest: no unsteady
   /// extremum since. Only then is it taken as within Validity::kFeetToleranceHz of the cadence.
-  bool settled() const noexcept { return full_t_s_ == times_[last_]; }
-  /// Steady figures since the reset (one more per steady ring: a caller tells a new figure by it).
+  bool settled() const noexcept { return whole_.t_s == times_[last_]; }
+  /// The last steady figure of the whole ring (hz 0: none yet).
+  const Figure& whole_ring() const noexcept { return whole_; }
+  /// Figures since the reset (one more per steady figure that figure() gives from then on: a caller
+  /// tells a new figure by it).
   unsigned long figures() const noexcept { return figures_; }
-  /// The spread of the steps of the last steady ring: the fastest step's frequency less the slowest's
-  /// [Hz] (a walk that changes its cadence, turns, stops: the figure lags it by up to this).
-  double spread_hz() const noexcept { return spread_hz_; }
-  /// The last steady ring's travel per step over its steps' mean length (the walker's travel between
-  /// its first and last maxima, over the maxima after the first): about 1 for the walker's own feet;
-  /// 0 while not known (fewer than two maxima, or no length).
-  double carry_ratio() const noexcept { return carry_ratio_; }
-
  private:
   /// The travel per step over the mean step length of the ring of n intervals from slot first.
   double carried(std::size_t first, std::size_t n) const noexcept {
@@ -160,11 +166,8 @@ class FootCadence {
   std::array<double, kRing> steps_m_{};  ///< their separations if maxima (a step's length), else 0 [m]
   std::array<std::array<double, 2>, kRing> travel_m_{};  ///< where the walker was at each [m]
   std::size_t m_ = 0, last_ = 0;
-  double hz_ = 0.0;  ///< the step frequency over the last steady ring [Hz]
-  double steady_t_s_ = -1e300;  ///< the time of the last steady ring's newest extremum [s]
-  double full_t_s_ = -1e300;    ///< the time of the last steady figure of the whole ring (kSteps intervals) [s]
-  double spread_hz_ = 0.0;      ///< the spread of its steps' frequencies [Hz]
-  double carry_ratio_ = 0.0;    ///< its travel per step over its mean step length
+  Figure whole_;   ///< the last steady figure of the whole ring (kSteps intervals)
+  Figure newest_;  ///< the last steady figure of any span (kMinSteps to kSteps intervals)
   unsigned long figures_ = 0;   ///< steady rings since the reset
 };
 
