@@ -76,7 +76,7 @@ class FeetEvidence {
   /// carry the walker: FootCadence::Figure::carry_ratio outside [kMinCarry, kMaxCarry]).
   double step_frequency_hz(double t_s) const noexcept {
     if (!two_) return 0.0;
-    const FootCadence::Figure f = cadence_.figure(t_s);
+    const FootCadence::Figure& f = cadence_.figure(t_s);
     return f.carry_ratio >= kMinCarry && f.carry_ratio <= kMaxCarry ? f.hz : 0.0;
   }
 

@@ -122,10 +122,10 @@ class FootCadence {
   };
   /// The figure at t_s: the whole ring's while it and the last extremum lie within window_s of t_s,
   /// else the newest steady span's while they do; none (hz 0) otherwise.
-  Figure figure(double t_s) const noexcept {
-    if (!(t_s - times_[last_] <= s_.window_s)) return Figure{};
+  const Figure& figure(double t_s) const noexcept {
+    if (!(t_s - times_[last_] <= s_.window_s)) return none_;
     if (t_s - whole_.t_s <= s_.window_s) return whole_;
-    return t_s - newest_.t_s <= s_.window_s ? newest_ : Figure{};
+    return t_s - newest_.t_s <= s_.window_s ? newest_ : none_;
   }
   /// The step frequency of figure(t_s) [Hz] (0: none).
   double step_frequency_hz(double t_s) const noexcept { return figure(t_s).hz; }
@@ -168,6 +168,7 @@ class FootCadence {
   std::size_t m_ = 0, last_ = 0;
   Figure whole_;   ///< the last steady figure of the whole ring (kSteps intervals)
   Figure newest_;  ///< the last steady figure of any span (kMinSteps to kSteps intervals)
+  Figure none_;    ///< no figure (hz 0)
   unsigned long figures_ = 0;   ///< steady rings since the reset
 };
 
