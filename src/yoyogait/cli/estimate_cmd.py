@@ -313,9 +313,11 @@ def belt_line(res, feet, belt_speed_mps) -> str:
             f"no treadmill belt found from the stance feet ({', '.join(feet)}): overground; "
             "their steps check the cadence"
         )
+    # The frames counted, not a rounded share: a belt on 1 of 331 frames is not "0 %" of a treadmill walk.
+    where = f"on {int(on.sum())} of {on.size} frames ({100.0 * on.mean():.1f} %)"
     return (
-        f"treadmill belt found from the stance feet ({', '.join(feet)}) on {100.0 * on.mean():.0f} % of the frames, "
-        f"median {float(np.median(belt[on])):.2f} m/s, added to the pelvis's own speed"
+        f"treadmill belt found from the stance feet ({', '.join(feet)}) {where}, "
+        f"median {float(np.median(belt[on])):.2f} m/s, added to the pelvis's own speed there"
     )
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import fields
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ import pytest
 from yoyogait import synthetic
 from yoyogait import synthetic_conditions as sc
 from yoyogait.cli import main
+from yoyogait.cli.estimate_cmd import belt_line
 from yoyogait.errors import InputError
 from yoyogait.estimators import OnlineEstimator
 from yoyogait.estimators.online import InvalidReason
@@ -187,3 +189,11 @@ def test_estimate_online_says_a_walk_in_place_with_feet_that_stay_is_no_treadmil
     said = capsys.readouterr().out
     assert "stepping or bobbing in place, not a treadmill" in said and "LHEE, RHEE at 0.00 m/s" in said
     assert "a treadmill?" not in said and "give --feet" not in said
+
+
+def test_belt_line_counts_the_frames_a_belt_was_found_on():
+    """A belt found on 1 of 331 frames of an overground walk is said as such, not as "0 %" of the frames."""
+    belt = np.zeros(331)
+    belt[6] = 0.276
+    line = belt_line(SimpleNamespace(belt_speed_mps=belt), ("Foot_L", "Foot_R"), None)
+    assert "on 1 of 331 frames (0.3 %), median 0.28 m/s" in line
