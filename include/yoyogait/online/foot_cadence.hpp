@@ -12,10 +12,11 @@
 /// or an extra pair of extrema is no rhythm), or, where those are not steady and no such figure is
 /// current, of the newest steady span of kMinSteps or more (a start's first steps, the steps after
 /// an irregular one); it is held over an unsteady stretch of up to window_s (settled() tells a
-/// figure of the whole ring at the newest extremum from the others). Each maximum is the length of the step just made, so the walker's
-/// travel between the ring's first and last maxima over their steps' lengths (carry_ratio) is about 1
-/// for the walker's own feet (0.8-1.4 on the shared recordings): a rhythm that does not carry the
-/// walker is not its feet'. A few comparisons and one division per frame; no allocation.
+/// figure of the whole ring at the newest extremum from the others). Each maximum is the length of
+/// the step just made, so the walker's travel between the span's first and last maxima over their
+/// steps' lengths (Figure::carry_ratio) is about 1 for the walker's own feet (0.8-1.4 on the shared
+/// recordings): a rhythm that does not carry the walker is not its feet'. A few comparisons per
+/// frame, a few loops over the ring at an extremum; no allocation.
 #pragma once
 
 #include <array>
@@ -169,7 +170,7 @@ class FootCadence {
   Figure whole_;   ///< the last steady figure of the whole ring (kSteps intervals)
   Figure newest_;  ///< the last steady figure of any span (kMinSteps to kSteps intervals)
   Figure none_;    ///< no figure (hz 0)
-  unsigned long figures_ = 0;   ///< steady rings since the reset
+  unsigned long figures_ = 0;  ///< figures in use since the reset (figures())
 };
 
 }  // namespace yoyogait::online

@@ -286,7 +286,7 @@ class Validity {
   /// extrema's figure); a lock on half the steps lies at 0.5 (docs/online.md, "Validity").
   /// The feet's steps, where known (feet_hz > 0) and agreeing with the estimate (not off_feet),
   /// overrule the centre's: centimetres of markerless jitter make extrema of the centre at 3-5 Hz
-  /// that no step made, while the feet's cadence stays within 0.05 Hz (docs/online.md, "Feet").
+  /// that no step made, while the feet's cadence is off by 0.05 Hz (median; docs/online.md, "Feet").
   static constexpr double kBelowStepsRatio = 0.6;
   static bool below_steps(double f_hz, double steps_hz, double feet_hz) noexcept {
     return steps_hz > 0.0 && f_hz < kBelowStepsRatio * steps_hz && !(feet_hz > 0.0 && !off_feet(f_hz, feet_hz));
