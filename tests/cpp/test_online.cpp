@@ -602,6 +602,20 @@ TEST(Validity, StepsLongerThanAWalkersAreTooLong) {
   EXPECT_FALSE(online::Validity::too_long_steps(1.8, 1.3));
 }
 
+// A frequency pinned at a bound is no estimate: its std is that of a frequency spread evenly over
+// the range, so 2 std from either bound reach past the range's middle (a walker at 1.9 Hz under an
+// estimate pinned at 3.5 Hz is within them; 0.5 Hz stopped at 2.5 Hz).
+TEST(Validity, APinnedFrequencysTwoStdReachPastTheMiddleOfTheRange) {
+  online::Validity::Settings s;
+  s.f_min_hz = 0.4;
+  s.f_max_hz = 3.5;
+  const online::Validity v{s};
+  const double mid_hz = 0.5 * (s.f_min_hz + s.f_max_hz), two_std_hz = 2.0 * v.pinned_std_hz();
+  EXPECT_LT(s.f_max_hz - two_std_hz, mid_hz);
+  EXPECT_GT(s.f_min_hz + two_std_hz, mid_hz);
+  EXPECT_LT(s.f_max_hz - two_std_hz, 1.9);
+}
+
 // An estimate below the centre's extrema (jitter's at 4 Hz) is below the steps unless the feet's
 // steps agree with it; feet that disagree, or none, leave the centre's figure to judge.
 TEST(Validity, FeetThatAgreeOverruleTheCentresExtrema) {

@@ -303,7 +303,7 @@ class ImuOnlineEstimator {
   }
 
   // After each estimator sample: its stds made honest (as OnlineEstimator does: scaled by the
-  // innovations' excess, plus what a transient adds, at least kPinnedStdHz at a bound of the range,
+  // innovations' excess, plus what a transient adds, at least Validity::pinned_std_hz() at a bound of the range,
   // plus the pendulum's model error for the speed) and the harmonic check on the fed v_z.
   void sampled(const GaitState& prior, double dt_s, double vz_mean) noexcept {
     const double correction =
@@ -320,7 +320,7 @@ class ImuOnlineEstimator {
     const double tv_s = validity_.transient_var_speed();
     double f_var = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() +
                    fs * fs * tv_s;
-    constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
+    const double pinned_std_hz = validity_.pinned_std_hz();
     if (est_.walking && validity_.pinned(est_.step_frequency_hz) && f_var < pinned_std_hz * pinned_std_hz)
       f_var = pinned_std_hz * pinned_std_hz;
     // Turning: the steps of a turn (on the spot, a pivot) are not the walk's; the lock holds the

@@ -89,7 +89,7 @@ inline void OnlineEstimator::carry_estimate(double t_s) noexcept {
   const double age = o.estimate_age_s;
   const bool grown = age > 2.0 * config_.estimator.sample_time_s;
   o.step_frequency_std_hz = grown ? sqrt1(f_var_ + q_f_ * age) : f_std_;
-  constexpr double pinned_std_hz = online::Validity::kPinnedStdHz;
+  const double pinned_std_hz = validity_.pinned_std_hz();
   if (e.walking && validity_.pinned(e.step_frequency_hz) && o.step_frequency_std_hz < pinned_std_hz)
     o.step_frequency_std_hz = pinned_std_hz;
   // Below the steps the centre shows: 2 std reach them.
