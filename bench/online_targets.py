@@ -13,6 +13,7 @@ the online estimator meets it. A benchmark, not a test; the targets are fixed he
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -22,6 +23,7 @@ import numpy as np
 from yoyogait.errors import InputError
 from yoyogait.evaluation.datasets import manifest_items, synthetic_items
 from yoyogait.evaluation.online import evaluate_item_online, step_walk_items
+from yoyogait.evaluation.running import WALKING_PARTS
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -75,20 +77,21 @@ INFO = (
 )
 
 
-def _one(item):
+def _one(item, walking_part="gait"):
     try:
-        r = evaluate_item_online(item)
+        r = evaluate_item_online(item, walking_part=walking_part)
     except (InputError, ValueError) as exc:  # a recording the pipeline cannot use is reported, not fatal
         return item.name, None, str(exc)
     return item.name, r.metrics, ""
 
 
-def run(items, jobs):
+def run(items, jobs, walking_part="gait"):
+    one = functools.partial(_one, walking_part=walking_part)
     if jobs > 1:
         with ProcessPoolExecutor(jobs) as pool:
-            out = list(pool.map(_one, items))
+            out = list(pool.map(one, items))
     else:
-        out = [_one(i) for i in items]
+        out = [one(i) for i in items]
     for name, _, problem in out:
         if problem:
             print(f"  skipped {name}: {problem}")
@@ -149,13 +152,20 @@ def main():
     ap.add_argument("--no-real", action="store_true")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--per-recording", action="store_true")
+    ap.add_argument(
+        "--walking-part",
+        choices=WALKING_PARTS,
+        default="gait",
+        help="the real references' walking part: from gait initiation to termination (default), or half a "
+        "step either side of the contacts, the part the online targets were first measured on",
+    )
     args = ap.parse_args()
     groups = []
     if not args.no_real:
         items, missing = manifest_items(Path(args.datasets) / "manifest.json")
         for name, problem in missing:
             print(f"  missing {name}: {problem}")
-        groups.append(("manifest", run(items, args.jobs)))
+        groups.append(("manifest", run(items, args.jobs, args.walking_part)))
     groups.append(("synthetic", run(synthetic_items() + step_walk_items(), args.jobs)))
     for gname, rows in groups:
         print(f"{gname}: {len(rows)} recordings")

@@ -249,7 +249,7 @@ def _interp(t, tp, y):
     return np.interp(t, tp, np.asarray(y, dtype=float), left=np.nan, right=np.nan)
 
 
-def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float) -> _Refs:
+def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float, walking_part: str = "gait") -> _Refs:
     vx = _interp(t, vel.time_s, vel.vx_signed)
     vz = _interp(t, vel.time_s, vel.vz)
     quality = events.NO_REFERENCE  # a SYNTHETIC truth: trusted by being the truth (tables.trusted)
@@ -260,7 +260,7 @@ def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float) -> _R
     else:
         walk_in = _interp(t, vel.time_s, np.asarray(vel.walking, dtype=float)) > 0.5
         shim = SimpleNamespace(time_s=t, walking=walk_in, vx=vx, vz=vz, rate_hz=rate_hz, up_axis=vel.up_axis)
-        f_ref, speed_ref, walking, quality = real_reference(recording, shim, item)
+        f_ref, speed_ref, walking, quality = real_reference(recording, shim, item, walking_part=walking_part)
     if not walking.any():
         walking = np.isfinite(vx) & np.isfinite(vz)
     return _Refs(t, rate_hz, vx, vz, np.asarray(walking, dtype=bool), f_ref, speed_ref, quality)
@@ -427,6 +427,7 @@ def evaluate_item_online(
     *,
     feet: bool = False,
     belt_speed_mps: float | None = None,
+    walking_part: str = "gait",
 ) -> ItemResult:
     """Replay one item frame by frame through the online estimator (``config``: its settings, else the
     defaults) and score it, with the adaptive oscillator beside it (a top-level function: it runs in
@@ -437,6 +438,7 @@ def evaluate_item_online(
     noisier rendering on the same clock. The oscillator runs on those reference velocities.
     ``feet``: the item's foot points go into the frames (a treadmill's belt from the stance feet);
     ``belt_speed_mps``: a known belt speed (OnlineEstimator.set_belt_speed_mps).
+    ``walking_part``: the real reference's walking part scored (:data:`yoyogait.evaluation.running.WALKING_PARTS`).
     """
     recording = item.load()
     ref_item = item if reference is None else reference
@@ -455,8 +457,9 @@ def evaluate_item_online(
     if not np.any(dt > 0):
         raise InputError(f"{item.name}: fewer than two frames with increasing times")
     rate = 1.0 / float(np.median(dt[dt > 0]))
-    ref_frames = _references(ref_recording, vel, ref_item, t, rate)
-    ref_grid = _references(ref_recording, vel, ref_item, np.asarray(vel.time_s, dtype=float), float(vel.rate_hz))
+    ref_frames = _references(ref_recording, vel, ref_item, t, rate, walking_part)
+    grid = np.asarray(vel.time_s, dtype=float)
+    ref_grid = _references(ref_recording, vel, ref_item, grid, float(vel.rate_hz), walking_part)
     contacts = _contacts(ref_recording, ref_item, vel.up_axis)
     step_at = ref_recording.metadata.get("cadence_step_at_s") if ref_item.synthetic else None
     # A synthetic walk that starts standing reaches its cadence ramp_s after its first step.

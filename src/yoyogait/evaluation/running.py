@@ -123,7 +123,14 @@ def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndar
     return np.where(known >= 0.8 * n, moving_mean(values, n), np.nan)
 
 
-def real_reference(recording, vel, item: Item):
+#: The walking part a real reference scores: "gait" from gait initiation to termination (a step before
+#: the first contact and after the last: :func:`yoyogait.pipeline.events.reference_events`), or
+#: "half-step", half a step either side of the contacts, the walking part the online targets were
+#: first measured on (docs/online.md, section 7).
+WALKING_PARTS = ("gait", "half-step")
+
+
+def real_reference(recording, vel, item: Item, *, walking_part: str = "gait"):
     """(step frequency, stride-averaged speed, walking, quality) on the velocity grid, from gait events.
 
     The events are the file's own where it holds enough foot strikes, else the foot contacts
@@ -132,7 +139,10 @@ def real_reference(recording, vel, item: Item):
     left-right alternation averaged out (:meth:`~yoyogait.pipeline.events.GaitEvents.step_frequency_at`
     with ``stride_average``): a missed contact (a stride) or a doubled one does not halve or double it.
     The quality (:func:`yoyogait.pipeline.events.reference_quality`) says whether it can be trusted.
+    ``walking_part``: one of :data:`WALKING_PARTS`.
     """
+    if walking_part not in WALKING_PARTS:
+        raise ValueError(f"walking_part must be one of {', '.join(WALKING_PARTS)}, not {walking_part!r}")
     t = vel.time_s
     walking = np.asarray(vel.walking, dtype=bool)
     f_ref = np.full(t.shape, np.nan)
@@ -147,7 +157,7 @@ def real_reference(recording, vel, item: Item):
     if ev is not None and len(ev.step_start_s) >= 1:
         f_ref = ev.step_frequency_at(t, stride_average=True)
         in_walk = np.zeros(t.shape, dtype=bool)
-        for a, b in np.asarray(ev.walking_segments_s).reshape(-1, 2):
+        for a, b in _walking_segments(ev, walking_part):
             in_walk |= (t >= a) & (t <= b)
         if in_walk.any():
             walking = in_walk & np.isfinite(vel.vx) & np.isfinite(vel.vz)
@@ -155,6 +165,22 @@ def real_reference(recording, vel, item: Item):
     f_typ = np.nanmedian(f_ref) if np.isfinite(f_ref).any() else 1.8
     speed = _stride_mean(vel.vx, vel.rate_hz, 2.0 / f_typ)
     return f_ref, speed, walking, quality
+
+
+def _walking_segments(ev, walking_part: str) -> np.ndarray:
+    """The events' walking stretches (k x 2), or, for "half-step", each narrowed to half a mean step
+    either side of its first and last contact."""
+    segments = np.asarray(ev.walking_segments_s, dtype=float).reshape(-1, 2)
+    if walking_part == "gait":
+        return segments
+    starts, ends = np.asarray(ev.step_start_s, dtype=float), np.asarray(ev.step_end_s, dtype=float)
+    out = []
+    for a, b in segments:
+        inside = (starts >= a) & (ends <= b)
+        if inside.any():
+            half = 0.5 * float(np.mean(ends[inside] - starts[inside]))
+            out.append((max(a, starts[inside].min() - half), min(b, ends[inside].max() + half)))
+    return np.asarray(out, dtype=float).reshape(-1, 2)
 
 
 def evaluate_item(item: Item, names=DEFAULT_ESTIMATORS, *, rate_hz: float = RATE_HZ, configs=None) -> ItemResult:

@@ -12,7 +12,7 @@ import pytest
 from builders import write_trc
 from yoyogait import synthetic as sy
 from yoyogait.cli import main
-from yoyogait.evaluation import evaluate_online
+from yoyogait.evaluation import evaluate_online, running
 from yoyogait.evaluation import online as on
 from yoyogait.evaluation.datasets import synthetic_item
 from yoyogait.evaluation.tables import median_and_worst
@@ -221,3 +221,17 @@ def test_summary_names_the_worst_recording_beside_the_median(short_walks):
     assert farthest == lags[int(np.argmax(np.abs(lags)))]
     text = "\n".join(short_walks.preamble)
     assert "online: worst (recording)" in text and "confidently wrong" in text
+
+
+def test_the_half_step_walking_part_lies_half_a_step_beside_the_contacts_within_the_gait_one():
+    """walking_part "half-step": each stretch from half a mean step before its first contact to half a step after
+    its last, inside the events' gait-initiation-to-termination stretch; an unknown part is refused."""
+    ev = SimpleNamespace(
+        walking_segments_s=np.array([[0.4, 5.2], [8.0, 9.0]]),
+        step_start_s=np.array([1.0, 1.6, 2.2, 8.5]),
+        step_end_s=np.array([1.6, 2.2, 2.8, 8.9]),
+    )
+    np.testing.assert_array_equal(running._walking_segments(ev, "gait"), ev.walking_segments_s)
+    np.testing.assert_allclose(running._walking_segments(ev, "half-step"), [[0.7, 3.1], [8.3, 9.0]])
+    with pytest.raises(ValueError, match="walking_part"):
+        running.real_reference(None, None, None, walking_part="from the first step")
