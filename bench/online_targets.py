@@ -23,7 +23,7 @@ import numpy as np
 from yoyogait.errors import InputError
 from yoyogait.evaluation.datasets import manifest_items, synthetic_items
 from yoyogait.evaluation.online import evaluate_item_online, step_walk_items
-from yoyogait.evaluation.running import WALKING_PARTS
+from yoyogait.evaluation.running import DEFAULT_WALKING_PART, WALKING_PARTS
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -77,7 +77,7 @@ INFO = (
 )
 
 
-def _one(item, walking_part="gait"):
+def _one(item, walking_part=DEFAULT_WALKING_PART):
     try:
         r = evaluate_item_online(item, walking_part=walking_part)
     except (InputError, ValueError) as exc:  # a recording the pipeline cannot use is reported, not fatal
@@ -85,7 +85,7 @@ def _one(item, walking_part="gait"):
     return item.name, r.metrics, ""
 
 
-def run(items, jobs, walking_part="gait"):
+def run(items, jobs, walking_part=DEFAULT_WALKING_PART):
     one = functools.partial(_one, walking_part=walking_part)
     if jobs > 1:
         with ProcessPoolExecutor(jobs) as pool:
@@ -155,7 +155,7 @@ def main():
     ap.add_argument(
         "--walking-part",
         choices=WALKING_PARTS,
-        default="gait",
+        default=DEFAULT_WALKING_PART,
         help="the real references' walking part: from gait initiation to termination (default), or half a "
         "step either side of the contacts, the part the online targets were first measured on",
     )

@@ -36,7 +36,16 @@ from ..pipeline.velocities import gait_velocities
 from . import metrics
 from .datasets import Item, synthetic_item
 from .parallel import TaskFailure
-from .running import RATE_HZ, Evaluation, ItemResult, evaluate_items, outcome, real_reference
+from .running import (
+    DEFAULT_WALKING_PART,
+    RATE_HZ,
+    Evaluation,
+    ItemResult,
+    check_walking_part,
+    evaluate_items,
+    outcome,
+    real_reference,
+)
 from .tables import with_trusted_part
 
 __all__ = [
@@ -249,7 +258,9 @@ def _interp(t, tp, y):
     return np.interp(t, tp, np.asarray(y, dtype=float), left=np.nan, right=np.nan)
 
 
-def _references(recording, vel, item: Item, t: np.ndarray, rate_hz: float, walking_part: str = "gait") -> _Refs:
+def _references(
+    recording, vel, item: Item, t: np.ndarray, rate_hz: float, walking_part: str = DEFAULT_WALKING_PART
+) -> _Refs:
     vx = _interp(t, vel.time_s, vel.vx_signed)
     vz = _interp(t, vel.time_s, vel.vz)
     quality = events.NO_REFERENCE  # a SYNTHETIC truth: trusted by being the truth (tables.trusted)
@@ -427,7 +438,7 @@ def evaluate_item_online(
     *,
     feet: bool = False,
     belt_speed_mps: float | None = None,
-    walking_part: str = "gait",
+    walking_part: str = DEFAULT_WALKING_PART,
 ) -> ItemResult:
     """Replay one item frame by frame through the online estimator (``config``: its settings, else the
     defaults) and score it, with the adaptive oscillator beside it (a top-level function: it runs in
@@ -440,6 +451,7 @@ def evaluate_item_online(
     ``belt_speed_mps``: a known belt speed (OnlineEstimator.set_belt_speed_mps).
     ``walking_part``: the real reference's walking part scored (:data:`yoyogait.evaluation.running.WALKING_PARTS`).
     """
+    check_walking_part(walking_part)  # before the replay, not after it
     recording = item.load()
     ref_item = item if reference is None else reference
     ref_recording = recording if reference is None else reference.load()

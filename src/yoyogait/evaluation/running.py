@@ -128,9 +128,17 @@ def _stride_mean(values: np.ndarray, rate_hz: float, window_s: float) -> np.ndar
 #: "half-step", half a step either side of the contacts, the walking part the online targets were
 #: first measured on (docs/online.md, section 7).
 WALKING_PARTS = ("gait", "half-step")
+#: The walking part scored unless asked otherwise.
+DEFAULT_WALKING_PART = WALKING_PARTS[0]
 
 
-def real_reference(recording, vel, item: Item, *, walking_part: str = "gait"):
+def check_walking_part(walking_part: str) -> None:
+    """ValueError unless ``walking_part`` is one of :data:`WALKING_PARTS`."""
+    if walking_part not in WALKING_PARTS:
+        raise ValueError(f"walking_part must be one of {', '.join(WALKING_PARTS)}, not {walking_part!r}")
+
+
+def real_reference(recording, vel, item: Item, *, walking_part: str = DEFAULT_WALKING_PART):
     """(step frequency, stride-averaged speed, walking, quality) on the velocity grid, from gait events.
 
     The events are the file's own where it holds enough foot strikes, else the foot contacts
@@ -141,8 +149,7 @@ def real_reference(recording, vel, item: Item, *, walking_part: str = "gait"):
     The quality (:func:`yoyogait.pipeline.events.reference_quality`) says whether it can be trusted.
     ``walking_part``: one of :data:`WALKING_PARTS`.
     """
-    if walking_part not in WALKING_PARTS:
-        raise ValueError(f"walking_part must be one of {', '.join(WALKING_PARTS)}, not {walking_part!r}")
+    check_walking_part(walking_part)
     t = vel.time_s
     walking = np.asarray(vel.walking, dtype=bool)
     f_ref = np.full(t.shape, np.nan)
@@ -171,7 +178,7 @@ def _walking_segments(ev, walking_part: str) -> np.ndarray:
     """The events' walking stretches (k x 2), or, for "half-step", each narrowed to half a mean step
     either side of its first and last contact."""
     segments = np.asarray(ev.walking_segments_s, dtype=float).reshape(-1, 2)
-    if walking_part == "gait":
+    if walking_part == DEFAULT_WALKING_PART:
         return segments
     starts, ends = np.asarray(ev.step_start_s, dtype=float), np.asarray(ev.step_end_s, dtype=float)
     out = []
