@@ -22,6 +22,9 @@ Ready velocities (m/s), e.g. from another pipeline or an IMU::
 * Lengths are metres unless ``# length_unit_m:`` or ``length_unit_m=`` says
   otherwise (velocities are then that unit per second).
 * An empty cell, ``nan`` or ``NaN`` is a missing sample.
+* Two header rows, the point names and under them ``x``, ``y``, ``z`` (what pandas writes for a
+  table with a (point, axis) column index, as gaitmap's example motion capture), are read as
+  ``<name>_x`` ...; a first column without a name there is the table's row index, not a time.
 * The separator is a comma; a header with semicolons or tabs and no comma
   switches to that.
 """
@@ -71,6 +74,12 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     header_line = lines[first]
     delimiter = "," if "," in header_line else ";" if ";" in header_line else "\t" if "\t" in header_line else ","
     header = [h.strip() for h in next(_csv.reader([header_line], delimiter=delimiter))]
+    if first + 1 < len(lines):
+        axes_row = [h.strip() for h in next(_csv.reader([lines[first + 1]], delimiter=delimiter))]
+        merged = _two_row_header(header, axes_row)
+        if merged is not None:
+            header = merged
+            first += 1
 
     _refuse_inertial(header, p)
 
@@ -159,6 +168,22 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
 
 
 _INERTIAL_PREFIXES = ("acc", "gyr", "gyro", "mag")
+
+
+def _two_row_header(names: list[str], axes: list[str]) -> list[str] | None:
+    """The columns ``<name>_<axis>`` of a header in two rows (point names, then x, y, z under each; a
+    leading column unnamed in both is the row index: ``index``), or None unless ``axes`` is such a row."""
+    if len(axes) != len(names) or not any(axes):
+        return None
+    merged = []
+    for name, axis in zip(names, axes):
+        if not name and not axis:
+            merged.append("index")
+        elif name and axis.lower() in AXES:
+            merged.append(f"{name}_{axis.lower()}")
+        else:
+            return None
+    return merged
 
 
 def _refuse_inertial(header: list[str], where) -> None:

@@ -247,7 +247,7 @@ def check_coordinates(positions_m: np.ndarray, names, where, line_numbers=None) 
         name = names[p] if p < len(names) else f"point {p + 1}"
         raise InputError(
             f"{where}: {row}: point {name!r} has {'xyz'[a]} = {pos[f, p, a]:.4g} m, more than "
-            f"{MAX_COORDINATE_M:g} m from the origin (a corrupt value or a wrong length unit)"
+            f"{MAX_COORDINATE_M:g} m from the origin (a corrupt value, or a wrong length unit: pass length_unit_m=)"
         )
 
 

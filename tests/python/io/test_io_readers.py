@@ -356,6 +356,27 @@ def test_csv_without_time_needs_a_rate(tmp_path):
     assert np.allclose(yio.read(path, capture_rate_hz=50).time_s, [0, 0.02, 0.04])
 
 
+def test_csv_with_point_names_over_axes_reads_each_point_and_takes_the_index_for_no_time(tmp_path):
+    """A header in two rows, point names over x/y/z, under an unnamed row index (pandas' (point, axis)
+    columns, as gaitmap's example motion capture): the points as <name>_x ...; the index is no time."""
+    path = tmp_path / "pandas.csv"
+    path.write_text(",L_FCC,L_FCC,L_FCC,R_FCC,R_FCC,R_FCC\n,x,y,z,x,y,z\n0,1,2,3,4,5,6\n1,1.5,2,3,4.5,5,6\n")
+    with pytest.raises(InputError, match="no time column"):
+        yio.read(path)
+    rec = yio.read(path, capture_rate_hz=100)
+    assert rec.point_names == ["L_FCC", "R_FCC"]
+    np.testing.assert_allclose(rec.positions_m[1], [[1.5, 2, 3], [4.5, 5, 6]])
+    np.testing.assert_allclose(rec.time_s, [0, 0.01])
+
+
+def test_coordinates_beyond_any_lab_name_the_length_unit_option(tmp_path):
+    """Millimetres read as metres (x = 33 km) name the option that sets the unit."""
+    path = tmp_path / "mm.csv"
+    path.write_text("time,A_x,A_y,A_z\n0,33006.8,10512.2,55.7\n0.01,33006.9,10512.1,55.8\n")
+    with pytest.raises(InputError, match="wrong length unit: pass length_unit_m="):
+        yio.read(path)
+
+
 @pytest.mark.parametrize(
     "body, message",
     [
