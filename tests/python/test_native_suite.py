@@ -70,8 +70,8 @@ def test_googletest_suite_passes(build_name):
 
 
 def test_installed_package_is_found_by_find_package(tmp_path):
-    """cmake --install gives a prefix where find_package(yoyogait) builds and runs examples/cpp, with the
-    compile options of yoyogait::yoyogait (-ffp-contract=off)."""
+    """cmake --install gives a prefix where find_package(yoyogait) builds and runs examples/cpp (the marker
+    and the IMU paths), with the compile options of yoyogait::yoyogait (-ffp-contract=off)."""
     cmake = _cmake()
     build = BUILD / "install"
     prefix = tmp_path / "prefix"
@@ -103,6 +103,7 @@ def test_installed_package_is_found_by_find_package(tmp_path):
     R = float(re.search(r"R_m=([-\d.]+)", out).group(1))
     assert abs(f - 1.8) < 0.018 and abs(R - 0.115) < 0.006, out
     _feed_online_stdin(next(example.rglob("online_stdin")))
+    _feed_imu_stdin(next(example.rglob("imu_stdin")))
 
 
 def _feed_online_stdin(exe):
@@ -128,3 +129,31 @@ def _feed_online_stdin(exe):
     assert last["valid"] == "1" and last["invalid_reason"] == "0"
     first = dict(zip(rows[0].split(","), rows[1].split(",")))
     assert first["valid"] == "0" and int(first["invalid_reason"]) & 1  # acquiring
+
+
+def _feed_imu_stdin(exe):
+    """examples/cpp/imu_stdin answers each IMU sample with one line of every ImuEstimate field, finds a
+    SYNTHETIC walk's cadence and speed and says when they may be used; a sample of the wrong width is
+    one line on stderr and exit 2."""
+    from yoyogait.estimators.imu import IMU_ESTIMATE_FIELDS
+    from yoyogait.synthetic_imu import make_imu_walk
+
+    walk = make_imu_walk(duration_s=12.0)
+    rec = walk.recording
+    lines = ["t_s,ax,ay,az,gx,gy,gz"] + [
+        ",".join(f"{v:.9g}" for v in (t, *a, *g)) for t, a, g in zip(rec.time_s, rec.acc_mps2, rec.gyr_rad_s)
+    ]
+    proc = subprocess.run(
+        [str(exe), f"{rec.sensor_height_m:.6f}"], input="\n".join(lines) + "\n", capture_output=True, text=True
+    )
+    assert proc.returncode == 0, proc.stderr
+    rows = proc.stdout.strip().splitlines()
+    assert rows[0].split(",") == [name for name, _, _ in IMU_ESTIMATE_FIELDS] and len(rows) == rec.time_s.size + 1
+    last = dict(zip(rows[0].split(","), rows[-1].split(",")))
+    assert abs(float(last["step_frequency_hz"]) - walk.truth.step_frequency_hz[-1]) < 0.02, last
+    assert abs(float(last["speed_mps"]) - walk.truth.speed_mps[-1]) < 0.05, last
+    assert last["valid"] == "1" and last["reason"] == "0" and last["walking"] == "1"
+    first = dict(zip(rows[0].split(","), rows[1].split(",")))
+    assert first["valid"] == "0" and first["reason"] == "6"  # ImuReason::kAcquiring
+    bad = subprocess.run([str(exe)], input="0,0,0,9.81\n", capture_output=True, text=True)
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "got 4 cells" in bad.stderr
