@@ -16,7 +16,7 @@ enum class ImuReason : std::uint8_t {
   kTimeNotIncreasing = 2,  ///< this sample's time did not increase: ignored
   kSaturated = 3,          ///< a component reached the sensor's range within saturation_hold_s
   kGap = 4,                ///< the front-end restarted after a gap and has not settled yet
-  kGravity = 5,            ///< the acceleration's low-passed norm is not about 9.81 m/s^2 (unit? sensor?)
+  kGravity = 5,            ///< the acceleration's low-passed norm is not about 9.81 m/s^2 (unit? sensor?); before the first start, this sample's norm
   kAcquiring = 6,          ///< not fed yet; or walking, the start-up bank running or f at a bound (not locked)
   kNotWalking = 7,         ///< the estimator's walking detector says standing, or the vertical motion is smaller than a walker's
   kSpeedImplausible = 8,   ///< the speed is negative or above max_speed_mps

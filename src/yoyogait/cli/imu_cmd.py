@@ -106,7 +106,7 @@ def inspect_imu(
     gaps = dt[dt > 1.5 * nominal_s]
     reasons = np.asarray(res["reason"])[~valid]
     why = {ImuReason(int(r)).name: float(np.count_nonzero(reasons == r)) / len(res) for r in np.unique(reasons)}
-    g = float(np.median(np.linalg.norm(rec.acc_mps2, axis=1)))
+    g = float(np.nanmedian(np.linalg.norm(rec.acc_mps2, axis=1)))
     report = {
         "file": str(file),
         "format": f"IMU ({rec.metadata.get('layout', '?')})",
@@ -118,11 +118,12 @@ def inspect_imu(
         "max_abs_acc_mps2": float(np.nanmax(np.abs(rec.acc_mps2))),
         "max_abs_gyr_rad_s": float(np.nanmax(np.abs(rec.gyr_rad_s))),
         "sensor_height_m": rec.sensor_height_m,
-        "valid_s": float(valid.sum() / (rec.rate_hz or 100.0)),
+        "valid_s": float(np.count_nonzero(valid) * nominal_s),
         "median_cadence_spm": float(np.median(res.cadence_spm[valid])) if valid.any() else None,
         "median_speed_mps": float(np.median(res["speed_mps"][valid])) if valid.any() else None,
         "references": {k: len(v) for k, v in rec.references.items()},
         "not_valid": why,
+        "zero_rows": int(rec.metadata.get("zero_rows", 0)),
         "gaps": int(gaps.size),
         "longest_gap_s": float(gaps.max()) if gaps.size else 0.0,
         "clipped": {k: {"range": level, "samples": n} for k, (level, n) in rec.metadata.get("clipped", {}).items()},
@@ -146,8 +147,15 @@ def inspect_imu(
     if not valid.any():
         lines.append(("walking", "none found: the estimate never became valid (a sensor at rest, a walk too short)"))
     if why:
-        shown = ", ".join(f"{k} {100 * v:.0f} %" for k, v in sorted(why.items(), key=lambda kv: -kv[1]))
+        shown = ", ".join(
+            f"{k} {100 * v:.0f} %" if v >= 0.01 else f"{k} {100 * v:.1g} %"
+            for k, v in sorted(why.items(), key=lambda kv: -kv[1])
+        )
         lines.append(("not valid", f"{shown} of the samples"))
+    if rec.metadata.get("zero_rows"):
+        lines.append(
+            ("zero rows", f"{rec.metadata['zero_rows']} (all six channels exactly 0: no measurement, ignored)")
+        )
     if gaps.size:
         lines.append(("gaps", f"{gaps.size} (longest {gaps.max():.2f} s): the front-end restarts after each (GAP)"))
     for line in _clipped_lines(rec):

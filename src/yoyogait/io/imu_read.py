@@ -188,8 +188,7 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
         else:
             raise InputError(f"{p}: no time column (time_s); give the sample rate with rate_hz (--rate-hz)")
         if rate is None:
-            dt = np.diff(time_s)
-            rate = float(1.0 / np.median(dt)) if dt.size and np.median(dt) > 0 else None
+            rate = _median_rate_hz(time_s)
         metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
     rec = ImuRecording(
         time_s=time_s,
@@ -200,7 +199,7 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
         sensor_height_m=sensor_height,
         metadata=metadata,
     )
-    _check_samples(rec)
+    _finish(rec)
     return rec
 
 
@@ -300,7 +299,7 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
                     references=refs,
                     metadata={"layout": "mobilised", "test": test, "trial": trial, "participant": p.parent.name},
                 )
-                _check_samples(rec)
+                _finish(rec)
                 check_imu_plausible(rec)
                 out.append(rec)
     if not out:
@@ -405,7 +404,7 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
         source=str(p),
         metadata={"layout": "xsens"},
     )
-    _check_samples(rec)
+    _finish(rec)
     return rec
 
 
@@ -485,6 +484,8 @@ def _read_dot(p: Path, layout, *, acc_unit=None, gyr_unit=None, rate_hz=None) ->
     m = re.match(r"\s*([0-9.]+)\s*Hz", meta.get("OutputRate", ""), re.IGNORECASE)
     if rate is None and m:
         rate = float(m.group(1))
+    if rate is None:  # no OutputRate line (an SDK's own export): the ticks' median interval
+        rate = _median_rate_hz(time_s)
     acc_scale = _unit(acc_unit, ACC_UNITS, "acc_unit", p) or 1.0
     gyr_scale = _unit(gyr_unit, GYR_UNITS, "gyr_unit", p) or np.pi / 180.0
     rec = ImuRecording(
@@ -495,7 +496,7 @@ def _read_dot(p: Path, layout, *, acc_unit=None, gyr_unit=None, rate_hz=None) ->
         source=str(p),
         metadata={"layout": "movella_dot", **({"device_tag": meta["DeviceTag"]} if "DeviceTag" in meta else {})},
     )
-    _check_samples(rec)
+    _finish(rec)
     return rec
 
 
@@ -660,11 +661,29 @@ def read_apdm_h5(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=Non
         source=str(p),
         metadata={"layout": f"apdm v{version}", "sensor": name, "sensor_id": sid},
     )
-    _check_samples(rec)
+    _finish(rec)
     return rec
 
 
 # ------------------------------------------------------------------------------------ plausibility
+
+
+def _finish(rec: ImuRecording) -> None:
+    """Every reader's last step: a sample whose six channels read exactly 0 is no measurement (a
+    sensor always feels gravity; a DOT export's first packet is such a row): missing (NaN), which the
+    estimator ignores. Then the timestamps and the rate are checked."""
+    zero = np.all(rec.acc_mps2 == 0.0, axis=1) & np.all(rec.gyr_rad_s == 0.0, axis=1)
+    if zero.any():
+        rec.acc_mps2[zero] = np.nan
+        rec.gyr_rad_s[zero] = np.nan
+        rec.metadata["zero_rows"] = int(zero.sum())
+    _check_samples(rec)
+
+
+def _median_rate_hz(time_s) -> float | None:
+    """The nominal rate of timestamps without a stated one: 1 / their median interval (None if not positive)."""
+    dt = np.diff(np.asarray(time_s, dtype=float))
+    return float(1.0 / np.median(dt)) if dt.size and np.median(dt) > 0 else None
 
 
 def _check_samples(rec: ImuRecording) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 
 import numpy as np
+import pytest
 
 from builders import write_trc
 from yoyogait.cli import main
@@ -30,6 +31,31 @@ def test_inspect_a_mobgap_csv(datasets_dir, capsys):
     out, err = capsys.readouterr()
     assert code == 0, err
     assert "100 Hz" in out and "gravity" in out and "0.964 m" in out and "steps/min" in out
+
+
+def test_inspect_counts_valid_time_at_the_files_rate_and_names_rows_of_zeros(tmp_path, capsys):
+    """inspect on a 120 Hz file that states no rate, its first row all zeros: the rate from its times,
+    the valid seconds at that rate (not at 100 Hz), and the row of zeros named."""
+    import json
+
+    rec = make_imu_walk(duration_s=10.0, rate_hz=120.0).recording
+    rec.acc_mps2[0] = 0.0
+    rec.gyr_rad_s[0] = 0.0
+    cols = ["time_s", "acc_x_mps2", "acc_y_mps2", "acc_z_mps2", "gyr_x_rad_s", "gyr_y_rad_s", "gyr_z_rad_s"]
+    p = tmp_path / "walk120.csv"
+    np.savetxt(p, np.column_stack([rec.time_s, rec.acc_mps2, rec.gyr_rad_s]), delimiter=",", header=",".join(cols),
+               comments="")  # fmt: skip
+    assert main(["inspect", str(p), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    back = read_imu(p)
+    from yoyogait.estimators.imu import estimator_for
+
+    valid = estimator_for(back).run_recording(back)["valid"].astype(bool)
+    assert report["rate_hz"] == pytest.approx(120.0) and report["zero_rows"] == 1
+    assert abs(report["valid_s"] - np.count_nonzero(valid) / 120.0) < 1e-9 and report["valid_s"] > 3.0
+    assert main(["inspect", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "120 Hz" in out and "zero rows      1 (all six channels exactly 0" in out
 
 
 def test_estimate_writes_one_row_per_sample(tmp_path, capsys, monkeypatch):

@@ -72,6 +72,24 @@ def test_no_output_at_or_before_t_depends_on_samples_after_t():
     assert not np.array_equal(base["vz_mps"][k + 1 :], changed["vz_mps"][k + 1 :])
 
 
+@pytest.mark.parametrize("first", [(0.0, 0.0, 0.0), (0.0, 0.0, 25.0)], ids=["zeros", "jolt"])
+def test_a_first_sample_off_gravity_starts_nothing(first):
+    """A first sample whose specific force is not about gravity (a packet of zeros, a jolt) does not
+    start the orientation: it is GRAVITY, not valid, and every output after it is the one without it."""
+    walk = make_imu_walk(duration_s=10.0, tilt_pitch_deg=15.0)
+    rec = walk.recording
+    t = np.concatenate([[rec.time_s[0] - 0.01], rec.time_s])
+    acc = np.vstack([first, rec.acc_mps2])
+    gyr = np.vstack([(0.0, 0.0, 0.0), rec.gyr_rad_s])
+    config = dataclasses.replace(ImuConfig(), sensor_height_m=rec.sensor_height_m)
+    base = ImuOnlineEstimator(config).run(rec.time_s, rec.acc_mps2, rec.gyr_rad_s)
+    with_first = ImuOnlineEstimator(config).run(t, acc, gyr)
+    assert with_first["reason"][0] == ImuReason.GRAVITY and not with_first["valid"][0]
+    assert np.isinf(with_first["step_frequency_std_hz"][0])
+    for name in base.column_names():
+        assert np.array_equal(base[name], with_first[name][1:], equal_nan=True), name
+
+
 def test_update_and_run_agree():
     """update() sample by sample gives what run() gives."""
     walk = make_imu_walk(duration_s=6.0)

@@ -149,10 +149,11 @@ def test_xsens_mt_manager_txt(tmp_path):
     assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-5)
 
 
-def _dot(path, rec, columns=("Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"), start_tick=4294000000):
-    """rec as a Movella DOT app's CSV: metadata lines, SampleTimeFine in microseconds (wrapping), deg/s."""
-    lines = ["sep=,", "DeviceTag:,Pelvis", "FirmwareVersion:,2.0.0", "OutputRate:,100Hz", "",
-             "PacketCounter,SampleTimeFine," + ",".join(columns) + ",Status"]  # fmt: skip
+def _dot(path, rec, columns=("Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"), start_tick=4294000000, app=True):
+    """rec as a Movella DOT app's CSV: metadata lines, SampleTimeFine in microseconds (wrapping), deg/s;
+    ``app=False``: as the SDK writes it, the column header alone."""
+    lines = ["sep=,", "DeviceTag:,Pelvis", "FirmwareVersion:,2.0.0", "OutputRate:,100Hz", ""] if app else []
+    lines.append("PacketCounter,SampleTimeFine," + ",".join(columns) + ",Status")
     values = np.column_stack([rec.acc_mps2, np.degrees(rec.gyr_rad_s)])
     for i in range(rec.n_samples):
         tick = (start_tick + round(1e6 * rec.time_s[i])) % 2**32
@@ -170,6 +171,20 @@ def test_movella_dot_csv(tmp_path):
     assert back.rate_hz == 100.0 and np.allclose(back.time_s, rec.time_s - rec.time_s[0], atol=2e-6)
     assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-5)
     assert np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-6)
+
+
+def test_movella_dot_sdk_export_takes_its_rate_from_the_clock_and_a_row_of_zeros_as_missing(tmp_path):
+    """A DOT CSV as the SDK writes it (no OutputRate line; its first packet all zeros, as in public
+    recordings): the rate is the clock's, and the row of zeros is missing, not a sample of no gravity."""
+    rec = make_imu_walk(duration_s=4.0, rate_hz=120.0).recording
+    rec.acc_mps2[0] = 0.0
+    rec.gyr_rad_s[0] = 0.0
+    p = tmp_path / "4_D422CD003437_20231031_133150.csv"
+    _dot(p, rec, app=False)
+    back = read_imu(p)
+    assert back.rate_hz == pytest.approx(120.0, rel=1e-4)
+    assert np.isnan(back.acc_mps2[0]).all() and np.isnan(back.gyr_rad_s[0]).all()
+    assert back.metadata["zero_rows"] == 1 and np.isfinite(back.acc_mps2[1:]).all()
 
 
 def test_movella_dot_orientation_only_says_what_to_export(tmp_path):
