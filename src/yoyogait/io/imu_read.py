@@ -199,7 +199,7 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
         sensor_height_m=sensor_height,
         metadata=metadata,
     )
-    _finish(rec)
+    _finish(rec, gyr_scale)
     return rec
 
 
@@ -299,7 +299,7 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
                     references=refs,
                     metadata={"layout": "mobilised", "test": test, "trial": trial, "participant": p.parent.name},
                 )
-                _finish(rec)
+                _finish(rec, np.pi / 180.0)
                 check_imu_plausible(rec)
                 out.append(rec)
     if not out:
@@ -404,7 +404,7 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
         source=str(p),
         metadata={"layout": "xsens"},
     )
-    _finish(rec)
+    _finish(rec, gyr_scale)
     return rec
 
 
@@ -496,7 +496,7 @@ def _read_dot(p: Path, layout, *, acc_unit=None, gyr_unit=None, rate_hz=None) ->
         source=str(p),
         metadata={"layout": "movella_dot", **({"device_tag": meta["DeviceTag"]} if "DeviceTag" in meta else {})},
     )
-    _finish(rec)
+    _finish(rec, gyr_scale)
     return rec
 
 
@@ -639,7 +639,8 @@ def read_apdm_h5(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=Non
         acc = _vectors(s["acc"], f"sensor {name!r}: its accelerometer", None, p)
         gyr = _vectors(s["gyr"], f"sensor {name!r}: its gyroscope", acc.shape[0], p)
         acc = acc * _apdm_unit(s["acc"], _APDM_ACC_UNITS, acc_unit, "acc_unit", 1.0, p)
-        gyr = gyr * _apdm_unit(s["gyr"], _APDM_GYR_UNITS, gyr_unit, "gyr_unit", 1.0, p)
+        gyr_scale = _apdm_unit(s["gyr"], _APDM_GYR_UNITS, gyr_unit, "gyr_unit", 1.0, p)
+        gyr = gyr * gyr_scale
         try:
             rate = float(rate_hz) if rate_hz else (float(_text(s["rate"])) if s["rate"] is not None else None)
         except ValueError:
@@ -661,17 +662,19 @@ def read_apdm_h5(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=Non
         source=str(p),
         metadata={"layout": f"apdm v{version}", "sensor": name, "sensor_id": sid},
     )
-    _finish(rec)
+    _finish(rec, gyr_scale)
     return rec
 
 
 # ------------------------------------------------------------------------------------ plausibility
 
 
-def _finish(rec: ImuRecording) -> None:
-    """Every reader's last step: a sample whose six channels read exactly 0 is no measurement (a
-    sensor always feels gravity; a DOT export's first packet is such a row): missing (NaN), which the
-    estimator ignores. Then the timestamps and the rate are checked."""
+def _finish(rec: ImuRecording, gyr_scale: float) -> None:
+    """Every reader's last step: the unit the angular rate was read in (``gyr_scale``: to rad/s) kept
+    for the plausibility check's message; a sample whose six channels read exactly 0 is no
+    measurement (a sensor always feels gravity; a DOT export's first packet is such a row): missing
+    (NaN), which the estimator ignores. Then the timestamps and the rate are checked."""
+    rec.metadata["gyr_unit_read"] = "deg/s" if abs(gyr_scale - np.pi / 180.0) < 1e-12 else "rad/s"
     zero = np.all(rec.acc_mps2 == 0.0, axis=1) & np.all(rec.gyr_rad_s == 0.0, axis=1)
     if zero.any():
         rec.acc_mps2[zero] = np.nan
@@ -749,6 +752,12 @@ def check_imu_plausible(rec: ImuRecording) -> None:
             f"{where}: the acceleration's median norm is {g:.3g} m/s^2, not about 9.81: pass acc_unit (mps2 or g)"
         )
     w = float(np.percentile(np.abs(gyr[ok]), 99))
+    if w > 15.0 and rec.metadata.get("gyr_unit_read") == "deg/s":
+        # Read as deg/s already: the rate is the sensor's own, not a unit's mistake.
+        raise InputError(
+            f"{where}: the angular rate reaches {w:.0f} rad/s ({np.degrees(w):.0f} deg/s), beyond a lower back's in "
+            "any walk (a few rad/s): a sensor on a foot or a leg? yoyogait estimates from one at the lower back"
+        )
     if w > 15.0:
         raise InputError(
             f"{where}: the angular rate reaches {w:.0f} rad/s, beyond any walk: in deg/s? "

@@ -129,6 +129,18 @@ def test_angular_rate_in_deg_s_declared_rad_s_names_the_option(tmp_path):
         read_imu(p)
 
 
+def test_a_rate_read_in_deg_s_beyond_a_lower_backs_asks_where_the_sensor_is(tmp_path):
+    """A rate already read in deg/s (as its header says) beyond a lower back's (a foot's 20 rad/s): the error asks
+    whether the sensor is on a foot or a leg, and does not name --gyr-unit deg_s, which the file already is."""
+    rec = make_imu_walk(None, "3-rectangle", duration_s=12.0).recording
+    rec.gyr_rad_s = rec.gyr_rad_s * (20.0 / np.percentile(np.abs(rec.gyr_rad_s), 99))
+    p = tmp_path / "imu.csv"
+    _write_yoyogait_csv(p, rec, 1.0, "acc_{}_mps2", "gyr_{}_deg_s", 180 / np.pi)
+    with pytest.raises(InputError, match=r"20 rad/s \(1146 deg/s\).*a sensor on a foot or a leg\?") as err:
+        read_imu(p)
+    assert "--gyr-unit" not in str(err.value)
+
+
 def _xsens(path, rec, rate="100.0"):
     lines = ["// General information:", f"//  Update Rate: {rate}Hz", "//  Filter Profile: general",
              "PacketCounter\tAcc_X\tAcc_Y\tAcc_Z\tGyr_X\tGyr_Y\tGyr_Z"]  # fmt: skip
