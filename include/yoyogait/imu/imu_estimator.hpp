@@ -126,14 +126,14 @@ class ImuOnlineEstimator {
     // The first start takes the sensor's tilt from this sample's specific force: one that is not
     // about gravity (a stream's first packet of zeros, a jolt) would start it tilted, and the Mahony
     // filter takes seconds to right it (a DOT's zero first row: 90 degrees, 7 s). Such a sample
-    // starts nothing: GRAVITY, and the next one is tried.
-    if (!started_ && !(std::fabs(a_norm - kGravityMps2) <= config_.gravity_tolerance * kGravityMps2)) {
+    // starts nothing: GRAVITY, and the next one is tried (tested behind restart: no cost per sample).
+    const bool restart = !started_ || dt_s > config_.max_gap_s;
+    if (restart && !started_ && !(std::fabs(a_norm - kGravityMps2) <= config_.gravity_tolerance * kGravityMps2)) {
       o.reason = ImuReason::kGravity;
       o.valid = o.walking = o.estimator_fed = false;
       o.step_frequency_std_hz = o.speed_std_mps = std::numeric_limits<double>::infinity();
       return o;
     }
-    const bool restart = !started_ || dt_s > config_.max_gap_s;
     // The magnetometer's sample, when given, finite and not disturbed (its norm near its low-passed norm).
     bool mag_ok = false;
     imu::Vec3 m{};
