@@ -211,10 +211,16 @@ class UnitCheck:
             self._fast += 1
             if self._fast >= 10 and self._fast > 0.01 * self._samples:
                 said = f" read as {layout.gyr_unit}" if layout.gyr_unit else ""
-                raise InputError(
+                beyond = (
                     f"stream {name!r}: the angular rate{said} exceeds {MAX_WALKING_RATE_RAD_S:g} rad/s in "
-                    f"{self._fast} of {self._samples} samples, beyond any walk: in deg/s? pass --gyr-unit deg_s"
+                    f"{self._fast} of {self._samples} samples"
                 )
+                if abs(layout.gyr_scale - math.pi / 180.0) < 1e-12:  # read in deg/s already: the sensor's own rate
+                    raise InputError(
+                        f"{beyond}, beyond a lower back's in any walk: a sensor on a foot or a leg? yoyogait "
+                        "estimates from one at the lower back"
+                    )
+                raise InputError(f"{beyond}, beyond any walk: in deg/s? pass --gyr-unit deg_s")
 
 
 def run_live_imu(

@@ -305,13 +305,18 @@ def _cli_on_stream(name, info, samples, args=(), timeout_s=20.0):
             "deg/s as rad/s",
             r"exceeds 15 rad/s in \d+ of \d+ samples, beyond any walk: in deg/s\? pass --gyr-unit deg_s",
         ),
+        (
+            "a foot's rate in deg/s",
+            r"read as deg/s exceeds 15 rad/s in \d+ of \d+ samples, beyond a lower back's in any walk: a sensor on "
+            r"a foot or a leg\?",
+        ),
         ("no gyro", r"no gyr_x, gyr_y, gyr_z channel; expected channels labelled acc_x"),
         ("no units", r"its acceleration channels carry no unit; pass --acc-unit \(mps2 or g\)"),
     ],
 )
 def test_bad_imu_streams_end_live_with_one_line_naming_the_stream_and_what_was_expected(case, message, tmp_path):
-    """Gravity in g or deg/s said to be m/s^2 / rad/s, missing gyro channels, no units: one line naming the stream
-    and what was expected (the option to pass), exit 2, no traceback."""
+    """Gravity in g or deg/s said to be m/s^2 / rad/s, a foot's rate, missing gyro channels, no units: one line naming
+    the stream and what was expected (the option to pass, or where the sensor is), exit 2, no traceback."""
     walk = make_imu_walk(None, "3-rectangle", duration_s=12.0).recording
     name = unique("imu-bad")
     labels, units = LABELS, UNITS
@@ -320,6 +325,9 @@ def test_bad_imu_streams_end_live_with_one_line_naming_the_stream_and_what_was_e
         acc = acc / GRAVITY_MPS2
     elif case == "deg/s as rad/s":
         gyr = gyr / DEG
+    elif case == "a foot's rate in deg/s":  # said in deg/s, and a foot's 20 rad/s
+        gyr = gyr * (20.0 / np.percentile(np.abs(gyr), 99)) / DEG
+        units = UNITS[:3] + ["deg/s"] * 3
     elif case == "no gyro":
         labels, units = LABELS[:3] + ["ch3", "ch4", "ch5"], UNITS
     elif case == "no units":
