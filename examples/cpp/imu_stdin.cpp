@@ -20,31 +20,9 @@
 #include <vector>
 #include <yoyogait/imu.hpp>
 
-namespace {
+#include "csv_cells.hpp"
 
-// The cells of one CSV line as numbers (NaN for an empty cell or "nan"); false if a cell is not a number.
-bool parse(const std::string& line, std::vector<double>& out) {
-  out.clear();
-  std::size_t start = 0;
-  while (start <= line.size()) {
-    std::size_t end = line.find(',', start);
-    if (end == std::string::npos) end = line.size();
-    std::string cell = line.substr(start, end - start);
-    while (!cell.empty() && (cell.back() == ' ' || cell.back() == '\r' || cell.back() == '\t')) cell.pop_back();
-    std::size_t lead = cell.find_first_not_of(" \t");
-    cell = lead == std::string::npos ? std::string() : cell.substr(lead);
-    if (cell.empty()) {
-      out.push_back(std::nan(""));
-    } else {
-      char* stop = nullptr;
-      const double v = std::strtod(cell.c_str(), &stop);
-      if (stop == cell.c_str() || *stop != '\0') return false;
-      out.push_back(v);
-    }
-    start = end + 1;
-  }
-  return true;
-}
+namespace {
 
 // One field as a printed number: the record's types are double, bool and small enums.
 double number(double v) { return v; }
@@ -94,7 +72,7 @@ int main(int argc, char** argv) {
     while (std::fgets(buf, sizeof buf, stdin)) {
       line = buf;
       while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-      if (line.empty() || !parse(line, cells)) continue;  // a header or a comment
+      if (line.empty() || !example::parse_cells(line, cells)) continue;  // a header or a comment
       if (cells.size() != 7 && cells.size() != 10) {
         std::fprintf(stderr, "imu_stdin: a sample is t_s, ax, ay, az, gx, gy, gz [, mx, my, mz]; got %zu cells\n",
                      cells.size());

@@ -14,35 +14,10 @@
 #include <memory>
 #include <string>
 #include <vector>
+
 #include <yoyogait/online.hpp>
 
-namespace {
-
-// The cells of one CSV line as numbers (NaN for an empty cell or "nan"); false if a cell is not a number.
-bool parse(const std::string& line, std::vector<double>& out) {
-  out.clear();
-  std::size_t start = 0;
-  while (start <= line.size()) {
-    std::size_t end = line.find(',', start);
-    if (end == std::string::npos) end = line.size();
-    std::string cell = line.substr(start, end - start);
-    while (!cell.empty() && (cell.back() == ' ' || cell.back() == '\r' || cell.back() == '\t')) cell.pop_back();
-    std::size_t lead = cell.find_first_not_of(" \t");
-    cell = lead == std::string::npos ? std::string() : cell.substr(lead);
-    if (cell.empty()) {
-      out.push_back(std::nan(""));
-    } else {
-      char* stop = nullptr;
-      const double v = std::strtod(cell.c_str(), &stop);
-      if (stop == cell.c_str() || *stop != '\0') return false;
-      out.push_back(v);
-    }
-    start = end + 1;
-  }
-  return true;
-}
-
-}  // namespace
+#include "csv_cells.hpp"
 
 int main(int argc, char** argv) {
   int up = 2;
@@ -71,7 +46,7 @@ int main(int argc, char** argv) {
   while (std::fgets(buf, sizeof buf, stdin)) {
     line = buf;
     while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-    if (line.empty() || !parse(line, cells)) continue;  // a header or a comment
+    if (line.empty() || !example::parse_cells(line, cells)) continue;  // a header or a comment
     if (!est) {
       if (cells.size() < 4 || (cells.size() - 1) % 3 != 0 || (cells.size() - 1) / 3 > yoyogait::online::kMaxPoints) {
         std::fprintf(stderr, "online_stdin: a frame is t followed by x, y, z of 1 to 16 points; got %zu cells\n",
