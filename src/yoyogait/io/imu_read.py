@@ -265,7 +265,7 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
     p = Path(path)
     try:
         data = scipy.io.loadmat(p, simplify_cells=True)["data"]
-    except (ValueError, NotImplementedError, KeyError, OSError) as exc:
+    except Exception as exc:  # noqa: BLE001 (scipy's parser raises many kinds on a damaged file: TypeError, zlib.error, ...)
         raise InputError(f"{p}: not a Mobilise-D data.mat ({exc})") from None
     height = _mobilised_height(p.parent / "infoForAlgo.mat")
     out = []
@@ -280,15 +280,11 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
                     lb = content["SU"]["LowerBack"]
                 except (KeyError, TypeError):
                     continue
-                rate = float(lb["Fs"]["Acc"]) if isinstance(lb.get("Fs"), dict) else float(lb.get("Fs", 100.0))
-                # The format stores the accelerometer in g (mobgap's loader scales it by 9.81 too).
-                acc = np.asarray(lb["Acc"], dtype=float) * GRAVITY_MPS2
-                gyr = np.asarray(lb["Gyr"], dtype=float) * np.pi / 180.0
-                refs = {}
-                for system, std in (content.get("Standards") or {}).items():
-                    bouts = _bouts(std.get("MicroWB"))
-                    if bouts:
-                        refs[system] = bouts
+                try:
+                    rate, acc, gyr, refs = _mobilised_trial(lb, content)
+                except (KeyError, TypeError, ValueError, IndexError, AttributeError) as exc:
+                    where = f"{p}: trial {tm}/{test}/{trial}"
+                    raise InputError(f"{where}: its lower-back data cannot be read ({exc})") from None
                 rec = ImuRecording(
                     time_s=np.arange(acc.shape[0]) / rate,
                     acc_mps2=acc,
@@ -305,6 +301,20 @@ def read_mobilised_trials(path) -> list[ImuRecording]:
     if not out:
         raise InputError(f"{p}: no lower-back sensor (SU.LowerBack) in any trial")
     return out
+
+
+def _mobilised_trial(lb, content) -> tuple[float, np.ndarray, np.ndarray, dict[str, list[ImuBout]]]:
+    """(rate, acc in m/s^2, gyr in rad/s, the reference systems' bouts) of one trial's ``SU.LowerBack``."""
+    rate = float(lb["Fs"]["Acc"]) if isinstance(lb.get("Fs"), dict) else float(lb.get("Fs", 100.0))
+    # The format stores the accelerometer in g (mobgap's loader scales it by 9.81 too).
+    acc = np.asarray(lb["Acc"], dtype=float) * GRAVITY_MPS2
+    gyr = np.asarray(lb["Gyr"], dtype=float) * np.pi / 180.0
+    refs = {}
+    for system, std in (content.get("Standards") or {}).items():
+        bouts = _bouts(std.get("MicroWB"))
+        if bouts:
+            refs[system] = bouts
+    return rate, acc, gyr, refs
 
 
 def read_mobilised_mat(path, *, trial=None) -> ImuRecording:

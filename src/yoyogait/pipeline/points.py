@@ -22,6 +22,7 @@ carries each marker's offset from the centre across its gaps.
 from __future__ import annotations
 
 import contextvars
+import warnings
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -113,6 +114,35 @@ def choose_point(rec: Recording, point=None, *, hand_side: str = "right") -> Poi
     return PointChoice(names, "named")
 
 
+#: A sample further than this from the median of the five around it (each coordinate's), beyond what
+#: the fastest point followed moves in a frame (SPIKE_SPEED_MPS), is a spike, not motion [m]: none of
+#: the 53 shared recordings' pelvis markers has one; a one-frame glitch (a coordinate read as 0) is one.
+SPIKE_M = 0.1
+#: The fastest a followed point (a pelvis, a hand) moves [m/s]: at the ends of a recording the median of
+#: the three samples there lies a frame's travel away.
+SPIKE_SPEED_MPS = 5.0
+
+
+def drop_spikes(positions: np.ndarray, frame_s: float, limit_m: float = SPIKE_M) -> np.ndarray:
+    """The markers' positions (frames x k x 3) with spikes missing (NaN): samples further than
+    ``limit_m`` plus a frame's travel (``frame_s`` apart) from the median of the five samples around
+    them (a Hampel filter with a physical limit). A glitch of one or two frames is then a gap the centre
+    bridges, not a step that the velocity's filter spreads into a burst; a lasting step (a marker that
+    moves for good) is left as it is: the median follows it."""
+    p = np.array(positions, dtype=float, copy=True)
+    if p.ndim != 3 or p.shape[0] < 3:
+        return p
+    pad = np.full((2,) + p.shape[1:], np.nan)
+    window = np.lib.stride_tricks.sliding_window_view(np.concatenate([pad, p, pad]), 5, axis=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN windows: the sample is unknown anyway
+        median = np.nanmedian(window, axis=-1)
+    with np.errstate(invalid="ignore"):
+        off = np.linalg.norm(p - median, axis=2) > limit_m + SPIKE_SPEED_MPS * max(float(frame_s), 0.0)
+    p[off] = np.nan
+    return p
+
+
 #: Centres found inside :func:`reusing_trajectories`: (id of the recording, names) -> (recording, centre, used).
 _CENTRES: contextvars.ContextVar[dict | None] = contextvars.ContextVar("yoyogait_centres", default=None)
 
@@ -139,7 +169,8 @@ def point_trajectory(rec: Recording, point=None, *, hand_side: str = "right") ->
         _, centre, used = centres[key]
         centre = centre.copy()
     else:
-        centre, used = robust_centre(rec.points(choice.names))
+        frame_s = float(np.median(np.diff(rec.time_s))) if len(rec.time_s) > 1 else 0.0
+        centre, used = robust_centre(drop_spikes(rec.points(choice.names), frame_s))
         if centres is not None:  # the recording is kept so that its id is not reused inside the block
             centres[key] = (rec, centre.copy(), list(used))
     return PointTrajectory(centre, choice, tuple(choice.names[i] for i in used))

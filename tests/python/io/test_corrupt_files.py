@@ -2,7 +2,8 @@
 file or a plausible result; never a traceback, a partial output or an absurd number.
 
 The mutants (truncated files, flipped bytes, zeroed blocks, bad header numbers, bogus timestamps and
-cells, deleted or repeated lines of C3D, TRC, BVH and a velocity CSV) are those of
+cells, deleted or repeated lines of C3D, TRC, BVH, a velocity CSV, a lower-back IMU's mobgap CSV and
+Mobilise-D data.mat) are those of
 corrupt_mutants.py, seeded.  The test runs the first 32; set ``YOYOGAIT_MUTANTS=415`` (or more) for
 a long run, or use bench/corrupt.py, which prints the counts.
 """
@@ -40,5 +41,5 @@ def test_corrupt_recordings_give_one_line_errors_or_plausible_results(datasets_d
     # The mutants do break files: a good share of the runs end in an error, and every format is hit.
     errors = [o for o in tally.outcomes if o.code not in (0, None)]
     assert len(errors) >= len(tally.outcomes) // 4
-    assert {o.mutant.source.rsplit(".", 1)[1] for o in errors} == {"c3d", "trc", "bvh", "csv"}
+    assert {cm.source_format(o.mutant.source) for o in errors} == {"c3d", "trc", "bvh", "csv", "imucsv", "mat"}
     assert not list((tmp_path / "out").iterdir())

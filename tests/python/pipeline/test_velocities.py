@@ -44,6 +44,25 @@ def test_short_gaps_are_filled_and_long_ones_stay_missing():
     assert np.all(np.isfinite(filled.vz[(v.time_s > 4.05) & (v.time_s < 4.45)]))
 
 
+@pytest.mark.parametrize("frames", [[0], [250], [250, 251], [599]], ids=["first", "middle", "two", "last"])
+def test_a_glitch_of_a_frame_or_two_is_a_gap_not_a_burst(frames):
+    """A coordinate read as 0 on one or two frames (the first, the last, inside) is left out as a spike:
+    the velocity stays the model's, as over a gap, at 25 and at 100 Hz; a marker that moves for good is kept."""
+    for rate in (25.0, 100.0):
+        rec = pelvis_walk(rate_hz=rate)
+        glitch = [min(k, len(rec.time_s) - 1) for k in frames] if rate == 100.0 else [k // 4 for k in frames]
+        rec.positions_m[glitch, 0, 2] = 0.0
+        v = yoyogait.gait_velocities(rec, point="PELVIS")
+        _, vz_true = _truth(v.time_s)
+        inner = (v.time_s > 0.3) & (v.time_s < 5.6)
+        assert np.nanmax(np.abs(v.vz - vz_true)[inner]) < 0.02, (rate, frames)
+        assert np.nanmax(np.abs(v.vz)) < 0.5, (rate, frames)
+    moved = pelvis_walk()
+    moved.positions_m[300:, 0, 2] += 0.3  # a marker re-placed 0.3 m higher: it moves, it is no spike
+    kept = yoyogait.gait_velocities(moved, point="PELVIS")
+    assert np.nanmax(kept.vz) > 1.0
+
+
 def _truth(t, R_m=0.11, r_m=0.02):
     w = 2 * np.pi * STEP_HZ
     return R_m * w + r_m * w * np.cos(w * t), -r_m * w * np.sin(w * t)

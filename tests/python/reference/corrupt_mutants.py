@@ -1,4 +1,5 @@
-"""Corrupt copies of real recordings, and what ``yoyogait inspect`` and ``estimate`` make of them.
+"""Corrupt copies of real recordings (motion capture and a lower-back IMU), and what ``yoyogait inspect`` and
+``estimate`` make of them.
 
 Shared by tests/python/io/test_corrupt_files.py (a few dozen mutants) and bench/corrupt.py (hundreds).
 Mutant ``i`` is fully determined by ``(seed, i)``: its source file is ``SOURCES[i % len(SOURCES)]``
@@ -45,7 +46,20 @@ SOURCES = (
     "addbiomechanics/Camargo2021_levelground_ccw_fast_01_01.trc",
     "c3d_org_samples/sample03_gait-raw.c3d",  # DEC floats, integer data
     "cmu_bvh11/131_01.bvh",
+    "imu_mobgap/example_data/data_csv/HA/001/TimeMeasure1_Test5_Trial1.csv",  # a lower-back IMU: the mobgap CSV
+    "imu_mobgap/example_data/data/lab/HA/002/data.mat",  # ... and a Mobilise-D data.mat
 )
+
+
+def source_format(source: str) -> str:
+    """The mutation operators' format of a source: its extension, "imucsv" for an IMU CSV."""
+    return "imucsv" if source.startswith("imu_mobgap/") and source.endswith(".csv") else source.rsplit(".", 1)[1]
+
+
+def is_imu(source: str) -> bool:
+    """Whether a source is an IMU recording (inspect and estimate report per sample, as docs/imu.md)."""
+    return source.startswith("imu_mobgap/")
+
 
 CATEGORIES = ("ok", "traceback", "bad message", "partial output", "absurd")
 
@@ -244,6 +258,27 @@ def _join(lines: list[str]) -> bytes:
     return "\n".join(lines).encode()
 
 
+def _imu_header(data: bytes, rng) -> tuple[bytes, str]:
+    """An IMU CSV's header row: a column dropped or renamed, a unit that is not the data's, or none."""
+    lines = _lines(data)
+    choice = str(
+        rng.choice(
+            [
+                "samples,acc_x,acc_y,acc_z,gyr_x,gyr_y",
+                "samples,acc_x_mps2,acc_y_mps2,acc_z_mps2,gyr_x,gyr_y,gyr_z",
+                "samples,acc_x,acc_y,acc_z,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s",
+                "time_s,acc_x_g,acc_y_g,acc_z_g,gyr_x_deg_s,gyr_y_deg_s,gyr_z_deg_s",
+                "samples,acc_x,acc_y,acc_z,acc_x,gyr_y,gyr_z",
+                "samples;acc_x;acc_y;acc_z;gyr_x;gyr_y;gyr_z",
+                "",
+                "#",
+            ]
+        )
+    )
+    lines[0] = choice
+    return _join(lines), f"IMU CSV header {choice!r}"
+
+
 def _data_line_range(lines: list[str], fmt: str) -> tuple[int, int]:
     if fmt == "trc":
         return 5, len(lines)
@@ -254,7 +289,7 @@ def _data_line_range(lines: list[str], fmt: str) -> tuple[int, int]:
 
 
 def _cell_separator(fmt: str) -> str:
-    return {"trc": "\t", "bvh": " ", "csv": ","}[fmt]
+    return {"trc": "\t", "bvh": " ", "csv": ",", "imucsv": ","}[fmt]
 
 
 def _bogus_cells(fmt):
@@ -381,13 +416,23 @@ OPERATORS = {
         }
         for fmt in ("trc", "bvh", "csv")
     },
+    "imucsv": {
+        "truncate": _truncate,
+        "flip bytes": _flip_bytes,
+        "zero block": _zero_block,
+        "header": _imu_header,
+        "bogus time": _bogus_time("imucsv"),
+        "bogus cells": _bogus_cells("imucsv"),
+        "lines": _delete_or_repeat_lines("imucsv"),
+    },
+    "mat": {"truncate": _truncate, "flip bytes": _flip_bytes, "zero block": _zero_block},
 }
 
 
 def make_mutant(datasets_dir: Path, workdir: Path, seed: int, index: int) -> Mutant:
     """Mutant ``index`` of ``seed``: a corrupt copy of one source, written into ``workdir``."""
     source = SOURCES[index % len(SOURCES)]
-    fmt = source.rsplit(".", 1)[1]
+    fmt = source_format(source)
     rng = np.random.default_rng((seed, index))
     names = sorted(OPERATORS[fmt])
     operator = names[(index // len(SOURCES)) % len(names)]
@@ -443,7 +488,11 @@ def run_inspect(mutant: Mutant) -> Outcome:
         problem = _error_problem(err, mutant)
         return Outcome(mutant, "inspect", problem or "ok", code, err.strip(), dt)
     report = json.loads(out)
-    speed, step = report.get("mean_speed_mps"), report.get("step_frequency_hz")
+    if is_imu(mutant.source):  # the medians while valid (None when never valid)
+        cadence = report.get("median_cadence_spm")
+        speed, step = report.get("median_speed_mps"), (cadence / 60.0 if cadence is not None else None)
+    else:
+        speed, step = report.get("mean_speed_mps"), report.get("step_frequency_hz")
     if speed is None:  # no walking found: then the whole-recording speed must still be sane; none is shown
         return Outcome(mutant, "inspect", "ok", 0, "no walking found", dt)
     category = "ok" if _plausible(speed, step) else "absurd"
@@ -472,12 +521,27 @@ def run_estimate(mutant: Mutant, outdir: Path, figure: bool) -> Outcome:
     expected = {csv, png} if figure else {csv}
     if temps or new != expected:
         return Outcome(mutant, "estimate", "partial output", 0, f"outputs {sorted(map(str, new))}", dt)
-    m = _SUMMARY.search(out)
-    step, speed = (float(m[1]), float(m[2])) if m else (None, None)
-    category = "ok" if m and _plausible(speed, step) else "absurd"
+    if is_imu(mutant.source):  # one row per sample: what is valid must be plausible
+        step, speed = _imu_valid_medians(csv)
+        category = "ok" if speed is None or _plausible(speed, step) else "absurd"
+    else:
+        m = _SUMMARY.search(out)
+        step, speed = (float(m[1]), float(m[2])) if m else (None, None)
+        category = "ok" if m and _plausible(speed, step) else "absurd"
     for p in new:
         p.unlink()
     return Outcome(mutant, "estimate", category, 0, f"speed {speed} m/s, step frequency {step} Hz", dt)
+
+
+def _imu_valid_medians(csv: Path) -> tuple[float | None, float | None]:
+    """(step frequency, speed): the medians over an IMU estimate's valid rows; (None, None) when none is valid."""
+    import pandas as pd
+
+    rows = pd.read_csv(csv)
+    valid = rows["valid"].to_numpy() == 1
+    if not valid.any():
+        return None, None
+    return float(np.median(rows["step_frequency_hz"][valid])), float(np.median(rows["speed_mps"][valid]))
 
 
 def run_mutants(
