@@ -21,7 +21,9 @@ CONFIG = ImuConfig()
 MAY_BE_INF = {"step_frequency_std_hz", "speed_std_mps"}
 MAY_BE_NAN = {"next_step_in_s"}
 
-VALUES = st.sampled_from([0.0, -0.0, 1.0, -1.0, GRAVITY_MPS2, 1e3, -1e3, 1e12, 1e300, 1e-300, math.nan, math.inf, -math.inf])
+VALUES = st.sampled_from(
+    [0.0, -0.0, 1.0, -1.0, GRAVITY_MPS2, 1e3, -1e3, 1e12, 1e300, 1e-300, math.nan, math.inf, -math.inf]
+)
 
 
 @st.composite
