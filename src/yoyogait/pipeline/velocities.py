@@ -318,10 +318,11 @@ def check_point_motion(recording: Recording, point=None, *, max_gap_s: float = 0
 def _check_jumps(time_s: np.ndarray, positions_m: np.ndarray, label: str, where: str) -> None:
     """InputError if the point moves faster than any person between two consecutive known samples.
 
-    The check is on the raw differences, before any smoothing: one corrupt sample a few metres off
-    is then a clear error, where after the Savitzky-Golay filter it would be a plausible-looking
-    bump that throws the estimator off.  (The fastest pelvis of the 53 real recordings moves
-    10 m/s between two frames, a marker dropping out of the centre; the limit is 50 m/s.)
+    The check is on the raw differences, before any smoothing: a jump that lasts (or a glitch longer
+    than the two frames :func:`yoyogait.pipeline.points.drop_spikes` leaves out) is then a clear
+    error, where after the Savitzky-Golay filter it would be a plausible-looking bump that throws the
+    estimator off.  (The fastest pelvis of the 53 real recordings moves 10 m/s between two frames, a
+    marker dropping out of the centre; the limit is 50 m/s.)
     """
     known = np.flatnonzero(np.all(np.isfinite(positions_m), axis=1))
     if known.size < 2:

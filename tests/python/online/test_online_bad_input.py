@@ -340,10 +340,11 @@ def test_the_guard_is_released_when_a_signal_handler_raises_during_update():
 
 
 def test_estimate_online_refuses_what_estimate_refuses(tmp_path, capsys):
-    """A pelvis that jumps 3 m in one frame: `estimate` and `estimate --online` both exit 2 with the same one line."""
+    """A pelvis that jumps 3 m and stays: `estimate` and `estimate --online` both exit 2 with the same one line; one
+    that jumps 3 m for one frame (a corrupt frame, dropped as a spike): both estimate the walk's 1.8 steps/s."""
     rec, _ = stepping_walk(step_hz=1.8)
     pos = rec.positions_m.copy()
-    pos[400, :3, 0] += 3.0  # the three pelvis markers of one frame 3 m off
+    pos[400:, :3, 0] += 3.0  # the three pelvis markers 3 m off from one frame on
     rec.positions_m[:] = pos
     path = write_trc(tmp_path / "walk.trc", rec)
     assert main(["estimate", str(path), "--out", str(tmp_path / "a.csv"), "--figure", "none"]) == 2
@@ -352,6 +353,13 @@ def test_estimate_online_refuses_what_estimate_refuses(tmp_path, capsys):
     online = capsys.readouterr().err
     assert "jumps" in online and online.strip() == offline.strip()
     assert not (tmp_path / "b.csv").exists()
+    pos[401:, :3, 0] -= 3.0  # back after one frame
+    rec.positions_m[:] = pos
+    path = write_trc(tmp_path / "glitch.trc", rec)
+    assert main(["estimate", str(path), "--out", str(tmp_path / "c.csv"), "--figure", "none"]) == 0
+    assert "median step frequency 1.80 Hz" in capsys.readouterr().out
+    assert main(["estimate", str(path), "--online", "--out", str(tmp_path / "d.csv")]) == 0
+    assert "median step frequency while walking 1.80 Hz" in capsys.readouterr().out
 
 
 def test_estimate_online_says_in_one_line_how_often_the_estimates_are_valid(tmp_path, capsys):
