@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import InputError
 from .body import check_declared_up_axis
+from .motion_bids import channels_file
 from .plausibility import check_plausible
 from .recording import AXES, Recording, check_coordinates, check_rate, check_readable, check_time
 
@@ -48,7 +49,7 @@ READERS = {
     ".trc": ("trc", "read_trc"),
     ".bvh": ("bvh", "read_bvh"),
     ".csv": ("csv", "read_csv"),
-    ".tsv": ("qtm", "read_qtm_tsv"),
+    ".tsv": ("qtm", "read_qtm_tsv"),  # or Motion-BIDS, when a _channels.tsv stands beside it (io/motion_bids.py)
     ".mvnx": ("mvnx", "read_mvnx"),
     ".mot": ("opensim", "read_opensim"),
     ".sto": ("opensim", "read_opensim"),
@@ -134,6 +135,8 @@ def read(
 
     if text_reader is not None:
         module, function = text_reader
+    elif ext == ".tsv" and channels_file(p) is not None:  # a _channels.tsv beside it: Motion-BIDS, not QTM
+        module, function = "motion_bids", "read_motion_bids"
     else:
         module, function = READERS[ext] if ext != ".csv" else _csv_dialect(p)
     reader = getattr(importlib.import_module(f".{module}", __name__), function)

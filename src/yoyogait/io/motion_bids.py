@@ -1,0 +1,173 @@
+"""Motion-BIDS: the BIDS extension for motion data (OpenNeuro's datasets; Jeung et al., Sci Data 2024).
+
+Layout: ``<prefix>_motion.tsv`` (tab-separated, no header row, one column per channel) with beside it
+``<prefix>_channels.tsv`` (one row per column, in order: ``name``, ``component`` (``x``, ``y``, ``z``,
+``n/a``), ``type`` (``POS``, ``ORNT``, ``LATENCY``, ...), ``tracked_point``, ``units``, optionally
+``sampling_frequency``) and ``<prefix>_motion.json`` (``SamplingFrequency``). Some tools write
+``<prefix>.tsv`` and ``<prefix>_channels.tsv`` (the rate in the channels); both are read.
+
+Every tracked point with ``POS`` channels for x, y and z is a point, named by its channels' name less
+the component (``LHEE_PosX`` -> ``LHEE``: the marker-set names match), else by its ``tracked_point``.
+``n/a`` (or an empty cell) is missing. The length unit is each channel's ``units`` (m, cm, mm); time is
+a ``LATENCY`` channel in seconds where there is one, else frame / rate. The up axis is not in the
+files: it is detected from the body.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .recording import Recording, read_text, uniform_time, unique_names
+
+__all__ = ["read_motion_bids", "channels_file"]
+
+_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+_MISSING = {"n/a", "", "nan", "NaN"}
+
+
+def channels_file(path) -> Path | None:
+    """The ``_channels.tsv`` beside a Motion-BIDS data file, or None: ``<prefix>_motion.tsv`` or
+    ``<prefix>.tsv`` -> ``<prefix>_channels.tsv``."""
+    p = Path(path)
+    stem = p.name[: -len(".tsv")] if p.name.lower().endswith(".tsv") else p.stem
+    prefix = stem[: -len("_motion")] if stem.endswith("_motion") else stem
+    if prefix.endswith("_channels"):
+        return None
+    candidate = p.with_name(f"{prefix}_channels.tsv")
+    return candidate if candidate.is_file() else None
+
+
+def _table(path: Path) -> tuple[list[str], list[dict[str, str]]]:
+    _, text = read_text(path, encoding="utf-8-sig")
+    lines = [line for line in text.splitlines() if line.strip()]
+    if not lines:
+        raise InputError(f"{path}: empty channels table")
+    header = [h.strip().lower() for h in lines[0].split("\t")]
+    if "name" not in header:
+        raise InputError(f"{path}: a channels table needs a 'name' column; it has {', '.join(header)}")
+    rows = [dict(zip(header, (c.strip() for c in line.split("\t")))) for line in lines[1:]]
+    return header, rows
+
+
+def _rate(channels: list[dict[str, str]], json_path: Path, where: str) -> float | None:
+    rates = {r.get("sampling_frequency", "") for r in channels} - _MISSING
+    if len(rates) > 1:
+        raise InputError(f"{where}: the channels give different sampling frequencies ({', '.join(sorted(rates))})")
+    if rates:
+        try:
+            return float(rates.pop())
+        except ValueError:
+            raise InputError(f"{where}: sampling_frequency is not a number") from None
+    if json_path.is_file():
+        try:
+            value = json.loads(json_path.read_text(encoding="utf-8-sig")).get("SamplingFrequency")
+        except (ValueError, AttributeError, OSError) as exc:
+            raise InputError(f"{json_path}: not a readable JSON sidecar ({exc})") from None
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return float(value)
+    return None
+
+
+def _point_name(channel: str, component: str) -> str:
+    """``LHEE_PosX`` -> ``LHEE``; ``pelvis_x`` -> ``pelvis``: the name less the component (and ``pos``)."""
+    m = re.match(rf"^(.*?)[_\-. ]?(?:pos(?:ition)?)?[_\-. ]?{re.escape(component)}$", channel, re.IGNORECASE)
+    return m.group(1) if m and m.group(1) else channel
+
+
+def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
+    """Read the point positions of a Motion-BIDS ``*_motion.tsv`` (with its ``_channels.tsv`` and
+    ``_motion.json`` beside it)."""
+    p = Path(path)
+    channels_path = channels_file(p)
+    if channels_path is None:
+        raise InputError(f"{p}: no _channels.tsv beside it: not a Motion-BIDS file")
+    _, channels = _table(channels_path)
+    prefix = channels_path.name[: -len("_channels.tsv")]
+    rate = float(rate_hz) if rate_hz else _rate(channels, p.with_name(f"{prefix}_motion.json"), str(channels_path))
+    _, text = read_text(p, encoding="utf-8-sig")
+    rows = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not line.strip():
+            continue
+        cells = line.split("\t")
+        if len(cells) != len(channels):
+            raise InputError(
+                f"{p}: line {number} holds {len(cells)} values, but {channels_path.name} lists {len(channels)} channels"
+            )
+        try:
+            rows.append([np.nan if c.strip() in _MISSING else float(c) for c in cells])
+        except ValueError:
+            bad = next(c for c in cells if c.strip() not in _MISSING and not _is_number(c))
+            raise InputError(f"{p}: line {number}: {bad.strip()!r} is not a number") from None
+    if not rows:
+        raise InputError(f"{p}: no data rows")
+    data = np.asarray(rows, dtype=float)
+
+    # The points: POS channels grouped by their point, x, y and z each.
+    points: dict[str, dict[str, int]] = {}
+    scales: dict[str, float] = {}
+    latency = None
+    for k, ch in enumerate(channels):
+        kind = ch.get("type", "").upper()
+        if kind == "LATENCY" and latency is None:
+            latency = k
+        if kind != "POS":
+            continue
+        component = ch.get("component", "").lower()
+        if component not in ("x", "y", "z"):
+            component = ch["name"][-1:].lower()
+        if component not in ("x", "y", "z"):
+            continue
+        name = _point_name(ch["name"], component)
+        unit = ch.get("units", "m").strip().lower() or "m"
+        if length_unit_m is None and unit not in _UNITS_M:
+            raise InputError(
+                f"{channels_path}: channel {ch['name']!r} in {unit!r}; pass length_unit_m (--length-unit-m)"
+            )
+        points.setdefault(name, {})[component] = k
+        scales[name] = float(length_unit_m) if length_unit_m is not None else _UNITS_M.get(unit, 1.0)
+    complete = [n for n, axes in points.items() if set(axes) == {"x", "y", "z"}]
+    if not complete:
+        kinds = sorted({ch.get("type", "?") for ch in channels})
+        raise InputError(
+            f"{p}: no point with POS channels for x, y and z ({channels_path.name} has {', '.join(kinds)})"
+        )
+    positions = np.stack([data[:, [points[n][a] for a in "xyz"]] * scales[n] for n in complete], axis=1)
+
+    if latency is not None and np.all(np.isfinite(data[:, latency])):
+        time_s = data[:, latency] - data[0, latency]
+    elif rate:
+        time_s = uniform_time(data.shape[0], rate)
+    else:
+        raise InputError(
+            f"{p}: no sampling frequency ({channels_path.name}, {prefix}_motion.json) and no LATENCY channel; "
+            "pass capture_rate_hz (--capture-rate-hz)"
+        )
+    units = {ch.get("units", "") for ch in channels if ch.get("type", "").upper() == "POS"}
+    return Recording(
+        positions,
+        unique_names(complete),
+        time_s,
+        rate_hz=rate,
+        up_axis=None,
+        source=str(p),
+        metadata={
+            "format": "motion_bids",
+            "length_unit_m": scales[complete[0]],
+            "length_unit_from": "override" if length_unit_m is not None else f"units {', '.join(sorted(units))}",
+            "tracked_points": {n: channels[points[n]["x"]].get("tracked_point", "") for n in complete},
+        },
+    )
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
