@@ -27,6 +27,8 @@ import scipy.io
 
 from ..errors import InputError
 from .imu_recording import GRAVITY_MPS2, ImuBout, ImuRecording
+from .motion_bids import channel_types, component_of
+from .motion_bids import load as load_motion_bids
 
 __all__ = [
     "ACC_UNITS",
@@ -101,6 +103,9 @@ def is_imu_file(path) -> bool:
     ext = p.suffix.lower()
     if ext in (".mat", ".h5"):
         return True
+    if ext == ".tsv":  # Motion-BIDS with accelerometer and gyro channels (and no positions)
+        types = channel_types(p)
+        return {"ACCEL", "GYRO"} <= types and "POS" not in types
     if ext in (".csv", ".txt"):
         header = _first_data_header(p)
         return (header is not None and (is_imu_header(header) or "PacketCounter" in header)) or (
@@ -128,10 +133,14 @@ def read_imu(
         rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".h5":
         rec = read_apdm_h5(p, sensor=sensor, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+    elif ext == ".tsv":
+        rec = read_motion_bids_imu(p, sensor=sensor, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     else:
-        raise InputError(f"{p}: not an IMU file yoyogait reads (.mat, .csv, .txt, .h5)")
-    if sensor is not None and ext != ".h5":
-        raise InputError(f"{p}: sensor= (--sensor) chooses among the sensors of an APDM .h5 file only")
+        raise InputError(f"{p}: not an IMU file yoyogait reads (.mat, .csv, .txt, .h5, a Motion-BIDS .tsv)")
+    if sensor is not None and ext not in (".h5", ".tsv"):
+        raise InputError(
+            f"{p}: sensor= (--sensor) chooses among the sensors of an APDM .h5 or a Motion-BIDS .tsv file only"
+        )
     if sensor_height_m is not None:
         if not (np.isfinite(sensor_height_m) and 0.1 < sensor_height_m <= 3.0):
             raise InputError(f"sensor_height_m must be in (0.1, 3] m, not {sensor_height_m!r}")
@@ -597,6 +606,59 @@ def _choose_sensor(sensors: dict[str, dict], sensor, p: Path) -> str:
         f"{p}: no lower-back sensor by label (Lumbar, Lower Back, Sacrum, ...); choose one with sensor= (--sensor): "
         f"the file has {present}"
     )
+
+
+# ------------------------------------------------------------------------------------ Motion-BIDS
+
+_BIDS_ACC_UNITS = {**_APDM_ACC_UNITS, "m s^-2": 1.0, "m*s^-2": 1.0}
+_BIDS_GYR_UNITS = {**_APDM_GYR_UNITS, "rad s^-1": 1.0, "deg s^-1": np.pi / 180.0, "°/s": np.pi / 180.0}
+
+
+def read_motion_bids_imu(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+    """An IMU of a Motion-BIDS ``*_motion.tsv`` (io/motion_bids.py): the tracked point with ACCEL and GYRO
+    channels for x, y and z that is at the lower back by its label (as the APDM reader chooses), or the only
+    one, or ``sensor`` (--sensor); units from each channel's ``units`` (m/s^2 or g, rad/s or deg/s) unless
+    ``acc_unit`` / ``gyr_unit`` say otherwise."""
+    p = Path(path)
+    channels, data, rate, channels_path, time_s = load_motion_bids(p, rate_hz)
+    found: dict[str, dict] = {}
+    for k, ch in enumerate(channels):
+        kind, axis = ch.get("type", "").upper(), component_of(ch)
+        if kind in ("ACCEL", "GYRO") and axis:
+            point = ch.get("tracked_point", "") or "(no tracked point)"
+            entry = found.setdefault(point, {"label": point, "ACCEL": {}, "GYRO": {}, "units": {}})
+            entry[kind][axis] = k
+            entry["units"].setdefault(kind, set()).add(ch.get("units", "").strip().lower())
+    sensors = {name: e for name, e in found.items() if len(e["ACCEL"]) == 3 and len(e["GYRO"]) == 3}
+    if not sensors:
+        raise InputError(f"{p}: no tracked point with ACCEL and GYRO channels for x, y and z ({channels_path.name})")
+    chosen = sensors[_choose_sensor(sensors, sensor, p)]
+    scales = []
+    for kind, table, override, option in (
+        ("ACCEL", _BIDS_ACC_UNITS, acc_unit, "acc_unit"),
+        ("GYRO", _BIDS_GYR_UNITS, gyr_unit, "gyr_unit"),
+    ):
+        if override is not None:
+            scales.append(_unit(override, ACC_UNITS if kind == "ACCEL" else GYR_UNITS, option, p))
+            continue
+        units = chosen["units"][kind]
+        if len(units) != 1 or next(iter(units)) not in table:
+            flag = "--" + option.replace("_", "-")
+            said = ", ".join(sorted(units))
+            raise InputError(f"{channels_path}: {kind} channels in {said!r}; pass {option} ({flag})")
+        scales.append(table[next(iter(units))])
+    acc = data[:, [chosen["ACCEL"][a] for a in "xyz"]] * scales[0]
+    gyr = data[:, [chosen["GYRO"][a] for a in "xyz"]] * scales[1]
+    rec = ImuRecording(
+        time_s=time_s,
+        acc_mps2=acc,
+        gyr_rad_s=gyr,
+        rate_hz=rate,
+        source=str(p),
+        metadata={"layout": "motion_bids", "sensor": chosen["label"], "sensor_id": chosen["label"]},
+    )
+    _finish(rec, scales[1])
+    return rec
 
 
 def _vectors(ds, what: str, n: int | None, p: Path) -> np.ndarray:

@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from .recording import Recording, read_text, uniform_time, unique_names
 
-__all__ = ["read_motion_bids", "channels_file"]
+__all__ = ["read_motion_bids", "channels_file", "channel_types", "load", "component_of"]
 
 _UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 _MISSING = {"n/a", "", "nan", "NaN"}
@@ -79,9 +79,20 @@ def _point_name(channel: str, component: str) -> str:
     return m.group(1) if m and m.group(1) else channel
 
 
-def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
-    """Read the point positions of a Motion-BIDS ``*_motion.tsv`` (with its ``_channels.tsv`` and
-    ``_motion.json`` beside it)."""
+def channel_types(path) -> set[str]:
+    """The channel types (upper case) of the Motion-BIDS data file at ``path`` (empty without a channels table)."""
+    channels_path = channels_file(path)
+    if channels_path is None:
+        return set()
+    try:
+        return {r.get("type", "").upper() for r in _table(channels_path)[1]}
+    except InputError:
+        return set()
+
+
+def load(path, rate_hz: float | None = None):
+    """(channels, data: samples x channels, rate or None, channels file, time from a LATENCY channel or None) of a
+    Motion-BIDS data file: the readers' common part (this module's and the IMU one's)."""
     p = Path(path)
     channels_path = channels_file(p)
     if channels_path is None:
@@ -89,15 +100,31 @@ def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float
     _, channels = _table(channels_path)
     prefix = channels_path.name[: -len("_channels.tsv")]
     rate = float(rate_hz) if rate_hz else _rate(channels, p.with_name(f"{prefix}_motion.json"), str(channels_path))
+    data = _data(p, len(channels), channels_path.name)
+    latency = next((k for k, ch in enumerate(channels) if ch.get("type", "").upper() == "LATENCY"), None)
+    time_s = None
+    if latency is not None and np.all(np.isfinite(data[:, latency])):
+        time_s = data[:, latency] - data[0, latency]
+    elif rate:
+        time_s = uniform_time(data.shape[0], rate)
+    else:
+        raise InputError(
+            f"{p}: no sampling frequency ({channels_path.name}, {prefix}_motion.json) and no LATENCY channel; "
+            "pass capture_rate_hz (--capture-rate-hz)"
+        )
+    return channels, data, rate, channels_path, time_s
+
+
+def _data(p: Path, n_channels: int, channels_name: str) -> np.ndarray:
     _, text = read_text(p, encoding="utf-8-sig")
     rows = []
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip():
             continue
         cells = line.split("\t")
-        if len(cells) != len(channels):
+        if len(cells) != n_channels:
             raise InputError(
-                f"{p}: line {number} holds {len(cells)} values, but {channels_path.name} lists {len(channels)} channels"
+                f"{p}: line {number} holds {len(cells)} values, but {channels_name} lists {n_channels} channels"
             )
         try:
             rows.append([np.nan if c.strip() in _MISSING else float(c) for c in cells])
@@ -106,22 +133,30 @@ def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float
             raise InputError(f"{p}: line {number}: {bad.strip()!r} is not a number") from None
     if not rows:
         raise InputError(f"{p}: no data rows")
-    data = np.asarray(rows, dtype=float)
+    return np.asarray(rows, dtype=float)
 
+
+def component_of(channel: dict[str, str]) -> str:
+    """A channel's axis, x, y or z: its ``component``, else the last letter of its name ('' if neither)."""
+    component = channel.get("component", "").lower()
+    if component not in ("x", "y", "z"):
+        component = channel["name"][-1:].lower()
+    return component if component in ("x", "y", "z") else ""
+
+
+def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
+    """Read the point positions of a Motion-BIDS ``*_motion.tsv`` (with its ``_channels.tsv`` and
+    ``_motion.json`` beside it)."""
+    p = Path(path)
+    channels, data, rate, channels_path, time_s = load(p, rate_hz)
     # The points: POS channels grouped by their point, x, y and z each.
     points: dict[str, dict[str, int]] = {}
     scales: dict[str, float] = {}
-    latency = None
     for k, ch in enumerate(channels):
-        kind = ch.get("type", "").upper()
-        if kind == "LATENCY" and latency is None:
-            latency = k
-        if kind != "POS":
+        if ch.get("type", "").upper() != "POS":
             continue
-        component = ch.get("component", "").lower()
-        if component not in ("x", "y", "z"):
-            component = ch["name"][-1:].lower()
-        if component not in ("x", "y", "z"):
+        component = component_of(ch)
+        if not component:
             continue
         name = _point_name(ch["name"], component)
         unit = ch.get("units", "m").strip().lower() or "m"
@@ -138,16 +173,6 @@ def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float
             f"{p}: no point with POS channels for x, y and z ({channels_path.name} has {', '.join(kinds)})"
         )
     positions = np.stack([data[:, [points[n][a] for a in "xyz"]] * scales[n] for n in complete], axis=1)
-
-    if latency is not None and np.all(np.isfinite(data[:, latency])):
-        time_s = data[:, latency] - data[0, latency]
-    elif rate:
-        time_s = uniform_time(data.shape[0], rate)
-    else:
-        raise InputError(
-            f"{p}: no sampling frequency ({channels_path.name}, {prefix}_motion.json) and no LATENCY channel; "
-            "pass capture_rate_hz (--capture-rate-hz)"
-        )
     units = {ch.get("units", "") for ch in channels if ch.get("type", "").upper() == "POS"}
     return Recording(
         positions,

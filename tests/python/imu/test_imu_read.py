@@ -233,3 +233,57 @@ def test_xsens_without_gyro_says_what_to_export(tmp_path):
     p.write_text("//  Update Rate: 100.0Hz\nPacketCounter\tAcc_X\tAcc_Y\tAcc_Z\n1\t9.8\t0\t0\n2\t9.8\t0\t0\n")
     with pytest.raises(InputError, match="Gyr_X"):
         read_imu(p)
+
+
+def _bids_imu(folder, rec, points=("pelvis", "left_foot"), acc_unit="g", gyr_unit="deg/s"):
+    """rec as a Motion-BIDS IMU file (KeepControl's layout): ACCEL and GYRO channels per tracked point, the rate
+    in the JSON sidecar; every point the same signals."""
+    prefix = folder / "sub-pp002_task-walk_tracksys-imu"
+    rows = [["name", "component", "type", "tracked_point", "units"]]
+    columns = []
+    for point in points:
+        for kind, values, unit in (("ACCEL", rec.acc_mps2 / GRAVITY_MPS2, acc_unit), ("GYRO", np.degrees(rec.gyr_rad_s),
+                                                                                      gyr_unit)):  # fmt: skip
+            for a, axis in enumerate("xyz"):
+                rows.append([f"{point}_{kind}_{axis}", axis, kind, point, unit])
+                columns.append(values[:, a])
+    prefix.with_name(prefix.name + "_channels.tsv").write_text("\n".join("\t".join(r) for r in rows) + "\n")
+    prefix.with_name(prefix.name + "_motion.json").write_text('{"SamplingFrequency": 100}')
+    data = np.column_stack(columns)
+    path = prefix.with_name(prefix.name + "_motion.tsv")
+    path.write_text("\n".join("\t".join(f"{v:.8f}" for v in row) for row in data) + "\n")
+    return path
+
+
+def test_motion_bids_imu_reads_the_lower_back_sensor_in_its_units(tmp_path):
+    """A Motion-BIDS IMU file (ACCEL in g, GYRO in deg/s, a pelvis and a foot): an IMU file, the pelvis chosen by
+    its label, m/s^2 and rad/s; --sensor picks another; a unit that is not one names the option."""
+    rec = make_imu_walk(duration_s=6.0).recording
+    p = _bids_imu(tmp_path, rec)
+    assert is_imu_file(p)
+    back = read_imu(p)
+    assert back.metadata["sensor"] == "pelvis" and back.rate_hz == 100.0
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-6) and np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-6)
+    assert np.allclose(back.time_s, rec.time_s - rec.time_s[0])
+    assert read_imu(p, sensor="left_foot").metadata["sensor"] == "left_foot"
+    with pytest.raises(InputError, match=r"no sensor 'wrist'.*the file has pelvis \(pelvis\), left_foot"):
+        read_imu(p, sensor="wrist")
+    other = tmp_path / "other"
+    other.mkdir()
+    q = _bids_imu(other, rec, points=("pelvis",), acc_unit="furlong/s^2")
+    with pytest.raises(InputError, match=r"ACCEL channels in 'furlong/s\^2'; pass acc_unit \(--acc-unit\)"):
+        read_imu(q)
+
+
+def test_inspect_on_a_motion_bids_imu_file_names_the_sensor_and_finds_the_cadence(tmp_path, capsys):
+    """`yoyogait inspect` on a Motion-BIDS IMU file: the IMU path (not the marker reader), its sensor named, the
+    SYNTHETIC walk's cadence."""
+    from yoyogait.cli import main
+
+    walk = make_imu_walk(duration_s=12.0)
+    p = _bids_imu(tmp_path, walk.recording)
+    assert main(["inspect", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "IMU (motion_bids)" in out and "pelvis (pelvis)" in out and "100 Hz" in out
+    cadence = float(out.split("cadence")[1].split("steps/min")[0])
+    assert abs(cadence - 60 * walk.truth.step_frequency_hz[-1]) < 2.0
