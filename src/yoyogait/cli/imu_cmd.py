@@ -47,8 +47,8 @@ def refuse_other_kind(ctx: click.Context, file, imu: bool) -> None:
 def imu_options(f):
     """--acc-unit, --gyr-unit, --sensor-height-m, --trial and --sensor (IMU files only)."""
     f = click.option("--sensor", default=None, metavar="LABEL",
-                     help="APDM .h5: the sensor, by label or id (default: the one labelled Lumbar, Lower Back, "
-                          "Sacrum, ...).")(f)  # fmt: skip
+                     help="APDM .h5, Motion-BIDS .tsv: the sensor, by label or id (default: the one labelled Lumbar, "
+                          "Lower Back, Sacrum, Pelvis, ...).")(f)  # fmt: skip
     f = click.option("--trial", default=None, metavar="TEST/TRIAL",
                      help="Mobilise-D data.mat: the trial, e.g. Test11/Trial1 (default: the first).")(f)  # fmt: skip
     f = click.option("--sensor-height-m", type=float, default=None,
