@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .recording import Recording, read_text, uniform_time, unique_names
+from .recording import Recording, number_row, read_text, uniform_time, unique_names
 
 __all__ = ["read_motion_bids", "channels_file", "channel_types", "load", "component_of"]
 
@@ -126,11 +126,7 @@ def _data(p: Path, n_channels: int, channels_name: str) -> np.ndarray:
             raise InputError(
                 f"{p}: line {number} holds {len(cells)} values, but {channels_name} lists {n_channels} channels"
             )
-        try:
-            rows.append([np.nan if c.strip() in _MISSING else float(c) for c in cells])
-        except ValueError:
-            bad = next(c for c in cells if c.strip() not in _MISSING and not _is_number(c))
-            raise InputError(f"{p}: line {number}: {bad.strip()!r} is not a number") from None
+        rows.append(number_row(["" if c.strip() in _MISSING else c for c in cells], p, number))
     if not rows:
         raise InputError(f"{p}: no data rows")
     return np.asarray(rows, dtype=float)
@@ -188,11 +184,3 @@ def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float
             "tracked_points": {n: channels[points[n]["x"]].get("tracked_point", "") for n in complete},
         },
     )
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
