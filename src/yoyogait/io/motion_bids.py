@@ -104,7 +104,8 @@ def load(path, rate_hz: float | None = None):
     latency = next((k for k, ch in enumerate(channels) if ch.get("type", "").upper() == "LATENCY"), None)
     time_s = None
     if latency is not None and np.all(np.isfinite(data[:, latency])):
-        time_s = data[:, latency] - data[0, latency]
+        unit_s = {"ms": 1e-3, "us": 1e-6}.get(channels[latency].get("units", "s").strip().lower(), 1.0)
+        time_s = (data[:, latency] - data[0, latency]) * unit_s
     elif rate:
         time_s = uniform_time(data.shape[0], rate)
     else:
@@ -136,7 +137,7 @@ def component_of(channel: dict[str, str]) -> str:
     """A channel's axis, x, y or z: its ``component``, else the last letter of its name ('' if neither)."""
     component = channel.get("component", "").lower()
     if component not in ("x", "y", "z"):
-        component = channel["name"][-1:].lower()
+        component = channel.get("name", "")[-1:].lower()
     return component if component in ("x", "y", "z") else ""
 
 
@@ -154,11 +155,11 @@ def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float
         component = component_of(ch)
         if not component:
             continue
-        name = _point_name(ch["name"], component)
+        name = _point_name(ch.get("name", ""), component) or ch.get("tracked_point", "") or f"point{k}"
         unit = ch.get("units", "m").strip().lower() or "m"
         if length_unit_m is None and unit not in _UNITS_M:
             raise InputError(
-                f"{channels_path}: channel {ch['name']!r} in {unit!r}; pass length_unit_m (--length-unit-m)"
+                f"{channels_path}: channel {ch.get('name', k)!r} in {unit!r}; pass length_unit_m (--length-unit-m)"
             )
         points.setdefault(name, {})[component] = k
         scales[name] = float(length_unit_m) if length_unit_m is not None else _UNITS_M.get(unit, 1.0)
