@@ -6,5 +6,6 @@
 #include "yoyogait/imu/imu_config.hpp"
 #include "yoyogait/imu/imu_estimate.hpp"
 #include "yoyogait/imu/imu_estimator.hpp"
+#include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"

@@ -23,6 +23,7 @@
 #include "yoyogait/imu/harmonic_check.hpp"
 #include "yoyogait/imu/imu_config.hpp"
 #include "yoyogait/imu/imu_estimate.hpp"
+#include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"
 #include "yoyogait/math.hpp"
@@ -35,8 +36,6 @@ namespace yoyogait {
 class ImuOnlineEstimator {
  public:
   static constexpr double kGravityMps2 = 9.80665;
-  /// A magnetometer norm rejected this long on end becomes the reference norm [s].
-  static constexpr double kMagAdaptS = 30.0;
 
   explicit ImuOnlineEstimator(const ImuConfig& config = ImuConfig{})
       : config_(checked(config)),
@@ -45,7 +44,8 @@ class ImuOnlineEstimator {
         int_z_(config_.highpass_tau_s),
         int_x_(config_.highpass_tau_s),
         pendulum_(pendulum_settings(config_)),
-        gravity_gain_(config_.gravity_tau_s) {
+        gravity_gain_(config_.gravity_tau_s),
+        mag_gate_(config_.mag_norm_tolerance, config_.gravity_tau_s) {
     fwd_sign_ = config_.forward_negative ? -1.0 : 1.0;
     input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
     // A frequency at a bound of the estimator's range is a filter that has not locked.
@@ -79,8 +79,7 @@ class ImuOnlineEstimator {
     t_saturated_s_ = -std::numeric_limits<double>::infinity();
     gap_restart_ = false;
     acc_norm_lp_ = kGravityMps2;
-    mag_norm_lp_ = 0.0;
-    mag_rejected_since_s_ = 0.0;
+    mag_gate_.reset();
     heading_absolute_ = false;
   }
 
@@ -134,28 +133,10 @@ class ImuOnlineEstimator {
       o.step_frequency_std_hz = o.speed_std_mps = std::numeric_limits<double>::infinity();
       return o;
     }
-    // The magnetometer's sample, when given, finite and not disturbed (its norm near its low-passed norm).
-    bool mag_ok = false;
+    // The magnetometer's sample, when given, finite and not disturbed (imu::MagGate).
     imu::Vec3 m{};
-    if (mag != nullptr && config_.mag_kp_per_s > 0.0) {
-      m = {mag[0], mag[1], mag[2]};
-      const double mn = imu::Mahony::norm(m);
-      if (std::isfinite(mn) && mn > 0.0) {
-        if (!(mag_norm_lp_ > 0.0)) {
-          mag_norm_lp_ = mn;
-          mag_rejected_since_s_ = t_s;
-        }
-        mag_ok = std::fabs(mn - mag_norm_lp_) <= config_.mag_norm_tolerance * mag_norm_lp_;
-        // The norm follows accepted samples (over gravity_tau_s); a field rejected for kMagAdaptS
-        // on end is a new place's, not a passing disturbance: it becomes the reference.
-        if (mag_ok) {
-          mag_rejected_since_s_ = t_s;
-          if (dt_s > 0.0) mag_norm_lp_ += (1.0 - std::exp(-dt_s / config_.gravity_tau_s)) * (mn - mag_norm_lp_);
-        } else if (t_s - mag_rejected_since_s_ > kMagAdaptS) {
-          mag_norm_lp_ = mn;
-        }
-      }
-    }
+    if (mag != nullptr) m = {mag[0], mag[1], mag[2]};
+    const bool mag_ok = mag != nullptr && config_.mag_kp_per_s > 0.0 && mag_gate_.accept(t_s, dt_s, m);
     if (restart) {
       gap_restart_ = started_;
       start_front_end(t_s, a);
@@ -475,7 +456,6 @@ class ImuOnlineEstimator {
   ImuEstimate out_{};
   bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;
   bool heading_absolute_ = false;
-  double mag_norm_lp_ = 0.0, mag_rejected_since_s_ = 0.0;
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
@@ -505,6 +485,7 @@ class ImuOnlineEstimator {
   std::array<double, 2> heading_{1.0, 0.0};
   double t_saturated_s_ = 0.0, acc_norm_lp_ = kGravityMps2;
   ExpGain gravity_gain_;
+  imu::MagGate mag_gate_;  ///< which magnetometer samples the heading may use
 };
 
 }  // namespace yoyogait
