@@ -12,6 +12,7 @@
 #include "yoyogait/config.hpp"
 #include "yoyogait/estimator.hpp"
 
+namespace config_tests {  // one per file: the sanitizer build compiles the files as one unit
 using namespace yoyogait;
 
 namespace {
@@ -127,3 +128,5 @@ TEST(Config, AnInfiniteGateIsAllowedAndTurnsTheGateOff) {
     ASSERT_NE(e.status, Status::kRejectedOutlier) << i;
   }
 }
+
+}  // namespace config_tests

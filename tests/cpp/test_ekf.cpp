@@ -13,6 +13,7 @@
 #include "yoyogait/paper/ekf.hpp"
 #include "yoyogait/math.hpp"
 
+namespace ekf_tests {  // one per file: the sanitizer build compiles the files as one unit
 using namespace yoyogait;
 using namespace yoyogait::paper;
 
@@ -468,3 +469,5 @@ TEST(CovarianceGuard, BoundVariancesKeepsCorrelationsAndDefiniteness) {
   EXPECT_TRUE(within_variance_bounds(SymMatrix4(P), bound));
   EXPECT_FALSE(within_variance_bounds(S, bound));
 }
+
+}  // namespace ekf_tests

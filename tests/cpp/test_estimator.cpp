@@ -33,6 +33,7 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 #pragma GCC diagnostic pop
 #endif
 
+namespace estimator_tests {  // one per file: the sanitizer build compiles the files as one unit
 using namespace yoyogait;
 using namespace yoyogait::paper;
 
@@ -383,3 +384,5 @@ TEST(GaitEstimator, InnovationIsUndefinedWhenNothingWasUpdated) {
   est.step(1.0, 0.0, -1.0);
   EXPECT_TRUE(std::isnan(est.innovation().innovation_vx_mps) && std::isnan(est.innovation().nis));
 }
+
+}  // namespace estimator_tests

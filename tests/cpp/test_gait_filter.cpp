@@ -14,6 +14,7 @@
 #include "yoyogait/estimator.hpp"
 #include "yoyogait/gait/gait_filter.hpp"
 
+namespace gait_filter_tests {  // one per file: the sanitizer build compiles the files as one unit
 using namespace yoyogait;
 using namespace yoyogait::gait;
 
@@ -582,3 +583,5 @@ TEST(BoundWatchdog, HoveringNearABoundFiresAndSteadyInsideDoesNot) {
     slow_fired |= slow.update(two_pi * ((k % 50) < 5 ? 0.41 : 0.5), dt);
   EXPECT_FALSE(slow_fired);
 }
+
+}  // namespace gait_filter_tests

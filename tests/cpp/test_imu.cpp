@@ -14,6 +14,7 @@
 // Heap allocations counted by the replaced operator new of test_estimator.cpp.
 extern std::atomic<long> g_allocations;
 
+namespace imu_tests {  // one per file: the sanitizer build compiles the files as one unit
 using namespace yoyogait;
 
 namespace {
@@ -334,3 +335,5 @@ TEST(Imu, PeriodicityTellsAPauseFromSteps) {
   EXPECT_EQ(short_history.periodicity(f, dt, 1.5), -1.0);
   EXPECT_LT(steady.periodicity(1.5 * f, dt, 1.5), 0.2);
 }
+
+}  // namespace imu_tests

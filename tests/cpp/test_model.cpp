@@ -6,6 +6,7 @@
 
 #include "yoyogait/yoyo_model.hpp"
 
+namespace model_tests {  // one per file: the sanitizer build compiles the files as one unit
 using namespace yoyogait;
 
 TEST(YoyoModel, VelocitiesAreTheDerivativesOfThePositions) {
@@ -48,3 +49,5 @@ TEST(YoyoModel, PhaseIntegratesAVaryingStepFrequency) {
   const double T = t[n - 1];
   EXPECT_NEAR(pts[n - 1].theta_rad, 0.3 + 2 * M_PI * (T + 0.1 * T * T), 1e-9);
 }
+
+}  // namespace model_tests

@@ -16,6 +16,7 @@
 // Heap allocations counted by the replaced operator new of test_estimator.cpp.
 extern std::atomic<long> g_allocations;
 
+namespace online_tests {  // one per file: the sanitizer build compiles the files as one unit
 using namespace yoyogait;
 
 namespace {
@@ -977,3 +978,5 @@ TEST(OnlineEstimator, FeetFarFromThePelvisAreNotItsFeet) {
     ASSERT_EQ(a.valid, b.valid);
   }
 }
+
+}  // namespace online_tests

@@ -98,7 +98,11 @@ def manifest_items(path) -> tuple[list[Item], list[tuple[str, str]]]:
             continue
         assert fields is not None
         file = fields.pop("file")
-        key = (os.path.normpath(file), repr(sorted(fields.items())))
+        # The settings in _entry's fixed order; a list or a mapping by its text, to be hashable.
+        key = (
+            os.path.normpath(file),
+            *(v if v is None or isinstance(v, (str, float)) else repr(v) for v in fields.values()),
+        )
         if key in first_of:
             repeats.setdefault(first_of[key], []).append(n)
             continue
