@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from scipy import signal
 
 from .metrics import WALKING_SPEED_MPS
 from .simulation import GuidanceRun
@@ -100,6 +99,8 @@ def force_figure(runs: list[GuidanceRun], title: str, path: Path) -> None:
         fh = r.force_n[walking, :2]
         if len(fh) > 256:
             fs = r.config.rate_hz
+            from scipy import signal  # scipy.signal takes about a second to import: only where it is used
+
             freq, pxx = signal.welch(fh - fh.mean(axis=0), fs=fs, nperseg=512, axis=0)
             bottom.semilogy(freq, np.sqrt(pxx.sum(axis=1)), color=colour, lw=0.9, label=r.source)
             f_step = float(np.mean(r.cadence_hz[walking]))

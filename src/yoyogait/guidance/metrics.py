@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import signal
 
 from .simulation import GuidanceRun
 
@@ -67,6 +66,8 @@ def harmonic_rms(time_s, values, theta_rad, harmonics, mask=None) -> float:
     if len(t) < 30:
         return math.nan
     fs = 1.0 / float(np.median(np.diff(t)))
+    from scipy import signal  # scipy.signal takes about a second to import: only where it is used
+
     sos = signal.butter(4, _DEMOD_CUTOFF_HZ, fs=fs, output="sos")
     slow = signal.sosfiltfilt(sos, v, axis=0)
     fast = v - slow
@@ -86,6 +87,8 @@ def _lag_s(t, source_v, intent_v, mask) -> float:
     dt = float(np.median(np.diff(t)))
     if len(t) < 30:
         return math.nan
+    from scipy import signal  # scipy.signal takes about a second to import: only where it is used
+
     sos = signal.butter(4, _LAG_CUTOFF_HZ, fs=1.0 / dt, output="sos")
     source_v = signal.sosfiltfilt(sos, source_v, axis=0)  # zero-phase: no shift of its own
     intent_v = signal.sosfiltfilt(sos, intent_v, axis=0)

@@ -30,7 +30,6 @@ import math
 from collections import deque
 
 import numpy as np
-from scipy import signal
 
 from ..errors import InputError
 from ..estimators.online import OnlineConfig, OnlineEstimator
@@ -105,6 +104,8 @@ class _LowPass(VelocitySource):
     def __init__(self, cutoff_hz: float, rate_hz: float):
         self.name = f"lowpass-{cutoff_hz:g}hz"
         self._raw = _Raw()
+        from scipy import signal  # scipy.signal takes about a second to import: only where it is used
+
         b, a = signal.butter(2, cutoff_hz, fs=rate_hz)
         self._b = [float(v) for v in b]
         self._a = [float(v) for v in a]

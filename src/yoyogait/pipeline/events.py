@@ -41,7 +41,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import find_peaks
 
 from ..errors import InputError
 from ..io.recording import AXES, Recording
@@ -257,6 +256,8 @@ def detect_gait_events(
     heading = walking_heading(np.gradient(pelvis, axis=0) * rate, rate, heading_window_s)
     if heading is None:  # the pelvis stays in place: a treadmill
         heading = np.broadcast_to(_feet_axis(relative, rate), pelvis.shape)
+
+    from scipy.signal import find_peaks  # scipy.signal takes about a second to import: only where it is used
 
     contact_list: list[float] = []
     side_list: list[str] = []

@@ -11,7 +11,6 @@ configured noise and nothing changes.
 from __future__ import annotations
 
 import numpy as np
-from scipy import signal
 
 __all__ = ["NOISE_CUTOFF_HZ", "velocity_noise_var"]
 
@@ -31,6 +30,8 @@ def velocity_noise_var(v, rate_hz: float, cutoff_hz: float = NOISE_CUTOFF_HZ) ->
     nyquist = 0.5 * float(rate_hz)
     if not (cutoff_hz > 0 and nyquist > 0 and cutoff_hz < 0.8 * nyquist):
         return 0.0
+    from scipy import signal  # scipy.signal takes about a second to import: only where it is used
+
     b, a = signal.butter(2, cutoff_hz / nyquist)
     finite = np.isfinite(v)
     # Runs of finite samples: their starts and ends.

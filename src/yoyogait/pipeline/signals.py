@@ -4,7 +4,6 @@ gap filling, resampling and the walking heading."""
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 __all__ = ["runs", "moving_mean", "nearest_true", "fill_short_gaps", "resample", "walking_heading"]
 
@@ -54,6 +53,8 @@ def fill_short_gaps(values: np.ndarray, rate_hz: float, max_gap_s: float, kind: 
     idx = np.flatnonzero(ok)
     fill = np.concatenate([np.arange(a, b) for a, b in gaps])
     if kind == "cubic" and len(idx) >= 4:
+        from scipy.interpolate import CubicSpline  # scipy.interpolate brings much of scipy: only where it is used
+
         flat[fill] = CubicSpline(idx, flat[idx], axis=0)(fill)
     else:
         for c in range(flat.shape[1]):

@@ -24,7 +24,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from .. import _table
 from .._sample_time import RESAMPLE_RATE_HZ
@@ -264,6 +263,8 @@ def savgol_velocity(positions: np.ndarray, rate_hz: float, window: int, polyorde
     A stretch shorter than the window has no derivative (NaN): the filter
     needs a full window to fit its polynomial.
     """
+    from scipy.signal import savgol_filter  # scipy.signal takes about a second to import: only where it is used
+
     x = np.asarray(positions, dtype=float)
     out = np.full_like(x, np.nan)
     ok = np.all(np.isfinite(x.reshape(len(x), -1)), axis=1)
