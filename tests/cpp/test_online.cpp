@@ -469,6 +469,33 @@ TEST(OnlineEstimator, ValidInSteadyWalkingNotAfterTheWalkerVanishes) {
   EXPECT_GT(e.speed_std_mps, 5.0 * s_std);
 }
 
+// A marker that jumps by 1.4 m for one frame in the walk's first 0.1 s, before the noise is known
+// (a swap, a ghost marker), is not taken for centimetres of noise: the noise estimate stays at the
+// markers' millimetre, and no valid estimate is confidently wrong (found by bench/fuzz_online.cpp).
+TEST(OnlineEstimator, AMarkersJumpBeforeTheNoiseIsKnownIsNotTakenForNoise) {
+  for (const double rate_hz : {85.0, 100.0, 200.0}) {
+    for (const int jump_frame : {3, 5, 8}) {
+      SyntheticPelvis walk;
+      walk.f_hz = 2.12;
+      walk.speed_mps = 0.77;
+      OnlineEstimator est(4, 2, 1.0);
+      double p[12];
+      double noise_max_m = 0.0;
+      for (int k = 0; k < static_cast<int>(15.0 * rate_hz); ++k) {
+        const double t = k / rate_hz;
+        walk.markers(t, p);
+        if (k == jump_frame) p[3 * 2 + 2] -= 1.44;
+        const OnlineEstimate e = est.update(t, p);
+        noise_max_m = std::max(noise_max_m, e.input_noise_m);
+        if (!e.valid) continue;
+        ASSERT_LT(std::fabs(e.step_frequency_hz - walk.f_hz), std::max(0.15, 2.0 * e.step_frequency_std_hz))
+            << rate_hz << " Hz, jump at frame " << jump_frame << ", t " << t;
+      }
+      EXPECT_LT(noise_max_m, 0.005) << rate_hz << " Hz, jump at frame " << jump_frame;
+    }
+  }
+}
+
 namespace {
 
 // A treadmill walk: the pelvis of SyntheticPelvis held in place (speed 0 in the lab) and two heels

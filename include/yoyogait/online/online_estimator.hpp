@@ -96,6 +96,7 @@ class OnlineEstimator {
     time_gate_.reset();
     have_seen_ = false;
     fast_s_ = 0.0;
+    jump_s_ = 0.0;
     ignored_frames_ = 0;
   }
 
@@ -120,7 +121,7 @@ class OnlineEstimator {
     validity_.frame(frame_dt_s);
     if (seen.seen == 0) return carried(t_s, seen.bad ? OnlineStatus::kNonFinite : OnlineStatus::kAllMissing);
     const double gap_s = have_seen_ ? t_s - t_seen_s_ : 0.0;
-    const bool restart = !diff_.started() || gap_s > config_.max_gap_s;
+    bool restart = !diff_.started() || gap_s > config_.max_gap_s;
     if (!track_centre(t_s, gap_s, restart)) return carried(t_s, OnlineStatus::kAllMissing);
     // The heading and the estimator take a frame only once the differentiator has settled, and
     // never the frame that restarted it (it has no velocity yet).
@@ -198,14 +199,29 @@ class OnlineEstimator {
   }
 
   /// The centre of the points seen, and the differentiator's step to it (a restart after a gap
-  /// longer than max_gap_s, or at the first frame). False when no centre could be formed.
-  YOYOGAIT_ALWAYS_INLINE bool track_centre(double t_s, double gap_s, bool restart) noexcept {
+  /// longer than max_gap_s, or at the first frame, or at a jump before the noise is known: restart
+  /// is then set). False when no centre could be formed.
+  YOYOGAIT_ALWAYS_INLINE bool track_centre(double t_s, double gap_s, bool& restart) noexcept {
     if (restart) centre_.reset();
     const online::CausalCentre::Result c =
         centre_.update(frame_.positions_m(), frame_.visible(), restart ? 0.0 : gap_s);
     if (!c.ok) return false;  // cannot happen with a point seen; kept so that no unset centre is ever used
     validity_.centre_step(c.step_m);
     out_.status = (restart && have_seen_) ? OnlineStatus::kGapRestart : OnlineStatus::kUsed;
+    // Until the noise is known (its first noise_tau_s) the gate below is off: it needs the noise.
+    // A centre that moved further since the last frame than a walker and the noisiest capture
+    // accepted can (a marker's jump, a swap) starts the front-end again instead: differentiated,
+    // its ringing would be taken for centimetres of noise for seconds, and the estimator fed with it.
+    // Jumps that go on for max_outlier_s are the input's motion (implausible or not): differentiated.
+    if (!restart && !noise_.known()) {
+      double d2 = 0.0;
+      for (int k = 0; k < 3; ++k) d2 += (c.centre_m[k] - last_centre_m_[k]) * (c.centre_m[k] - last_centre_m_[k]);
+      const double reach_m =
+          config_.max_plausible_speed_mps * gap_s + kJumpNoiseSigmas * config_.feet_max_input_noise_m;
+      jump_s_ = d2 > reach_m * reach_m ? jump_s_ + gap_s : 0.0;
+      restart = jump_s_ > 0.0 && jump_s_ < config_.max_outlier_s;
+    }
+    last_centre_m_ = c.centre_m;
     if (restart) {
       start_front_end(t_s, c.centre_m);
     } else {
@@ -409,6 +425,11 @@ class OnlineEstimator {
   OnlineEstimate out_{};
   bool have_seen_ = false;
   double t_seen_s_ = 0.0;   ///< the last frame with a point seen [s]
+  std::array<double, 3> last_centre_m_{};  ///< the centre of that frame [m]
+  double jump_s_ = 0.0;                     ///< how long the centre has been jumping (kJumpNoiseSigmas) [s]
+  /// A jump of the centre before the noise is known: beyond this many times feet_max_input_noise_m
+  /// (besides a walker's reach at max_plausible_speed_mps).
+  static constexpr double kJumpNoiseSigmas = 5.0;
   double start_t_s_ = 0.0;  ///< the differentiator's last (re)start [s]
   double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
   double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
