@@ -1,0 +1,382 @@
+// Fuzz of the per-frame paths: OnlineEstimator::update on marker frames and ImuOnlineEstimator::update
+// on IMU samples, each case with random settings (any the constructor accepts, up to the bounds of
+// their ranges) and random input, checked on every frame for what must never happen.
+//
+// Usage: fuzz_online [CASES [SEED [markers|imu|both [FIRST_CASE]]]] (default 2000 1 both 0); a single
+// case (CASES = FIRST_CASE + 1, the same SEED and paths) is rerun with its walk printed. Build it with
+// the sanitizers, which report memory errors and undefined behaviour as they happen:
+//   g++ -std=c++17 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=undefined
+//       -ffp-contract=off -I include bench/fuzz_online.cpp -o fuzz_online
+//
+// A case is a walk (one to forty seconds, 5-500 frames per second, straight or turning) with its
+// settings. Half the cases take each setting away from its default with probability 0.15 (to a bound
+// of its range, or 1e-3 to 1e3 times the default); half the cases carry corruption on every kind of
+// frame (missing points or axes, infinities, 1e300, denormals, jumps of metres, repeated, backward,
+// late and non-finite timestamps, resets, a belt speed that is NaN or negative), the others fifty
+// times less of it. Realistic cases (default settings, little corruption, 1.2-2.3 steps/s, 0.5-1.8
+// m/s) are scored against their truth as well.
+//
+// Checked on every frame: every output finite but the standard deviations (and the IMU's time to the
+// next step), which are >= 0 and never NaN; a valid estimate has finite standard deviations, a speed
+// within the settings' bound (max_plausible_speed_mps, 6 m/s; the IMU's max_speed_mps, 3 m/s) and a
+// step frequency within their range; the gait phase in [0, 1); predict(h) finite for any h. On the
+// realistic cases, the frames where a valid estimate is confidently wrong (an error above 0.15 Hz or
+// 0.15 m/s and above 2 standard deviations; the speed on straight walks, and for the IMU only the
+// step frequency: its speed rests on a pendulum the walk here does not follow) are counted, and the
+// share of each case's frames must stay within 1 % (a 2-std band leaves rare tails; more is not
+// honest). Exit 1 when a check fails or a case goes over 1 % (the first of each printed).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "yoyogait/imu.hpp"
+#include "yoyogait/online.hpp"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.80665;
+
+class Random {
+ public:
+  explicit Random(unsigned long long seed) : rng_(seed) {}
+  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+  bool chance(double p) { return uniform(0.0, 1.0) < p; }
+  // A corruption of probability p, scaled by the case's corruption level.
+  bool corrupt(double p) { return uniform(0.0, 1.0) < p * corruption; }
+  double normal() { return normal_(rng_); }
+  std::size_t below(std::size_t n) { return static_cast<std::size_t>(rng_() % n); }
+  double corruption = 1.0;
+
+ private:
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> normal_{0.0, 1.0};
+};
+
+// A setting taken away from its default with probability 0.15, within [lo, hi].
+template <class T>
+void perturb(Random& r, T& value, double lo, double hi) {
+  if (!r.chance(0.15)) return;
+  if constexpr (std::is_same_v<T, bool>) {
+    value = r.chance(0.5);
+  } else if constexpr (std::is_floating_point_v<T>) {
+    const double u = r.uniform(0.0, 1.0);
+    double x = u < 0.1 ? hi : u < 0.2 ? lo : (value == 0.0 ? u : value * std::pow(10.0, r.uniform(-3.0, 3.0)));
+    value = x < lo ? lo : x > hi ? hi : x;
+  } else {
+    value = static_cast<T>(r.below(static_cast<std::size_t>(hi) + 1));
+  }
+}
+
+// A frame's time step: mostly 1 / rate, sometimes repeated, backward, late or non-finite.
+double next_time(Random& r, double& t_s, double rate_hz) {
+  double dt_s = 1.0 / rate_hz;
+  if (r.corrupt(0.01)) dt_s = 0.0;
+  if (r.corrupt(0.005)) dt_s = -r.uniform(0.0, 1.0);
+  if (r.corrupt(0.002)) dt_s = r.uniform(0.3, 100.0);
+  if (r.corrupt(0.05)) dt_s *= r.uniform(0.5, 1.5);
+  t_s += dt_s;
+  if (r.corrupt(0.002)) return std::nan("");
+  if (r.corrupt(0.001)) return INFINITY;
+  return t_s;
+}
+
+void corrupt_value(Random& r, double& v) {
+  if (r.corrupt(0.002)) v = INFINITY;
+  if (r.corrupt(0.002)) v = 1e300;
+  if (r.corrupt(0.002)) v = 5e-324;
+}
+
+struct Tally {
+  long cases = 0, refused = 0, frames = 0, valid = 0, failures = 0;
+  long realistic_cases = 0, realistic_valid = 0, wrong_f = 0, wrong_speed = 0;
+  long case_wrong = 0, cases_over = 0, worst_case = -1;  // confidently wrong frames of the case; cases over 1 %
+  double worst_share = 0.0;
+  const char* path = "";
+  bool describe = false;  // print each case's walk (a single case rerun)
+  long case_index = 0, frame = 0;
+  double t_s = 0.0;
+  // The frame being checked, named in a failure.
+  void at(long c, long k, double frame_t_s) {
+    case_index = c;
+    frame = k;
+    t_s = frame_t_s;
+  }
+  void fail(const std::string& what) {
+    if (++failures <= 20) std::printf("FAIL %s case %ld frame %ld t %.9g: %s\n", path, case_index, frame, t_s, what.c_str());
+  }
+  // A valid estimate confidently wrong: printed (the first ten).
+  void wrong(long& count, const char* what, double estimate, double std, double truth) {
+    if (++count <= 10)
+      std::printf("WRONG %s case %ld frame %ld t %.9g: %s %.3f +- %.3f, truth %.3f\n", path, case_index, frame, t_s, what,
+                  estimate, std, truth);
+  }
+  // A realistic case's end: the share of its frames that were confidently wrong (the honesty target: at most 1 %).
+  void end_case(long frames_n) {
+    ++realistic_cases;
+    const double share = frames_n > 0 ? static_cast<double>(case_wrong) / static_cast<double>(frames_n) : 0.0;
+    if (share > 0.01) ++cases_over;
+    if (share > worst_share) {
+      worst_share = share;
+      worst_case = case_index;
+    }
+    case_wrong = 0;
+  }
+};
+
+bool confidently_wrong(double estimate, double std, double truth) {
+  const double error = std::fabs(estimate - truth);
+  return error > 0.15 && error > 2.0 * std;
+}
+
+void markers_case(long c, Random& r, Tally& tally) {
+  using yoyogait::OnlineConfig;
+  using yoyogait::OnlineEstimate;
+  using yoyogait::OnlineEstimator;
+  OnlineConfig config;
+  r.corruption = r.chance(0.5) ? 0.02 : 1.0;
+  const bool wild = r.chance(0.5);
+  if (wild) {
+#define YOYOGAIT_FUZZ_PERTURB(type, name, def, unit, lo_b, lo, hi, hi_b, ...) perturb(r, config.name, lo, hi);
+    YOYOGAIT_ONLINE_FIELDS(YOYOGAIT_FUZZ_PERTURB)
+#undef YOYOGAIT_FUZZ_PERTURB
+    if (r.chance(0.3)) config.estimator.sample_time_s = r.uniform(0.005, 0.2);
+  }
+  const std::size_t n_points = 1 + r.below(6), n_feet = r.chance(0.4) ? 2 : r.chance(0.1) ? 1 : 0;
+  const int up = static_cast<int>(r.below(3)), a = (up + 1) % 3, b = (up + 2) % 3;
+  const double unit_m = r.chance(0.5) ? 0.001 : 1.0;
+  ++tally.cases;
+  std::unique_ptr<OnlineEstimator> est;
+  try {
+    est = std::make_unique<OnlineEstimator>(n_points, up, unit_m, config, n_feet);
+  } catch (const std::invalid_argument&) {
+    ++tally.refused;
+    return;
+  }
+  const bool belt_given = r.chance(0.2);
+  if (belt_given) est->set_belt_speed_mps(r.chance(0.8) ? r.uniform(0.0, 2.0) : r.chance(0.5) ? std::nan("") : -1.0);
+  const bool realistic = !wild && r.corruption < 1.0 && r.chance(0.7);
+  const double f_hz = realistic ? r.uniform(1.2, 2.3) : r.uniform(0.3, 3.0);
+  const double speed_mps = realistic ? r.uniform(0.5, 1.8) : r.uniform(0.0, 2.5);
+  const double r_m = realistic ? r.uniform(0.01, 0.03) : r.uniform(0.0, 0.05);
+  const double noise_m = realistic ? r.uniform(0.0, 0.002) : r.chance(0.3) ? r.uniform(0.0, 0.05) : r.uniform(0.0, 0.002);
+  const double rate_hz = r.chance(0.1) ? r.uniform(5.0, 30.0) : r.uniform(20.0, 500.0);
+  const bool treadmill = r.chance(0.2);
+  const double turn_rad_s = r.chance(0.3) ? r.uniform(-1.0, 1.0) : 0.0;
+  const long frames = static_cast<long>(r.uniform(1.0, 40.0) * rate_hz);
+  const bool scored = realistic && !belt_given && !treadmill && n_feet == 0;  // a truth to score against
+  if (tally.describe)
+    std::printf("markers case %ld: %zu points, %zu feet, %.1f Hz, %ld frames, %.3f steps/s, %.3f m/s, r %.4f m, noise %.4f m, "
+                "turn %.2f rad/s, treadmill %d, belt given %d, settings %s, corruption %g\n",
+                c, n_points, n_feet, rate_hz, frames, f_hz, speed_mps, r_m, noise_m, turn_rad_s, treadmill, belt_given,
+                wild ? "random" : "default", r.corruption);
+  double t_s = r.chance(0.05) ? 1e12 : r.uniform(-1e3, 1e3), travel_m = 0.0, heading_rad = r.uniform(-kPi, kPi);
+  double last_t_s = t_s;
+  std::vector<double> xyz(3 * (n_points + n_feet));
+  for (long k = 0; k < frames; ++k) {
+    const double frame_t_s = next_time(r, t_s, rate_hz);
+    const double dt_s = t_s - last_t_s;
+    last_t_s = t_s;
+    if (dt_s > 0.0 && dt_s < 10.0) {
+      heading_rad += turn_rad_s * dt_s;
+      if (!treadmill) travel_m += speed_mps * dt_s;
+    }
+    // The Yoyo-model's pelvis: forward travel plus r sin(theta), vertical r cos(theta).
+    const double th = 2.0 * kPi * f_hz * t_s, ch = std::cos(heading_rad), sh = std::sin(heading_rad);
+    const double fwd_m = travel_m + r_m * std::sin(th), up_m = 1.0 + r_m * std::cos(th);
+    for (std::size_t j = 0; j < n_points; ++j) {
+      double* q = &xyz[3 * j];
+      const double side_m = 0.05 * static_cast<double>(j);
+      q[a] = (fwd_m * ch - side_m * sh + noise_m * r.normal()) / unit_m;
+      q[b] = (fwd_m * sh + side_m * ch + noise_m * r.normal()) / unit_m;
+      q[up] = (up_m + noise_m * r.normal()) / unit_m;
+      if (r.corrupt(0.03)) q[0] = q[1] = q[2] = std::nan("");
+      for (int i = 0; i < 3; ++i) corrupt_value(r, q[i]);
+      if (r.corrupt(0.005)) q[r.below(3)] += r.uniform(-3.0, 3.0) / unit_m;  // a jump, a swap
+    }
+    for (std::size_t j = 0; j < n_feet; ++j) {  // heels: stance 60 % of the stride, back at the belt
+      double* q = &xyz[3 * (n_points + j)];
+      const double s = std::fmod(std::fabs(0.5 * f_hz * t_s + 0.5 * static_cast<double>(j)), 1.0);
+      const double ahead_m = travel_m + (s < 0.6 ? 0.3 - s : -0.3 + s), side_m = j ? 0.1 : -0.1;
+      q[a] = (ahead_m * ch - side_m * sh + noise_m * r.normal()) / unit_m;
+      q[b] = (ahead_m * sh + side_m * ch + noise_m * r.normal()) / unit_m;
+      q[up] = (s < 0.6 ? 0.05 : 0.1) / unit_m;
+      if (r.corrupt(0.05)) q[0] = q[1] = q[2] = std::nan("");
+      if (r.corrupt(0.002)) q[r.below(3)] = -1e300;
+    }
+    if (r.corrupt(0.01))
+      for (double& q : xyz) q = std::nan("");
+    const OnlineEstimate& e = est->update(frame_t_s, xyz.data());
+    ++tally.frames;
+    tally.valid += e.valid;
+    tally.at(c, k, frame_t_s);
+    const double finite[] = {e.vx_mps,     e.vz_mps,     e.vh_a_mps,        e.vh_b_mps,       e.heading_rad,
+                             e.walk_a_mps, e.walk_b_mps, e.vx_hat_mps,      e.vz_hat_mps,     e.step_frequency_hz,
+                             e.speed_mps,  e.gait_phase, e.input_latency_s, e.estimate_age_s, e.input_noise_m,
+                             e.belt_speed_mps, e.belt_speed_std_mps};
+    bool ok = true;
+    for (double v : finite) ok = ok && std::isfinite(v);
+    if (!ok) tally.fail("an output not finite");
+    if (!(e.step_frequency_std_hz >= 0.0) || !(e.speed_std_mps >= 0.0)) tally.fail("a std NaN or negative");
+    if (!(e.gait_phase >= 0.0 && e.gait_phase < 1.0)) tally.fail("gait phase outside [0, 1)");
+    if (e.valid) {
+      const auto& gf = config.estimator.gait_filter;
+      if (!std::isfinite(e.step_frequency_std_hz) || !std::isfinite(e.speed_std_mps))
+        tally.fail("valid with an infinite std");
+      if (!(e.speed_mps >= 0.0 && e.speed_mps <= config.max_plausible_speed_mps))
+        tally.fail("valid with speed " + std::to_string(e.speed_mps));
+      if (!(e.step_frequency_hz >= gf.f_min_hz && e.step_frequency_hz <= gf.f_max_hz))
+        tally.fail("valid with a step frequency out of range");
+    }
+    if (scored && e.valid) {
+      ++tally.realistic_valid;
+      const bool wrong_f = confidently_wrong(e.step_frequency_hz, e.step_frequency_std_hz, f_hz);
+      const bool wrong_speed = turn_rad_s == 0.0 && confidently_wrong(e.speed_mps, e.speed_std_mps, speed_mps);
+      if (wrong_f) tally.wrong(tally.wrong_f, "f [Hz]", e.step_frequency_hz, e.step_frequency_std_hz, f_hz);
+      if (wrong_speed) tally.wrong(tally.wrong_speed, "speed [m/s]", e.speed_mps, e.speed_std_mps, speed_mps);
+      tally.case_wrong += wrong_f || wrong_speed;
+    }
+    if (r.chance(0.01)) {
+      const double h_s = r.chance(0.8) ? r.uniform(0.0, 1.0) : r.chance(0.5) ? std::nan("") : -1.0;
+      const yoyogait::OnlinePrediction p = est->predict(h_s);
+      if (!std::isfinite(p.vx_mps) || !std::isfinite(p.vz_mps) || !(p.vx_std_mps >= 0.0) || !(p.vz_std_mps >= 0.0))
+        tally.fail("predict(" + std::to_string(h_s) + ") not finite");
+    }
+    if (r.corrupt(0.0005)) est->reset();
+  }
+  if (scored) tally.end_case(frames);
+}
+
+void imu_case(long c, Random& r, Tally& tally) {
+  using yoyogait::ImuConfig;
+  using yoyogait::ImuEstimate;
+  using yoyogait::ImuOnlineEstimator;
+  ImuConfig config;
+  r.corruption = r.chance(0.5) ? 0.02 : 1.0;
+  const bool wild = r.chance(0.5);
+  if (wild) {
+#define YOYOGAIT_FUZZ_PERTURB(type, name, def, unit, lo_b, lo, hi, hi_b, ...) perturb(r, config.name, lo, hi);
+    YOYOGAIT_IMU_FIELDS(YOYOGAIT_FUZZ_PERTURB)
+#undef YOYOGAIT_FUZZ_PERTURB
+  }
+  config.forward_axis = 2;  // the walk below has z forward and x up; a wrong axis is in the wild settings' reach
+  if (wild && r.chance(0.15)) config.forward_axis = r.below(3);
+  ++tally.cases;
+  std::unique_ptr<ImuOnlineEstimator> est;
+  try {
+    est = std::make_unique<ImuOnlineEstimator>(config);
+  } catch (const std::invalid_argument&) {
+    ++tally.refused;
+    return;
+  }
+  const bool realistic = !wild && r.corruption < 1.0 && r.chance(0.7);
+  const double f_hz = realistic ? r.uniform(1.2, 2.3) : r.uniform(0.3, 3.0);
+  const double r_m = realistic ? r.uniform(0.01, 0.03) : r.uniform(0.0, 0.05);
+  const double noise_mps2 = realistic ? r.uniform(0.0, 0.1) : r.chance(0.3) ? r.uniform(0.0, 2.0) : r.uniform(0.0, 0.1);
+  const double pitch_rad = r.uniform(-0.35, 0.35), bias_rad_s = r.uniform(-0.0175, 0.0175);
+  const double saturation_mps2 = !realistic && r.chance(0.2) ? r.uniform(10.0, 80.0) : 1e9;
+  const bool upside_down = !realistic && r.chance(0.1), with_mag = r.chance(0.3);
+  const double rate_hz = r.chance(0.1) ? r.uniform(5.0, 40.0) : r.uniform(40.0, 400.0);
+  const long samples = static_cast<long>(r.uniform(1.0, 40.0) * rate_hz);
+  if (tally.describe)
+    std::printf("imu case %ld: %.1f Hz, %ld samples, %.3f steps/s, r %.4f m, noise %.3f m/s^2, pitch %.2f rad, gyro bias "
+                "%.4f rad/s, saturation %g m/s^2, upside down %d, magnetometer %d, settings %s, corruption %g\n",
+                c, rate_hz, samples, f_hz, r_m, noise_mps2, pitch_rad, bias_rad_s, saturation_mps2, upside_down, with_mag,
+                wild ? "random" : "default", r.corruption);
+  double t_s = r.chance(0.05) ? 1e12 : r.uniform(-1e3, 1e3);
+  for (long k = 0; k < samples; ++k) {
+    const double sample_t_s = next_time(r, t_s, rate_hz);
+    // The walker's specific force (forward r w^2 sin, vertical r w^2 cos about gravity) in a sensor
+    // with x up and z forward, pitched forward.
+    const double w = 2.0 * kPi * f_hz, th = w * t_s;
+    const double fwd = -r_m * w * w * std::sin(th), up = kG - r_m * w * w * std::cos(th);
+    const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad);
+    double acc[3] = {(upside_down ? -1.0 : 1.0) * (fwd * sp + up * cp), 0.0, fwd * cp - up * sp};
+    double gyr[3] = {bias_rad_s, 0.1 * std::sin(0.5 * th) + bias_rad_s, bias_rad_s};
+    double mag[3] = {20.0, 0.0, 40.0};
+    for (int i = 0; i < 3; ++i) {
+      acc[i] += noise_mps2 * r.normal();
+      gyr[i] += 0.01 * r.normal();
+      mag[i] += r.corrupt(0.01) ? 100.0 * r.normal() : r.normal();
+      if (r.corrupt(0.002)) acc[i] = std::nan("");
+      if (r.corrupt(0.002)) gyr[i] = std::nan("");
+      corrupt_value(r, acc[i]);
+      corrupt_value(r, gyr[i]);
+      acc[i] = std::fmax(-saturation_mps2, std::fmin(saturation_mps2, acc[i]));
+    }
+    if (r.corrupt(0.003)) acc[0] = acc[1] = acc[2] = gyr[0] = gyr[1] = gyr[2] = 0.0;  // a packet of zeros
+    const ImuEstimate& e = with_mag && r.chance(0.9) ? est->update(sample_t_s, acc, gyr, mag) : est->update(sample_t_s, acc, gyr);
+    ++tally.frames;
+    tally.valid += e.valid;
+    tally.at(c, k, sample_t_s);
+    const double finite[] = {e.az_mps2,     e.vz_mps,       e.vx_osc_mps,        e.vx_mps,    e.heading_rad,
+                             e.tilt_rad,    e.vx_hat_mps,   e.vz_hat_mps,        e.step_frequency_hz,
+                             e.speed_mps,   e.excursion_m,  e.step_length_m,     e.pendulum_speed_mps,
+                             e.gait_phase,  e.input_latency_s};
+    bool ok = true;
+    for (double v : finite) ok = ok && std::isfinite(v);
+    if (!ok) tally.fail("an output not finite");
+    if (!(e.step_frequency_std_hz >= 0.0) || !(e.speed_std_mps >= 0.0)) tally.fail("a std NaN or negative");
+    if (!(e.gait_phase >= 0.0 && e.gait_phase < 1.0)) tally.fail("gait phase outside [0, 1)");
+    if (e.valid) {
+      const auto& gf = config.estimator.gait_filter;
+      if (!std::isfinite(e.step_frequency_std_hz) || !std::isfinite(e.speed_std_mps))
+        tally.fail("valid with an infinite std");
+      if (!(e.speed_mps >= 0.0 && e.speed_mps <= config.max_speed_mps)) tally.fail("valid with speed " + std::to_string(e.speed_mps));
+      if (!(e.step_frequency_hz >= gf.f_min_hz && e.step_frequency_hz <= gf.f_max_hz))
+        tally.fail("valid with a step frequency out of range");
+      if (std::isnan(e.next_step_in_s)) tally.fail("valid without a time to the next step");
+    }
+    if (realistic && e.valid) {
+      ++tally.realistic_valid;
+      const bool wrong_f = confidently_wrong(e.step_frequency_hz, e.step_frequency_std_hz, f_hz);
+      if (wrong_f) tally.wrong(tally.wrong_f, "f [Hz]", e.step_frequency_hz, e.step_frequency_std_hz, f_hz);
+      tally.case_wrong += wrong_f;
+    }
+    if (r.corrupt(0.0005)) est->reset();
+  }
+  if (realistic) tally.end_case(samples);
+}
+
+void report(const char* path, const Tally& t, bool speed) {
+  char worst[64] = "0 %";
+  if (t.worst_case >= 0) std::snprintf(worst, sizeof worst, "%.2f %% (case %ld)", 100.0 * t.worst_share, t.worst_case);
+  std::printf("| %s | %ld | %ld | %ld | %ld | %ld | %ld | %ld | %ld | %s | %s | %ld |\n", path, t.cases, t.refused,
+              t.frames, t.valid, t.failures, t.realistic_cases, t.realistic_valid, t.wrong_f,
+              speed ? std::to_string(t.wrong_speed).c_str() : "-", worst, t.cases_over);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const long cases = argc > 1 ? std::atol(argv[1]) : 2000;
+  const unsigned long long seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
+  const std::string which = argc > 3 ? argv[3] : "both";
+  if (cases <= 0 || (which != "markers" && which != "imu" && which != "both")) {
+    std::fprintf(stderr, "usage: fuzz_online [CASES [SEED [markers|imu|both [FIRST_CASE]]]]\n");
+    return 2;
+  }
+  Tally markers, imu;
+  markers.path = "markers";
+  imu.path = "imu";
+  const long first = argc > 4 ? std::atol(argv[4]) : 0;  // rerun from a case that failed
+  markers.describe = imu.describe = cases - first == 1;
+  for (long c = first; c < cases; ++c) {
+    Random r(seed * 1000003ull + static_cast<unsigned long long>(c));
+    if (which != "imu") markers_case(c, r, markers);
+    if (which != "markers") imu_case(c, r, imu);
+  }
+  std::printf("\n| path | cases | settings refused | frames | valid | failures | realistic cases | realistic valid | "
+              "confidently wrong f | confidently wrong speed | worst case's share | cases over 1 %% |\n"
+              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  if (which != "imu") report("markers", markers, true);
+  if (which != "markers") report("imu", imu, false);
+  return markers.failures + imu.failures + markers.cases_over + imu.cases_over > 0 ? 1 : 0;
+}
