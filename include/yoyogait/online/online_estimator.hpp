@@ -216,8 +216,8 @@ class OnlineEstimator {
     if (!restart && !noise_.known()) {
       double d2 = 0.0;
       for (int k = 0; k < 3; ++k) d2 += (c.centre_m[k] - last_centre_m_[k]) * (c.centre_m[k] - last_centre_m_[k]);
-      const double reach_m =
-          config_.max_plausible_speed_mps * gap_s + kJumpNoiseSigmas * config_.feet_max_input_noise_m;
+      const double reach_m = config_.max_plausible_speed_mps * gap_s +
+                             std::sqrt(noise_.gate_nis()) * config_.feet_max_input_noise_m;  // 5 sigma at 25
       jump_s_ = d2 > reach_m * reach_m ? jump_s_ + gap_s : 0.0;
       restart = jump_s_ > 0.0 && jump_s_ < config_.max_outlier_s;
     }
@@ -426,10 +426,7 @@ class OnlineEstimator {
   bool have_seen_ = false;
   double t_seen_s_ = 0.0;   ///< the last frame with a point seen [s]
   std::array<double, 3> last_centre_m_{};  ///< the centre of that frame [m]
-  double jump_s_ = 0.0;                     ///< how long the centre has been jumping (kJumpNoiseSigmas) [s]
-  /// A jump of the centre before the noise is known: beyond this many times feet_max_input_noise_m
-  /// (besides a walker's reach at max_plausible_speed_mps).
-  static constexpr double kJumpNoiseSigmas = 5.0;
+  double jump_s_ = 0.0;                     ///< how long the centre has been jumping before the noise is known [s]
   double start_t_s_ = 0.0;  ///< the differentiator's last (re)start [s]
   double f_var_ = 0.0, s_var_ = 0.0;  ///< the variances of f and speed reported at the last sample
   double f_std_ = 0.0, s_std_ = 0.0;  ///< their square roots
