@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "yoyogait/imu/mahony.hpp"
+#include "yoyogait/math.hpp"
 
 namespace yoyogait::imu {
 
@@ -15,9 +16,8 @@ class MagGate {
   /// A norm rejected this long on end becomes the reference norm [s].
   static constexpr double kAdaptS = 30.0;
 
-  MagGate() noexcept = default;
   /// tolerance: the accepted relative distance from the reference norm; tau_s: the reference's low-pass.
-  MagGate(double tolerance, double tau_s) noexcept : tolerance_(tolerance), tau_s_(tau_s) {}
+  MagGate(double tolerance, double tau_s) noexcept : tolerance_(tolerance), gain_(tau_s) {}
 
   void reset() noexcept { norm_lp_ = rejected_since_s_ = 0.0; }
 
@@ -34,7 +34,7 @@ class MagGate {
     // place's, not a passing disturbance: it becomes the reference.
     if (ok) {
       rejected_since_s_ = t_s;
-      if (dt_s > 0.0) norm_lp_ += (1.0 - std::exp(-dt_s / tau_s_)) * (mn - norm_lp_);
+      if (dt_s > 0.0) norm_lp_ += gain_(dt_s) * (mn - norm_lp_);
     } else if (t_s - rejected_since_s_ > kAdaptS) {
       norm_lp_ = mn;
     }
@@ -42,7 +42,8 @@ class MagGate {
   }
 
  private:
-  double tolerance_ = 0.15, tau_s_ = 2.0;
+  double tolerance_;
+  ExpGain gain_;  ///< the reference's low-pass gain per interval
   double norm_lp_ = 0.0, rejected_since_s_ = 0.0;  ///< the reference norm; since when the field is rejected [s]
 };
 
