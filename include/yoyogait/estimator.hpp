@@ -155,6 +155,10 @@ class Estimator {
   GaitState gait_state() const noexcept { return is_paper_ ? GaitState{} : gait_.state(); }
   /// gait: the covariance (8x8) of the active EKF. paper: zeros.
   GaitMatrix gait_covariance() const noexcept { return is_paper_ ? GaitMatrix{} : gait_.covariance(); }
+  /// gait: one element (gait::Index) of the active EKF's covariance, without copying it. paper: 0.
+  double gait_covariance(std::size_t i, std::size_t j) const noexcept {
+    return is_paper_ ? 0.0 : gait_.covariance(i, j);
+  }
   std::size_t sample_count() const noexcept { return samples_; }
 
  private:

@@ -336,4 +336,30 @@ TEST(Imu, PeriodicityTellsAPauseFromSteps) {
   EXPECT_LT(steady.periodicity(1.5 * f, dt, 1.5), 0.2);
 }
 
+// Pendulum::speed_rel_var: a quarter of the phasor amplitude's relative variance (v goes as
+// sqrt(h), h as |Z|), averaged over excursion_tau_s as h is: large after a lock on an uncertain
+// amplitude, falling towards the certain one's over the time constant, cleared with the excursion.
+TEST(Imu, PendulumSpeedCarriesTheAmplitudesUncertainty) {
+  imu::Pendulum::Settings ps;
+  ps.length_m = 0.95;
+  ps.step_length_factor = 1.0;
+  ps.excursion_tau_s = 0.5;
+  ps.max_speed_mps = 3.0;
+  imu::Pendulum p(ps);
+  GaitState x{};
+  x[gait::kW] = 2.0 * kPi * 1.2;
+  x[gait::kZ1] = 0.04;  // |Z| 0.05 m/s
+  x[gait::kZ2] = 0.03;
+  const double dt = 0.04, uncertain_var = 0.025 * 0.025, certain_var = 0.005 * 0.005;
+  p.update(x, uncertain_var, true, false, dt);
+  EXPECT_NEAR(p.speed_rel_var(), 0.25 * uncertain_var / 0.0025, 1e-12);
+  for (int k = 0; k < 25; ++k) p.update(x, certain_var, true, false, dt);  // two time constants
+  const double expected = 0.25 * (certain_var + (uncertain_var - certain_var) * std::exp(-25 * dt / 0.5)) / 0.0025;
+  EXPECT_NEAR(p.speed_rel_var(), expected, 1e-3 * expected);
+  p.update(x, 1.0, true, false, dt);  // an amplitude far below its std: at most 4 (std twice |Z|)
+  EXPECT_LE(p.speed_rel_var(), 0.25 * 4.0);
+  p.update(x, 0.0, false, false, dt);  // standing: cleared
+  EXPECT_EQ(p.speed_rel_var(), 0.0);
+}
+
 }  // namespace imu_tests

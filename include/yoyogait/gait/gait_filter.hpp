@@ -201,6 +201,10 @@ class GaitFilter {
       for (std::size_t j = 0; j < i; ++j) P[i][j] = P[j][i];
     return P;
   }
+  /// One element of the active EKF's covariance, without copying it.
+  double covariance(std::size_t i, std::size_t j) const noexcept {
+    return i <= j ? active().P[i][j] : active().P[j][i];
+  }
   bool walking() const noexcept { return detector_.walking(); }
   bool acquiring() const noexcept { return acquiring_; }
   /// Variances added to the measurement noise of v_x and v_z from the next step on [(m/s)^2]

@@ -203,7 +203,7 @@ class ImuOnlineEstimator {
         est_ = estimator_.step(sum_vx_ / span_s_, vz_mean, step_dt_s);
         fed_ = true;
         // First: the checks and stds of this sample use its step length.
-        pendulum_.update(est_.gait_state, est_.walking, est_.acquiring, step_dt_s);
+        pendulum_.update(est_.gait_state, amplitude_var(), est_.walking, est_.acquiring, step_dt_s);
         sampled(prior, step_dt_s, vz_mean);
         o.estimator_fed = true;
         t_tick_s_ = t_s;
@@ -338,6 +338,9 @@ class ImuOnlineEstimator {
     // uncertain as the pendulum's own estimate of where it goes.
     const double gap = pendulum_.target_speed_mps() - (pendulum_mps > 0.0 ? pendulum_mps : est_.speed_mps);
     s_var += gap * gap;
+    // The excursion's own uncertainty (the filter's |Z|, scaled as its stds are): while the phasor's
+    // amplitude converges after a lock, h and with it the speed are low, and the target with them.
+    s_var += k * k * pendulum_mps * pendulum_mps * pendulum_.speed_rel_var();
     // The pendulum speed is taken at the estimate's frequency: L f with L from h = 2 |Z| / w goes as
     // sqrt(|Z| f) (h << l), so the frequency's relative std reaches the speed halved.
     if (pendulum_mps > 0.0 && est_.step_frequency_hz > 0.0) {
@@ -358,6 +361,17 @@ class ImuOnlineEstimator {
     }
     f_std_ = std::sqrt(f_var);
     s_std_ = std::sqrt(s_var);
+  }
+
+  // The filter's variance of |Z| along Z (0 at Z = 0: the pendulum then takes 4, its bound).
+  double amplitude_var() const noexcept {
+    const GaitState& x = est_.gait_state;
+    const double z1 = x[gait::kZ1], z2 = x[gait::kZ2], a2 = z1 * z1 + z2 * z2;
+    if (!(a2 > 0.0)) return 0.0;
+    const double p11 = estimator_.gait_covariance(gait::kZ1, gait::kZ1);
+    const double p12 = estimator_.gait_covariance(gait::kZ1, gait::kZ2);
+    const double p22 = estimator_.gait_covariance(gait::kZ2, gait::kZ2);
+    return (z1 * z1 * p11 + 2.0 * z1 * z2 * p12 + z2 * z2 * p22) / a2;
   }
 
   // Whether the estimator sits on a wrong harmonic of the step: by the fed v_z's autocorrelation
