@@ -28,6 +28,11 @@ constexpr double kG = 9.80665;
 struct SyntheticImu {
   double f_hz = 1.8, speed_mps = 1.3, r_m = 0.022, pitch_rad = 0.0, roll_rad = 0.0, bias_rad_s = 0.0;
   double noise_mps2 = 0.02, scale = 1.0;
+  double stop_s = 1e9, fall_s = 0.6;  // a stop: the steps' amplitude falls to 0 from stop_s over fall_s
+  double amplitude(double t) const {
+    const double x = (t - stop_s) / fall_s;
+    return x <= 0.0 ? 1.0 : x >= 1.0 ? 0.0 : 0.5 + 0.5 * std::cos(kPi * x);
+  }
   std::mt19937 rng{3};
   // The pendulum length for which K 2 sqrt(2 l h - h^2) is the step length v / f (h = 2 r, K the default).
   double pendulum_length_m() const {
@@ -37,7 +42,8 @@ struct SyntheticImu {
   // The specific force and angular rate in the sensor frame at t (walking when walk).
   void sample(double t, bool walk, double acc[3], double gyr[3]) {
     const double w = 2.0 * kPi * f_hz, th = w * t;
-    const double ax = walk ? -r_m * w * w * std::sin(th) : 0.0, az = walk ? -r_m * w * w * std::cos(th) : 0.0;
+    const double r = r_m * amplitude(t);
+    const double ax = walk ? -r * w * w * std::sin(th) : 0.0, az = walk ? -r * w * w * std::cos(th) : 0.0;
     const double fw[3] = {ax, 0.0, az + kG};  // world (forward, left, up)
     // Sensor axes in the world: x = up, y = right, z = forward, then the tilts.
     const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad), cr = std::cos(roll_rad), sr = std::sin(roll_rad);
@@ -334,6 +340,37 @@ TEST(Imu, PeriodicityTellsAPauseFromSteps) {
   EXPECT_LT(paused.periodicity(f, dt, 1.5), 0.2);
   EXPECT_EQ(short_history.periodicity(f, dt, 1.5), -1.0);
   EXPECT_LT(steady.periodicity(1.5 * f, dt, 1.5), 0.2);
+}
+
+// A stop within about a step (the steps' amplitude falling to 0 over 0.6 s): while the estimate is
+// still valid its speed is within 2 std (or 0.15 m/s) of the inverted pendulum's speed of the steps
+// under way; the vertical acceleration shows the stop before the filter's amplitude follows it.
+TEST(Imu, AValidSpeedInAStopIsWithinTwoStdOfTheSlowingWalker) {
+  for (const double f_hz : {1.2, 1.8, 2.1}) {
+    SyntheticImu s;
+    s.f_hz = f_hz;
+    s.speed_mps = 0.9;
+    s.stop_s = 14.0;
+    ImuConfig c;
+    c.sensor_height_m = s.pendulum_length_m();
+    ImuOnlineEstimator est(c);
+    int valid_in_stop = 0;
+    for (int k = 0; k * 0.01 < 17.0; ++k) {
+      const double t = k * 0.01;
+      double a[3], g[3];
+      s.sample(t, t >= 2.0, a, g);
+      const ImuEstimate& e = est.update(t, a, g);
+      if (!e.valid || t < s.stop_s) continue;
+      ++valid_in_stop;
+      const double h = 2.0 * s.r_m * s.amplitude(t), l = c.sensor_height_m;
+      const double truth_mps = c.step_length_factor * 2.0 * std::sqrt(std::fmax(0.0, 2.0 * l * h - h * h)) * f_hz;
+      const double error = std::fabs(e.speed_mps - truth_mps);
+      EXPECT_TRUE(error <= 0.15 || error <= 2.0 * e.speed_std_mps)
+          << f_hz << " steps/s, " << t - s.stop_s << " s into the stop: " << e.speed_mps << " +- " << e.speed_std_mps
+          << " m/s against " << truth_mps;
+    }
+    EXPECT_GT(valid_in_stop, 20);  // the stop is seen while the estimate is still valid
+  }
 }
 
 // Pendulum::speed_rel_var: a quarter of the phasor amplitude's relative variance (v goes as

@@ -70,9 +70,9 @@ class ImuOnlineEstimator {
     fed_ = false;
     started_ = false;
     started_before_ = false;
-    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+    sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
-    vz2_lp_ = vz2_step_lp_ = yaw_rate_lp_rad_s_ = 0.0;
+    vz2_lp_ = vz2_step_lp_ = az2_lp_ = yaw_rate_lp_rad_s_ = 0.0;
     heading_tick_ = {1.0, 0.0};
     pendulum_.clear();
     heading_ = {1.0, 0.0};
@@ -193,6 +193,7 @@ class ImuOnlineEstimator {
       if (span_s_ == 0.0) t_first_s_ = t_s;
       sum_vx_ += o.vx_mps * dt_s;
       sum_vz_ += o.vz_mps * dt_s;
+      sum_az2_ += o.az_mps2 * o.az_mps2 * dt_s;
       sum_age_s2_ += (t_s - t_first_s_) * dt_s;
       span_s_ += dt_s;
       const double T = config_.estimator.sample_time_s;
@@ -204,11 +205,11 @@ class ImuOnlineEstimator {
         fed_ = true;
         // First: the checks and stds of this sample use its step length.
         pendulum_.update(est_.gait_state, amplitude_var(), est_.walking, est_.acquiring, step_dt_s);
-        sampled(prior, step_dt_s, vz_mean);
+        sampled(prior, step_dt_s, vz_mean, sum_az2_ / span_s_);
         o.estimator_fed = true;
         t_tick_s_ = t_s;
         tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
-        sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+        sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
       }
     }
     carry_estimate(t_s);
@@ -279,7 +280,7 @@ class ImuOnlineEstimator {
     yaw_rate_lp_rad_s_ = 0.0;
     heading_tick_ = heading_;
     start_t_s_ = t_s;
-    sum_vx_ = sum_vz_ = span_s_ = sum_age_s2_ = 0.0;
+    sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
   }
 
   // The estimator (re)starts: what its outputs' stds know goes too (the v_z ring stays: it is the
@@ -296,7 +297,7 @@ class ImuOnlineEstimator {
   // After each estimator sample: its stds made honest (as OnlineEstimator does: scaled by the
   // innovations' excess, plus what a transient adds, at least Validity::pinned_std_hz() at a bound of the range,
   // plus the pendulum's model error for the speed) and the harmonic check on the fed v_z.
-  void sampled(const GaitState& prior, double dt_s, double vz_mean) noexcept {
+  void sampled(const GaitState& prior, double dt_s, double vz_mean, double az2_mean) noexcept {
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     // The transients are those of the speed reported (the pendulum's once it runs, carry_estimate),
@@ -353,11 +354,24 @@ class ImuOnlineEstimator {
     // of the vertical motion seen (the fed v_z's low-passed RMS as the fundamental's amplitude).
     vz2_lp_ += standing_gain_(dt_s) * (vz_mean * vz_mean - vz2_lp_);
     vz2_step_lp_ += step_gain_(dt_s) * (vz_mean * vz_mean - vz2_step_lp_);
+    az2_lp_ += acc_gain_(dt_s) * (az2_mean - az2_lp_);
     if (!est_.walking) {
       const double f = est_.step_frequency_hz > f_locked_min_hz_ ? est_.step_frequency_hz : f_locked_min_hz_;
       const double h = 2.0 * std::sqrt(2.0 * vz2_lp_) / (6.283185307179586 * f);
       const double hidden_mps = std::fmin(pendulum_.step_length(h) * f, config_.max_speed_mps);
       s_var += hidden_mps * hidden_mps;
+    } else if (pendulum_mps > 0.0 && est_.step_frequency_hz > 0.0) {
+      // Walking: a stop or shorter steps show in the vertical acceleration at once, a second before
+      // the filter's |Z| and the integrated v_z follow them. The pendulum speed of the vertical
+      // acceleration of the last 0.1 s (its RMS as the fundamental's amplitude, h = 2 a / w^2; the
+      // harmonics make it larger while the steps go on) below the reported one: the walker may be
+      // that much slower already.
+      const double f = est_.step_frequency_hz, w2 = 39.47841760435743 * f * f, hp = pendulum_.excursion_m() * w2;
+      if (8.0 * az2_lp_ < hp * hp) {  // its h below the pendulum's (without a square root)
+        const double h = 2.0 * std::sqrt(2.0 * az2_lp_) / w2;
+        const double slower_mps = pendulum_mps - std::fmin(pendulum_.step_length(h) * f, config_.max_speed_mps);
+        if (slower_mps > 0.0) s_var += slower_mps * slower_mps;
+      }
     }
     f_std_ = std::sqrt(f_var);
     s_std_ = std::sqrt(s_var);
@@ -471,7 +485,7 @@ class ImuOnlineEstimator {
   bool have_time_ = false, fed_ = false, started_ = false, started_before_ = false, gap_restart_ = false;
   bool heading_absolute_ = false;
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
-  double sum_vx_ = 0.0, sum_vz_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
+  double sum_vx_ = 0.0, sum_vz_ = 0.0, sum_az2_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
   imu::Pendulum pendulum_;
   online::Validity validity_{};
@@ -487,6 +501,12 @@ class ImuOnlineEstimator {
   static constexpr double kStepTauS = 0.25;
   double vz2_step_lp_ = 0.0;
   ExpGain step_gain_{kStepTauS};
+  /// Low-pass of the vertical acceleration's square, for the speed's std while walking [s]: at a
+  /// fifth of a step it falls within 0.2 s of a stop; its ripple at twice the step frequency only
+  /// widens the std where its RMS dips below the fundamental's (the harmonics hold it above).
+  static constexpr double kAccTauS = 0.1;
+  double az2_lp_ = 0.0;
+  ExpGain acc_gain_{kAccTauS};
   /// Low-pass of the yaw rate, for the step frequency's std in a turn [s].
   static constexpr double kTurnTauS = 0.5;
   double yaw_rate_lp_rad_s_ = 0.0;
