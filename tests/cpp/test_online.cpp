@@ -692,6 +692,28 @@ TEST(Validity, PersistentPhaseCorrectionWidensTheFrequencyStdAndJitterAveragesOu
   EXPECT_GT(std::sqrt(fast.transient_var_f()), 2.0 * std::sqrt(jitter.transient_var_f()));
 }
 
+// With phase_onset_tau_s (the IMU's), corrections that keep one sign from a change's onset widen the
+// f std to most of 3 x their rate / 2 pi within two of its time constants, where phase_tau_s alone
+// has not; corrections five times larger that turn both ways sample by sample (noise) do not.
+TEST(Validity, OneSignedPhaseCorrectionsWidenTheFrequencyStdWithinTheOnsetTime) {
+  online::Validity::Settings s;
+  s.phase_tau_s = 1.0;
+  s.phase_onset_tau_s = 0.25;
+  online::Validity::Settings off = s;
+  off.phase_onset_tau_s = 0.0;
+  online::Validity onset{s}, noise{s}, without{off};
+  const double dt = 0.04, rate = 0.3;
+  for (int k = 0; k < 13; ++k) {  // 0.52 s
+    onset.sample(dt, 2.0, 1.8, 1.3, rate * dt);
+    without.sample(dt, 2.0, 1.8, 1.3, rate * dt);
+    noise.sample(dt, 2.0, 1.8, 1.3, (k % 2 ? -5.0 : 5.0) * rate * dt);
+  }
+  const double expected = 3.0 * rate / (2.0 * kPi);
+  EXPECT_GT(std::sqrt(onset.transient_var_f()), 0.8 * expected);
+  EXPECT_LT(std::sqrt(without.transient_var_f()), 0.5 * expected);
+  EXPECT_LT(std::sqrt(noise.transient_var_f()), 0.2 * expected);
+}
+
 // A mean NIS above 2 but below max_nis scales the stds by sqrt(NIS / 2) without invalidating; above it, not valid.
 TEST(Validity, ModerateNisScalesTheStdsAndOnlyALargerOneInvalidates) {
   online::Validity::Settings s;

@@ -42,6 +42,8 @@ namespace yoyogait {
     "valid only while the fed vertical velocity's RMS (low-passed over 0.25 s) is at least this: no walker's pelvis moves less (0.02 m/s at 1.8 steps/s is a 5 mm bob; walkers 2-5 cm); a walker who stops otherwise keeps the last cadence, valid, for a second or more (NOT_WALKING; 0: not checked)") \
   X(double, phase_std_tau_s, 1.0, "s", "(", 0.0, 1e100, "]",                                                       \
     "low-pass of the estimator's phase corrections in the step frequency's std (as [online]; chosen on one participant, docs/imu.md)") \
+  X(double, phase_onset_tau_s, 0.25, "s", "[", 0.0, 1e100, "]",                                                    \
+    "low-pass of the phase corrections, signed and absolute, for the step frequency's std at a cadence change's onset: corrections that keep one sign over it are a change not yet followed (0: not used; docs/imu.md)") \
   X(double, settle_s, 2.0, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long after a (re)start (2 highpass_tau_s: the integrators' start transient decays)") \
   X(double, max_gap_s, 0.1, "s", "(", 0.0, 1e100, "]", "a longer interval between samples restarts the front-end") \
   X(double, acc_saturation_mps2, 78.0, "m/s^2", "(", 0.0, 1e100, "]",                                                \

@@ -55,6 +55,7 @@ class ImuOnlineEstimator {
     vs.f_min_hz = config_.estimator.gait_filter.f_min_hz;
     vs.f_max_hz = config_.estimator.gait_filter.f_max_hz;
     vs.phase_tau_s = config_.phase_std_tau_s;
+    vs.phase_onset_tau_s = config_.phase_onset_tau_s;
     validity_ = online::Validity(vs);
     reset();
   }

@@ -50,6 +50,9 @@ class Validity {
     /// Low-pass of the phase corrections' rate behind the frequency's std [s] (the [online] and [imu]
     /// phase_std_tau_s).
     double phase_tau_s = kRateLpTauS;
+    /// The phase corrections low-passed over this, signed and absolute, for the frequency's std at a
+    /// cadence change's onset (the [imu] phase_onset_tau_s; 0: not used) [s].
+    double phase_onset_tau_s = 0.0;
   };
 
   /// The hold of kImplausibleInput after the last implausible frame [s]; the window of the distance
@@ -96,6 +99,7 @@ class Validity {
     steady_ = false;
     have_last_ = false;
     last_f_hz_ = last_speed_mps_ = f_rate_lp_ = s_rate_lp_ = phase_rate_lp_ = bias_vx_lp_ = heading_loss_lp_ = 0.0;
+    onset_rate_lp_ = onset_abs_lp_ = 0.0;
     sample_gains_.reset();
     restart_travel();
   }
@@ -184,9 +188,10 @@ class Validity {
               double innovation_vx_mps = std::numeric_limits<double>::quiet_NaN()) noexcept {
     if (!(dt_s > 0.0)) return;
     // One gain for the NIS and the rates (kNisTauS = kRateLpTauS), one for the phase corrections.
-    const double phase_tau_s = s_.phase_tau_s;
-    const SampleGains& sg = sample_gains_.at(dt_s, [phase_tau_s](double dt) {
-      return SampleGains{gain(dt, kRateLpTauS), gain(dt, kBiasTauS), 1.0 / dt, gain(dt, phase_tau_s)};
+    const double phase_tau_s = s_.phase_tau_s, onset_tau_s = s_.phase_onset_tau_s;
+    const SampleGains& sg = sample_gains_.at(dt_s, [phase_tau_s, onset_tau_s](double dt) {
+      return SampleGains{gain(dt, kRateLpTauS), gain(dt, kBiasTauS), 1.0 / dt, gain(dt, phase_tau_s),
+                         onset_tau_s > 0.0 ? gain(dt, onset_tau_s) : 0.0};
     });
     const double g = sg.g, g_bias = sg.bias, inv = sg.inv_dt;
     if (std::isfinite(nis)) nis_lp_ += g * (nis - nis_lp_);
@@ -200,15 +205,27 @@ class Validity {
     last_speed_mps_ = speed_mps;
     if (correction_rad > 3.141592653589793) correction_rad -= 6.283185307179586;
     if (correction_rad < -3.141592653589793) correction_rad += 6.283185307179586;
-    if (std::isfinite(correction_rad)) phase_rate_lp_ += sg.phase * (correction_rad * inv - phase_rate_lp_);
+    if (std::isfinite(correction_rad)) {
+      phase_rate_lp_ += sg.phase * (correction_rad * inv - phase_rate_lp_);
+      onset_rate_lp_ += sg.onset * (correction_rad * inv - onset_rate_lp_);
+      onset_abs_lp_ += sg.onset * (std::fabs(correction_rad) * inv - onset_abs_lp_);
+    }
   }
 
   /// The variance a transient adds to f [Hz^2] and to the speed [(m/s)^2]: (kTransientLagS x the
   /// low-passed rate)^2, how far an estimate that lags by kTransientLagS is behind a change; for f,
-  /// also (kPhaseGain x the low-passed phase correction rate / 2 pi)^2.
+  /// also (kPhaseGain x the low-passed phase correction rate / 2 pi)^2, or, when larger, the same of
+  /// the rate over phase_onset_tau_s times its coherence (|signed mean| / mean of |correction|: near
+  /// 1 while the corrections keep one sign at a change's onset, small for step-to-step jitter).
   double transient_var_f() const noexcept {
     const double c = kPhaseGain * phase_rate_lp_ * 0.15915494309189535;
-    return kTransientLagS * kTransientLagS * f_rate_lp_ * f_rate_lp_ + c * c;
+    double phase_var = c * c;
+    if (onset_abs_lp_ > 0.0) {
+      const double coherence = std::fabs(onset_rate_lp_) / onset_abs_lp_;
+      const double o = kPhaseGain * coherence * onset_rate_lp_ * 0.15915494309189535;
+      if (o * o > phase_var) phase_var = o * o;
+    }
+    return kTransientLagS * kTransientLagS * f_rate_lp_ * f_rate_lp_ + phase_var;
   }
   /// For the speed, also the low-passed v_x innovation squared (the lag the innovations show) and the
   /// low-passed speed lost to the heading's lag (heading()).
@@ -356,9 +373,10 @@ class Validity {
   bool steady_ = false, have_last_ = false;
   double last_f_hz_ = 0.0, last_speed_mps_ = 0.0, f_rate_lp_ = 0.0, s_rate_lp_ = 0.0;  ///< transient rates
   double phase_rate_lp_ = 0.0;  ///< the low-passed phase correction rate [rad/s]
+  double onset_rate_lp_ = 0.0, onset_abs_lp_ = 0.0;  ///< the same and its absolute value over phase_onset_tau_s
   double bias_vx_lp_ = 0.0;     ///< the low-passed v_x innovation [m/s]
   struct SampleGains {
-    double g = 1.0, bias = 1.0, inv_dt = 1.0, phase = 1.0;
+    double g = 1.0, bias = 1.0, inv_dt = 1.0, phase = 1.0, onset = 0.0;
   };
   IntervalCache<SampleGains> sample_gains_;  ///< the sample gains at the last intervals
   std::array<Mark, kRing> ring_{};

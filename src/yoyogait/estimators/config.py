@@ -654,6 +654,7 @@ class ImuConfig(_ConfigFile):
     periodicity_steps: float = _field(IMU_SECTION, "periodicity_steps")
     min_vz_rms_mps: float = _field(IMU_SECTION, "min_vz_rms_mps")
     phase_std_tau_s: float = _field(IMU_SECTION, "phase_std_tau_s")
+    phase_onset_tau_s: float = _field(IMU_SECTION, "phase_onset_tau_s")
     settle_s: float = _field(IMU_SECTION, "settle_s")
     max_gap_s: float = _field(IMU_SECTION, "max_gap_s")
     acc_saturation_mps2: float = _field(IMU_SECTION, "acc_saturation_mps2")
