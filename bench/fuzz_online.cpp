@@ -17,17 +17,18 @@
 // m/s) are scored against their truth as well; half of them change as walkers do (a start from
 // standing, a change of cadence and speed, a stop: Transients below).
 //
-// Checked on every frame: every output finite but the standard deviations (and the IMU's time to the
-// next step), which are >= 0 and never NaN; a valid estimate has finite standard deviations, a speed
-// within the settings' bound (max_plausible_speed_mps, 6 m/s; the IMU's max_speed_mps, 3 m/s) and a
-// step frequency within their range; the gait phase in [0, 1); predict(h) finite for any h. On the
-// realistic cases, the frames where a valid estimate is confidently wrong (an error above 0.15 Hz or
-// 0.15 m/s and above 2 standard deviations, against the walk's step frequency and speed at the frame:
-// the step frequency while the steps have at least a third of their amplitude, the speed on straight
-// walks, for the IMU the speed the inverted pendulum gives at the walk's sensor height, 0.8-1.15 m)
-// are counted, and the share of each case's frames must stay within 1 % (a 2-std band leaves rare
-// tails; more is not honest). Exit 1 when a check fails or a case goes over 1 % (the first 20
-// failures, the first 10 wrong frames of each kind and the first 50 cases over 1 % printed).
+// Checked on every frame: every output finite but the standard deviations, which are >= 0 and never
+// NaN, and the time to the next step (NaN while no phase is known); a valid estimate has finite
+// standard deviations, a speed within the settings' bound (max_plausible_speed_mps, 6 m/s; the IMU's
+// max_speed_mps, 3 m/s), a step frequency within their range and a time to the next step; the gait
+// phase in [0, 1); predict(h) finite for any h. On the realistic cases, the frames where a valid
+// estimate is confidently wrong (an error above 0.15 Hz or 0.15 m/s and above 2 standard deviations,
+// against the walk's step frequency and speed at the frame: the step frequency while the steps have
+// at least a third of their amplitude, the speed on straight walks, for the IMU the speed the
+// inverted pendulum gives at the walk's sensor height, 0.8-1.15 m) are counted, and the share of each
+// case's frames must stay within 1 % (a 2-std band leaves rare tails; more is not honest). Exit 1
+// when a check fails or a case goes over 1 % (the first 20 failures, the first 10 wrong frames of
+// each kind and the first 50 cases over 1 % printed).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -339,6 +340,7 @@ void markers_case(long c, Random& r, Random& tr, Tally& tally) {
                              e.speed_mps,  e.gait_phase, e.input_latency_s, e.estimate_age_s, e.input_noise_m,
                              e.belt_speed_mps, e.belt_speed_std_mps};
     check(tally, e, finite, config.estimator.gait_filter, config.max_plausible_speed_mps);
+    if (e.valid && std::isnan(e.next_step_in_s)) tally.fail("valid without a time to the next step");
     if (scored && e.valid) {
       // The step frequency while there are steps to see (a third of the amplitude), the speed throughout.
       ++tally.realistic_valid;

@@ -226,7 +226,8 @@ class ImuOnlineEstimator {
     else if (!o.walking)  // standing says more than a bank waiting for steps (it restarts at each stop)
       o.reason = ImuReason::kNotWalking;
     else if (est_.acquiring || harmonic_off_ ||
-             !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_))
+             !(o.step_frequency_hz > f_locked_min_hz_ && o.step_frequency_hz < f_locked_max_hz_) ||
+             std::isnan(o.next_step_in_s))  // no phase yet: the vertical phasor still 0 (every sample rejected)
       o.reason = ImuReason::kAcquiring;
     else if (irregular_)
       o.reason = ImuReason::kIrregular;
