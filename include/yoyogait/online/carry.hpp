@@ -120,6 +120,13 @@ inline void OnlineEstimator::carry_estimate(double t_s) noexcept {
                 f.omega_rate_rad_s2, e.step_frequency_hz);
   o.next_step_in_s = phase_.next_step_in_s();
   o.gait_phase = phase_.phase();
+  // Walking with no phase (the vertical phasor decayed to 0: the model holds no oscillation, e.g.
+  // with the measurement noise set far above the motion): the phase and the next step are part of
+  // the estimate.
+  if (o.valid && std::isnan(o.next_step_in_s)) {
+    o.valid = false;
+    o.invalid_reason |= static_cast<std::uint8_t>(InvalidReason::kModelNotHolding);
+  }
 }
 
 }  // namespace yoyogait

@@ -28,7 +28,7 @@ enum class InvalidReason : std::uint8_t {
   kNotWalking = 2,         ///< the walking detector says standing
   kInputNoisy = 4,         ///< the marker noise estimated online is above max_input_noise_m
   kInputMissing = 8,       ///< a frame ignored, a stale estimate, or changes of the visible points moving the centre
-  kModelNotHolding = 16,   ///< innovations too large (mean NIS), f at a bound, f below the steps, steps over 1 m, f off the feet's steps
+  kModelNotHolding = 16,   ///< innovations too large (mean NIS), f at a bound, f below the steps, steps over 1 m, f off the feet's steps, no gait phase
   kImplausibleInput = 32,  ///< the input moves faster than a person can (wrong length unit, jumps, zeros)
   kRateTooLow = 64,        ///< the mean frame rate is below min_rate_hz
   kNotMoving = 128,        ///< the centre travels much less than the speed says (treadmill, sway, turning on the spot)
