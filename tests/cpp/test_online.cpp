@@ -543,6 +543,31 @@ TEST(OnlineEstimator, TreadmillBeltFromTheStanceFeet) {
   }
 }
 
+// Valid only with a gait phase: with the position noise set far above any motion
+// (meas_position_std_m 1e100) the vertical phasor decays to 0, and no frame is valid without a time
+// to the next step (MODEL_NOT_HOLDING), on a treadmill with heels and over ground.
+TEST(OnlineEstimator, NotValidWithoutAGaitPhase) {
+  OnlineConfig config;
+  config.meas_position_std_m = 1e100;
+  for (const bool treadmill : {true, false}) {
+    SyntheticTreadmill walk;
+    if (!treadmill) walk.pelvis.speed_mps = walk.belt_mps = 1.2;
+    OnlineEstimator est(4, 2, 1.0, config, 2);
+    double p[18];
+    int valid = 0, without_phase = 0;
+    for (int k = 0; k < 2000; ++k) {  // 20 s at 100 Hz
+      walk.frame(k / 100.0, p);
+      const OnlineEstimate& e = est.update(k / 100.0, p);
+      valid += e.valid;
+      if (std::isnan(e.next_step_in_s)) {
+        ++without_phase;
+        EXPECT_FALSE(e.valid) << (treadmill ? "treadmill" : "over ground") << ", frame " << k;
+      }
+    }
+    EXPECT_GT(without_phase, 0) << "the phasor never decayed: the test does not reach its case";
+  }
+}
+
 // Without feet or a belt speed the same walk is not valid (the pelvis does not travel: NOT_MOVING);
 // a known belt speed (set at any time) gives the walking speed.
 TEST(OnlineEstimator, TreadmillWithoutFeetIsNotValidAndAKnownBeltServes) {
