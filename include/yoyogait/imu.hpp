@@ -9,3 +9,4 @@
 #include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"
+#include "yoyogait/imu/speed_variance.hpp"

@@ -50,6 +50,16 @@ inline GaitFilter::Prediction GaitFilter::turned(double angle_rad, double A0, bo
   return p;
 }
 
+// The mean of the filter's own model h_s >= 0 ahead (docs/online.md sec. 5), in closed form: dA0 and
+// dw decay as exp(-t / tau) (accel_tau_s, omega_rate_tau_s), so A0(h) = A0 + dA0 tau_a (1 -
+// e^{-h/tau_a}), w(h) = w + dw tau_b (1 - e^{-h/tau_b}) and the phasors turn by the integral of w(t);
+// each rate weighted by the share of it that its std does not hide (x^2 / (x^2 + lambda P)), and the
+// oscillation by exp(-s2 / 2), s2 the variance of the turn over h (its harmonic by exp(-2 s2)): the
+// mean under the model's own phase uncertainty. Second harmonics at the turned phasors unless the
+// bank is running. with_std: the covariance is propagated by the filter's prediction (transition
+// Jacobian and process noise, sec. 2.1-2.2) in steps of at most sample_time_s, scaled by the std
+// scale lambda. Copies only; no allocation. With decay, its exp factors are the caller's cache (no
+// expm1 at a repeated h_s).
 inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
   const GaitFilterConfig& g = cfg_.gait_filter;
   return forecast_at(h_s, with_std, -std::expm1(-h_s / g.accel_tau_s), -std::expm1(-h_s / g.omega_rate_tau_s));

@@ -175,17 +175,8 @@ class GaitFilter {
   /// harmonics added unless harmonics is false or the bank is running. Standing: (A0, 0).
   Prediction predict(double h_s, bool harmonics = true) const noexcept;  // gait/forecast.hpp
 
-  /// The model's forecast (yoyogait::Forecast, rates included; docs/online.md sec. 5): the mean of
-  /// the filter's own model h_s >= 0 ahead, in closed form: dA0 and dw decay as
-  /// exp(-t / tau) (accel_tau_s, omega_rate_tau_s), so A0(h) = A0 + dA0 tau_a (1 - e^{-h/tau_a}),
-  /// w(h) = w + dw tau_b (1 - e^{-h/tau_b}) and the phasors turn by the integral of w(t); each
-  /// rate weighted by the share of it that its std does not hide (x^2 / (x^2 + lambda P)), and the
-  /// oscillation by exp(-s2 / 2), s2 the variance of the turn over h (its harmonic by exp(-2 s2)):
-  /// the mean under the model's own phase uncertainty. Second harmonics at the turned phasors
-  /// unless the bank is running. with_std: the covariance is
-  /// propagated by the filter's prediction (transition Jacobian and process noise, sec. 2.1-2.2)
-  /// in steps of at most sample_time_s, scaled by the std scale lambda. Copies only; no allocation.
-  /// Defined in gait/forecast.hpp. decay: the caller's cache of the exp factors (no expm1 at a repeated h_s).
+  /// The model's forecast h_s >= 0 ahead (yoyogait::Forecast, rates included; with_std: the covariance
+  /// too). Defined and described in gait/forecast.hpp. decay: the caller's cache of the exp factors.
   Forecast forecast(double h_s, bool with_std) const noexcept;
   Forecast forecast(double h_s, bool with_std, gait::HorizonDecay& decay) const noexcept;
   /// The most covariance steps forecast takes (beyond 64 sample times, longer steps).

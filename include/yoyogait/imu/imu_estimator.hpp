@@ -26,6 +26,7 @@
 #include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"
+#include "yoyogait/imu/speed_variance.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/online/validity.hpp"
 
@@ -44,12 +45,12 @@ class ImuOnlineEstimator {
         int_z_(config_.highpass_tau_s),
         int_x_(config_.highpass_tau_s),
         pendulum_(pendulum_settings(config_)),
+        speed_var_(config_.speed_rel_std, config_.max_speed_mps, locked_min_hz(config_)),
         gravity_gain_(config_.gravity_tau_s),
         mag_gate_(config_.mag_norm_tolerance, config_.gravity_tau_s) {
     fwd_sign_ = config_.forward_negative ? -1.0 : 1.0;
     input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
-    // A frequency at a bound of the estimator's range is a filter that has not locked.
-    f_locked_min_hz_ = 1.02 * config_.estimator.gait_filter.f_min_hz;
+    f_locked_min_hz_ = locked_min_hz(config_);
     f_locked_max_hz_ = 0.98 * config_.estimator.gait_filter.f_max_hz;
     online::Validity::Settings vs;
     vs.f_min_hz = config_.estimator.gait_filter.f_min_hz;
@@ -73,7 +74,8 @@ class ImuOnlineEstimator {
     started_before_ = false;
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = phase_ = 0.0;
-    vz2_lp_ = vz2_step_lp_ = az2_lp_ = yaw_rate_lp_rad_s_ = 0.0;
+    vz2_step_lp_ = yaw_rate_lp_rad_s_ = 0.0;
+    speed_var_.clear();
     heading_tick_ = {1.0, 0.0};
     pendulum_.clear();
     heading_ = {1.0, 0.0};
@@ -255,6 +257,8 @@ class ImuOnlineEstimator {
     if (const char* e = c.validate()) throw std::invalid_argument(e);
     return c;
   }
+  // A frequency at a bound of the estimator's range is a filter that has not locked.
+  static double locked_min_hz(const ImuConfig& c) noexcept { return 1.02 * c.estimator.gait_filter.f_min_hz; }
   static imu::Pendulum::Settings pendulum_settings(const ImuConfig& c) noexcept {
     imu::Pendulum::Settings s;
     s.length_m = c.sensor_height_m;
@@ -297,8 +301,8 @@ class ImuOnlineEstimator {
   }
 
   // After each estimator sample: its stds made honest (as OnlineEstimator does: scaled by the
-  // innovations' excess, plus what a transient adds, at least Validity::pinned_std_hz() at a bound of the range,
-  // plus the pendulum's model error for the speed) and the harmonic check on the fed v_z.
+  // innovations' excess, plus what a transient adds, at least Validity::pinned_std_hz() at a bound of the range;
+  // the speed's the pendulum's terms, imu::SpeedVariance) and the harmonic check on the fed v_z.
   void sampled(const GaitState& prior, double dt_s, double vz_mean, double az2_mean) noexcept {
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
@@ -334,47 +338,19 @@ class ImuOnlineEstimator {
       const double half = 0.5 * (config_.estimator.gait_filter.f_max_hz - config_.estimator.gait_filter.f_min_hz);
       f_var += half * half;
     }
-    const double pendulum_mps = pendulum_.speed_mps(), model_std = config_.speed_rel_std * pendulum_mps;
-    double s_var = (pendulum_mps > 0.0 ? 0.0 : k * k * est_.speed_std_mps * est_.speed_std_mps) + tv_s +
-                   model_std * model_std;
-    // While the pendulum speed rises from 0 (excursion_tau_s) or the lock is off, the speed is as
-    // uncertain as the pendulum's own estimate of where it goes.
-    const double gap = pendulum_.target_speed_mps() - (pendulum_mps > 0.0 ? pendulum_mps : est_.speed_mps);
-    s_var += gap * gap;
-    // The excursion's own uncertainty (the filter's |Z|, scaled as its stds are): while the phasor's
-    // amplitude converges after a lock, h and with it the speed are low, and the target with them.
-    s_var += k * k * pendulum_mps * pendulum_mps * pendulum_.speed_rel_var();
-    // The pendulum speed is taken at the estimate's frequency: L f with L from h = 2 |Z| / w goes as
-    // sqrt(|Z| f) (h << l), so the frequency's relative std reaches the speed halved.
-    if (pendulum_mps > 0.0 && est_.step_frequency_hz > 0.0) {
-      const double v_per_f = 0.5 * pendulum_mps / est_.step_frequency_hz;  // dv/df
-      s_var += v_per_f * v_per_f * f_var;
-    }
-    // Not locked: nothing is known of the speed within what is plausible.
-    if (harmonic_off_ || est_.acquiring) s_var += config_.max_speed_mps * config_.max_speed_mps;
-    // Standing, by the detector: a slow walk it cannot tell from standing goes at the pendulum speed
-    // of the vertical motion seen (the fed v_z's low-passed RMS as the fundamental's amplitude).
-    vz2_lp_ += standing_gain_(dt_s) * (vz_mean * vz_mean - vz2_lp_);
+    imu::SpeedVariance::Sample sv;
+    sv.std_inflation = k;
+    sv.transient_var = tv_s;
+    sv.f_hz = est_.step_frequency_hz;
+    sv.f_var_hz2 = f_var;
+    sv.est_speed_mps = est_.speed_mps;
+    sv.est_speed_std_mps = est_.speed_std_mps;
+    sv.walking = est_.walking;
+    sv.locked = !(harmonic_off_ || est_.acquiring);
+    sv.vz_mean_mps = vz_mean;
+    sv.az2_mean_m2_per_s4 = az2_mean;
+    const double s_var = speed_var_.sample(pendulum_, sv, dt_s);
     vz2_step_lp_ += step_gain_(dt_s) * (vz_mean * vz_mean - vz2_step_lp_);
-    az2_lp_ += acc_gain_(dt_s) * (az2_mean - az2_lp_);
-    if (!est_.walking) {
-      const double f = est_.step_frequency_hz > f_locked_min_hz_ ? est_.step_frequency_hz : f_locked_min_hz_;
-      const double h = 2.0 * std::sqrt(2.0 * vz2_lp_) / (6.283185307179586 * f);
-      const double hidden_mps = std::fmin(pendulum_.step_length(h) * f, config_.max_speed_mps);
-      s_var += hidden_mps * hidden_mps;
-    } else if (pendulum_mps > 0.0 && est_.step_frequency_hz > 0.0) {
-      // Walking: a stop or shorter steps show in the vertical acceleration at once, a second before
-      // the filter's |Z| and the integrated v_z follow them. The pendulum speed of the vertical
-      // acceleration of the last 0.1 s (its RMS as the fundamental's amplitude, h = 2 a / w^2; the
-      // harmonics make it larger while the steps go on) below the reported one: the walker may be
-      // that much slower already.
-      const double f = est_.step_frequency_hz, w2 = 39.47841760435743 * f * f, hp = pendulum_.excursion_m() * w2;
-      if (8.0 * az2_lp_ < hp * hp) {  // its h below the pendulum's (without a square root)
-        const double h = 2.0 * std::sqrt(2.0 * az2_lp_) / w2;
-        const double slower_mps = pendulum_mps - std::fmin(pendulum_.step_length(h) * f, config_.max_speed_mps);
-        if (slower_mps > 0.0) s_var += slower_mps * slower_mps;
-      }
-    }
     f_std_ = std::sqrt(f_var);
     s_std_ = std::sqrt(s_var);
   }
@@ -490,25 +466,17 @@ class ImuOnlineEstimator {
   double sum_vx_ = 0.0, sum_vz_ = 0.0, sum_az2_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
   imu::Pendulum pendulum_;
+  imu::SpeedVariance speed_var_;
   online::Validity validity_{};
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
   /// A wrong harmonic held this long: the estimator restarts [s].
   static constexpr double kHarmonicRestartS = 1.0;
-  /// Low-pass of the fed v_z's square, for the speed std while standing [s].
-  static constexpr double kStandingTauS = 1.0;
-  double vz2_lp_ = 0.0;
-  ExpGain standing_gain_{kStandingTauS};
   /// The low-pass of the fed v_z's square over about a step, against min_vz_rms_mps [s]: once the
-  /// walker stands, it falls below a walker's within half a second (the 1 s one above holds it longer).
+  /// walker stands, it falls below a walker's within half a second (the speed's standing one holds
+  /// it a second: imu/speed_variance.hpp).
   static constexpr double kStepTauS = 0.25;
   double vz2_step_lp_ = 0.0;
   ExpGain step_gain_{kStepTauS};
-  /// Low-pass of the vertical acceleration's square, for the speed's std while walking [s]: at a
-  /// fifth of a step it falls within 0.2 s of a stop; its ripple at twice the step frequency only
-  /// widens the std where its RMS dips below the fundamental's (the harmonics hold it above).
-  static constexpr double kAccTauS = 0.1;
-  double az2_lp_ = 0.0;
-  ExpGain acc_gain_{kAccTauS};
   /// Low-pass of the yaw rate, for the step frequency's std in a turn [s].
   static constexpr double kTurnTauS = 0.5;
   double yaw_rate_lp_rad_s_ = 0.0;

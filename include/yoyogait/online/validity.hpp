@@ -207,8 +207,10 @@ class Validity {
     if (correction_rad < -3.141592653589793) correction_rad += 6.283185307179586;
     if (std::isfinite(correction_rad)) {
       phase_rate_lp_ += sg.phase * (correction_rad * inv - phase_rate_lp_);
-      onset_rate_lp_ += sg.onset * (correction_rad * inv - onset_rate_lp_);
-      onset_abs_lp_ += sg.onset * (std::fabs(correction_rad) * inv - onset_abs_lp_);
+      if (sg.onset > 0.0) {  // phase_onset_tau_s set (the IMU's)
+        onset_rate_lp_ += sg.onset * (correction_rad * inv - onset_rate_lp_);
+        onset_abs_lp_ += sg.onset * (std::fabs(correction_rad) * inv - onset_abs_lp_);
+      }
     }
   }
 
