@@ -47,8 +47,8 @@ def refuse_other_kind(ctx: click.Context, file, imu: bool) -> None:
 def imu_options(f):
     """--acc-unit, --gyr-unit, --sensor-height-m, --trial and --sensor (IMU files only)."""
     f = click.option("--sensor", default=None, metavar="LABEL",
-                     help="APDM .h5, Motion-BIDS .tsv: the sensor, by label or id (default: the one labelled Lumbar, "
-                          "Lower Back, Sacrum, Pelvis, ...).")(f)  # fmt: skip
+                     help="APDM .h5, Motion-BIDS .tsv, an IMU CSV whose columns name sensors: the sensor, by label or "
+                          "id (default: the one labelled Lumbar, Lower Back, Sacrum, Pelvis, ...).")(f)  # fmt: skip
     f = click.option("--trial", default=None, metavar="TEST/TRIAL",
                      help="Mobilise-D data.mat: the trial, e.g. Test11/Trial1 (default: the first).")(f)  # fmt: skip
     f = click.option("--sensor-height-m", type=float, default=None,
@@ -94,6 +94,12 @@ def _clipped_lines(rec) -> list[str]:
     ]
 
 
+def _sensor_name(metadata: dict) -> str:
+    """The sensor read, with its id where the file gives one beside its label (APDM)."""
+    name, sid = str(metadata["sensor"]), metadata.get("sensor_id")
+    return name if sid is None or str(sid) == name else f"{name} ({sid})"
+
+
 def inspect_imu(
     file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, sensor=None, as_json=False
 ) -> None:
@@ -134,7 +140,7 @@ def inspect_imu(
     height = f"{rec.sensor_height_m:.3f} m" if rec.sensor_height_m else "not given (default 0.95 m; --sensor-height-m)"
     lines = [
         ("file", f"{file} ({report['format']})" + (" SYNTHETIC" if rec.synthetic else "")),
-        *([("sensor", f"{rec.metadata['sensor']} ({rec.metadata['sensor_id']})")] if "sensor" in rec.metadata else []),
+        *([("sensor", _sensor_name(rec.metadata))] if "sensor" in rec.metadata else []),
         (
             "rate",
             f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular",

@@ -167,7 +167,9 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     )
 
 
-_INERTIAL_PREFIXES = ("acc", "gyr", "gyro", "mag")
+#: An inertial sensor's column: acc, accel, gyr, gyro, mag or magn as a word of the name, first
+#: (``acc_x``) or after a sensor's name (``pelvis_ACCEL_x``).
+_INERTIAL_COLUMN = re.compile(r"(?:^|[_ .:\-])(?:acc|accel|gyr|gyro|mag|magn)(?:[_ .:\-]?[xyz]\b|[_ .:\-])")
 
 
 def _two_row_header(names: list[str], axes: list[str]) -> list[str] | None:
@@ -189,8 +191,8 @@ def _two_row_header(names: list[str], axes: list[str]) -> list[str] | None:
 def _refuse_inertial(header: list[str], where) -> None:
     """An IMU table (accelerometer and gyroscope columns, no point positions) is not motion capture."""
     lower = [h.lower() for h in header]
-    inertial = [h for h in lower if h.split("_")[0] in _INERTIAL_PREFIXES]
-    has_points = any(h.endswith(("_x", ".x", " x")) and h.split("_")[0] not in _INERTIAL_PREFIXES for h in lower)
+    inertial = [h for h in lower if _INERTIAL_COLUMN.search(h)]
+    has_points = any(h.endswith(("_x", ".x", " x")) and not _INERTIAL_COLUMN.search(h) for h in lower)
     if len(inertial) >= 3 and not has_points:
         columns = ", ".join(header[lower.index(h)] for h in inertial[:6])
         if is_imu_header(header):

@@ -5,7 +5,8 @@
 ``.csv`` (mobgap)      ``samples,acc_x..acc_z,gyr_x..gyr_z``: g, deg/s, 100 Hz       :func:`read_imu_csv`
 ``.csv`` (yoyogait)    ``time_s,acc_x_mps2..,gyr_x_rad_s..``: units in the header   :func:`read_imu_csv`
 ``.csv`` (generic)     ``acc_x..`` (or ``acc_is, acc_ml, acc_pa``), ``gyr_x..`` with   :func:`read_imu_csv`
-                       ``acc_unit``/``gyr_unit``
+                       ``acc_unit``/``gyr_unit``; after a sensor's name or not
+                       (``pelvis_ACCEL_x``; ``sensor`` chooses)
 ``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z``         :func:`read_xsens_txt`
 ``.csv`` (Movella DOT) ``DeviceTag:,..`` lines, ``PacketCounter,SampleTimeFine,..``    :func:`read_dot_csv`
 ``.h5`` (APDM/Opal)    ``/Sensors/<id>/Accelerometer`` (v5), ``/<case>/Calibrated``   :func:`read_apdm_h5`
@@ -69,14 +70,37 @@ def _unit(value, table: dict, option: str, where) -> float:
     return table[key]
 
 
+#: An IMU column (lower case): the sensor's name when the table has one before it (``pelvis_ACCEL_x``,
+#: ``LowerBack_Acc_X``), acc/accel or gyr/gyro, the axis, and a unit when given (``acc_x_g``,
+#: ``gyr_x[deg/s]``, ``acc_x (m/s^2)``).
+_IMU_COLUMN = {
+    (kind, a): re.compile(
+        rf"^(?:(?P<sensor>.+?)[_ .:\-])?{kind}(?:o|el)?[_ .:]?{_AXIS_NAMES[a]}"
+        rf"(?:[_ ]?[\[(]?(?P<unit>[a-z0-9/^_]+?)[\])]?)?$"
+    )
+    for kind in ("acc", "gyr")
+    for a in _AXES
+}
+
+
+def _imu_sensors(header: list[str]) -> dict[str, dict[tuple[str, str], tuple[int, str | None]]]:
+    """The sensors of a CSV header with an accelerometer and a gyro column for each axis: sensor name
+    ('' when the columns carry none) -> (kind, axis) -> (column, unit or None); the first column of each."""
+    found: dict[str, dict[tuple[str, str], tuple[int, str | None]]] = {}
+    for i, h in enumerate(header):
+        name = h.strip().lower()
+        for key, pattern in _IMU_COLUMN.items():
+            m = pattern.match(name)
+            if m:
+                found.setdefault(m["sensor"] or "", {}).setdefault(key, (i, m["unit"]))
+                break
+    return {sensor: cols for sensor, cols in found.items() if len(cols) == len(_IMU_COLUMN)}
+
+
 def is_imu_header(header: list[str]) -> bool:
     """True for a CSV header with accelerometer and gyro columns (x, y, z each, or mobgap's body-frame
-    is, ml, pa) and no point positions."""
-    lower = [h.strip().lower() for h in header]
-    axis = "(?:" + "|".join(_AXIS_NAMES.values()) + ")"
-    acc = [h for h in lower if re.match(rf"^acc(el)?[_ .:]?{axis}(?![a-z])", h)]
-    gyr = [h for h in lower if re.match(rf"^gyr(o)?[_ .:]?{axis}(?![a-z])", h)]
-    return len(acc) >= 3 and len(gyr) >= 3
+    is, ml, pa; after a sensor's name or not)."""
+    return bool(_imu_sensors(header))
 
 
 def _first_data_header(path: Path) -> list[str] | None:
@@ -130,16 +154,17 @@ def read_imu(
     elif ext == ".csv" and (layout := _dot_layout(p)) is not None:
         rec = _read_dot(p, layout, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".csv":
-        rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+        rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor=sensor)
     elif ext == ".h5":
         rec = read_apdm_h5(p, sensor=sensor, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".tsv":
         rec = read_motion_bids_imu(p, sensor=sensor, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     else:
         raise InputError(f"{p}: not an IMU file yoyogait reads (.mat, .csv, .txt, .h5, a Motion-BIDS .tsv)")
-    if sensor is not None and ext not in (".h5", ".tsv"):
+    if sensor is not None and not (ext in (".h5", ".tsv") or rec.metadata.get("layout") in ("yoyogait", "generic")):
         raise InputError(
-            f"{p}: sensor= (--sensor) chooses among the sensors of an APDM .h5 or a Motion-BIDS .tsv file only"
+            f"{p}: sensor= (--sensor) chooses among the sensors of an APDM .h5, a Motion-BIDS .tsv or an IMU CSV "
+            "whose columns carry sensor names only"
         )
     if sensor_height_m is not None:
         if not (np.isfinite(sensor_height_m) and 0.1 < sensor_height_m <= 3.0):
@@ -155,12 +180,13 @@ def read_imu(
 # ----------------------------------------------------------------------------------------- CSV
 
 
-def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=None) -> ImuRecording:
     """An IMU CSV: the mobgap layout (``samples`` column, g and deg/s at 100 Hz, a
     ``participant_metadata.json`` beside the cohort folders for the sensor height), yoyogait's
     (``time_s``, units in the column names ``acc_x_mps2``/``acc_x_g``, ``gyr_x_rad_s``/``gyr_x_deg_s``)
     or a generic one (``acc_x``.. and ``gyr_x``.. with ``acc_unit``, ``gyr_unit`` and a time column
-    or ``rate_hz``)."""
+    or ``rate_hz``). Columns may carry a sensor's name before them (``pelvis_ACCEL_x``): with several
+    sensors the lower back's is read (by name: Lumbar, Pelvis, ...) or ``sensor``'s."""
     p = Path(path)
     header = _first_data_header(p)
     if header is None or not is_imu_header(header):
@@ -185,8 +211,12 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
         gyr_cols = [lower.index(f"gyr_{a}") for a in _AXES]
         sensor_height = _mobgap_sensor_height(p)
     else:
-        acc_cols, acc_scale = _columns(lower, "acc", ACC_UNITS, acc_unit, "acc_unit", p)
-        gyr_cols, gyr_scale = _columns(lower, "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
+        sensors = _imu_sensors(header)
+        chosen = _choose_csv_sensor(sensors, sensor, p)
+        if chosen:
+            metadata["sensor"] = chosen
+        acc_cols, acc_scale = _columns(sensors[chosen], "acc", ACC_UNITS, acc_unit, "acc_unit", p)
+        gyr_cols, gyr_scale = _columns(sensors[chosen], "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
         tcol = next((lower.index(n) for n in ("time_s", "time", "t") if n in lower), None)
         if tcol is not None:
             time_s = table[:, tcol]
@@ -195,7 +225,7 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuReco
             rate = float(rate_hz)
             time_s = np.arange(table.shape[0]) / rate
         else:
-            raise InputError(f"{p}: no time column (time_s); give the sample rate with rate_hz (--rate-hz)")
+            raise InputError(f"{p}: no time column (time_s); give the sample rate with rate_hz (--capture-rate-hz)")
         if rate is None:
             rate = _median_rate_hz(time_s)
         metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
@@ -221,25 +251,39 @@ def _header_line(p: Path) -> int:
     return 0
 
 
-def _columns(lower, kind, units, override, option, where) -> tuple[list[int], float]:
+def _choose_csv_sensor(sensors: dict, sensor, p: Path) -> str:
+    """The sensor of an IMU CSV's columns (_imu_sensors): ``sensor``'s, the only one, or the lower back's by name."""
+    named = [n for n in sensors if n]
+    if sensor is not None:
+        want = _label_key(str(sensor))
+        for n in named:
+            if _label_key(n) == want:
+                return n
+        have = f"the columns name {', '.join(named)}" if named else "its columns carry no sensor names"
+        raise InputError(f"{p}: no sensor {sensor!r} (sensor=, --sensor); {have}")
+    if len(sensors) == 1:
+        return next(iter(sensors))
+    for label in LOWER_BACK_LABELS:
+        for n in named:
+            if _label_key(n) == label:
+                return n
+    raise InputError(
+        f"{p}: IMU columns of several sensors ({', '.join(n or '(no name)' for n in sensors)}), none named as the "
+        "lower back's (Lumbar, Pelvis, Sacrum, ...): choose one with sensor= (--sensor)"
+    )
+
+
+def _columns(sensor_cols, kind, units, override, option, where) -> tuple[list[int], float]:
+    """The columns of x, y, z of one kind of a sensor (_imu_sensors) and the scale of their unit."""
     flag = "--" + option.replace("_", "-")
     cols, scales = [], set()
     for a in _AXES:
-        found = None
-        for i, h in enumerate(lower):
-            m = re.match(rf"^{kind}(?:o|el)?[_ .:]?{_AXIS_NAMES[a]}(?:[_ ]?(?:\[)?([a-z0-9/^_]+?)(?:\])?)?$", h)
-            if m:
-                found = (i, m.group(1))
-                break
-        if found is None:
-            raise InputError(f"{where}: no {kind}_{a} column")
-        cols.append(found[0])
-        if found[1]:
-            if found[1] not in units:
-                raise InputError(
-                    f"{where}: unknown unit {found[1]!r} in column {lower[found[0]]!r}; pass {option} ({flag})"
-                )
-            scales.add(units[found[1]])
+        i, unit = sensor_cols[(kind, a)]
+        cols.append(i)
+        if unit:
+            if unit not in units:
+                raise InputError(f"{where}: unknown unit {unit!r} in the {kind} {a} column; pass {option} ({flag})")
+            scales.add(units[unit])
     if override is not None:
         return cols, _unit(override, units, option, where)
     if len(scales) == 1:
@@ -404,7 +448,7 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
     if missing:
         raise InputError(f"{p}: the export lacks {', '.join(missing)} (export calibrated data)")
     if rate is None:
-        raise InputError(f"{p}: no '// Update Rate' line; give the sample rate with rate_hz (--rate-hz)")
+        raise InputError(f"{p}: no '// Update Rate' line; give the sample rate with rate_hz (--capture-rate-hz)")
     cols = [header.index(n) for n in ["PacketCounter", *need]]
     try:
         table = np.array([[float(r[c]) if c < len(r) and r[c] != "" else np.nan for c in cols] for r in rows])
@@ -725,7 +769,9 @@ def read_apdm_h5(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=Non
         elif rate:
             time_s = np.arange(acc.shape[0]) / rate
         else:
-            raise InputError(f"{p}: sensor {name!r} has neither Time nor a sample rate; pass rate_hz (--rate-hz)")
+            raise InputError(
+                f"{p}: sensor {name!r} has neither Time nor a sample rate; pass rate_hz (--capture-rate-hz)"
+            )
     rec = ImuRecording(
         time_s=time_s,
         acc_mps2=acc,

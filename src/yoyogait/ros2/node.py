@@ -559,8 +559,8 @@ class GaitNode:
         except InputError as exc:
             text = str(exc).replace("--length-unit-m ", "length_unit_m:=").replace("--up-axis ", "up_axis:=")
             text = (
-                text.replace("pass --rate-hz", "check the stamps")
-                .replace("--rate-hz", "the stamps")
+                text.replace("pass --capture-rate-hz", "check the stamps")
+                .replace("--capture-rate-hz", "the stamps")
                 .replace(f"topic {where}: ", "")
             )
             self.implausible = text

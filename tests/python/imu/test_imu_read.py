@@ -102,6 +102,43 @@ def test_mobgap_body_frame_columns_are_the_sensor_axes(tmp_path):
     assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-9) and np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-9)
 
 
+def _sensors_csv(path, rec, sensors, acc_scale=1 / GRAVITY_MPS2, gyr_scale=180 / np.pi):
+    """A table as KielMAT and others write it: an index column, then sensor-named columns (``pelvis_ACCEL_x``),
+    no time, g and deg/s; every sensor the SYNTHETIC lower back's signals, its gyro 0.01 rad/s more per position."""
+    cols = [""] + [f"{s}_{kind}_{a}" for s in sensors for kind in ("ACCEL", "GYRO") for a in "xyz"]
+    parts = [np.arange(rec.n_samples)]
+    for k, _ in enumerate(sensors):
+        parts += [rec.acc_mps2 * acc_scale, (rec.gyr_rad_s + 0.01 * k) * gyr_scale]
+    np.savetxt(path, np.column_stack(parts), delimiter=",", header=",".join(cols), comments="")
+
+
+def test_sensor_named_columns_read_the_lower_backs_sensor(tmp_path):
+    """Columns after a sensor's name (pelvis_ACCEL_x, no time column): an IMU table; of several sensors the one
+    named as the lower back's is read, another by sensor=, and an unknown sensor= is one line naming those there."""
+    rec = make_imu_walk(duration_s=4.0).recording
+    p = tmp_path / "sensors.csv"
+    _sensors_csv(p, rec, ["left_foot", "Pelvis"])
+    assert is_imu_file(p)
+    back = read_imu(p, acc_unit="g", gyr_unit="deg_s", rate_hz=100.0)
+    assert back.metadata["sensor"] == "pelvis"
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-6) and np.allclose(back.gyr_rad_s, rec.gyr_rad_s + 0.01)
+    foot = read_imu(p, acc_unit="g", gyr_unit="deg_s", rate_hz=100.0, sensor="left_foot")
+    assert np.allclose(foot.gyr_rad_s, rec.gyr_rad_s, atol=1e-9)
+    with pytest.raises(
+        InputError, match=r"no sensor 'wrist' \(sensor=, --sensor\); the columns name left_foot, pelvis"
+    ):
+        read_imu(p, acc_unit="g", gyr_unit="deg_s", rate_hz=100.0, sensor="wrist")
+
+
+def test_sensor_named_columns_of_no_lower_back_ask_for_the_sensor(tmp_path):
+    """Several sensors, none named as the lower back's: one line naming them and sensor= (--sensor)."""
+    rec = make_imu_walk(duration_s=2.0).recording
+    p = tmp_path / "feet.csv"
+    _sensors_csv(p, rec, ["left_foot", "right_foot"])
+    with pytest.raises(InputError, match=r"several sensors \(left_foot, right_foot\).*--sensor"):
+        read_imu(p, acc_unit="g", gyr_unit="deg_s", rate_hz=100.0)
+
+
 def test_an_inertial_table_the_imu_readers_cannot_take_says_what_they_need(tmp_path):
     """Accelerometer columns without a gyro, read as motion capture: one line naming what an IMU table needs."""
     p = tmp_path / "acc_only.csv"
@@ -109,6 +146,10 @@ def test_an_inertial_table_the_imu_readers_cannot_take_says_what_they_need(tmp_p
     assert not is_imu_file(p)
     with pytest.raises(InputError, match="an IMU table needs acc and gyr columns for each axis: x, y, z or is, ml, pa"):
         read(p)
+    named = tmp_path / "named_acc_only.csv"  # after a sensor's name too, not a point named pelvis_ACCEL
+    named.write_text(",pelvis_ACCEL_x,pelvis_ACCEL_y,pelvis_ACCEL_z\n0,0.9,0,0\n1,0.9,0,0\n")
+    with pytest.raises(InputError, match="an IMU table needs acc and gyr columns"):
+        read(named, rate_hz=100.0)
 
 
 def test_gravity_in_the_wrong_unit_names_the_option(tmp_path):
@@ -284,6 +325,6 @@ def test_inspect_on_a_motion_bids_imu_file_names_the_sensor_and_finds_the_cadenc
     p = _bids_imu(tmp_path, walk.recording)
     assert main(["inspect", str(p)]) == 0
     out = capsys.readouterr().out
-    assert "IMU (motion_bids)" in out and "pelvis (pelvis)" in out and "100 Hz" in out
+    assert "IMU (motion_bids)" in out and "\nsensor         pelvis\n" in out and "100 Hz" in out
     cadence = float(out.split("cadence")[1].split("steps/min")[0])
     assert abs(cadence - 60 * walk.truth.step_frequency_hz[-1]) < 2.0

@@ -260,6 +260,7 @@ def test_bad_input_is_one_line_naming_the_topic_and_the_node_keeps_running(walk,
         lines = [line for line in err.splitlines() if needle in line]
         assert len(lines) == 1, (needle, err[-3000:])
     assert "length_unit_m:=0.001" in err
+    assert "or if the rate is wrong check the stamps" in err and "--capture-rate-hz" not in err  # no CLI options
     c = loop2.gait.counts
     lost = int(np.isnan(centre_mm[1:]).any(axis=1).sum())  # frames of the file where every pelvis marker is lost
     assert c.zero_stamps == 1 and c.future_stamps == 1 and c.non_finite == 1 + lost
