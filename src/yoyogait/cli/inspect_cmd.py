@@ -99,6 +99,7 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
             "belt_speed_mps": treadmill.belt_speed_mps,
             "belt_from": treadmill.belt_from,
             "pelvis_range_m": treadmill.pelvis_range_m,
+            "in_place": treadmill.in_place,
             "stance_foot_speed_mps": treadmill.stance_foot_speed_mps,
             "summary": treadmill.reason,
         },
@@ -231,7 +232,12 @@ def command(
         report["treadmill"]["detected"] or "stays" in report["treadmill"]["summary"]
     ):
         lines.append(("treadmill", report["treadmill"]["summary"]))
-    lines.append(("walking", f"{report['walking_s']:.2f} s (from {report['walking_from']})"))
+    walking = f"{report['walking_s']:.2f} s (from {report['walking_from']})"
+    tm = report["treadmill"]
+    if tm is not None and tm["in_place"] and report["walking_s"] > 0:
+        # Steps (or foot motions) without walking over ground: a sit-to-stand's feet, steps in place.
+        walking += f", in place: the pelvis stays within {tm['pelvis_range_m']:.2f} m"
+    lines.append(("walking", walking))
     speed = _fmt(report["mean_speed_mps"], "m/s")
     if report["mean_signed_speed_mps"] is not None and forward == "norm":
         speed += f" (2-norm; {report['mean_signed_speed_mps']:.2f} m/s signed along the heading)"

@@ -39,6 +39,22 @@ def test_inspect_reports_rate_points_pelvis_axis_walking_speed_and_step_frequenc
     assert "Yoyo-model -90 deg" in out
 
 
+def test_foot_contacts_without_travel_are_said_to_be_in_place(tmp_path, capsys):
+    """A SYNTHETIC chair-stand test (feet that move, a pelvis that does not travel): the walking line says the
+    contacts are in place, beside the pelvis's range; a walk over ground's does not."""
+    from builders import write_trc
+    from yoyogait import synthetic_conditions as sc
+
+    path = tmp_path / "chair_stand.trc"
+    write_trc(path, sc.render("chair-stand").recording)
+    code, out, _ = run(capsys, path)
+    line = next(x for x in out.splitlines() if x.startswith("walking"))
+    assert code == 0 and "(from foot contacts), in place: the pelvis stays within 0.2" in line, line
+    walk = write_walk_c3d(tmp_path / "walk.c3d", walk_s=6.0)
+    code, out, _ = run(capsys, walk)
+    assert code == 0 and "in place" not in out
+
+
 def test_inspect_json_and_overrides(tmp_path, capsys):
     """--json gives the same facts machine-readably; --up-axis and --point override the choices."""
     path = write_walk_c3d(tmp_path / "walk.c3d")
