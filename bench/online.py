@@ -15,8 +15,9 @@
   Hz) within the first 3 s of walking and after them (reference: the synthetic truth, on real data
   the cadence from gait events, as in the evaluation); the lag of the online v_z behind the offline
   centred Savitzky-Golay velocity (cross-correlation, ms); the reconstruction errors of vx_hat_mps and
-  vz_hat_mps against the offline velocities (mean squared, 1e-2 (m/s)^2, walking after 3 s; v_x against
-  the offline velocity along the heading). The offline default estimator's figures on the same
+  vz_hat_mps at the frames' own times (mean squared, 1e-2 (m/s)^2, walking after 3 s): against a
+  synthetic walk's own velocities, on real data against the offline velocities computed at the
+  capture rate (v_x along the heading). The offline default estimator's figures on the same
   samples are given beside them. A benchmark, not a test.
 * Every rate of ``--rates`` against the same walks at ``--reference-hz`` (25) input: the synthetic
   lab rendered once at a rate all of them divide and decimated, the real recordings against every
