@@ -165,6 +165,11 @@ struct Transients {
   }
 };
 
+bool confidently_wrong(double estimate, double std, double truth) {
+  const double error = std::fabs(estimate - truth);
+  return error > 0.15 && error > 2.0 * std;
+}
+
 struct Tally {
   long cases = 0, refused = 0, frames = 0, valid = 0, failures = 0;
   long realistic_cases = 0, realistic_valid = 0, wrong_f = 0, wrong_speed = 0;
@@ -192,6 +197,17 @@ struct Tally {
       std::printf("WRONG %s case %ld frame %ld t %.9g: %s %.3f +- %.3f, truth %.3f\n", path, case_index, frame, t_s, what,
                   estimate, std, truth);
   }
+  // A valid estimate of a realistic case against the walk at this frame: its step frequency where
+  // score_f, its speed where score_speed (either confidently wrong counts the frame once).
+  template <class Estimate>
+  void score(const Estimate& e, bool score_f, double f_hz, bool score_speed, double speed_mps) {
+    ++realistic_valid;
+    const bool bad_f = score_f && confidently_wrong(e.step_frequency_hz, e.step_frequency_std_hz, f_hz);
+    const bool bad_speed = score_speed && confidently_wrong(e.speed_mps, e.speed_std_mps, speed_mps);
+    if (bad_f) wrong(wrong_f, "f [Hz]", e.step_frequency_hz, e.step_frequency_std_hz, f_hz);
+    if (bad_speed) wrong(wrong_speed, "speed [m/s]", e.speed_mps, e.speed_std_mps, speed_mps);
+    case_wrong += bad_f || bad_speed;
+  }
   // A realistic case's end: the share of its frames that were confidently wrong (the honesty target: at most 1 %).
   void end_case(long frames_n, bool changing) {
     ++realistic_cases;
@@ -214,11 +230,6 @@ struct Tally {
     case_wrong = 0;
   }
 };
-
-bool confidently_wrong(double estimate, double std, double truth) {
-  const double error = std::fabs(estimate - truth);
-  return error > 0.15 && error > 2.0 * std;
-}
 
 // A case's corruption level and whether its settings leave their defaults (drawn in this order).
 bool wild_case(Random& r) {
@@ -341,15 +352,8 @@ void markers_case(long c, Random& r, Random& tr, Tally& tally) {
                              e.belt_speed_mps, e.belt_speed_std_mps};
     check(tally, e, finite, config.estimator.gait_filter, config.max_plausible_speed_mps);
     if (e.valid && std::isnan(e.next_step_in_s)) tally.fail("valid without a time to the next step");
-    if (scored && e.valid) {
-      // The step frequency while there are steps to see (a third of the amplitude), the speed throughout.
-      ++tally.realistic_valid;
-      const bool wrong_f = amp > 0.3 && confidently_wrong(e.step_frequency_hz, e.step_frequency_std_hz, f_now_hz);
-      const bool wrong_speed = turn_rad_s == 0.0 && confidently_wrong(e.speed_mps, e.speed_std_mps, v_now_mps);
-      if (wrong_f) tally.wrong(tally.wrong_f, "f [Hz]", e.step_frequency_hz, e.step_frequency_std_hz, f_now_hz);
-      if (wrong_speed) tally.wrong(tally.wrong_speed, "speed [m/s]", e.speed_mps, e.speed_std_mps, v_now_mps);
-      tally.case_wrong += wrong_f || wrong_speed;
-    }
+    // The step frequency while there are steps to see (a third of the amplitude), the speed on straight walks.
+    if (scored && e.valid) tally.score(e, amp > 0.3, f_now_hz, turn_rad_s == 0.0, v_now_mps);
     if (r.chance(0.01)) {
       const double h_s = r.chance(0.8) ? r.uniform(0.0, 1.0) : r.chance(0.5) ? std::nan("") : -1.0;
       const yoyogait::OnlinePrediction p = est->predict(h_s);
@@ -449,14 +453,7 @@ void imu_case(long c, Random& r, Random& tr, Tally& tally) {
                              e.gait_phase,  e.input_latency_s};
     check(tally, e, finite, config.estimator.gait_filter, config.max_speed_mps);
     if (e.valid && std::isnan(e.next_step_in_s)) tally.fail("valid without a time to the next step");
-    if (realistic && e.valid) {
-      ++tally.realistic_valid;
-      const bool wrong_f = walk.amplitude(tau_s) > 0.3 && confidently_wrong(e.step_frequency_hz, e.step_frequency_std_hz, f_now_hz);
-      const bool wrong_speed = confidently_wrong(e.speed_mps, e.speed_std_mps, v_now_mps);
-      if (wrong_f) tally.wrong(tally.wrong_f, "f [Hz]", e.step_frequency_hz, e.step_frequency_std_hz, f_now_hz);
-      if (wrong_speed) tally.wrong(tally.wrong_speed, "speed [m/s]", e.speed_mps, e.speed_std_mps, v_now_mps);
-      tally.case_wrong += wrong_f || wrong_speed;
-    }
+    if (realistic && e.valid) tally.score(e, walk.amplitude(tau_s) > 0.3, f_now_hz, true, v_now_mps);
     if (r.corrupt(0.0005)) est->reset();
   }
   if (realistic) tally.end_case(samples, walk.on);
