@@ -824,8 +824,12 @@ def online_figure(
     if t.size == 0:
         raise InputError("the online result has no frames to draw")
     valid = np.asarray(result.valid, dtype=bool)
-    f_valid = np.asarray(result.step_frequency_hz, dtype=float)[valid]
-    s_valid = np.asarray(result.speed_mps, dtype=float)[valid]
+    # The y-limits follow the valid estimates (a not-valid start-up must not flatten them); with none
+    # valid, the estimate while walking (else all of it), so that its line is in view.
+    shown = valid if valid.any() else np.asarray(result.walking, dtype=bool)
+    shown = shown if shown.any() else np.ones_like(valid)
+    f_shown = np.asarray(result.step_frequency_hz, dtype=float)[shown]
+    s_shown = np.asarray(result.speed_mps, dtype=float)[shown]
     # The references, on their own time axis; none without one.
     given = reference_time_s is not None
     ref_t = np.asarray(reference_time_s if given else t, dtype=float)
@@ -871,7 +875,7 @@ def online_figure(
         label, style = _reference_style(reference_quality, synthetic and reference_quality is None)
         ax_f.plot(ref_t, ref["f"], label=label, **style)
     ax_f.set_ylabel("step frequency (Hz)")
-    _limits(ax_f, f_valid, ref["f"], low=0.0, high=2.5, cap=4.0)
+    _limits(ax_f, f_shown, ref["f"], low=0.0, high=2.5, cap=4.0)
 
     _valid_and_not(ax_s, t, result.speed_mps, result.speed_std_mps, valid, colour=_EST2, label="speed")
     if ref["speed"] is not None and np.isfinite(ref["speed"]).any():
@@ -880,7 +884,7 @@ def online_figure(
             ref_t, ref["speed"], color=_REF, lw=1.0, ls="--", label="truth" if truth else "reference (stride mean)"
         )
     ax_s.set_ylabel("speed (m/s)")
-    _limits(ax_s, s_valid, ref["speed"], low=0.0, high=1.5, cap=3.5)
+    _limits(ax_s, s_shown, ref["speed"], low=0.0, high=1.5, cap=3.5)
 
     if ref["walking"] is not None:
         rows.insert(0, (f"walking ({'truth' if synthetic else 'reference'})", ref_t, ref["walking"] > 0.5, _REF))

@@ -73,3 +73,21 @@ def test_evaluate_online_draws_each_recordings_online_figure_or_the_summary(walk
     figures = sorted(p.name for p in (out / "figures").iterdir())
     assert "distributions.png" in figures and len(figures) == 3
     assert "`online`, worst:" in (out / "index.md").read_text()
+
+
+def test_with_no_estimate_valid_the_panels_limits_follow_the_estimate_so_its_line_is_in_view(walks):
+    """Nothing valid and the step frequency at 3.2 Hz while walking: the panel reaches above it (the
+    valid-only limits ended at 2.8 Hz and drew the grey line out of view)."""
+    import dataclasses
+
+    rec = io.read(sorted(walks.glob("*.trc"))[0])
+    res = OnlineEstimator.for_recording(rec).run(rec)
+    walking = np.asarray(res.walking, dtype=bool)
+    assert walking.any()
+    res = dataclasses.replace(
+        res,
+        valid=np.zeros_like(res.valid),
+        step_frequency_hz=np.where(walking, 3.2, np.asarray(res.step_frequency_hz, dtype=float)),
+    )
+    ax_f = plots.online_figure(res, title="walk").axes[1]
+    assert ax_f.get_ylim()[1] > 3.2
