@@ -1,4 +1,4 @@
-// Online gait estimation from one lower-back IMU as a filter: samples as CSV lines on standard
+// Online gait estimation from one lower-back IMU as a filter: samples as lines on standard
 // input, one estimate per sample as a CSV line on standard output, flushed at once (a pipe to an
 // exoskeleton's or a walking aid's controller).
 //
@@ -7,8 +7,9 @@
 //                                                0.95); FORWARD_AXIS: x, y, z, -x, -y or -z, the sensor
 //                                                axis pointing forward (default z)
 // Input line:  t_s, ax, ay, az, gx, gy, gz [, mx, my, mz]   (specific force in m/s^2, angular rate in
-//              rad/s, both in the sensor frame; an optional magnetometer in any unit; an empty cell
-//              or "nan" makes the sample non-finite: ignored; lines that are not numbers are skipped)
+//              rad/s, both in the sensor frame; an optional magnetometer in any unit; cells separated
+//              by commas, or by spaces or tabs; an empty cell or "nan" makes the sample non-finite:
+//              ignored; lines that are not numbers are skipped, from the second on with a note on stderr)
 // Output line: every field of yoyogait::ImuEstimate (include/yoyogait/imu/imu_estimate.hpp), in its
 //              order, its name in the header; booleans and enums as integers.
 #include <cmath>
@@ -67,12 +68,17 @@ int main(int argc, char** argv) {
     std::printf("\n");
     std::fflush(stdout);
     std::vector<double> cells;
+    example::SkipNote skip("imu_stdin");
     std::string line;
     char buf[4096];
     while (std::fgets(buf, sizeof buf, stdin)) {
       line = buf;
       while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-      if (line.empty() || !example::parse_cells(line, cells)) continue;  // a header or a comment
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;  // a blank line
+      if (!example::parse_cells(line, cells)) {  // a header or a comment
+        skip.skipped(line);
+        continue;
+      }
       if (cells.size() != 7 && cells.size() != 10) {
         std::fprintf(stderr, "imu_stdin: a sample is t_s, ax, ay, az, gx, gy, gz [, mx, my, mz]; got %zu cells\n",
                      cells.size());

@@ -1,10 +1,11 @@
-// Online gait estimation as a filter: motion-capture frames as CSV lines on standard input, one
+// Online gait estimation as a filter: motion-capture frames as lines on standard input, one
 // estimate per frame as a CSV line on standard output, flushed at once (a pipe to a controller).
 //
 //   online_stdin [UP_AXIS] [LENGTH_UNIT_M]    UP_AXIS: x, y or z (default z); LENGTH_UNIT_M: metres
 //                                            per coordinate unit (default 1; 0.001 for millimetres)
 // Input line:  t_s, x1, y1, z1, x2, y2, z2, ...   (the number of points from the first frame, <= 16;
-//              an empty cell or "nan" is a missing coordinate; lines that are not numbers are skipped)
+//              cells separated by commas, or by spaces or tabs; an empty cell or "nan" is a missing
+//              coordinate; lines that are not numbers are skipped, from the second on with a note on stderr)
 // Output line: t_s, vx_mps, vz_mps, vx_hat_mps, vz_hat_mps, step_frequency_hz, step_frequency_std_hz,
 //              speed_mps, speed_std_mps, heading_rad, gait_phase, walking, status, valid, invalid_reason
 #include <cmath>
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<yoyogait::OnlineEstimator> est;
   std::size_t n_points = 0;
   std::vector<double> cells, frame;
+  example::SkipNote skip("online_stdin");
   std::string line;
   std::printf(
       "t_s,vx_mps,vz_mps,vx_hat_mps,vz_hat_mps,step_frequency_hz,step_frequency_std_hz,speed_mps,speed_std_mps,"
@@ -46,7 +48,11 @@ int main(int argc, char** argv) {
   while (std::fgets(buf, sizeof buf, stdin)) {
     line = buf;
     while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-    if (line.empty() || !example::parse_cells(line, cells)) continue;  // a header or a comment
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;  // a blank line
+    if (!example::parse_cells(line, cells)) {  // a header or a comment
+      skip.skipped(line);
+      continue;
+    }
     if (!est) {
       if (cells.size() < 4 || (cells.size() - 1) % 3 != 0 || (cells.size() - 1) / 3 > yoyogait::online::kMaxPoints) {
         std::fprintf(stderr, "online_stdin: a frame is t followed by x, y, z of 1 to 16 points; got %zu cells\n",

@@ -111,7 +111,7 @@ def test_installed_package_is_found_by_find_package(tmp_path):
 
 def _feed_online_stdin(exe):
     """examples/cpp/online_stdin answers each CSV frame with one estimate line, finds the walk's cadence and
-    says when it may be used (valid, and why not before)."""
+    says when it may be used (valid, and why not before); frames separated by spaces read the same."""
     import math
 
     lines = ["t_s,LASI_x,LASI_y,LASI_z,RASI_x,RASI_y,RASI_z"]
@@ -132,12 +132,17 @@ def _feed_online_stdin(exe):
     assert last["valid"] == "1" and last["invalid_reason"] == "0"
     first = dict(zip(rows[0].split(","), rows[1].split(",")))
     assert first["valid"] == "0" and int(first["invalid_reason"]) & 1  # acquiring
+    # Separated by spaces instead of commas (a missing coordinate as "nan"): the same estimates.
+    spaced = [line.replace(",", " ") for line in lines]
+    same = subprocess.run([str(exe), "y", "0.001"], input="\n".join(spaced) + "\n", capture_output=True, text=True)
+    assert same.returncode == 0 and same.stdout == proc.stdout, same.stderr
 
 
 def _feed_imu_stdin(exe):
     """examples/cpp/imu_stdin answers each IMU sample with one line of every ImuEstimate field, finds a
     SYNTHETIC walk's cadence and speed and says when they may be used; a sample of the wrong width is
-    one line on stderr and exit 2."""
+    one line on stderr and exit 2; samples separated by spaces or tabs read the same; lines that are not
+    numbers are skipped with one note on stderr."""
     from yoyogait.estimators.imu import IMU_ESTIMATE_FIELDS
     from yoyogait.synthetic_imu import make_imu_walk
 
@@ -160,3 +165,15 @@ def _feed_imu_stdin(exe):
     assert first["valid"] == "0" and first["reason"] == "6"  # ImuReason::kAcquiring
     bad = subprocess.run([str(exe)], input="0,0,0,9.81\n", capture_output=True, text=True)
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1 and "got 4 cells" in bad.stderr
+    # The same samples separated by spaces and tabs (as sensor streams print them): the same estimates.
+    spaced = [line.replace(",", " " if k % 2 else "\t") for k, line in enumerate(lines)]
+    same = subprocess.run(
+        [str(exe), f"{rec.sensor_height_m:.6f}"], input="\n".join(spaced) + "\n", capture_output=True, text=True
+    )
+    assert same.returncode == 0 and same.stdout == proc.stdout, same.stderr
+    # Lines that are not numbers pass with one note on stderr, not in silence (the first may be a header).
+    words = subprocess.run(
+        [str(exe)], input="time acc gyr\nt ax ay az gx gy gz\nmore words\n", capture_output=True, text=True
+    )
+    assert words.returncode == 0 and words.stderr.count("skipping lines that are not numbers") == 1, words.stderr
+    assert "t ax ay az" in words.stderr
