@@ -145,6 +145,48 @@ def test_evaluate_the_imu_data_set(datasets_dir, tmp_path, capsys):
     assert "yoyogait-imu" in text and "INDIP" in text and "Stereophoto" in text
 
 
+def _bouts_csv(folder):
+    with open(folder / "bouts.csv", newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def test_evaluate_scores_mobgaps_pipeline_on_the_same_reference_bouts(datasets_dir, tmp_path, capsys):
+    """With mobgap installed, evaluate runs its offline pipeline as the peer on every recording: a mobgap row for
+    each reference bout yoyogait is scored on, errors of a walking pipeline (not of seconds read as samples),
+    and its line in the summary."""
+    pytest.importorskip("mobgap", reason="mobgap is not installed (yoyogait[mobgap])")
+    out = tmp_path / "report"
+    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out)]) == 0
+    rows = _bouts_csv(out)
+    ours = [(r["recording"], r["reference"], r["bout"]) for r in rows if r["estimator"] == "yoyogait-imu"]
+    peer = [r for r in rows if r["estimator"] == "mobgap"]
+    assert ours and [(r["recording"], r["reference"], r["bout"]) for r in peer] == ours
+    for ref in ("INDIP", "Stereophoto"):
+        scored = [r for r in peer if r["reference"] == ref and np.isfinite(float(r["cadence_error_spm"] or "nan"))]
+        assert scored, ref
+        assert np.median([abs(float(r["cadence_error_spm"])) for r in scored]) < 10.0, scored
+        assert np.median([abs(float(r["speed_error_mps"])) for r in scored]) < 0.3, scored
+    summary = (out / "summary.md").read_text()
+    assert "| INDIP | mobgap |" in summary and "| Stereophoto | mobgap |" in summary
+    assert "mobgap failed" not in summary and "not installed" not in summary
+
+
+def test_evaluate_without_mobgap_leaves_its_column_out_with_a_note(datasets_dir, tmp_path, monkeypatch):
+    """mobgap absent: the report says so in one line and has no mobgap row; yoyogait's own rows are all there."""
+    from yoyogait.evaluation import imu as ev
+
+    def absent(rec):
+        raise ImportError("No module named 'mobgap'")
+
+    monkeypatch.setattr(ev, "run_mobgap", absent)
+    out = tmp_path / "report"
+    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out)]) == 0
+    rows = _bouts_csv(out)
+    assert rows and not any(r["estimator"] == "mobgap" for r in rows)
+    assert any(r["estimator"] == "yoyogait-imu" for r in rows)
+    assert "mobgap is not installed (pip install 'yoyogait[mobgap]')" in (out / "summary.md").read_text()
+
+
 def test_estimate_a_trial_of_a_data_mat(datasets_dir, tmp_path, capsys):
     """--trial picks a trial of a data.mat (one row per sample); an unknown one is one line naming --trial."""
     mat = str(datasets_dir / MOBGAP / "data/lab/HA/002/data.mat")

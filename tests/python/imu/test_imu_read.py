@@ -149,7 +149,7 @@ def test_an_inertial_table_the_imu_readers_cannot_take_says_what_they_need(tmp_p
     named = tmp_path / "named_acc_only.csv"  # after a sensor's name too, not a point named pelvis_ACCEL
     named.write_text(",pelvis_ACCEL_x,pelvis_ACCEL_y,pelvis_ACCEL_z\n0,0.9,0,0\n1,0.9,0,0\n")
     with pytest.raises(InputError, match="an IMU table needs acc and gyr columns"):
-        read(named, rate_hz=100.0)
+        read(named, capture_rate_hz=100.0)
 
 
 def test_gravity_in_the_wrong_unit_names_the_option(tmp_path):
