@@ -175,7 +175,7 @@ def main():
         "--estimator-period-s",
         type=float,
         default=None,
-        help="feed the estimator every this long instead of the default 0.04 s (0.0085: every frame up to 117 Hz)",
+        help="feed the estimator every this long instead of the default 0.04 s (0.0085: every frame up to 176 Hz)",
     )
     args = ap.parse_args()
     period = args.estimator_period_s
