@@ -33,18 +33,25 @@ from .options import (
 )
 
 #: What an IMU data set (Mobilise-D data.mat files) does not use: the marker path's input options and
-#: the marker evaluation's estimators, parallelism and synthetic lab.
+#: the marker evaluation's estimators, Dask cluster and synthetic lab (--jobs it takes).
 IMU_DATASET_REFUSED = (
     *MARKER_OPTIONS,
     "rate_hz",
     "estimators",
-    "jobs",
     "scheduler",
     "ship_files",
     "seed",
     "online",
     "online_feet",
 )
+
+
+def resolve_jobs(jobs: int | None) -> int:
+    """--jobs: None for every core; fewer than one is one line naming the option."""
+    jobs = parallel.default_jobs() if jobs is None else jobs
+    if jobs < 1:
+        raise InputError(f"--jobs must be at least 1, not {jobs}")
+    return jobs
 
 
 def estimator_list(value: str) -> tuple[str, ...]:
@@ -184,9 +191,7 @@ def run_evaluation(
     else:
         configs = config_estimators(config_files)
     names = ev.check_estimators(tuple(dict.fromkeys(estimator_list(estimators) + tuple(configs))), configs)
-    jobs = parallel.default_jobs() if jobs is None else jobs
-    if jobs < 1:
-        raise InputError(f"--jobs must be at least 1, not {jobs}")
+    jobs = resolve_jobs(jobs)
     if ship_files and not scheduler:
         raise InputError("--ship-files goes with --scheduler")
     if dataset not in (None, "synthetic") and os.path.lexists(out) and os.path.lexists(dataset):
@@ -313,7 +318,8 @@ def command(
     """Evaluate estimators on DATASET: 'synthetic' (built-in), a folder of recordings, or a manifest .json.
 
     A folder of Mobilise-D lower-back IMU data (data.mat files): per reference walking bout the
-    cadence, speed and stride-time errors of the online IMU estimator, the oscillator and mobgap.
+    cadence, speed and stride-time errors of the online IMU estimator, the oscillator and mobgap
+    (the recordings in parallel: --jobs).
 
     Writes Table I per estimator (Markdown, CSV), one CSV row per recording and estimator,
     Fig. 3/4-style figures and an index.md into --out (recordings and figures in parallel: --jobs,
@@ -330,7 +336,10 @@ def command(
         if len(config_files) > 1:
             raise InputError(f"{dataset}: an IMU data set is evaluated with one --config (its [imu] table)")
         imu_config = config_files[0] if config_files else None
-        evaluate_imu(dataset, Path(out), force=force, figures=mode != "none", config_file=imu_config)
+        jobs = resolve_jobs(jobs)
+        imu = evaluate_imu(dataset, Path(out), force=force, figures=mode != "none", config_file=imu_config, jobs=jobs)
+        if imu["failures"]:
+            raise click.exceptions.Exit(1)
         return
     if dataset not in (None, "synthetic"):  # the seed draws the synthetic lab's walks, nothing else
         refuse_options(ctx, dataset, ("seed",), "the synthetic lab")

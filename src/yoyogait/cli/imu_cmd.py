@@ -17,6 +17,7 @@ from ..errors import InputError, about_file
 from ..estimators.config import ImuConfig
 from ..estimators.imu import ImuReason, estimator_for
 from ..evaluation import imu as ev
+from ..evaluation.parallel import TaskFailure, run_tasks
 from ..io.imu_read import is_imu_file, read_imu
 from .options import MARKER_OPTIONS, refuse_options
 
@@ -226,36 +227,59 @@ def is_imu_dataset(dataset) -> bool:
     return p.is_dir() and next(p.rglob("data.mat"), None) is not None
 
 
-def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, peer=True) -> dict:
+MOBGAP_ABSENT = "mobgap is not installed (pip install 'yoyogait[mobgap]'): its column is left out"
+
+
+def evaluate_imu_recording(rec, config, peer: bool, figure_path):
+    """One recording of an IMU evaluation (a top-level function: it runs in worker processes): its bout
+    rows, and what became of the peer: None (it ran or was not asked for), MOBGAP_ABSENT, or the line
+    saying how it failed (the peer's own failure is reported, not ours)."""
+    peer_bouts, peer_note = None, None
+    if peer:
+        try:
+            peer_bouts = ev.run_mobgap(rec)
+        except ImportError:
+            peer_note = MOBGAP_ABSENT
+        except Exception as exc:
+            peer_note = f"mobgap failed on {rec.source}: {type(exc).__name__}: {str(exc).splitlines()[0][:200]}"
+    rows, res = ev.evaluate_recording(rec, config, peer_bouts)
+    if figure_path is not None:
+        ev.imu_figure(rec, res, figure_path, peer_bouts)
+    return rows, peer_note
+
+
+def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, peer=True, jobs: int = 1) -> dict:
     """Per reference walking bout: cadence, speed and stride-time errors of the IMU estimators
-    (yoyogait online, the oscillator, mobgap when installed); bouts.csv, summary.md, a figure per recording."""
+    (yoyogait online, the oscillator, mobgap when installed); bouts.csv, summary.md, a figure per recording.
+    The recordings run on ``jobs`` processes (the same report whatever their number), with a progress
+    bar; one that fails is listed in the report and in ``failures``, the others are still reported."""
     out = Path(out)
     check_output_folder(out, force)
     config = ImuConfig.from_file(config_file) if config_file is not None else None
     recs = ev.imu_recordings(dataset)
-    mobgap_note = ""
+    where = f"{jobs} process{'es' if jobs > 1 else ''}"
+    click.echo(f"Evaluating the IMU estimators on {len(recs)} recordings ({where}): {dataset}", err=True)
     rows = []
+    failures: list[tuple[str, str]] = []
+    notes: list[str] = []
     with tempfile.TemporaryDirectory(dir=out.parent if out.parent.exists() else None) as tmp_name:
         tmp = Path(tmp_name) / "report"
         (tmp / "figures").mkdir(parents=True)
+        tasks = []
         for rec in recs:
-            peer_bouts = None
-            if peer:
-                try:
-                    peer_bouts = ev.run_mobgap(rec)
-                except ImportError:
-                    mobgap_note = "mobgap is not installed (pip install 'yoyogait[mobgap]'): its column is left out"
-                    peer = False
-                except Exception as exc:  # the peer's own failure is reported, not ours
-                    mobgap_note = (
-                        f"mobgap failed on {rec.source}: {type(exc).__name__}: {str(exc).splitlines()[0][:200]}"
-                    )
-                    peer_bouts = None
-            r, res = ev.evaluate_recording(rec, config, peer_bouts)
+            name = rec.source.split("lab/")[-1].replace("/data.mat:TimeMeasure1/", "_").replace("/", "_")
+            tasks.append((rec, config, peer, tmp / "figures" / f"{name}.png" if figures else None))
+        outcomes = run_tasks(evaluate_imu_recording, tasks, jobs=jobs, progress="evaluating")
+        for rec, outcome in zip(recs, outcomes):
+            if isinstance(outcome, TaskFailure):
+                failures.append((rec.source, outcome.message))
+                continue
+            r, peer_note = outcome
             rows += r
-            if figures:
-                name = rec.source.split("lab/")[-1].replace("/data.mat:TimeMeasure1/", "_").replace("/", "_")
-                ev.imu_figure(rec, res, tmp / "figures" / f"{name}.png", peer_bouts)
+            if peer_note is not None and peer_note not in notes:
+                notes.append(peer_note)
+        # mobgap absent is said once; its failures on recordings each.
+        mobgap_note = MOBGAP_ABSENT if MOBGAP_ABSENT in notes else "; ".join(notes)
         with open(tmp / "bouts.csv", "w", newline="", encoding="utf-8") as f:
             w = csv.writer(f)
             keys = ["recording", "reference", "bout", "estimator", "start_s", "end_s", "ref_cadence_spm",
@@ -272,6 +296,8 @@ def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, p
                  ""]  # fmt: skip
         if mobgap_note:
             lines += [mobgap_note, ""]
+        if failures:
+            lines += [f"Not evaluated ({len(failures)}): " + "; ".join(f"{src}: {msg}" for src, msg in failures), ""]
         lines += ["| reference | estimator | bouts | missed | cadence [steps/min] | speed [m/s] | stride time [s] |",
                   "|---|---|---|---|---|---|---|"]  # fmt: skip
         for d in summ:
@@ -285,7 +311,7 @@ def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, p
         install_folder(tmp, out)
     for line in lines[4:]:
         click.echo(line)
-    return {"rows": rows, "summary": summ, "note": mobgap_note}
+    return {"rows": rows, "summary": summ, "note": mobgap_note, "failures": failures}
 
 
 def check_imu_only_options(**given) -> None:

@@ -67,11 +67,22 @@ def _start_worker(forked: bool) -> None:
         gc.freeze()
 
 
+def _openmp_loaded() -> bool:
+    """GNU OpenMP in this process (scikit-learn's, once mobgap's pipeline has run here): its thread pool,
+    which Python's threading does not count, ends a forked child ("fork() called from a process already
+    using GNU OpenMP")."""
+    try:
+        with open("/proc/self/maps", encoding="utf-8", errors="replace") as maps:
+            return "libgomp" in maps.read()
+    except OSError:  # not on Linux: no fork context is chosen there by default either
+        return False
+
+
 def _context():
     methods = multiprocessing.get_all_start_methods()
     # fork starts workers at once with everything imported, but is unsafe once other threads run
-    # (a lock one of them held stays held in the child); then a fork server.
-    if "fork" in methods and threading.active_count() == 1:
+    # (a lock one of them held stays held in the child) or OpenMP's; then a fork server.
+    if "fork" in methods and threading.active_count() == 1 and not _openmp_loaded():
         return multiprocessing.get_context("fork")
     if "forkserver" in methods:
         ctx = multiprocessing.get_context("forkserver")

@@ -114,13 +114,18 @@ def test_options_of_the_other_kind_of_file_are_refused_not_ignored(tmp_path, cap
 
 
 def test_evaluate_refuses_the_marker_evaluations_options_for_an_imu_data_set(tmp_path, capsys):
-    """evaluate on a folder of data.mat files with --point or --jobs: one line naming them, exit 2, no report."""
+    """evaluate on a folder of data.mat files with --point or --estimators: one line naming them, exit 2, no
+    report; --jobs below 1 is one line too."""
     (tmp_path / "lab" / "HA").mkdir(parents=True)
     (tmp_path / "lab" / "HA" / "data.mat").write_bytes(b"")
     out = tmp_path / "report"
-    code = main(["evaluate", str(tmp_path / "lab"), "--out", str(out), "--point", "hand", "--jobs", "2"])
+    code = main(["evaluate", str(tmp_path / "lab"), "--out", str(out), "--point", "hand", "--estimators", "paper"])
     err = capsys.readouterr().err
-    assert code == 2 and len(err.strip().splitlines()) == 1 and "--point, --jobs" in err, err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--point, --estimators" in err, err
+    assert not out.exists()
+    assert main(["evaluate", str(tmp_path / "lab"), "--out", str(out), "--jobs", "0"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "--jobs must be at least 1" in err, err
     assert not out.exists()
 
 
@@ -156,7 +161,13 @@ def test_evaluate_scores_mobgaps_pipeline_on_the_same_reference_bouts(datasets_d
     and its line in the summary."""
     pytest.importorskip("mobgap", reason="mobgap is not installed (yoyogait[mobgap])")
     out = tmp_path / "report"
-    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out)]) == 0
+    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out), "--jobs", "1"]) == 0
+    # The recordings on two processes: the same report, byte for byte.
+    out2 = tmp_path / "report2"
+    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out2), "--jobs", "2"]) == 0
+    for name in ("bouts.csv", "summary.md"):
+        assert (out2 / name).read_bytes() == (out / name).read_bytes(), name
+    assert sorted(p.name for p in (out2 / "figures").iterdir()) == sorted(p.name for p in (out / "figures").iterdir())
     rows = _bouts_csv(out)
     ours = [(r["recording"], r["reference"], r["bout"]) for r in rows if r["estimator"] == "yoyogait-imu"]
     peer = [r for r in rows if r["estimator"] == "mobgap"]
@@ -179,12 +190,35 @@ def test_evaluate_without_mobgap_leaves_its_column_out_with_a_note(datasets_dir,
         raise ImportError("No module named 'mobgap'")
 
     monkeypatch.setattr(ev, "run_mobgap", absent)
-    out = tmp_path / "report"
-    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out)]) == 0
+    out = tmp_path / "report"  # one process: the patch is in this one
+    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out), "--jobs", "1"]) == 0
     rows = _bouts_csv(out)
     assert rows and not any(r["estimator"] == "mobgap" for r in rows)
     assert any(r["estimator"] == "yoyogait-imu" for r in rows)
     assert "mobgap is not installed (pip install 'yoyogait[mobgap]')" in (out / "summary.md").read_text()
+
+
+def test_evaluate_lists_a_recording_that_fails_and_reports_the_others(datasets_dir, tmp_path, monkeypatch, capsys):
+    """One recording's evaluation raising: the report lists it under 'Not evaluated' with its message, the
+    other recordings' rows are all there, and the exit status is 1."""
+    from yoyogait.evaluation import imu as ev
+
+    real = ev.evaluate_recording
+
+    def failing(rec, config=None, mobgap=None):
+        if rec.source.endswith("Test5/Trial2"):
+            raise ValueError("a broken trial")
+        return real(rec, config, mobgap)
+
+    monkeypatch.setattr(ev, "evaluate_recording", failing)
+    monkeypatch.setattr(ev, "run_mobgap", lambda rec: (_ for _ in ()).throw(ImportError("no mobgap")))
+    out = tmp_path / "report"
+    assert main(["evaluate", str(datasets_dir / MOBGAP / "data/lab/HA/002"), "--out", str(out), "--jobs", "1"]) == 1
+    summary = (out / "summary.md").read_text()
+    assert "Not evaluated (1): " in summary and "Test5/Trial2: ValueError: a broken trial" in summary, summary
+    recordings = {r["recording"] for r in _bouts_csv(out)}
+    assert recordings and not any(r.endswith("Test5/Trial2") for r in recordings)
+    assert "Not evaluated (1)" in capsys.readouterr().out
 
 
 def test_estimate_a_trial_of_a_data_mat(datasets_dir, tmp_path, capsys):
