@@ -253,20 +253,13 @@ def _header_line(p: Path) -> int:
 
 def _choose_csv_sensor(sensors: dict, sensor, p: Path) -> str:
     """The sensor of an IMU CSV's columns (_imu_sensors): ``sensor``'s, the only one, or the lower back's by name."""
+    chosen = _pick_sensor({n: (n,) if n else () for n in sensors}, sensor)  # no name: only as the only one
+    if chosen is not None:
+        return chosen
     named = [n for n in sensors if n]
     if sensor is not None:
-        want = _label_key(str(sensor))
-        for n in named:
-            if _label_key(n) == want:
-                return n
         have = f"the columns name {', '.join(named)}" if named else "its columns carry no sensor names"
         raise InputError(f"{p}: no sensor {sensor!r} (sensor=, --sensor); {have}")
-    if len(sensors) == 1:
-        return next(iter(sensors))
-    for label in LOWER_BACK_LABELS:
-        for n in named:
-            if _label_key(n) == label:
-                return n
     raise InputError(
         f"{p}: IMU columns of several sensors ({', '.join(n or '(no name)' for n in sensors)}), none named as the "
         "lower back's (Lumbar, Pelvis, Sacrum, ...): choose one with sensor= (--sensor)"
@@ -634,22 +627,30 @@ def _choose_sensor(sensors: dict[str, dict], sensor, p: Path) -> str:
     present = ", ".join(f"{s['label'] or '(no label)'} ({sid})" for sid, s in sensors.items())
     if not sensors:
         raise InputError(f"{p}: no sensor with an accelerometer in the file")
+    chosen = _pick_sensor({sid: (s["label"], sid) for sid, s in sensors.items()}, sensor)
+    if chosen is not None:
+        return chosen
     if sensor is not None:
-        want = _label_key(str(sensor))
-        for sid, s in sensors.items():
-            if want in (_label_key(sid), _label_key(s["label"])):
-                return sid
         raise InputError(f"{p}: no sensor {sensor!r} (sensor=, --sensor); the file has {present}")
-    for name in LOWER_BACK_LABELS:
-        for sid, s in sensors.items():
-            if _label_key(s["label"]) == name:
-                return sid
-    if len(sensors) == 1:
-        return next(iter(sensors))
     raise InputError(
         f"{p}: no lower-back sensor by label (Lumbar, Lower Back, Sacrum, ...); choose one with sensor= (--sensor): "
         f"the file has {present}"
     )
+
+
+def _pick_sensor(names: dict[str, tuple[str, ...]], sensor) -> str | None:
+    """Which sensor of a file to read, the one rule of every reader with several: ``names`` maps each
+    sensor's key to the names it answers to, its label first (then its id). ``sensor`` given: the one
+    answering to it; else the first labelled as the lower back (:data:`LOWER_BACK_LABELS`, in their
+    order), else the only one. None when none is (the caller says why, naming what the file has)."""
+    if sensor is not None:
+        want = _label_key(str(sensor))
+        return next((k for k, ns in names.items() if any(_label_key(n) == want for n in ns)), None)
+    for label in LOWER_BACK_LABELS:
+        for k, ns in names.items():
+            if ns and _label_key(ns[0]) == label:
+                return k
+    return next(iter(names)) if len(names) == 1 else None
 
 
 # ------------------------------------------------------------------------------------ Motion-BIDS
