@@ -112,27 +112,7 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     unit = metadata["length_unit_m"]
 
     lower = [h.lower() for h in header]
-    time_col = next((lower.index(c) for c in TIME_COLUMNS if c in lower), None)
-    file_rate = _setting_float(settings, "rate_hz", p)
-    rate = float(rate_hz) if rate_hz is not None else file_rate
-    if rate is not None:
-        rate = check_rate(rate, p, "capture_rate_hz override" if rate_hz is not None else "'# rate_hz'")
-    if time_col is not None and rate_hz is None:
-        time_s = table[:, time_col]
-        if not np.all(np.isfinite(time_s)):
-            raise InputError(f"{p}: the time column {header[time_col]!r} has empty or invalid cells")
-        check_time(time_s, p, line_numbers)
-    elif rate:
-        time_s = uniform_time(len(rows), rate)
-    else:
-        raise InputError(
-            f"{p}: the CSV has no time column ({', '.join(TIME_COLUMNS)}) and no rate; pass capture_rate_hz="
-        )
-
-    up_axis = settings.get("up_axis")
-    if up_axis is not None and up_axis.lower() not in AXES:
-        raise InputError(f"{p}: '# up_axis: {up_axis}' must be x, y or z")
-
+    # The columns first: a file without usable ones is told so before it is asked for a rate.
     velocity_cols = {
         key: next((lower.index(c) for c in names if c in lower), None) for key, names in VELOCITY_COLUMNS.items()
     }
@@ -153,6 +133,27 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
         names, positions = _points(header, table, p)
         positions *= unit
         check_coordinates(positions, names, p, line_numbers)
+
+    time_col = next((lower.index(c) for c in TIME_COLUMNS if c in lower), None)
+    file_rate = _setting_float(settings, "rate_hz", p)
+    rate = float(rate_hz) if rate_hz is not None else file_rate
+    if rate is not None:
+        rate = check_rate(rate, p, "capture_rate_hz override" if rate_hz is not None else "'# rate_hz'")
+    if time_col is not None and rate_hz is None:
+        time_s = table[:, time_col]
+        if not np.all(np.isfinite(time_s)):
+            raise InputError(f"{p}: the time column {header[time_col]!r} has empty or invalid cells")
+        check_time(time_s, p, line_numbers)
+    elif rate:
+        time_s = uniform_time(len(rows), rate)
+    else:
+        raise InputError(
+            f"{p}: the CSV has no time column ({', '.join(TIME_COLUMNS)}) and no rate; pass capture_rate_hz="
+        )
+
+    up_axis = settings.get("up_axis")
+    if up_axis is not None and up_axis.lower() not in AXES:
+        raise InputError(f"{p}: '# up_axis: {up_axis}' must be x, y or z")
 
     if rate is None and len(time_s) > 1:
         rate = check_rate(1.0 / float(np.median(np.diff(time_s))), p, "rate of the timestamps")
@@ -213,8 +214,10 @@ def _points(header: list[str], table: np.ndarray, where) -> tuple[list[str], np.
     if incomplete:
         raise InputError(f"{where}: point {incomplete[0]!r} lacks an x, y or z column")
     if not columns:
+        shown = ", ".join(header[:8]) + (", ..." if len(header) > 8 else "")
         raise InputError(
-            f"{where}: no point columns (<name>_x, <name>_y, <name>_z) and no velocity columns (vx, vz) in the header"
+            f"{where}: no point columns (<name>_x, <name>_y, <name>_z) and no velocity columns (vx, vz) in the header "
+            f"(it has {shown}; an IMU table needs acc and gyr columns)"
         )
     names = list(columns)
     idx = [[columns[n][a] for a in AXES] for n in names]

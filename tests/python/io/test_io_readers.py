@@ -395,6 +395,15 @@ def test_csv_bad_layout_is_an_error(tmp_path, body, message):
         yio.read(path)
 
 
+def test_csv_without_usable_columns_says_so_before_asking_for_a_rate(tmp_path):
+    """Bare x, y, z columns and no time (an accelerometer alone, as a public lower-back test recording has
+    it): the one line names the columns the file has and what a table needs, not the missing rate first."""
+    path = tmp_path / "acc.csv"
+    path.write_text("\ufeffx,y,z\n100.8,0.71,10.5\n97.9,0.65,0.81\n")
+    with pytest.raises(InputError, match=r"no point columns .* \(it has x, y, z; an IMU table needs acc and gyr"):
+        yio.read(path)
+
+
 # ----------------------------------------------------------------------------- read()
 
 
