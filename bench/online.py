@@ -9,7 +9,7 @@
   Python loop against the C++ update of the same frames in the same process (``run``, the loop in
   C++), at 30, 60, 100 and 250 Hz: CPU time of this thread (time.thread_time_ns, so that time the
   thread waits for a core does not count), rounds alternating the two; the ratio Python / C++ per
-  round, its median and worst (target of issue 21: <= 2).
+  round, its median and worst (target: <= 2).
 * Over the shared manifest and the synthetic lab at the native capture rate, and over the
   synthetic lab generated at each rate of ``--rates``: the step-frequency error (median absolute,
   Hz) within the first 3 s of walking and after them (reference: the synthetic truth, on real data

@@ -263,7 +263,7 @@ def main():
         + [MANIFEST_FEET, MARKERLESS_FEET, MARKERLESS_SYNTHETIC_FEET, TREADMILL_FEET, TREADMILL_KNOWN]
     )
     groups = by_group
-    # Issue 20 item 7: honesty is judged against the references that the reference's quality check
+    # Honesty is judged against the references that the reference's quality check
     # trusts (pipeline/events.py; a SYNTHETIC truth always is); the row over every recording stays.
     trusted_rows = [(n, r) for n, r in groups.get("manifest", []) if r["reference_trusted"]]
     groups[MANIFEST_TRUSTED] = trusted_rows

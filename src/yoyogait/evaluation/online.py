@@ -412,7 +412,7 @@ def _score(
         row["startup_time_s"] = settle_time_s(
             t, np.where(walk, f_err, np.nan), STARTUP_TOLERANCE_HZ, t0, t_end_s=t_stop
         )
-        # Issue 20's start-up: from where the walk has reached its cadence (the ramp's end).
+        # The start-up target counts from where the walk has reached its cadence (the ramp's end).
         if t0 + ramp_s < t_stop:
             row["startup_from_cadence_s"] = settle_time_s(
                 t, np.where(walk, f_err, np.nan), STARTUP_TOLERANCE_HZ, t0 + ramp_s, t_end_s=t_stop
@@ -599,8 +599,8 @@ ONLINE_DISTRIBUTION_KEYS = (
 
 HIGHER_IS_BETTER = frozenset(k for k in HONESTY_KEYS if "cover2std" in k or k.startswith("valid"))
 BY_MAGNITUDE = frozenset(("latency_vz_ms", "latency_vz_input_ms"))
-#: The rows judged against the gait-event reference: again over the trusted references (issue 20's
-#: honesty is measured against those), where some are not.
+#: The rows judged against the gait-event reference: again over the trusted references (honesty
+#: is measured against those), where some are not.
 REFERENCE_ONLINE_KEYS = frozenset(
     k for k, _ in SUMMARY_ONLINE_KEYS if k.startswith(("f_err", "speed_err", "f_cover", "speed_cover", "confidently"))
 )

@@ -64,7 +64,7 @@ def _runs(t, mask):
 
 
 def test_online_evaluation_trusts_the_references_the_offline_one_trusts(datasets_dir, evaluation):
-    """evaluate --online judges each real recording's reference as evaluate does (issue 20: honesty is
+    """evaluate --online judges each real recording's reference as evaluate does (honesty is
     measured against the trusted references), and its summary repeats the reference rows over them."""
     by_name = {r.item.name: r.reference_quality.trusted for r in evaluation.items}
     items, _ = ev.manifest_items(datasets_dir / "manifest.json")

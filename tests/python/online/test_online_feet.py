@@ -26,7 +26,7 @@ def _markerless(load):
 def test_markerless_re_renderings_with_heels_are_never_confidently_wrong_on_a_trusted_reference(datasets_dir):
     """The shared recordings with feet and a trusted reference, re-rendered markerless (2 cm, swaps, dropouts, 60 Hz):
     with the heels confidently wrong on at most 1 % of the walking of each, valid on more than half of it after 3 s
-    (median over them) and on at least the issue's 80 % of it on four in five of them; without the heels, never
+    (median over them) and on at least the target's 80 % of it on four in five of them; without the heels, never
     valid (median)."""
     items, _ = manifest_items(datasets_dir / "manifest.json")
     wrong, valid, valid_without = [], [], []

@@ -1,4 +1,4 @@
-"""Honest stds and validity online (issue 20): the stds cover turns and stops; a clean walk is valid soon."""
+"""Honest stds and validity online: the stds cover turns and stops; a clean walk is valid soon."""
 
 from __future__ import annotations
 
