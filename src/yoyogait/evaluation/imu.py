@@ -2,9 +2,10 @@
 
 Per walking bout of a reference system (``ImuRecording.references``: INDIP, Stereophoto), like
 with like: the reference's cadence and stride time of a bout are means over its strides (initial
-contact k to k + 2) of 120 / stride duration and of the stride duration (that is how the
-Mobilise-D standards define ``Cadence`` and ``Stride_Duration``; the two differ from each other
-where the cadence changes within a bout).  The online estimate is taken over the same strides: a
+contact k to k + 2, those the reference measured: not the ones over a contact it missed or
+counted twice) of 120 / stride duration and of the stride duration (that is how the Mobilise-D
+standards define ``Cadence`` and ``Stride_Duration``; the two differ from each other where the
+cadence changes within a bout).  The online estimate is taken over the same strides: a
 stride counts when the estimate is valid over at least half of it, its cadence is the mean of
 60 f and its stride time 2 / the mean of f over the stride's valid samples, and the bout's values
 are the means over the strides that count, against the reference's means over those same
@@ -105,7 +106,10 @@ def imu_recordings(root) -> list[ImuRecording]:
 
 
 def bout_strides(bout: ImuBout) -> tuple[np.ndarray, np.ndarray]:
-    """The reference's strides of a bout: (start_s, end_s) of initial contact k to k + 2, both known."""
+    """The reference's strides of a bout, (start_s, end_s): those it measured (``ImuBout.strides_s``,
+    the strides its cadence is the mean over), else initial contact k to k + 2, both known."""
+    if bout.strides_s.size:
+        return bout.strides_s[:, 0].copy(), bout.strides_s[:, 1].copy()
     ic = np.asarray(bout.contact_times_s, dtype=float).reshape(-1)
     if ic.size < 3:
         return np.zeros(0), np.zeros(0)

@@ -357,7 +357,7 @@ def _mobilised_trial(lb, content) -> tuple[float, np.ndarray, np.ndarray, dict[s
     gyr = np.asarray(lb["Gyr"], dtype=float) * np.pi / 180.0
     refs = {}
     for system, std in (content.get("Standards") or {}).items():
-        bouts = _bouts(std.get("MicroWB"))
+        bouts = _bouts(std.get("MicroWB"), std.get("Fs"))
         if bouts:
             refs[system] = bouts
     return rate, acc, gyr, refs
@@ -385,7 +385,7 @@ def _mobilised_height(info: Path) -> float | None:
     return value / 100.0 if value > 3.0 else value  # the format gives centimetres
 
 
-def _bouts(micro) -> list[ImuBout]:
+def _bouts(micro, rate_hz=None) -> list[ImuBout]:
     if micro is None:
         return []
     items = [micro] if isinstance(micro, dict) else list(micro)
@@ -402,11 +402,33 @@ def _bouts(micro) -> list[ImuBout]:
                     speed_mps=float(b["WalkingSpeed"]),
                     stride_time_s=float(np.nanmean(stride)) if stride.size else float("nan"),
                     contact_times_s=ic,
+                    strides_s=_measured_strides(b.get("Stride_InitialContacts"), stride, rate_hz),
                 )
             )
         except (KeyError, TypeError, ValueError):
             continue
     return out
+
+
+def _measured_strides(contacts, duration_s: np.ndarray, rate_hz) -> np.ndarray:
+    """The strides a Mobilise-D standard measured: its ``Stride_InitialContacts`` (N x 2) where its
+    ``Stride_Duration`` is known (NaN marks a stride over a missed or doubled contact, left out of
+    its ``Cadence``), in seconds. The standards store them in seconds or in samples at their ``Fs``;
+    the scale is the one whose strides last their ``Stride_Duration``. Empty when neither does."""
+    none = np.zeros((0, 2))
+    if contacts is None:
+        return none
+    c = np.asarray(contacts, dtype=float).reshape(-1, 2) if np.size(contacts) % 2 == 0 else None
+    if c is None or c.shape[0] != duration_s.size:
+        return none
+    known = np.isfinite(duration_s) & np.all(np.isfinite(c), axis=1)
+    if not known.any():
+        return none
+    scales = [1.0] + ([1.0 / float(rate_hz)] if rate_hz and float(rate_hz) > 0 else [])
+    for scale in scales:
+        if np.max(np.abs((c[known, 1] - c[known, 0]) * scale - duration_s[known])) < 1e-3:
+            return c[known] * scale
+    return none
 
 
 # ------------------------------------------------------------------------------------------ Xsens

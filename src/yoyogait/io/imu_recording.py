@@ -14,7 +14,12 @@ GRAVITY_MPS2 = 9.80665
 
 @dataclass
 class ImuBout:
-    """One walking bout of a reference system: its span, its mean values and its initial contacts."""
+    """One walking bout of a reference system: its span, its mean values, its initial contacts and the
+    strides it measured (``strides_s``: start and end of each, N x 2; empty when the source lists none).
+
+    A reference does not measure every stride between its contacts: where a contact is missed or
+    counted twice (a turn, a pause), its stride is left out of its means; ``strides_s`` holds those
+    it kept."""
 
     start_s: float
     end_s: float
@@ -22,6 +27,7 @@ class ImuBout:
     speed_mps: float
     stride_time_s: float
     contact_times_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    strides_s: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
 
 @dataclass
