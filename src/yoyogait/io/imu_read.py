@@ -416,11 +416,13 @@ def _measured_strides(contacts, duration_s: np.ndarray, rate_hz) -> np.ndarray:
     its ``Cadence``), in seconds. The standards store them in seconds or in samples at their ``Fs``;
     the scale is the one whose strides last their ``Stride_Duration``. Empty when neither does."""
     none = np.zeros((0, 2))
-    if contacts is None:
+    try:
+        c = np.asarray(contacts, dtype=float)
+    except (TypeError, ValueError):  # absent or not numbers: the strides from the contacts instead
         return none
-    c = np.asarray(contacts, dtype=float).reshape(-1, 2) if np.size(contacts) % 2 == 0 else None
-    if c is None or c.shape[0] != duration_s.size:
+    if c.size % 2 or c.size // 2 != duration_s.size:
         return none
+    c = c.reshape(-1, 2)
     known = np.isfinite(duration_s) & np.all(np.isfinite(c), axis=1)
     if not known.any():
         return none

@@ -119,6 +119,22 @@ def test_reference_strides_reproduce_the_mobilised_cadence_and_stride_time(datas
     assert left_out > 0  # every participant's course has such strides
 
 
+def test_a_standards_stride_list_is_read_in_seconds_or_samples_and_only_where_it_fits():
+    """Stride_InitialContacts in samples or seconds, whichever lasts the Stride_Duration; a stride with
+    a NaN duration is left out; a list that fits neither, or is no numbers, is not read."""
+    from yoyogait.io.imu_read import _bouts
+
+    base = {"Start": 1.0, "End": 4.0, "Cadence": 100.0, "WalkingSpeed": 1.0, "InitialContact_Event": [1.0, 1.6, 2.2]}
+    durations = [1.2, float("nan")]
+    in_samples = _bouts({**base, "Stride_InitialContacts": [[100, 220], [160, 400]], "Stride_Duration": durations}, 100)
+    in_seconds = _bouts({**base, "Stride_InitialContacts": [[1.0, 2.2], [1.6, 4.0]], "Stride_Duration": durations}, 100)
+    for (b,) in (in_samples, in_seconds):
+        np.testing.assert_allclose(b.strides_s, [[1.0, 2.2]])
+    for wrong in ([[1.0, 2.5], [1.6, 4.0]], [["a", "b"], ["c", "d"]], [1.0, 2.2, 3.0]):
+        (b,) = _bouts({**base, "Stride_InitialContacts": wrong, "Stride_Duration": durations}, 100)
+        assert b.strides_s.shape == (0, 2) and b.cadence_spm == 100.0
+
+
 def test_strides_from_the_contacts_when_the_reference_lists_none():
     """Without a stride list (another source of bouts) the strides are initial contact k to k + 2."""
     b = _bout([0.0, 0.5, 1.0, 1.6, 2.1])
