@@ -849,9 +849,12 @@ def _check_samples(rec: ImuRecording) -> None:
         raise InputError(f"{where}: sample rate {rec.rate_hz!r} Hz is not plausible; pass rate_hz")
 
 
-#: A plateau at an axis's extreme: at least this share of the samples (and CLIP_MIN_SAMPLES) sit exactly at it.
+#: A plateau at an axis's extreme: at least this share of the samples (and CLIP_MIN_SAMPLES) sit exactly at it,
+#: some of them CLIP_MIN_RUN in a row: the peaks of a smooth signal are single samples (an exactly periodic
+#: synthetic signal reaches its maximum once per period, two equal samples where its peak falls between them).
 CLIP_SHARE = 0.005
 CLIP_MIN_SAMPLES = 5
+CLIP_MIN_RUN = 3
 #: ... and the extreme is beyond what a sensor at rest reads (a coarse quantisation repeats values there).
 CLIP_MIN_ACC_MPS2 = 1.05 * GRAVITY_MPS2
 CLIP_MIN_GYR_RAD_S = 2.0
@@ -868,11 +871,22 @@ def clipped_ranges(rec: ImuRecording) -> dict[str, tuple[float, int]]:
             if column.size == 0:
                 continue
             top = float(column.max())
-            at = int(np.count_nonzero(column >= top))
-            if top >= floor and at >= max(CLIP_MIN_SAMPLES, CLIP_SHARE * column.size):
+            held = column >= top
+            at = int(np.count_nonzero(held))
+            if (
+                top >= floor
+                and at >= max(CLIP_MIN_SAMPLES, CLIP_SHARE * column.size)
+                and _longest_run(held) >= CLIP_MIN_RUN
+            ):
                 level, count = out.get(kind, (np.inf, 0))
                 out[kind] = (min(level, top), count + at)
     return out
+
+
+def _longest_run(flags: np.ndarray) -> int:
+    """The longest run of True in a boolean array."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], flags.astype(np.int8), [0]))))
+    return int(np.max(edges[1::2] - edges[::2])) if edges.size else 0
 
 
 def check_imu_plausible(rec: ImuRecording) -> None:

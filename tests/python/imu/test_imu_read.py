@@ -328,3 +328,23 @@ def test_inspect_on_a_motion_bids_imu_file_names_the_sensor_and_finds_the_cadenc
     assert "IMU (motion_bids)" in out and "\nsensor         pelvis\n" in out and "100 Hz" in out
     cadence = float(out.split("cadence")[1].split("steps/min")[0])
     assert abs(cadence - 60 * walk.truth.step_frequency_hz[-1]) < 2.0
+
+
+@pytest.mark.parametrize("phase_samples", [0.0, 0.5])
+def test_an_exactly_periodic_signal_is_not_read_as_clipped_but_a_plateau_is(phase_samples):
+    """A smooth periodic signal reaches the same maximum once per period (twice in a row where its peak
+    falls between two samples): no sensor range is read from it; held three samples in a row, it is."""
+    from yoyogait.io.imu_read import clipped_ranges
+    from yoyogait.io.imu_recording import ImuRecording
+
+    t = np.arange(3000) / 100.0
+    theta = 2.0 * np.pi * 1.0 * (t + phase_samples / 100.0)
+    acc = np.column_stack([-0.4 * np.sin(theta), np.zeros_like(t), GRAVITY_MPS2 - 0.8 * np.cos(theta)])
+    acc = np.round(acc, 6)  # as a CSV with six decimals stores it
+    rec = ImuRecording(time_s=t, acc_mps2=acc, gyr_rad_s=np.zeros((t.size, 3)), rate_hz=100.0, source="periodic")
+    assert clipped_ranges(rec) == {}
+    clipped = acc.copy()
+    clipped[:, 2] = np.minimum(clipped[:, 2], 10.5)  # the peaks above 10.5 m/s^2 held there for several samples
+    rec = ImuRecording(time_s=t, acc_mps2=clipped, gyr_rad_s=np.zeros((t.size, 3)), rate_hz=100.0, source="clip")
+    level, count = clipped_ranges(rec)["acc"]
+    assert level == 10.5 and count > 100
