@@ -18,9 +18,10 @@ Ready velocities (m/s), e.g. from another pipeline or an IMU::
 * The time column is ``time_s``, ``time`` or ``t``; without one, give
   ``# rate_hz:`` or ``rate_hz=``.
 * A point is three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` (``.x``
-  and ``:x`` and upper case X/Y/Z work too), in any order.
-* Lengths are metres unless ``# length_unit_m:`` or ``length_unit_m=`` says
-  otherwise (velocities are then that unit per second).
+  and ``:x`` and upper case X/Y/Z work too), in any order; a unit after the
+  axis (``pelvis_x_m``, ``LASI_x_mm``, ``_cm``) is the length unit.
+* Lengths are metres unless ``# length_unit_m:``, ``length_unit_m=`` or the
+  columns' unit says otherwise (velocities are then that unit per second).
 * An empty cell, ``nan`` or ``NaN`` is a missing sample.
 * Two header rows, the point names and under them ``x``, ``y``, ``z`` (what pandas writes for a
   table with a (point, axis) column index, as gaitmap's example motion capture), are read as
@@ -54,7 +55,9 @@ __all__ = ["read_csv"]
 
 TIME_COLUMNS = ("time_s", "time", "t")
 VELOCITY_COLUMNS = {"vx": ("vx", "vx_mps"), "vz": ("vz", "vz_mps")}
-_POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])$")
+_POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])(?:_(?P<unit>mm|cm|m))?$")
+#: The length units a point column may name after its axis, in metres.
+COLUMN_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
 
 def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None = None) -> Recording:
@@ -100,16 +103,23 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
     table = np.asarray(rows, dtype=float)
 
     metadata: dict = {"format": "csv", "settings": settings}
-    unit = _setting_float(settings, "length_unit_m", p) if length_unit_m is None else float(length_unit_m)
-    metadata["length_unit_m"] = unit if unit is not None else 1.0
-    metadata["length_unit_from"] = (
-        "override"
-        if length_unit_m is not None
-        else "# length_unit_m"
-        if unit is not None
-        else "metres (the CSV default)"
-    )
-    unit = metadata["length_unit_m"]
+    in_file = _setting_float(settings, "length_unit_m", p)
+    named = _column_unit(header, p)
+    if in_file is not None and named is not None and abs(in_file - named[0]) > 1e-12 * named[0]:
+        raise InputError(
+            f"{p}: '# length_unit_m: {settings['length_unit_m']}' but the columns are in {named[1]} "
+            f"({named[2]}); give one of them (--length-unit-m overrides both)"
+        )
+    if length_unit_m is not None:
+        unit, source = float(length_unit_m), "override"
+    elif in_file is not None:
+        unit, source = in_file, "# length_unit_m"
+    elif named is not None:
+        unit, source = named[0], f"the columns' unit ({named[2]})"
+    else:
+        unit, source = 1.0, "metres (the CSV default)"
+    metadata["length_unit_m"] = unit
+    metadata["length_unit_from"] = source
 
     lower = [h.lower() for h in header]
     # The columns first: a file without usable ones is told so before it is asked for a rate.
@@ -201,6 +211,23 @@ def _refuse_inertial(header: list[str], where) -> None:
         else:  # the CLI took it for motion capture: say what the IMU readers need
             how = "an IMU table needs acc and gyr columns for each axis: x, y, z or is, ml, pa (docs/imu.md)"
         raise InputError(f"{where}: an IMU recording ({columns}), not point positions: {how}")
+
+
+def _column_unit(header: list[str], where) -> tuple[float, str, str] | None:
+    """(metres per unit, the unit, a column naming it) of point columns that name a unit after their
+    axis (``pelvis_x_m``); None when none does. Columns in different units are refused."""
+    named = {}
+    for h in header:
+        m = _POINT_COLUMN.match(h)
+        if m and m["unit"]:
+            named.setdefault(m["unit"], h)
+    if len(named) > 1:
+        shown = ", ".join(f"{h} ({u})" for u, h in named.items())
+        raise InputError(f"{where}: point columns in different length units: {shown}; give them in one")
+    if not named:
+        return None
+    ((name, column),) = named.items()
+    return COLUMN_UNITS_M[name], name, column
 
 
 def _points(header: list[str], table: np.ndarray, where) -> tuple[list[str], np.ndarray]:

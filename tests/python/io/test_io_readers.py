@@ -338,6 +338,45 @@ def test_csv_positions_with_settings_and_gaps(tmp_path):
     assert rec.up_axis == "z" and np.allclose(rec.time_s, [0, 0.1, 0.2])
 
 
+@pytest.mark.parametrize("suffix, scale", [("m", 1.0), ("cm", 0.01), ("mm", 0.001)])
+def test_csv_point_columns_naming_their_unit_set_the_length_unit(tmp_path, suffix, scale):
+    """CSV: a unit after the axis (pelvis_x_m, _cm, _mm) is the length unit, as the columns yoyogait writes name theirs."""
+    path = tmp_path / "u.csv"
+    path.write_text(f"time_s,pelvis_x_{suffix},pelvis_y_{suffix},pelvis_z_{suffix}\n0.0,100,0,95\n0.01,101,0,95\n")
+    rec = yio.read(path)
+    assert rec.point_names == ["pelvis"] and np.allclose(rec.point("pelvis")[0], np.array([100, 0, 95]) * scale)
+    assert rec.metadata["length_unit_m"] == scale and f"pelvis_x_{suffix}" in rec.metadata["length_unit_from"]
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        (
+            "time_s,A_x_m,A_y_m,A_z_m,B_x_mm,B_y_mm,B_z_mm\n0,1,2,3,4,5,6\n",
+            r"different length units: A_x_m \(m\), B_x_mm",
+        ),
+        (
+            "# length_unit_m: 0.001\ntime_s,A_x_m,A_y_m,A_z_m\n0,1,2,3\n",
+            r"length_unit_m: 0.001' but the columns are in m",
+        ),
+    ],
+)
+def test_csv_point_units_that_disagree_are_one_line(tmp_path, text, message):
+    """CSV: point columns in two units, or a '# length_unit_m' the columns' unit contradicts, are refused naming both."""
+    path = tmp_path / "bad_units.csv"
+    path.write_text(text)
+    with pytest.raises(InputError, match=message):
+        yio.read(path)
+
+
+def test_csv_length_unit_override_wins_over_the_columns_unit(tmp_path):
+    """CSV: length_unit_m= (--length-unit-m) overrides the unit the columns name."""
+    path = tmp_path / "o.csv"
+    path.write_text("time_s,A_x_mm,A_y_mm,A_z_mm\n0.0,1,2,3\n0.01,1,2,3\n")
+    rec = yio.read(path, length_unit_m=1.0)
+    assert np.allclose(rec.point("A")[0], [1, 2, 3]) and rec.metadata["length_unit_from"] == "override"
+
+
 def test_csv_ready_velocities(tmp_path):
     """CSV with time,vx,vz columns holds velocities and no points."""
     path = tmp_path / "v.csv"
