@@ -144,7 +144,8 @@ def inspect_imu(
         *([("sensor", _sensor_name(rec.metadata))] if "sensor" in rec.metadata else []),
         (
             "rate",
-            f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular",
+            (f"{rec.rate_hz:g} Hz, {rec.n_samples} samples, {rec.duration_s:.2f} s" if rec.rate_hz else "irregular")
+            + (f" ({rec.metadata['time_unit']}, by its intervals)" if "time_unit" in rec.metadata else ""),
         ),
         ("gravity", f"{g:.2f} m/s^2 (median norm of the acceleration)"),
         ("range", f"|acc| <= {report['max_abs_acc_mps2']:.1f} m/s^2, |gyr| <= {report['max_abs_gyr_rad_s']:.2f} rad/s"),

@@ -216,7 +216,7 @@ def _refuse_inertial(header: list[str], where) -> None:
 def _column_unit(header: list[str], where) -> tuple[float, str, str] | None:
     """(metres per unit, the unit, a column naming it) of point columns that name a unit after their
     axis (``pelvis_x_m``); None when none does. Columns in different units are refused."""
-    named = {}
+    named: dict[str, str] = {}
     for h in header:
         m = _POINT_COLUMN.match(h)
         if m and m["unit"]:

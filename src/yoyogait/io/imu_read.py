@@ -72,15 +72,26 @@ def _unit(value, table: dict, option: str, where) -> float:
 
 #: An IMU column (lower case): the sensor's name when the table has one before it (``pelvis_ACCEL_x``,
 #: ``LowerBack_Acc_X``), acc/accel or gyr/gyro, the axis, and a unit when given (``acc_x_g``,
-#: ``gyr_x[deg/s]``, ``acc_x (m/s^2)``).
+#: ``gyr_x[deg/s]``, ``acc_x (m/s^2)``); or the short names of microcontroller logs, ``ax``.. ``gz``.
 _IMU_COLUMN = {
     (kind, a): re.compile(
-        rf"^(?:(?P<sensor>.+?)[_ .:\-])?{kind}(?:o|el)?[_ .:]?{_AXIS_NAMES[a]}"
+        rf"^(?:(?:(?P<sensor>.+?)[_ .:\-])?{kind}(?:o|el)?[_ .:]?{_AXIS_NAMES[a]}|{kind[0]}{a}(?![a-z0-9]))"
         rf"(?:[_ ]?[\[(]?(?P<unit>[a-z0-9/^_]+?)[\])]?)?$"
     )
     for kind in ("acc", "gyr")
     for a in _AXES
 }
+#: Time columns of a generic IMU CSV and their unit in seconds; ``timestamp`` alone: see _timestamp_unit.
+TIME_COLUMNS_S = {
+    "time_s": 1.0, "time": 1.0, "t": 1.0, "t_s": 1.0, "timestamp_s": 1.0,
+    "time_ms": 1e-3, "timestamp_ms": 1e-3, "t_ms": 1e-3, "millis": 1e-3,
+    "time_us": 1e-6, "timestamp_us": 1e-6, "t_us": 1e-6, "micros": 1e-6,
+    "time_ns": 1e-9, "timestamp_ns": 1e-9,
+}  # fmt: skip
+#: A ``timestamp`` column without a unit is in the one of these whose sample rate lies in TIMESTAMP_RATES_HZ
+#: (a range under a factor of 1000 wide, so that at most one fits).
+TIMESTAMP_UNITS_S = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
+TIMESTAMP_RATES_HZ = (4.0, 4000.0)
 
 
 def _imu_sensors(header: list[str]) -> dict[str, dict[tuple[str, str], tuple[int, str | None]]]:
@@ -217,9 +228,15 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
             metadata["sensor"] = chosen
         acc_cols, acc_scale = _columns(sensors[chosen], "acc", ACC_UNITS, acc_unit, "acc_unit", p)
         gyr_cols, gyr_scale = _columns(sensors[chosen], "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
-        tcol = next((lower.index(n) for n in ("time_s", "time", "t") if n in lower), None)
+        tcol = next((lower.index(n) for n in (*TIME_COLUMNS_S, "timestamp") if n in lower), None)
         if tcol is not None:
             time_s = table[:, tcol]
+            if lower[tcol] in TIME_COLUMNS_S:
+                time_s = time_s * TIME_COLUMNS_S[lower[tcol]]
+            else:
+                unit = _timestamp_unit(time_s, p)
+                metadata["time_unit"] = f"{header[tcol]} in {unit}"
+                time_s = time_s * TIMESTAMP_UNITS_S[unit]
             rate = float(rate_hz) if rate_hz else None
         elif rate_hz:
             rate = float(rate_hz)
@@ -240,6 +257,23 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
     )
     _finish(rec, gyr_scale)
     return rec
+
+
+def _timestamp_unit(values: np.ndarray, p: Path) -> str:
+    """The unit of a ``timestamp`` column that names none: the one in which its median interval is a
+    sample rate within TIMESTAMP_RATES_HZ (10 per sample: ms at 100 Hz); InputError if none is."""
+    dt = np.diff(values)
+    dt = dt[np.isfinite(dt) & (dt > 0)]
+    if dt.size:
+        step = float(np.median(dt))
+        lo, hi = TIMESTAMP_RATES_HZ
+        for unit, scale in TIMESTAMP_UNITS_S.items():
+            if lo <= 1.0 / (step * scale) < hi:
+                return unit
+    raise InputError(
+        f"{p}: the unit of its timestamp column is unclear (a sample every {step if dt.size else float('nan'):g}); "
+        "name it time_s, time_ms or time_us, or give the rate with rate_hz (--capture-rate-hz)"
+    )
 
 
 def _header_line(p: Path) -> int:

@@ -348,3 +348,36 @@ def test_an_exactly_periodic_signal_is_not_read_as_clipped_but_a_plateau_is(phas
     rec = ImuRecording(time_s=t, acc_mps2=clipped, gyr_rad_s=np.zeros((t.size, 3)), rate_hz=100.0, source="clip")
     level, count = clipped_ranges(rec)["acc"]
     assert level == 10.5 and count > 100
+
+
+def _log(path, time_header, times, rec):
+    a, g = rec.acc_mps2 / GRAVITY_MPS2, np.degrees(rec.gyr_rad_s)
+    rows = [f"{int(tt)},{','.join(f'{v:.5f}' for v in (*ai, *gi))}" for tt, ai, gi in zip(times, a, g)]
+    path.write_text(f"{time_header},ax,ay,az,gx,gy,gz\n" + "\n".join(rows) + "\n")
+
+
+@pytest.mark.parametrize(
+    "header, scale, unit",
+    [("timestamp", 1000, "ms"), ("timestamp", 1_000_000, "us"), ("millis", 1000, None), ("time_us", 1_000_000, None)],
+)
+def test_a_microcontroller_log_with_short_columns_and_a_timestamp_reads_in_seconds(tmp_path, header, scale, unit):
+    """ax..gz columns (in g and deg/s, given) are an IMU table; its time column named in ms or us, or a bare
+    timestamp whose unit its intervals tell (a rate of 4-4000 Hz), reads as seconds."""
+    rec = make_imu_walk(duration_s=3.0).recording
+    p = tmp_path / "log.csv"
+    _log(p, header, np.round(rec.time_s * scale).astype(int), rec)
+    assert is_imu_file(p)
+    back = read_imu(p, acc_unit="g", gyr_unit="deg_s")
+    assert np.allclose(back.time_s, rec.time_s) and back.rate_hz == pytest.approx(100.0)
+    assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-3) and np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-3)
+    assert back.metadata.get("time_unit") == (f"{header} in {unit}" if unit else None)
+
+
+def test_a_timestamp_whose_unit_no_rate_explains_names_the_options(tmp_path):
+    """A bare timestamp stepping by 1e9 (no unit gives a rate of 4-4000 Hz) is one line naming the columns
+    and the option that settle it."""
+    rec = make_imu_walk(duration_s=1.0).recording
+    p = tmp_path / "log.csv"
+    _log(p, "timestamp", np.arange(rec.time_s.size) * 10**9, rec)
+    with pytest.raises(InputError, match=r"unit of its timestamp column is unclear .* time_ms .*\(--capture-rate-hz"):
+        read_imu(p, acc_unit="g", gyr_unit="deg_s")

@@ -340,7 +340,7 @@ def test_csv_positions_with_settings_and_gaps(tmp_path):
 
 @pytest.mark.parametrize("suffix, scale", [("m", 1.0), ("cm", 0.01), ("mm", 0.001)])
 def test_csv_point_columns_naming_their_unit_set_the_length_unit(tmp_path, suffix, scale):
-    """CSV: a unit after the axis (pelvis_x_m, _cm, _mm) is the length unit, as the columns yoyogait writes name theirs."""
+    """CSV: a unit after the axis (pelvis_x_m, _cm, _mm) is the length unit, as yoyogait's own columns name theirs."""
     path = tmp_path / "u.csv"
     path.write_text(f"time_s,pelvis_x_{suffix},pelvis_y_{suffix},pelvis_z_{suffix}\n0.0,100,0,95\n0.01,101,0,95\n")
     rec = yio.read(path)
@@ -362,7 +362,7 @@ def test_csv_point_columns_naming_their_unit_set_the_length_unit(tmp_path, suffi
     ],
 )
 def test_csv_point_units_that_disagree_are_one_line(tmp_path, text, message):
-    """CSV: point columns in two units, or a '# length_unit_m' the columns' unit contradicts, are refused naming both."""
+    """CSV: point columns in two units, or a '# length_unit_m' against the columns' unit, are refused naming both."""
     path = tmp_path / "bad_units.csv"
     path.write_text(text)
     with pytest.raises(InputError, match=message):
