@@ -160,6 +160,10 @@ def read_imu(
     ext = p.suffix.lower()
     if ext == ".mat":
         rec = read_mobilised_mat(p, trial=trial)
+    elif ext == ".txt" and "PacketCounter" in (_first_data_header(p) or []):
+        rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+    elif ext == ".txt" and is_imu_header(_first_data_header(p) or []):  # a log of IMU columns, as a CSV
+        rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor=sensor)
     elif ext == ".txt":
         rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".csv" and (layout := _dot_layout(p)) is not None:
@@ -202,8 +206,12 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
     header = _first_data_header(p)
     if header is None or not is_imu_header(header):
         raise InputError(f"{p}: no acc_x, acc_y, acc_z and gyr_x, gyr_y, gyr_z columns: not an IMU table")
+    first = _header_line(p)
+    with open(p, encoding="utf-8-sig", errors="replace") as f:
+        line = next((text for i, text in enumerate(f) if i == first), "")
+    delimiter = "\t" if "\t" in line else "," if "," in line else None  # a log's tabs or spaces as in its header
     try:
-        table = np.loadtxt(p, delimiter=",", skiprows=_header_line(p) + 1, ndmin=2, comments="#")
+        table = np.loadtxt(p, delimiter=delimiter, skiprows=first + 1, ndmin=2, comments="#")
     except ValueError as exc:
         raise InputError(f"{p}: not a numeric table after the header ({exc})") from None
     if table.shape[0] < 2:

@@ -381,3 +381,17 @@ def test_a_timestamp_whose_unit_no_rate_explains_names_the_options(tmp_path):
     _log(p, "timestamp", np.arange(rec.time_s.size) * 10**9, rec)
     with pytest.raises(InputError, match=r"unit of its timestamp column is unclear .* time_ms .*\(--capture-rate-hz"):
         read_imu(p, acc_unit="g", gyr_unit="deg_s")
+
+
+@pytest.mark.parametrize("separator", ["\t", " "])
+def test_a_text_log_of_imu_columns_reads_as_the_csv_does(tmp_path, separator):
+    """A .txt log with ax..gz columns separated by tabs or spaces (a serial monitor saved to a file) reads as the
+    same log with commas does, not as an Xsens export."""
+    rec = make_imu_walk(duration_s=2.0).recording
+    csv_path = tmp_path / "log.csv"
+    _log(csv_path, "timestamp", np.round(rec.time_s * 1000).astype(int), rec)
+    txt_path = tmp_path / "log.txt"
+    txt_path.write_text(csv_path.read_text().replace(",", separator))
+    a, b = (read_imu(p, acc_unit="g", gyr_unit="deg_s") for p in (csv_path, txt_path))
+    assert np.array_equal(a.time_s, b.time_s) and np.array_equal(a.acc_mps2, b.acc_mps2)
+    assert np.array_equal(a.gyr_rad_s, b.gyr_rad_s)
