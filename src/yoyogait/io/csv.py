@@ -55,7 +55,7 @@ __all__ = ["read_csv"]
 
 TIME_COLUMNS = ("time_s", "time", "t")
 VELOCITY_COLUMNS = {"vx": ("vx", "vx_mps"), "vz": ("vz", "vz_mps")}
-_POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])(?:_(?P<unit>mm|cm|m))?$")
+_POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])(?:_(?P<unit>(?i:mm|cm|m)))?$")
 #: The length units a point column may name after its axis, in metres.
 COLUMN_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
@@ -220,7 +220,7 @@ def _column_unit(header: list[str], where) -> tuple[float, str, str] | None:
     for h in header:
         m = _POINT_COLUMN.match(h)
         if m and m["unit"]:
-            named.setdefault(m["unit"], h)
+            named.setdefault(m["unit"].lower(), h)
     if len(named) > 1:
         shown = ", ".join(f"{h} ({u})" for u, h in named.items())
         raise InputError(f"{where}: point columns in different length units: {shown}; give them in one")

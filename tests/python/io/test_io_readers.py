@@ -338,7 +338,7 @@ def test_csv_positions_with_settings_and_gaps(tmp_path):
     assert rec.up_axis == "z" and np.allclose(rec.time_s, [0, 0.1, 0.2])
 
 
-@pytest.mark.parametrize("suffix, scale", [("m", 1.0), ("cm", 0.01), ("mm", 0.001)])
+@pytest.mark.parametrize("suffix, scale", [("m", 1.0), ("cm", 0.01), ("mm", 0.001), ("MM", 0.001)])
 def test_csv_point_columns_naming_their_unit_set_the_length_unit(tmp_path, suffix, scale):
     """CSV: a unit after the axis (pelvis_x_m, _cm, _mm) is the length unit, as yoyogait's own columns name theirs."""
     path = tmp_path / "u.csv"
