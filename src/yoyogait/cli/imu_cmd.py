@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import dataclasses
 import json
-import math
 import tempfile
 from pathlib import Path
 
@@ -15,7 +14,7 @@ import numpy as np
 from .._files import atomic_files, check_output_folder, check_outputs, install_folder
 from ..errors import InputError, about_file
 from ..estimators.config import ImuConfig
-from ..estimators.imu import ImuReason, estimator_for
+from ..estimators.imu import ImuReason, csv_formats, estimator_for
 from ..evaluation import imu as ev
 from ..evaluation.parallel import TaskFailure, run_tasks
 from ..io.imu_read import is_imu_file, read_imu
@@ -198,8 +197,9 @@ def estimate_imu(file, *, out=None, figure=None, force=False, config_file=None, 
             w = csv.writer(f)
             w.writerow(names)
             cols = [res[n] for n in names]
+            formats = csv_formats(names)
             for i in range(len(res)):
-                w.writerow([_cell(c[i]) for c in cols])
+                w.writerow([fmt % c[i] for fmt, c in zip(formats, cols)])
 
     writers = {target: write}
     if fig is not None:
@@ -211,15 +211,6 @@ def estimate_imu(file, *, out=None, figure=None, force=False, config_file=None, 
     click.echo(f"wrote {wrote}: {len(res)} samples, {valid.mean() * 100:.0f} % valid")
     for line in _clipped_lines(rec):
         click.echo(f"{file}: {line}", err=True)
-
-
-def _cell(v) -> str:
-    if isinstance(v, (bool, np.bool_)):
-        return "1" if v else "0"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    x = float(v)
-    return "nan" if math.isnan(x) else f"{x:.6g}"
 
 
 def is_imu_dataset(dataset) -> bool:

@@ -11,6 +11,7 @@ heading is absolute, from magnetic north.  No output at time t depends on a samp
 from __future__ import annotations
 
 import dataclasses
+import functools
 import threading
 from dataclasses import dataclass, field
 
@@ -22,7 +23,9 @@ from ..io.imu_recording import ImuRecording
 from .config import ImuConfig
 from .online import ConcurrentUseError, reason_words
 
-__all__ = ["IMU_ESTIMATE_FIELDS", "ImuConfig", "ImuOnlineEstimator", "ImuReason", "ImuResult", "why_not_valid"]
+__all__ = [
+    "IMU_ESTIMATE_FIELDS", "ImuConfig", "ImuOnlineEstimator", "ImuReason", "ImuResult", "csv_formats", "why_not_valid",
+]  # fmt: skip
 
 ImuReason = _core.ImuReason
 """Why an estimate is not valid: OK, NON_FINITE, TIME_NOT_INCREASING, SATURATED, GAP, GRAVITY,
@@ -61,6 +64,22 @@ class ImuResult:
     def column_names(self) -> list[str]:
         """The columns in the record table's order (``time_s`` first)."""
         return ["time_s" if n == "t_s" else n for n, _, _ in IMU_ESTIMATE_FIELDS]
+
+
+@functools.cache
+def _integer_columns() -> frozenset[str]:
+    # Which fields are flags or enumerations: as the native estimate types them.
+    probe = _core.ImuOnlineEstimator().update(0.0, np.array([0.0, 0.0, 9.81]), np.zeros(3))
+    return frozenset(("time_s" if n == "t_s" else n) for n, _, _ in IMU_ESTIMATE_FIELDS
+                     if not isinstance(getattr(probe, n), float))  # fmt: skip
+
+
+def csv_formats(columns) -> list[str]:
+    """printf formats of the IMU record's columns as ``yoyogait estimate`` and ``live --record`` write
+    them: the time to the microsecond (a recording's clock may count from its epoch), flags and
+    reasons as integers, the rest to 6 significant digits."""
+    integers = _integer_columns()
+    return ["%.6f" if c == "time_s" else "%d" if c in integers else "%.6g" for c in columns]
 
 
 _REASON_CODES = frozenset(int(r) for r in ImuReason)

@@ -284,13 +284,19 @@ def summary(rows: list[BoutRow]) -> list[dict]:
     return out
 
 
+#: Times from this on are a clock that counts from an epoch (a ROS stamp): the figure counts from the first sample.
+EPOCH_CLOCK_S = 1e5
+
+
 def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None):
     """Cadence and speed over time against the reference bouts and initial contacts (and the peer's
     bouts), and a strip of when the estimate is valid and why not; the figure, saved to ``path``."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    t = result.time_s
+    # A clock that counts from an epoch (a ROS stamp) is drawn from the first sample, said in the label.
+    t_origin = float(result.time_s[0]) if abs(float(result.time_s[0])) >= EPOCH_CLOCK_S else 0.0
+    t = result.time_s - t_origin
     valid = result["valid"].astype(bool)
     reason = np.asarray(result["reason"], dtype=int)
     reasons = [(r, reason == int(r)) for r in ImuReason if int(r) != int(ImuReason.OK)]
@@ -308,17 +314,16 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None):
         for j, b in enumerate(bouts):
             col = colours.get(ref, "tab:gray")
             for ax in (ax1, ax2, ax3):
-                ax.axvspan(b.start_s, b.end_s, color=col, alpha=0.08)
-            ax1.plot(b.contact_times_s, np.full(b.contact_times_s.size, 0.0 if ref == "INDIP" else 0.05), "|",
-                     color=col, ms=8, label=f"{ref} initial contacts" if j == 0 else None)  # fmt: skip
-            ax2.plot(
-                [b.start_s, b.end_s], [b.cadence_spm] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None
-            )
-            ax3.plot(
-                [b.start_s, b.end_s], [b.speed_mps] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None
-            )
+                ax.axvspan(b.start_s - t_origin, b.end_s - t_origin, color=col, alpha=0.08)
+            level = np.full(b.contact_times_s.size, 0.0 if ref == "INDIP" else 0.05)
+            ax1.plot(b.contact_times_s - t_origin, level, "|", color=col, ms=8,
+                     label=f"{ref} initial contacts" if j == 0 else None)  # fmt: skip
+            span = [b.start_s - t_origin, b.end_s - t_origin]
+            ax2.plot(span, [b.cadence_spm] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None)
+            ax3.plot(span, [b.speed_mps] * 2, color=col, lw=2.5, label=f"{ref} bout" if j == 0 else None)
     if mobgap:
         for j, (s, e, c, v, _) in enumerate(mobgap):
+            s, e = s - t_origin, e - t_origin
             ax2.plot([s, e], [c, c], color="tab:orange", lw=1.5, ls="--", label="mobgap (offline)" if j == 0 else None)
             ax3.plot([s, e], [v, v], color="tab:orange", lw=1.5, ls="--", label="mobgap (offline)" if j == 0 else None)
     ax2.plot(t, cad, color="tab:blue", lw=1.0, label="yoyogait IMU online (valid)")
@@ -331,7 +336,7 @@ def imu_figure(rec: ImuRecording, result: ImuResult, path, mobgap=None):
     ax2.set_ylabel("cadence [steps/min]")
     ax3.set_ylabel("speed [m/s]")
     plots.validity_strip(ax4, strip)  # why not valid, where not
-    ax4.set_xlabel("time [s]")
+    ax4.set_xlabel(f"time [s] after {t_origin:.6f} s" if t_origin else "time [s]")
     ax4.set_xlim(float(t[0]), float(t[-1]))
     ax2.set_ylim(40, 160)
     ax3.set_ylim(0, 2.0)

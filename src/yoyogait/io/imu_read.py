@@ -72,18 +72,26 @@ def _unit(value, table: dict, option: str, where) -> float:
 
 #: An IMU column (lower case): the sensor's name when the table has one before it (``pelvis_ACCEL_x``,
 #: ``LowerBack_Acc_X``), acc/accel or gyr/gyro, the axis, and a unit when given (``acc_x_g``,
-#: ``gyr_x[deg/s]``, ``acc_x (m/s^2)``); or the short names of microcontroller logs, ``ax``.. ``gz``.
+#: ``gyr_x[deg/s]``, ``acc_x (m/s^2)``); the short names of microcontroller logs, ``ax``.. ``gz``; or
+#: sensor_msgs/Imu's fields as ROS tools write them to CSV (``field.linear_acceleration.x``,
+#: ``angular_velocity.z``), in REP 145's units unless the column says otherwise.
+_IMU_KINDS = {"acc": r"acc(?:el)?|(?P<ros>linear_acceleration)", "gyr": r"gyr(?:o)?|(?P<ros>angular_velocity)"}
 _IMU_COLUMN = {
     (kind, a): re.compile(
-        rf"^(?:(?:(?P<sensor>.+?)[_ .:\-])?{kind}(?:o|el)?[_ .:]?{_AXIS_NAMES[a]}|{kind[0]}{a}(?![a-z0-9]))"
+        rf"^(?:(?:(?P<sensor>.+?)[_ .:\-])?(?:{_IMU_KINDS[kind]})[_ .:]?{_AXIS_NAMES[a]}|{kind[0]}{a}(?![a-z0-9]))"
         rf"(?:[_ ]?[\[(]?(?P<unit>[a-z0-9/^_]+?)[\])]?)?$"
     )
     for kind in ("acc", "gyr")
     for a in _AXES
 }
-#: Time columns of a generic IMU CSV and their unit in seconds; ``timestamp`` alone: see _timestamp_unit.
+#: sensor_msgs/Imu's units (REP 145), and the prefix ``rostopic echo -p`` puts before every field.
+_ROS_UNITS = {"acc": "m/s^2", "gyr": "rad/s"}
+_ROS_PREFIX = "field"
+#: Time columns of a generic IMU CSV and their unit in seconds, the first found taken (a ROS message's
+#: header stamp before the time it was recorded); ``timestamp`` alone: see _timestamp_unit.
 TIME_COLUMNS_S = {
     "time_s": 1.0, "time": 1.0, "t": 1.0, "t_s": 1.0, "timestamp_s": 1.0,
+    "field.header.stamp": 1e-9, "%time": 1e-9,
     "time_ms": 1e-3, "timestamp_ms": 1e-3, "t_ms": 1e-3, "millis": 1e-3,
     "time_us": 1e-6, "timestamp_us": 1e-6, "t_us": 1e-6, "micros": 1e-6,
     "time_ns": 1e-9, "timestamp_ns": 1e-9,
@@ -103,7 +111,9 @@ def _imu_sensors(header: list[str]) -> dict[str, dict[tuple[str, str], tuple[int
         for key, pattern in _IMU_COLUMN.items():
             m = pattern.match(name)
             if m:
-                found.setdefault(m["sensor"] or "", {}).setdefault(key, (i, m["unit"]))
+                unit = m["unit"] or (_ROS_UNITS[key[0]] if m["ros"] else None)
+                sensor = "" if m["sensor"] == _ROS_PREFIX else m["sensor"] or ""
+                found.setdefault(sensor, {}).setdefault(key, (i, unit))
                 break
     return {sensor: cols for sensor, cols in found.items() if len(cols) == len(_IMU_COLUMN)}
 
@@ -206,26 +216,16 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
     header = _first_data_header(p)
     if header is None or not is_imu_header(header):
         raise InputError(f"{p}: no acc_x, acc_y, acc_z and gyr_x, gyr_y, gyr_z columns: not an IMU table")
-    first = _header_line(p)
-    with open(p, encoding="utf-8-sig", errors="replace") as f:
-        line = next((text for i, text in enumerate(f) if i == first), "")
-    delimiter = "\t" if "\t" in line else "," if "," in line else None  # a log's tabs or spaces as in its header
-    try:
-        table = np.loadtxt(p, delimiter=delimiter, skiprows=first + 1, ndmin=2, comments="#")
-    except ValueError as exc:
-        raise InputError(f"{p}: not a numeric table after the header ({exc})") from None
-    if table.shape[0] < 2:
-        raise InputError(f"{p}: fewer than two samples")
     lower = [h.lower() for h in header]
     metadata: dict = {}
     sensor_height = None
     rate: float | None
+    tcol: int | None
     if lower[: len(_MOBGAP_HEADER)] == _MOBGAP_HEADER:
         metadata["layout"] = "mobgap"
         acc_scale = _unit(acc_unit, ACC_UNITS, "acc_unit", p) or GRAVITY_MPS2
         gyr_scale = _unit(gyr_unit, GYR_UNITS, "gyr_unit", p) or np.pi / 180.0
-        rate = float(rate_hz) if rate_hz else 100.0
-        time_s = table[:, 0] / rate
+        tcol = 0
         acc_cols = [lower.index(f"acc_{a}") for a in _AXES]
         gyr_cols = [lower.index(f"gyr_{a}") for a in _AXES]
         sensor_height = _mobgap_sensor_height(p)
@@ -237,23 +237,38 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
         acc_cols, acc_scale = _columns(sensors[chosen], "acc", ACC_UNITS, acc_unit, "acc_unit", p)
         gyr_cols, gyr_scale = _columns(sensors[chosen], "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
         tcol = next((lower.index(n) for n in (*TIME_COLUMNS_S, "timestamp") if n in lower), None)
-        if tcol is not None:
-            time_s = table[:, tcol]
-            if lower[tcol] in TIME_COLUMNS_S:
-                time_s = time_s * TIME_COLUMNS_S[lower[tcol]]
-            else:
-                unit = _timestamp_unit(time_s, p)
-                metadata["time_unit"] = f"{header[tcol]} in {unit}"
-                time_s = time_s * TIMESTAMP_UNITS_S[unit]
-            rate = float(rate_hz) if rate_hz else None
-        elif rate_hz:
-            rate = float(rate_hz)
-            time_s = np.arange(table.shape[0]) / rate
-        else:
+        if tcol is None and not rate_hz:
             raise InputError(f"{p}: no time column (time_s); give the sample rate with rate_hz (--capture-rate-hz)")
-        if rate is None:
-            rate = _median_rate_hz(time_s)
         metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
+    # Only the columns used are read: a ROS export's frame_id, a log's text columns stay out.
+    used = ([] if tcol is None else [tcol]) + acc_cols + gyr_cols
+    first = _header_line(p)
+    with open(p, encoding="utf-8-sig", errors="replace") as f:
+        line = next((text for i, text in enumerate(f) if i == first), "")
+    delimiter = "\t" if "\t" in line else "," if "," in line else None  # a log's tabs or spaces as in its header
+    try:
+        table = np.loadtxt(p, delimiter=delimiter, skiprows=first + 1, ndmin=2, comments="#", usecols=used)
+    except ValueError as exc:
+        raise InputError(f"{p}: not a numeric table after the header ({exc})") from None
+    if table.shape[0] < 2:
+        raise InputError(f"{p}: fewer than two samples")
+    k = 0 if tcol is None else 1
+    acc_cols, gyr_cols = list(range(k, k + 3)), list(range(k + 3, k + 6))
+    if metadata["layout"] == "mobgap":
+        rate = float(rate_hz) if rate_hz else 100.0
+        time_s = table[:, 0] / rate
+    elif tcol is not None:
+        time_s = table[:, 0]
+        if lower[tcol] in TIME_COLUMNS_S:
+            time_s = time_s * TIME_COLUMNS_S[lower[tcol]]
+        else:
+            unit = _timestamp_unit(time_s, p)
+            metadata["time_unit"] = f"{header[tcol]} in {unit}"
+            time_s = time_s * TIMESTAMP_UNITS_S[unit]
+        rate = float(rate_hz) if rate_hz else _median_rate_hz(time_s)
+    else:
+        rate = float(rate_hz)
+        time_s = np.arange(table.shape[0]) / rate
     rec = ImuRecording(
         time_s=time_s,
         acc_mps2=table[:, acc_cols] * acc_scale,

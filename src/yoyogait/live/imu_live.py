@@ -32,7 +32,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..estimators.config import ImuConfig
-from ..estimators.imu import IMU_ESTIMATE_FIELDS, ImuOnlineEstimator
+from ..estimators.imu import IMU_ESTIMATE_FIELDS, ImuOnlineEstimator, csv_formats
 from ..io.imu_recording import GRAVITY_MPS2
 from ._lsl import pylsl
 from .imu_layout import IMU_TYPES, ImuLayout, read_imu_layout
@@ -74,18 +74,9 @@ def imu_row(estimate: Any) -> list[float]:
     return [float(v) for v in _FIELDS_OF(estimate)]
 
 
-@functools.cache
-def _integer_columns() -> frozenset[str]:
-    # Which fields are flags or enumerations: as the native estimate types them.
-    probe = ImuOnlineEstimator().update(0.0, [0.0, 0.0, GRAVITY_MPS2], [0.0, 0.0, 0.0])
-    return frozenset(c for c, a in IMU_CHANNELS if not isinstance(getattr(probe, a), float))
-
-
 def imu_csv_formats(columns: Sequence[str] = IMU_COLUMNS) -> list[str]:
-    """printf formats of the IMU columns as ``yoyogait estimate FILE`` writes them for an IMU file
-    (flags and reasons as integers, the rest with 6 significant digits)."""
-    integers = _integer_columns()
-    return ["%d" if c in integers else "%.6g" for c in columns]
+    """printf formats of the IMU columns as ``yoyogait estimate FILE`` writes them for an IMU file."""
+    return csv_formats(columns)
 
 
 def imu_estimate_stream_info(name: str) -> Any:

@@ -70,6 +70,33 @@ def test_estimate_writes_one_row_per_sample(tmp_path, capsys, monkeypatch):
     assert rows[-1]["valid"] == "1"
 
 
+def test_estimate_of_a_ros_export_keeps_its_epoch_clock_to_the_microsecond(tmp_path, capsys, monkeypatch):
+    """A sensor_msgs/Imu topic as `rostopic echo -p` writes it (ns stamps since the epoch, a frame_id text column,
+    REP 145 units) is read without unit options, and estimate's time column keeps every sample's own time."""
+    monkeypatch.chdir(tmp_path)
+    rec = make_imu_walk(duration_s=6.0).recording
+    stamps = 1_700_000_000 * 10**9 + np.round(rec.time_s * 1e9).astype(np.int64)
+    fields = ["angular_velocity.x", "angular_velocity.y", "angular_velocity.z"] + [
+        "linear_acceleration.x", "linear_acceleration.y", "linear_acceleration.z"]  # fmt: skip
+    lines = [",".join(["%time", "field.header.seq", "field.header.stamp", "field.header.frame_id"]
+                      + [f"field.{n}" for n in fields] + ["field.linear_acceleration_covariance0"])]  # fmt: skip
+    for i, (ns, g, a) in enumerate(zip(stamps, rec.gyr_rad_s, rec.acc_mps2)):
+        lines.append(
+            ",".join(
+                [str(ns + 2_000_000), str(i), str(ns), "imu_link", *map(str, g.tolist()), *map(str, a.tolist()), "0"]
+            )
+        )
+    (tmp_path / "imu.csv").write_text("\n".join(lines) + "\n")
+    assert main(["estimate", "imu.csv", "--out", "est.csv"]) == 0
+    with open(tmp_path / "est.csv") as f:
+        times = np.array([float(r["time_s"]) for r in csv.DictReader(f)])
+    np.testing.assert_allclose(times - 1.7e9, rec.time_s, atol=2e-6)
+    back = read_imu(tmp_path / "imu.csv")
+    np.testing.assert_allclose(back.acc_mps2, rec.acc_mps2) and np.testing.assert_allclose(
+        back.gyr_rad_s, rec.gyr_rad_s
+    )
+
+
 def test_estimate_does_not_overwrite_without_force(tmp_path, capsys, monkeypatch):
     """An existing --out is left alone without --force: one line, exit non-zero; with --force it is replaced."""
     monkeypatch.chdir(tmp_path)
