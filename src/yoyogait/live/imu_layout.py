@@ -9,7 +9,8 @@ element with ``sensor_height_m`` when the file gave it.
 Streams from other systems are read by their channel labels, ``[PREFIX_]KIND_AXIS`` with KIND one of
 acc/accel/accelerometer/acceleration, gyr/gyro/gyroscope/angvel/angular_velocity, mag/magnetometer
 (optional, not used) and AXIS x, y or z, separated by ``_``, ``.``, ``:``, ``-``, a space or nothing
-(``AccX``, ``Lumbar:Gyro_Y``, ``accel.z``, ``LumbarAccX``), or by a channel ``type`` of that form. Units come from
+(``AccX``, ``Lumbar:Gyro_Y``, ``accel.z``, ``LumbarAccX``; a microcontroller's ``ax``.. ``gz`` as the whole
+label), or by a channel ``type`` of that form. Units come from
 the channels' ``unit`` (``m/s^2``, ``g``; ``rad/s``, ``deg/s``, ...); a stream that does not state them
 needs ``--acc-unit`` and ``--gyr-unit``, which also override what it states.
 """
@@ -92,11 +93,19 @@ class ImuLayout:
     sensor_height_m: float | None = None  # setup/sensor_height_m, None when the stream does not say
 
 
+#: A microcontroller's short labels, the whole label: ax, ay, az (acc), gx, gy, gz (gyr), mx.. (mag).
+_SHORT_LABEL = re.compile(r"^(?P<kind>[agm])(?P<axis>[xyz])$", re.IGNORECASE)
+_SHORT_KIND = {"a": "acc", "g": "gyr", "m": "mag"}
+
+
 def _kind_and_axis(label: str, kind: str) -> tuple[str | None, int]:
     for text in (label, kind):
         m = _LABEL.match(text.strip().replace("angular velocity", "angvel")) if text else None
         if m:
             return _KIND_OF[m["kind"].lower()], "xyz".index(m["axis"].lower())
+        short = _SHORT_LABEL.match(text.strip()) if text else None
+        if short:
+            return _SHORT_KIND[short["kind"].lower()], "xyz".index(short["axis"].lower())
     return None, 0
 
 

@@ -171,6 +171,16 @@ def test_labels_and_units_of_other_systems_are_read_g_and_deg_s_converted():
     )
 
 
+def test_a_microcontrollers_short_labels_are_an_imu_stream():
+    """A stream labelled ax, ay, az, gx, gy, gz (a microcontroller's sketch; type unset) is an IMU's, its channels
+    in order, with the units its channels state."""
+    info = imu_info(unique("mcu"), ["ax", "ay", "az", "gx", "gy", "gz"], ["g"] * 3 + ["deg/s"] * 3, kind="")
+    assert is_imu_info(info)
+    layout = read_imu_layout(info)
+    assert (layout.acc_scale, layout.gyr_scale) == (GRAVITY_MPS2, DEG)
+    assert tuple(layout.acc_channels) == (0, 1, 2) and tuple(layout.gyr_channels) == (3, 4, 5)
+
+
 def test_repeated_and_late_samples_are_dropped_counted_and_leave_the_estimates_unchanged():
     """A repeated and a late IMU sample are dropped and counted; the estimates equal those of the clean sequence."""
     rec = make_imu_walk(duration_s=3.0).recording
