@@ -38,7 +38,7 @@ import re
 import numpy as np
 
 from ..errors import InputError
-from .imu_read import is_imu_header
+from .imu_read import TIME_COLUMN_NAMES, is_imu_header, time_in_seconds
 from .recording import (
     AXES,
     MAX_SPEED_MPS,
@@ -53,9 +53,11 @@ from .recording import (
 
 __all__ = ["read_csv"]
 
-TIME_COLUMNS = ("time_s", "time", "t")
 VELOCITY_COLUMNS = {"vx": ("vx", "vx_mps"), "vz": ("vz", "vz_mps")}
 _POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])(?:_(?P<unit>(?i:mm|cm|m)))?$")
+#: The w of a quaternion's x, y, z, w columns; a ROS message field's position (``field.pose.position``).
+_QUATERNION_W = re.compile(r"^(?P<name>.+?)[_.:][wW]$")
+_ROS_POSITION = re.compile(r"^(?:field\.)?(?P<name>.+?)\.position$")
 #: The length units a point column may name after its axis, in metres.
 COLUMN_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
@@ -85,6 +87,13 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
             first += 1
 
     _refuse_inertial(header, p)
+    # Cells of the columns read are numbers; others (a ROS export's frame_id, a note) are not parsed.
+    lower_names = [h.lower() for h in header]
+    velocity_names = {n for names in VELOCITY_COLUMNS.values() for n in names}
+    read = [
+        bool(_POINT_COLUMN.match(h)) or n in TIME_COLUMN_NAMES or n in velocity_names
+        for h, n in zip(header, lower_names)
+    ]
 
     rows = []
     line_numbers = []
@@ -96,7 +105,7 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
                     f"{p}: truncated CSV file: the last line stops after {len(cells)} of {len(header)} columns"
                 )
             raise InputError(f"{p}: line {number} holds {len(cells)} columns, the header {len(header)}")
-        rows.append(number_row(cells, p, number))
+        rows.append(number_row([c if r else "nan" for c, r in zip(cells, read)], p, number))
         line_numbers.append(number)
     if not rows:
         raise InputError(f"{p}: the CSV file holds no data rows")
@@ -144,13 +153,15 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
         positions *= unit
         check_coordinates(positions, names, p, line_numbers)
 
-    time_col = next((lower.index(c) for c in TIME_COLUMNS if c in lower), None)
+    time_col = next((lower.index(c) for c in TIME_COLUMN_NAMES if c in lower), None)
     file_rate = _setting_float(settings, "rate_hz", p)
     rate = float(rate_hz) if rate_hz is not None else file_rate
     if rate is not None:
         rate = check_rate(rate, p, "capture_rate_hz override" if rate_hz is not None else "'# rate_hz'")
     if time_col is not None and rate_hz is None:
-        time_s = table[:, time_col]
+        time_s, inferred = time_in_seconds(header[time_col], table[:, time_col], p)
+        if inferred is not None:
+            metadata["time_unit"] = f"{header[time_col]} in {inferred}"
         if not np.all(np.isfinite(time_s)):
             raise InputError(f"{p}: the time column {header[time_col]!r} has empty or invalid cells")
         check_time(time_s, p, line_numbers)
@@ -158,7 +169,8 @@ def read_csv(path, *, length_unit_m: float | None = None, rate_hz: float | None 
         time_s = uniform_time(len(rows), rate)
     else:
         raise InputError(
-            f"{p}: the CSV has no time column ({', '.join(TIME_COLUMNS)}) and no rate; pass capture_rate_hz="
+            f"{p}: the CSV has no time column ({', '.join(TIME_COLUMN_NAMES[:3])}, ...) and no rate; "
+            "pass capture_rate_hz="
         )
 
     up_axis = settings.get("up_axis")
@@ -231,12 +243,16 @@ def _column_unit(header: list[str], where) -> tuple[float, str, str] | None:
 
 
 def _points(header: list[str], table: np.ndarray, where) -> tuple[list[str], np.ndarray]:
-    """Point names (in order of first appearance) and their positions from the x/y/z columns."""
+    """Point names (in order of first appearance) and their positions from the x/y/z columns. A group
+    with a w column too is a quaternion, not a point; a ROS pose's position (``field.pose.position.x``,
+    as ``rostopic echo -p`` writes a geometry_msgs/PoseStamped) is the point ``pose``."""
     columns: dict[str, dict[str, int]] = {}
+    quaternions = {m["name"] for h in header if (m := _QUATERNION_W.match(h))}
     for i, h in enumerate(header):
         m = _POINT_COLUMN.match(h)
-        if m:
-            columns.setdefault(m["name"], {})[m["axis"].lower()] = i
+        if m and m["name"] not in quaternions:
+            name = _ROS_POSITION.sub(r"\g<name>", m["name"])
+            columns.setdefault(name, {})[m["axis"].lower()] = i
     incomplete = [n for n, axes in columns.items() if set(axes) != set(AXES)]
     if incomplete:
         raise InputError(f"{where}: point {incomplete[0]!r} lacks an x, y or z column")

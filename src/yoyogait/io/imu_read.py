@@ -100,6 +100,18 @@ TIME_COLUMNS_S = {
 #: (a range under a factor of 1000 wide, so that at most one fits).
 TIMESTAMP_UNITS_S = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9}
 TIMESTAMP_RATES_HZ = (4.0, 4000.0)
+#: Every time column a table may have (lower case), in the order they are looked for.
+TIME_COLUMN_NAMES = (*TIME_COLUMNS_S, "timestamp")
+
+
+def time_in_seconds(name: str, values: np.ndarray, where) -> tuple[np.ndarray, str | None]:
+    """A time column's values in seconds: by its name (TIME_COLUMNS_S), or a bare ``timestamp`` by its
+    intervals (_timestamp_unit); and the unit so inferred, None where the name gave it."""
+    scale = TIME_COLUMNS_S.get(name.strip().lower())
+    if scale is not None:
+        return values * scale, None
+    unit = _timestamp_unit(values, where)
+    return values * TIMESTAMP_UNITS_S[unit], unit
 
 
 def _imu_sensors(header: list[str]) -> dict[str, dict[tuple[str, str], tuple[int, str | None]]]:
@@ -236,7 +248,7 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
             metadata["sensor"] = chosen
         acc_cols, acc_scale = _columns(sensors[chosen], "acc", ACC_UNITS, acc_unit, "acc_unit", p)
         gyr_cols, gyr_scale = _columns(sensors[chosen], "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
-        tcol = next((lower.index(n) for n in (*TIME_COLUMNS_S, "timestamp") if n in lower), None)
+        tcol = next((lower.index(n) for n in TIME_COLUMN_NAMES if n in lower), None)
         if tcol is None and not rate_hz:
             raise InputError(f"{p}: no time column (time_s); give the sample rate with rate_hz (--capture-rate-hz)")
         metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
@@ -258,13 +270,9 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
         rate = float(rate_hz) if rate_hz else 100.0
         time_s = table[:, 0] / rate
     elif tcol is not None:
-        time_s = table[:, 0]
-        if lower[tcol] in TIME_COLUMNS_S:
-            time_s = time_s * TIME_COLUMNS_S[lower[tcol]]
-        else:
-            unit = _timestamp_unit(time_s, p)
+        time_s, unit = time_in_seconds(header[tcol], table[:, 0], p)
+        if unit is not None:
             metadata["time_unit"] = f"{header[tcol]} in {unit}"
-            time_s = time_s * TIMESTAMP_UNITS_S[unit]
         rate = float(rate_hz) if rate_hz else _median_rate_hz(time_s)
     else:
         rate = float(rate_hz)

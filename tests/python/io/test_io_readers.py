@@ -356,6 +356,22 @@ def test_csv_length_unit_override_wins_over_the_columns_unit(tmp_path):
     assert np.allclose(rec.point("A")[0], [1, 2, 3]) and rec.metadata["length_unit_from"] == "override"
 
 
+def test_csv_of_a_ros_pose_topic_reads_its_position_as_a_point_on_the_stamps_clock(tmp_path):
+    """CSV as `rostopic echo -p` writes a geometry_msgs/PoseStamped: the position is the point `pose`, the orientation
+    (x, y, z with a w) no point, the frame_id text not read, the header stamp (ns) the time in seconds."""
+    path = tmp_path / "pose.csv"
+    head = "%time,field.header.seq,field.header.stamp,field.header.frame_id," + ",".join(
+        [f"field.pose.position.{a}" for a in "xyz"] + [f"field.pose.orientation.{a}" for a in "xyzw"]
+    )
+    stamps = [1_700_000_000_000_000_000 + k * 10_000_000 for k in range(3)]
+    body = "".join(f"{ns + 1},{k},{ns},world,{0.012 * k},0.5,0.95,0,0,0,1\n" for k, ns in enumerate(stamps))
+    path.write_text(head + "\n" + body)
+    rec = yio.read(path)
+    assert rec.point_names == ["pose"]
+    np.testing.assert_allclose(rec.point("pose")[2], [0.024, 0.5, 0.95])
+    np.testing.assert_allclose(rec.time_s - 1.7e9, [0.0, 0.01, 0.02], atol=1e-6)
+
+
 def test_csv_ready_velocities(tmp_path):
     """CSV with time,vx,vz columns holds velocities and no points."""
     path = tmp_path / "v.csv"
