@@ -68,6 +68,7 @@ def _inspect(path: str, *, point, feet, up_axis, length_unit_m, rate_hz, forward
         "frames": rec.n_frames,
         "duration_s": rec.duration_s,
         "length_unit": rec.metadata.get("length_unit_from", ""),
+        "time_unit": rec.metadata.get("time_unit"),
         "points": list(rec.point_names),
         "up_axis": velocities.up_axis,
         "up_axis_from": up_axis_from,
@@ -210,7 +211,11 @@ def command(
     rate = f"{report['rate_hz']:g} Hz" if report["rate_hz"] else "irregular"
     lines = [
         ("file", f"{report['file']} ({report['format'].upper()})"),
-        ("rate", f"{rate}, {report['frames']} frames, {report['duration_s']:.2f} s"),
+        (
+            "rate",
+            f"{rate}, {report['frames']} frames, {report['duration_s']:.2f} s"
+            + (f" ({report['time_unit']}, by its intervals)" if report["time_unit"] else ""),
+        ),
         ("length unit", report["length_unit"]),
         ("points", f"{len(names)}: {', '.join(shown)}" if names else "none (ready velocities)"),
         ("up axis", f"{report['up_axis']} ({report['up_axis_from']})"),

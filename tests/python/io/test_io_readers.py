@@ -372,6 +372,15 @@ def test_csv_of_a_ros_pose_topic_reads_its_position_as_a_point_on_the_stamps_clo
     np.testing.assert_allclose(rec.time_s - 1.7e9, [0.0, 0.01, 0.02], atol=1e-6)
 
 
+def test_csv_with_a_bare_timestamp_in_milliseconds_reads_in_seconds_and_says_so(tmp_path):
+    """CSV: a `timestamp` column without a unit is read in the unit its intervals make a capture rate of (ms here)."""
+    path = tmp_path / "ms.csv"
+    path.write_text("timestamp,A_x,A_y,A_z\n1000,0,0,1\n1010,0.01,0,1\n1020,0.02,0,1\n")
+    rec = yio.read(path)
+    np.testing.assert_allclose(rec.time_s, [1.0, 1.01, 1.02])
+    assert rec.metadata["time_unit"] == "timestamp in ms"
+
+
 def test_csv_ready_velocities(tmp_path):
     """CSV with time,vx,vz columns holds velocities and no points."""
     path = tmp_path / "v.csv"
