@@ -89,8 +89,9 @@ int main(int argc, char** argv) {
                                                          : est.update(cells[0], &cells[1], &cells[4]);
       // A controller acts on an estimate only where valid is 1; reason holds why not (ImuReason).
       sep = "";
-#define YOYOGAIT_EXAMPLE_VALUE(type, name, def, unit, scope, doc) \
-  std::printf("%s%.9g", sep, number(e.name));                     \
+      // The time to the microsecond (a clock that counts from an epoch has ten digits before the point).
+#define YOYOGAIT_EXAMPLE_VALUE(type, name, def, unit, scope, doc)                          \
+  std::printf(std::strcmp(#name, "t_s") == 0 ? "%s%.6f" : "%s%.9g", sep, number(e.name)); \
   sep = ",";
       YOYOGAIT_IMU_ESTIMATE_FIELDS(YOYOGAIT_EXAMPLE_VALUE)
 #undef YOYOGAIT_EXAMPLE_VALUE

@@ -177,3 +177,10 @@ def _feed_imu_stdin(exe):
     )
     assert words.returncode == 0 and words.stderr.count("skipping lines that are not numbers") == 1, words.stderr
     assert "t ax ay az" in words.stderr
+    # A clock from an epoch keeps its samples apart to the microsecond in the time column.
+    epoch = [
+        ",".join(f"{v:.6f}" for v in (1.7e9 + t, *a, *g)) for t, a, g in zip(rec.time_s, rec.acc_mps2, rec.gyr_rad_s)
+    ]
+    late = subprocess.run([str(exe)], input="\n".join(epoch[:5]) + "\n", capture_output=True, text=True)
+    times = [float(row.split(",")[0]) for row in late.stdout.strip().splitlines()[1:]]
+    assert late.returncode == 0 and [round(t - 1.7e9, 6) for t in times] == [round(t, 6) for t in rec.time_s[:5]]
