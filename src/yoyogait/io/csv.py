@@ -55,9 +55,10 @@ __all__ = ["read_csv"]
 
 VELOCITY_COLUMNS = {"vx": ("vx", "vx_mps"), "vz": ("vz", "vz_mps")}
 _POINT_COLUMN = re.compile(r"^(?P<name>.+?)[_.:](?P<axis>[xyzXYZ])(?:_(?P<unit>(?i:mm|cm|m)))?$")
-#: The w of a quaternion's x, y, z, w columns; a ROS message field's position (``field.pose.position``).
+#: The w of a quaternion's x, y, z, w columns; a ROS message's point, named without rostopic's ``field.`` and
+#: the ``position`` / ``translation`` of a pose or transform (``field.pose.position`` is ``pose``).
 _QUATERNION_W = re.compile(r"^(?P<name>.+?)[_.:][wW]$")
-_ROS_POSITION = re.compile(r"^(?:field\.)?(?P<name>.+?)\.position$")
+_ROS_POSITION = re.compile(r"^(?:field\.)?(?P<name>.+?)(?:\.position|\.translation)?$")
 #: The length units a point column may name after its axis, in metres.
 COLUMN_UNITS_M = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
@@ -245,7 +246,8 @@ def _column_unit(header: list[str], where) -> tuple[float, str, str] | None:
 def _points(header: list[str], table: np.ndarray, where) -> tuple[list[str], np.ndarray]:
     """Point names (in order of first appearance) and their positions from the x/y/z columns. A group
     with a w column too is a quaternion, not a point; a ROS pose's position (``field.pose.position.x``,
-    as ``rostopic echo -p`` writes a geometry_msgs/PoseStamped) is the point ``pose``."""
+    as ``rostopic echo -p`` writes a geometry_msgs/PoseStamped) is the point ``pose``, a PointStamped's
+    ``point``, a TransformStamped's ``transform``."""
     columns: dict[str, dict[str, int]] = {}
     quaternions = {m["name"] for h in header if (m := _QUATERNION_W.match(h))}
     for i, h in enumerate(header):
