@@ -15,8 +15,13 @@ Ready velocities (m/s), e.g. from another pipeline or an IMU::
     time_s,vx,vz
     0.00,1.21,0.05
 
-* The time column is ``time_s``, ``time`` or ``t``; without one, give
+* The time column is ``time_s``, ``time`` or ``t`` in seconds, or one of the other
+  names :data:`yoyogait.io.imu_read.TIME_COLUMN_NAMES` lists (``time_ms``, a ROS
+  stamp in ns, a bare ``timestamp`` by its intervals); without one, give
   ``# rate_hz:`` or ``rate_hz=``.
+* A ROS topic as ``rostopic echo -p`` writes it: a pose's or transform's position is
+  a point (``field.pose.position.x`` is ``pose``), a quaternion (x, y, z with a w) none,
+  and columns that are neither points, times nor velocities are not parsed (text).
 * A point is three columns ``<name>_x``, ``<name>_y``, ``<name>_z`` (``.x``
   and ``:x`` and upper case X/Y/Z work too), in any order; a unit after the
   axis (``pelvis_x_m``, ``LASI_x_mm``, ``_cm``) is the length unit.
