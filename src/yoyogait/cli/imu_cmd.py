@@ -284,7 +284,10 @@ def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, p
                 w.writerow(vals + [row.cadence_error_spm, row.speed_error_mps, row.stride_time_error_s])
         summ = ev.summary(rows)
         lines = ["# IMU evaluation: per reference walking bout", "",
-                 f"Data set: {dataset} ({len(recs)} recordings). Median (worst) absolute error over the bouts.",
+                 f"Data set: {dataset} ({len(recs)} recordings). Median (worst) absolute error over the bouts. "
+                 "yoyogait and the oscillator are scored on each bout over the strides its reference measured, where "
+                 "the estimate is valid over half a stride or more (a bout with none is missed: no error, left out "
+                 "of the median); mobgap's own bouts against the whole bout (docs/imu.md, section 6).",
                  ""]  # fmt: skip
         if mobgap_note:
             lines += [mobgap_note, ""]
