@@ -16,7 +16,7 @@ Ready velocities (m/s), e.g. from another pipeline or an IMU::
     0.00,1.21,0.05
 
 * The time column is ``time_s``, ``time`` or ``t`` in seconds, or one of the other
-  names :data:`yoyogait.io.imu_read.TIME_COLUMN_NAMES` lists (``time_ms``, a ROS
+  names :data:`yoyogait.io.imu_tables.TIME_COLUMN_NAMES` lists (``time_ms``, a ROS
   stamp in ns, a bare ``timestamp`` by its intervals); without one, give
   ``# rate_hz:`` or ``rate_hz=``.
 * A ROS topic as ``rostopic echo -p`` writes it: a pose's or transform's position is
@@ -43,7 +43,7 @@ import re
 import numpy as np
 
 from ..errors import InputError
-from .imu_read import TIME_COLUMN_NAMES, is_imu_header, time_in_seconds
+from .imu_tables import TIME_COLUMN_NAMES, is_imu_header, time_in_seconds
 from .recording import (
     AXES,
     MAX_SPEED_MPS,

@@ -22,6 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .apdm import APDM_ACC_UNITS, APDM_GYR_UNITS, choose_sensor
+from .imu_checks import ACC_UNITS, GYR_UNITS, reading, unit_scale
+from .imu_recording import ImuRecording
 from .recording import Recording, number_row, read_text, uniform_time, unique_names
 
 __all__ = ["read_motion_bids", "channels_file", "channel_types", "load", "component_of"]
@@ -185,3 +188,48 @@ def read_motion_bids(path, *, length_unit_m: float | None = None, rate_hz: float
             "tracked_points": {n: channels[points[n]["x"]].get("tracked_point", "") for n in complete},
         },
     )
+
+
+# ------------------------------------------------------------------------------------------- IMU
+
+_BIDS_ACC_UNITS = {**APDM_ACC_UNITS, "m s^-2": 1.0, "m*s^-2": 1.0}
+_BIDS_GYR_UNITS = {**APDM_GYR_UNITS, "rad s^-1": 1.0, "deg s^-1": np.pi / 180.0, "°/s": np.pi / 180.0}
+
+
+def read_motion_bids_imu(path, *, sensor=None, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
+    """An IMU of a Motion-BIDS ``*_motion.tsv`` (io/motion_bids.py): the tracked point with ACCEL and GYRO
+    channels for x, y and z that is at the lower back by its label (as the APDM reader chooses), or the only
+    one, or ``sensor`` (--sensor); units from each channel's ``units`` (m/s^2 or g, rad/s or deg/s) unless
+    ``acc_unit`` / ``gyr_unit`` say otherwise."""
+    p = Path(path)
+    channels, data, rate, channels_path, time_s = load(p, rate_hz)
+    found: dict[str, dict] = {}
+    for k, ch in enumerate(channels):
+        kind, axis = ch.get("type", "").upper(), component_of(ch)
+        if kind in ("ACCEL", "GYRO") and axis:
+            point = ch.get("tracked_point", "") or "(no tracked point)"
+            entry = found.setdefault(point, {"label": point, "ACCEL": {}, "GYRO": {}, "units": {}})
+            entry[kind][axis] = k
+            entry["units"].setdefault(kind, set()).add(ch.get("units", "").strip().lower())
+    sensors = {name: e for name, e in found.items() if len(e["ACCEL"]) == 3 and len(e["GYRO"]) == 3}
+    if not sensors:
+        raise InputError(f"{p}: no tracked point with ACCEL and GYRO channels for x, y and z ({channels_path.name})")
+    chosen = sensors[choose_sensor(sensors, sensor, p)]
+    scales = []
+    for kind, table, override, option in (
+        ("ACCEL", _BIDS_ACC_UNITS, acc_unit, "acc_unit"),
+        ("GYRO", _BIDS_GYR_UNITS, gyr_unit, "gyr_unit"),
+    ):
+        if override is not None:
+            scales.append(unit_scale(override, ACC_UNITS if kind == "ACCEL" else GYR_UNITS, option, p))
+            continue
+        units = chosen["units"][kind]
+        if len(units) != 1 or next(iter(units)) not in table:
+            flag = "--" + option.replace("_", "-")
+            said = ", ".join(sorted(units))
+            raise InputError(f"{channels_path}: {kind} channels in {said!r}; pass {option} ({flag})")
+        scales.append(table[next(iter(units))])
+    acc = data[:, [chosen["ACCEL"][a] for a in "xyz"]] * scales[0]
+    gyr = data[:, [chosen["GYRO"][a] for a in "xyz"]] * scales[1]
+    about = {"layout": "motion_bids", "sensor": chosen["label"], "sensor_id": chosen["label"]}
+    return reading(p, time_s, acc, gyr, rate, scales[1], about)

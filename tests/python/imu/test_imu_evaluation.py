@@ -122,7 +122,7 @@ def test_reference_strides_reproduce_the_mobilised_cadence_and_stride_time(datas
 def test_a_standards_stride_list_is_read_in_seconds_or_samples_and_only_where_it_fits():
     """Stride_InitialContacts in samples or seconds, whichever lasts the Stride_Duration; a stride with
     a NaN duration is left out; a list that fits neither, or is no numbers, is not read."""
-    from yoyogait.io.imu_read import _bouts
+    from yoyogait.io.mobilised import _bouts
 
     base = {"Start": 1.0, "End": 4.0, "Cadence": 100.0, "WalkingSpeed": 1.0, "InitialContact_Event": [1.0, 1.6, 2.2]}
     durations = [1.2, float("nan")]
