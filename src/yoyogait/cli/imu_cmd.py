@@ -118,6 +118,7 @@ def inspect_imu(
         "format": f"IMU ({rec.metadata.get('layout', '?')})",
         "synthetic": rec.synthetic,
         "rate_hz": rec.rate_hz,
+        "time_unit": rec.metadata.get("time_unit"),
         "samples": rec.n_samples,
         "duration_s": rec.duration_s,
         "gravity_mps2": g,
