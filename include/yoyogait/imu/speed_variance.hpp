@@ -61,7 +61,7 @@ class SpeedVariance {
       // Standing, by the detector: a slow walk it cannot tell from standing goes at the pendulum
       // speed of the vertical motion seen (the fed v_z's low-passed RMS as the fundamental's amplitude).
       const double f = s.f_hz > f_floor_hz_ ? s.f_hz : f_floor_hz_;
-      const double hidden_mps = speed_at(pendulum, 2.0 * std::sqrt(2.0 * vz2_lp_) / (6.283185307179586 * f), f);
+      const double hidden_mps = speed_at(pendulum, 2.0 * std::sqrt(2.0 * vz2_lp_) / (kTwoPi * f), f);
       var += hidden_mps * hidden_mps;
     } else if (pendulum_mps > 0.0 && s.f_hz > 0.0) {
       // Walking: a stop or shorter steps show in the vertical acceleration at once, a second before
@@ -69,7 +69,7 @@ class SpeedVariance {
       // acceleration of the last 0.1 s (its RMS as the fundamental's amplitude, h = 2 a / w^2; the
       // harmonics make it larger while the steps go on) below the reported one: the walker may be
       // that much slower already.
-      const double f = s.f_hz, w2 = 39.47841760435743 * f * f, hp = pendulum.excursion_m() * w2;
+      const double f = s.f_hz, w2 = kTwoPi * kTwoPi * f * f, hp = pendulum.excursion_m() * w2;
       if (8.0 * az2_lp_ < hp * hp) {  // its h below the pendulum's (without a square root)
         const double slower_mps = pendulum_mps - speed_at(pendulum, 2.0 * std::sqrt(2.0 * az2_lp_) / w2, f);
         if (slower_mps > 0.0) var += slower_mps * slower_mps;

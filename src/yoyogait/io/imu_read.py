@@ -86,12 +86,12 @@ def read_imu(
     ext = p.suffix.lower()
     if ext == ".mat":
         rec = read_mobilised_mat(p, trial=trial)
-    elif ext == ".txt" and "PacketCounter" in (first_data_header(p) or []):
-        rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
-    elif ext == ".txt" and is_imu_header(first_data_header(p) or []):  # a log of IMU columns, as a CSV
-        rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor=sensor)
     elif ext == ".txt":
-        rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
+        header = first_data_header(p) or []
+        if "PacketCounter" not in header and is_imu_header(header):  # a log of IMU columns, as a CSV
+            rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor=sensor)
+        else:
+            rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".csv" and (layout := dot_layout(p)) is not None:
         rec = read_dot(p, layout, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)
     elif ext == ".csv":

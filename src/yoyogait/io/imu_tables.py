@@ -14,7 +14,7 @@ from ..errors import InputError
 from .imu_checks import ACC_UNITS, GYR_UNITS, median_rate_hz, pick_sensor, reading, unit_scale
 from .imu_recording import GRAVITY_MPS2, ImuRecording
 
-__all__ = ["TIME_COLUMN_NAMES", "first_data_header", "header_line", "is_imu_header", "read_imu_csv", "time_in_seconds"]
+__all__ = ["TIME_COLUMN_NAMES", "first_data_header", "is_imu_header", "read_imu_csv", "time_in_seconds"]
 
 AXES = ("x", "y", "z")
 #: Each axis with mobgap's body-frame name for it (``to_body_frame``: x -> is, y -> ml, z -> pa, a renaming).
@@ -87,10 +87,13 @@ def is_imu_header(header: list[str]) -> bool:
     return bool(_imu_sensors(header))
 
 
-def first_data_header(path: Path) -> list[str] | None:
+def _header_of(path: Path) -> tuple[int, list[str], str | None] | None:
+    """(its line's index, its cells, the separator: a tab, a comma, or None for spaces) of a table's header,
+    its first line within the first 50 that is neither blank nor a comment (``#``, ``//``); None if there
+    is none or the file cannot be read."""
     try:
         with open(path, encoding="utf-8-sig", errors="replace") as f:
-            for _ in range(50):
+            for i in range(50):
                 line = f.readline()
                 if not line:
                     return None
@@ -98,10 +101,16 @@ def first_data_header(path: Path) -> list[str] | None:
                 if not s or s.startswith(("#", "//")):
                     continue
                 sep = "\t" if "\t" in s else ("," if "," in s else None)
-                return [c.strip() for c in (s.split(sep) if sep else s.split())]
+                return i, [c.strip() for c in (s.split(sep) if sep else s.split())], sep
     except OSError:
         return None
     return None
+
+
+def first_data_header(path: Path) -> list[str] | None:
+    """The cells of a table's header (:func:`_header_of`), None without one."""
+    found = _header_of(path)
+    return None if found is None else found[1]
 
 
 def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=None) -> ImuRecording:
@@ -112,9 +121,10 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
     or ``rate_hz``). Columns may carry a sensor's name before them (``pelvis_ACCEL_x``): with several
     sensors the lower back's is read (by name: Lumbar, Pelvis, ...) or ``sensor``'s."""
     p = Path(path)
-    header = first_data_header(p)
-    if header is None or not is_imu_header(header):
+    found = _header_of(p)
+    if found is None or not is_imu_header(found[1]):
         raise InputError(f"{p}: no acc_x, acc_y, acc_z and gyr_x, gyr_y, gyr_z columns: not an IMU table")
+    first, header, delimiter = found  # a log's tabs or spaces as in its header
     lower = [h.lower() for h in header]
     metadata: dict = {}
     sensor_height = None
@@ -141,10 +151,6 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
         metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
     # Only the columns used are read: a ROS export's frame_id, a log's text columns stay out.
     used = ([] if tcol is None else [tcol]) + acc_cols + gyr_cols
-    first = header_line(p)
-    with open(p, encoding="utf-8-sig", errors="replace") as f:
-        line = next((text for i, text in enumerate(f) if i == first), "")
-    delimiter = "\t" if "\t" in line else "," if "," in line else None  # a log's tabs or spaces as in its header
     try:
         table = np.loadtxt(p, delimiter=delimiter, skiprows=first + 1, ndmin=2, comments="#", usecols=used)
     except ValueError as exc:
@@ -183,15 +189,6 @@ def _timestamp_unit(values: np.ndarray, p: Path) -> str:
         f"{p}: the unit of its timestamp column is unclear (a sample every {step if dt.size else float('nan'):g}); "
         "name it time_s, time_ms or time_us, or give the rate with rate_hz (--capture-rate-hz)"
     )
-
-
-def header_line(p: Path) -> int:
-    with open(p, encoding="utf-8-sig", errors="replace") as f:
-        for i, line in enumerate(f):
-            s = line.strip()
-            if s and not s.startswith(("#", "//")):
-                return i
-    return 0
 
 
 def _choose_csv_sensor(sensors: dict, sensor, p: Path) -> str:

@@ -74,11 +74,6 @@ def imu_row(estimate: Any) -> list[float]:
     return [float(v) for v in _FIELDS_OF(estimate)]
 
 
-def imu_csv_formats(columns: Sequence[str] = IMU_COLUMNS) -> list[str]:
-    """printf formats of the IMU columns as ``yoyogait estimate FILE`` writes them for an IMU file."""
-    return csv_formats(columns)
-
-
 def imu_estimate_stream_info(name: str) -> Any:
     """StreamInfo of the IMU estimate stream: irregular rate (one sample per input sample), double64."""
     lsl = pylsl()
@@ -242,7 +237,7 @@ def run_live_imu(
         math.isfinite(opts.sensor_height_m) and 0.1 < opts.sensor_height_m <= 3.0
     ):
         raise InputError(f"--sensor-height-m must be in (0.1, 3] m, not {opts.sensor_height_m!r}")
-    formats = opts.record_formats if opts.record_formats is not None else imu_csv_formats(opts.record_columns)
+    formats = opts.record_formats if opts.record_formats is not None else csv_formats(opts.record_columns)
     recorder = (
         CsvRecord(record, opts.record_columns, formats, force, channels=IMU_COLUMNS) if record is not None else None
     )
