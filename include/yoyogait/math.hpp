@@ -58,9 +58,11 @@ inline double clamp_or_zero(double v, double lim) noexcept {
 inline double atan2_fast(double y, double x) noexcept {
   const double ax = std::fabs(x), ay = std::fabs(y), hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
   if (!(hi > 0.0)) return 0.0;
-  const double r = lo / hi, r2 = r * r;
-  double a = r * (0.99997726 + r2 * (-0.33262347 + r2 * (0.19354346 + r2 * (-0.11643287 + r2 * (0.05265332 +
-                                                                                             r2 * -0.01172120)))));
+  const double r = lo / hi, r2 = r * r, r4 = r2 * r2;
+  // Estrin's scheme: three independent pairs, so that the chain of dependent products is 3 deep, not 6.
+  const double p01 = 0.99997726 + r2 * -0.33262347, p23 = 0.19354346 + r2 * -0.11643287,
+               p45 = 0.05265332 + r2 * -0.01172120;
+  double a = r * (p01 + r4 * (p23 + r4 * p45));
   if (ay > ax) a = 1.5707963267948966 - a;
   if (x < 0.0) a = 3.141592653589793 - a;
   return y < 0.0 ? -a : a;

@@ -28,6 +28,7 @@
 #include "yoyogait/imu/pendulum.hpp"
 #include "yoyogait/imu/speed_variance.hpp"
 #include "yoyogait/math.hpp"
+#include "yoyogait/online/gait_phase.hpp"
 #include "yoyogait/online/validity.hpp"
 
 namespace yoyogait {
@@ -73,7 +74,8 @@ class ImuOnlineEstimator {
     started_ = false;
     started_before_ = false;
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
-    tick_age_s_ = carry_h_s_ = phase_ = 0.0;
+    tick_age_s_ = carry_h_s_ = 0.0;
+    phase_.reset();
     vz2_step_lp_ = yaw_rate_lp_rad_s_ = 0.0;
     speed_var_.clear();
     heading_tick_ = {1.0, 0.0};
@@ -429,25 +431,10 @@ class ImuOnlineEstimator {
     o.vx_hat_mps = f.vx_mps;
     o.vz_hat_mps = f.vz_mps;
     const GaitState& x = e.gait_state;
-    const double z1 = x[gait::kZ1], z2 = x[gait::kZ2];
-    constexpr double two_pi = 6.283185307179586476925286766559;
-    const bool phased = e.walking && z1 * z1 + z2 * z2 > 1e-12;
-    if (phased) {
-      double ph = (atan2_fast(z2, z1) + f.phase_advance_rad) / two_pi;
-      ph -= std::floor(ph);
-      if (ph >= 1.0) ph = 0.0;
-      phase_ = ph;
-    }
-    if (phased && f.omega_rad_s > 0.0) {
-      double left = 0.75 - phase_;
-      left -= std::floor(left);
-      if (left >= 1.0) left = 0.0;
-      const double turn = two_pi * left, wr = f.omega_rad_s, disc = wr * wr + 2.0 * f.omega_rate_rad_s2 * turn;
-      o.next_step_in_s = disc > 0.0 ? 2.0 * turn / (wr + std::sqrt(disc)) : turn / wr;
-    } else {
-      o.next_step_in_s = std::numeric_limits<double>::quiet_NaN();
-    }
-    o.gait_phase = phase_;
+    phase_.update(e.walking, x[gait::kZ1], x[gait::kZ2], f.phase_advance_rad, f.omega_rad_s, f.omega_rate_rad_s2,
+                  e.step_frequency_hz);
+    o.next_step_in_s = phase_.next_step_in_s();
+    o.gait_phase = phase_.phase();
   }
 
   ImuConfig config_;
@@ -464,7 +451,8 @@ class ImuOnlineEstimator {
   bool heading_absolute_ = false;
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, sum_az2_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
-  double tick_age_s_ = 0.0, carry_h_s_ = 0.0, phase_ = 0.0;
+  double tick_age_s_ = 0.0, carry_h_s_ = 0.0;
+  online::GaitPhase phase_;
   imu::Pendulum pendulum_;
   imu::SpeedVariance speed_var_;
   online::Validity validity_{};

@@ -174,3 +174,17 @@ def test_a_missed_bout_is_counted_and_left_out_of_the_median():
     assert (d["bouts"], d["missed"], d["scored"]) == (3, 1, 2)
     assert d["median_abs_cadence_error_spm"] == pytest.approx(1.5)
     assert d["median_missed_worst_abs_cadence_error_spm"] == pytest.approx(2.0)
+
+
+def test_next_step_lies_within_one_step_period_on_a_real_course(datasets_dir):
+    """On HA/001's daily-living course (stops, turns, falling cadences), next_step_in_s lies in [0, 1/f)
+    of the reported f on every sample that has one, as on the marker path (online::GaitPhase)."""
+    from yoyogait.estimators.imu import estimator_for
+
+    (rec,) = [r for r in read_mobilised_trials(datasets_dir / MOBGAP / "data/lab/HA/001/data.mat")
+              if r.metadata["test"] == "Test11"]  # fmt: skip
+    res = estimator_for(rec).run_recording(rec)
+    n, f = res["next_step_in_s"], res["step_frequency_hz"]
+    has = np.isfinite(n)
+    assert has.sum() > 1000
+    assert np.all(n[has] >= 0.0) and np.all(n[has] < 1.0 / f[has])
