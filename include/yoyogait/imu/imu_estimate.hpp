@@ -44,7 +44,7 @@ enum class ImuReason : std::uint8_t {
   X(double, step_length_m, 0.0, "m", kAll, "inverted-pendulum step length K 2 sqrt(2 l h - h^2)")                \
   X(double, pendulum_speed_mps, 0.0, "m/s", kAll, "step_length_m times the step frequency")                      \
   X(double, gait_phase, 0.0, "", kAll, "phase within the step in [0, 1): v_z ~ |Z| cos(2 pi gait_phase); held while standing") \
-  X(double, next_step_in_s, 0.0, "s", kAll, "time to the next gait_phase 0.75 (about heel strike); NaN while not walking or no phase is known") \
+  X(double, next_step_in_s, 0.0, "s", kAll, "time to the next gait_phase 0.75 (about heel strike), in [0, 1/f); NaN while not walking or no phase is known") \
   X(double, input_latency_s, 0.0, "s", kAll, "delay of vz_mps behind the true velocity at latency_f_hz (negative: a lead)") \
   X(::yoyogait::ImuReason, reason, ::yoyogait::ImuReason::kAcquiring, "", kAll, "why valid is 0 (ImuReason); 0 when valid") \
   X(::yoyogait::Status, estimator_status, ::yoyogait::Status::kUpdated, "", kAll, "Status of the estimator's last sample") \
