@@ -34,6 +34,14 @@ class HarmonicCheck {
     off_ = off;
   }
 
+  /// A value for an estimator sample that a gap in the stream swallowed (the model's v_z there):
+  /// into the ring, so that its lags stay in samples of the estimator's period; no check.
+  void fill(double vz) noexcept {
+    ring_[next_] = ring_[next_ + kRing] = vz;
+    next_ = (next_ + 1) & (kRing - 1);
+    if (n_ < kRing) ++n_;
+  }
+
   /// One fed v_z mean; f_hz the estimate at that sample, locked whether it is walking and has locked,
   /// dt_s the sample time. Whether the autocorrelation says off (held between its checks).
   bool update(double vz, double f_hz, bool locked, double dt_s) noexcept {

@@ -45,7 +45,7 @@ namespace yoyogait {
   X(double, phase_onset_tau_s, 0.25, "s", "[", 0.0, 1e100, "]",                                                    \
     "low-pass of the phase corrections, signed and absolute, for the step frequency's std at a cadence change's onset: corrections that keep one sign over it are a change not yet followed (0: not used; docs/imu.md)") \
   X(double, settle_s, 2.0, "s", "[", 0.0, 1e100, "]", "the estimator is fed once the front-end has run this long after a (re)start (2 highpass_tau_s: the integrators' start transient decays)") \
-  X(double, max_gap_s, 0.1, "s", "(", 0.0, 1e100, "]", "a longer interval between samples restarts the front-end") \
+  X(double, max_gap_s, 0.3, "s", "(", 0.0, 1e100, "]", "a longer interval between samples restarts the front-end; a shorter gap (samples lost) is bridged by the model while it holds") \
   X(double, acc_saturation_mps2, 78.0, "m/s^2", "(", 0.0, 1e100, "]",                                                \
     "an acceleration component at or beyond this is saturated (the sensor's range)")                              \
   X(double, gyr_saturation_rad_s, 34.0, "rad/s", "(", 0.0, 1e100, "]",                                               \

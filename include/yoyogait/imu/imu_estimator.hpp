@@ -74,7 +74,8 @@ class ImuOnlineEstimator {
     started_ = false;
     started_before_ = false;
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
-    tick_age_s_ = carry_h_s_ = 0.0;
+    tick_age_s_ = carry_h_s_ = dt_regular_s_ = 0.0;
+    gap_in_tick_ = false;
     phase_.reset();
     vz2_step_lp_ = yaw_rate_lp_rad_s_ = 0.0;
     speed_var_.clear();
@@ -132,6 +133,12 @@ class ImuOnlineEstimator {
     // filter takes seconds to right it (a DOT's zero first row: 90 degrees, 7 s). Such a sample
     // starts nothing: GRAVITY, and the next one is tried (tested behind restart: no cost per sample).
     const bool restart = !started_ || dt_s > config_.max_gap_s;
+    // A regular interval: low-passed over the intervals not much longer than it (missing samples
+    // apart), for telling a gap (samples lost, up to max_gap_s) from the stream's own jitter.
+    const bool regular = dt_s <= 1.5 * dt_regular_s_ || dt_regular_s_ <= 0.0;
+    const bool gap = !regular && !restart && dt_s > kBridgeIntervals * dt_regular_s_;
+    // Over a gap the integrals follow the model where it holds (below).
+    const bool bridged = gap && fed_ && est_.walking && !est_.acquiring;
     if (restart && !started_ && !(std::fabs(a_norm - kGravityMps2) <= config_.gravity_tolerance * kGravityMps2)) {
       o.reason = ImuReason::kGravity;
       o.valid = o.walking = o.estimator_fed = false;
@@ -162,9 +169,15 @@ class ImuOnlineEstimator {
           heading_absolute_ = true;
         }
       }
+      // Over a gap the rate's mean is the unbiased guess of the two ends' (the pelvis's rate
+      // oscillates over the step: the end's alone turns the estimate by its value over the gap).
+      if (gap)
+        gap_rate(w);
       mahony_.step(a, w, dt_s, !saturated, yaw_error, config_.mag_kp_per_s);
       acc_norm_lp_ += gravity_gain_(dt_s) * (a_norm - acc_norm_lp_);
     }
+
+    gyr_last_ = {gyr[0], gyr[1], gyr[2]};  // as measured (w is the gap's mean over a gap)
 
     // The specific force in the world frame, gravity removed; the heading of the forward axis.
     const imu::Vec3 f_w = mahony_.to_world(a);
@@ -186,23 +199,30 @@ class ImuOnlineEstimator {
       int_z_.start(o.az_mps2, !gap_restart_);
       int_x_.start(ax, !gap_restart_);
       o.vz_mps = o.vx_osc_mps = 0.0;
+    } else if (bridged) {
+      bridge_gap(t_s, dt_s, ax);
     } else {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
+    if (!restart && regular && dt_s > 0.0)
+      dt_regular_s_ = dt_regular_s_ <= 0.0 ? dt_s : dt_regular_s_ + 0.05 * (dt_s - dt_regular_s_);
     o.vx_mps = pendulum_.fed_speed_mps() + o.vx_osc_mps;
     o.input_latency_s = input_latency_s_;
 
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
     if (settled && !restart) {
       if (span_s_ == 0.0) t_first_s_ = t_s;
-      sum_vx_ += o.vx_mps * dt_s;
-      sum_vz_ += o.vz_mps * dt_s;
-      sum_az2_ += o.az_mps2 * o.az_mps2 * dt_s;
-      sum_age_s2_ += (t_s - t_first_s_) * dt_s;
-      span_s_ += dt_s;
+      // A bridged gap's end stands for one regular interval: the estimator's samples are means of
+      // what was measured, the model's own values over the gap are not fed back to it.
+      const double weight_s = bridged ? dt_regular_s_ : dt_s;
+      sum_vx_ += o.vx_mps * weight_s;
+      sum_vz_ += o.vz_mps * weight_s;
+      sum_az2_ += o.az_mps2 * o.az_mps2 * weight_s;
+      sum_age_s2_ += (t_s - t_first_s_) * weight_s;
+      span_s_ += weight_s;
       const double T = config_.estimator.sample_time_s;
-      if (span_s_ + 0.5 * dt_s >= T * (1.0 - 1e-9)) {
+      if (span_s_ + 0.5 * weight_s >= T * (1.0 - 1e-9)) {
         const double step_dt_s = fed_ ? t_s - t_tick_s_ : T;
         const GaitState prior = est_.gait_state;
         const double vz_mean = sum_vz_ / span_s_;
@@ -210,7 +230,11 @@ class ImuOnlineEstimator {
         fed_ = true;
         // First: the checks and stds of this sample use its step length.
         pendulum_.update(est_.gait_state, amplitude_var(), est_.walking, est_.acquiring, step_dt_s);
-        sampled(prior, step_dt_s, vz_mean, sum_az2_ / span_s_);
+        // The periodicity check's lags are in samples of the estimator's period: a sample whose
+        // interval spans a bridged gap (its swallowed samples filled in) counts as one.
+        sampled(prior, step_dt_s, vz_mean, sum_az2_ / span_s_,
+                gap_in_tick_ ? config_.estimator.sample_time_s : step_dt_s);
+        gap_in_tick_ = false;
         o.estimator_fed = true;
         t_tick_s_ = t_s;
         tick_age_s_ = (t_s - t_first_s_) - sum_age_s2_ / span_s_;
@@ -291,6 +315,35 @@ class ImuOnlineEstimator {
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
   }
 
+  // Over a gap the rate's mean is the unbiased guess of the two ends' (the pelvis's rate oscillates
+  // over the step: the end's alone turns the estimate by its value over the gap). Off the
+  // per-sample path, as bridge_gap.
+  YOYOGAIT_COLD void gap_rate(imu::Vec3& w) const noexcept {
+    for (std::size_t i = 0; i < 3; ++i) w[i] = 0.5 * (w[i] + gyr_last_[i]);
+  }
+
+  // Samples missing over a fraction of a step (a wireless link's dropout) while the model holds:
+  // the integrals at the gap's end (t_s, dt_s after the last sample; ax the forward acceleration,
+  // out_.az_mps2 the vertical) are the model's values there plus what the integrals held beyond the
+  // model at its start, decayed as the leaky integrator decays it. The model's values are those of
+  // the front-end's own velocities (fed to it), at the age of the last estimator sample. The
+  // periodicity check's ring gets the model's v_z for the estimator samples the gap swallowed.
+  YOYOGAIT_COLD void bridge_gap(double t_s, double dt_s, double ax) noexcept {
+    ImuEstimate& o = out_;
+    const double h0 = (t_s - dt_s - t_tick_s_) + tick_age_s_, h1 = h0 + dt_s;
+    const Forecast f0 = estimator_.forecast(h0 > 0.0 ? h0 : 0.0, false);
+    const Forecast f1 = estimator_.forecast(h1 > 0.0 ? h1 : 0.0, false);
+    const double d = int_z_.decay(dt_s), dz = f1.vz_mps - f0.vz_mps,
+                 dx = (f1.vx_mps - f1.speed_mps) - (f0.vx_mps - f0.speed_mps);
+    o.vz_mps = int_z_.bridge(o.az_mps2, dt_s, int_z_.value() * d + dz + (1.0 - d) * f0.vz_mps, dz);
+    o.vx_osc_mps = int_x_.bridge(ax, dt_s, int_x_.value() * d + dx + (1.0 - d) * (f0.vx_mps - f0.speed_mps), dx);
+    const double T = config_.estimator.sample_time_s;
+    const int missing = static_cast<int>(std::floor((dt_s - dt_regular_s_) / T + 0.5));
+    for (int k = 1; k <= missing && k <= kMaxFilledTicks; ++k)
+      harmonic_.fill(estimator_.forecast(h0 + (static_cast<double>(k) - 0.5) * T, false).vz_mps);
+    gap_in_tick_ = true;
+  }
+
   // The estimator (re)starts: what its outputs' stds know goes too (the v_z ring stays: it is the
   // front-end's, cleared at a start of the front-end).
   void restart_estimate() noexcept {
@@ -305,7 +358,7 @@ class ImuOnlineEstimator {
   // After each estimator sample: its stds made honest (as OnlineEstimator does: scaled by the
   // innovations' excess, plus what a transient adds, at least Validity::pinned_std_hz() at a bound of the range;
   // the speed's the pendulum's terms, imu::SpeedVariance) and the harmonic check on the fed v_z.
-  void sampled(const GaitState& prior, double dt_s, double vz_mean, double az2_mean) noexcept {
+  void sampled(const GaitState& prior, double dt_s, double vz_mean, double az2_mean, double check_dt_s) noexcept {
     const double correction =
         online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
     // The transients are those of the speed reported (the pendulum's once it runs, carry_estimate),
@@ -314,7 +367,7 @@ class ImuOnlineEstimator {
     // at the lock).
     const double speed_mps = pendulum_.speed_mps() > 0.0 ? pendulum_.speed_mps() : est_.speed_mps;
     validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, speed_mps, correction);
-    check_harmonic(vz_mean, dt_s);
+    check_harmonic(vz_mean, check_dt_s);
     const double k = validity_.std_inflation();
     const double sp = speed_mps > 0.3 ? speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
     const double tv_s = validity_.transient_var_speed();
@@ -452,6 +505,12 @@ class ImuOnlineEstimator {
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, sum_az2_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0;
+  double dt_regular_s_ = 0.0;  ///< the stream's regular sample interval (low-passed) [s]
+  imu::Vec3 gyr_last_{};       ///< the last sample's angular rate [rad/s]
+  /// An interval longer than this many regular ones is a gap the integrals are bridged over.
+  static constexpr double kBridgeIntervals = 2.5;
+  static constexpr int kMaxFilledTicks = 64;  ///< a bound on the ring's fill per gap (no loop grows with the input)
+  bool gap_in_tick_ = false;  ///< a bridged gap since the last estimator sample
   online::GaitPhase phase_;
   imu::Pendulum pendulum_;
   imu::SpeedVariance speed_var_;

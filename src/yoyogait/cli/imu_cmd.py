@@ -110,6 +110,7 @@ def inspect_imu(
     dt = np.diff(rec.time_s)
     nominal_s = 1.0 / rec.rate_hz if rec.rate_hz else float(np.median(dt))
     gaps = dt[dt > 1.5 * nominal_s]
+    restarts = int(np.count_nonzero(gaps > ImuConfig().max_gap_s))
     reasons = np.asarray(res["reason"])[~valid]
     why = {ImuReason(int(r)).name: float(np.count_nonzero(reasons == r)) / len(res) for r in np.unique(reasons)}
     g = float(np.nanmedian(np.linalg.norm(rec.acc_mps2, axis=1)))
@@ -132,6 +133,7 @@ def inspect_imu(
         "not_valid": why,
         "zero_rows": int(rec.metadata.get("zero_rows", 0)),
         "gaps": int(gaps.size),
+        "gap_restarts": restarts,
         "longest_gap_s": float(gaps.max()) if gaps.size else 0.0,
         "clipped": {k: {"range": level, "samples": n} for k, (level, n) in rec.metadata.get("clipped", {}).items()},
     }
@@ -165,7 +167,12 @@ def inspect_imu(
             ("zero rows", f"{rec.metadata['zero_rows']} (all six channels exactly 0: no measurement, ignored)")
         )
     if gaps.size:
-        lines.append(("gaps", f"{gaps.size} (longest {gaps.max():.2f} s): the front-end restarts after each (GAP)"))
+        max_gap = ImuConfig().max_gap_s
+        what = (
+            f"{gaps.size - restarts} up to {max_gap:g} s bridged (by the model while walking), "
+            f"{restarts} longer: the front-end restarts after each (GAP)"
+        )
+        lines.append(("gaps", f"{gaps.size} (longest {gaps.max():.2f} s): {what}"))
     for line in _clipped_lines(rec):
         lines.append(("saturated", line))
     if report["median_cadence_spm"] is not None:

@@ -139,6 +139,35 @@ def test_a_gap_restarts_the_front_end_and_says_so():
     assert res["valid"][res.time_s > 9.5 + ImuConfig().settle_s + 3.0].all()
 
 
+@pytest.mark.parametrize("subject", SUBJECTS, ids=lambda s: s.name)
+def test_samples_lost_for_a_fraction_of_a_step_are_bridged(subject):
+    """Samples lost for 0.25 s every 4 s of a SYNTHETIC walk are bridged: valid >= 90 % after 6 s (restarting at
+    each, < 50 %), within 0.1 Hz and 0.15 m/s on 95 % of it, never confidently wrong."""
+    walk = make_imu_walk(subject, duration_s=40.0, tilt_pitch_deg=10.0)
+    rec, truth = walk.recording, walk.truth
+    keep = np.ones(rec.n_samples, dtype=bool)
+    for start in np.arange(6.0, 38.0, 4.0):
+        keep &= ~((rec.time_s > start) & (rec.time_s < start + 0.25))
+
+    def run(config):
+        res = estimator_for(rec, config).run(rec.time_s[keep], rec.acc_mps2[keep], rec.gyr_rad_s[keep])
+        t = res.time_s
+        f_err = np.abs(res["step_frequency_hz"] - np.interp(t, truth.time_s, truth.step_frequency_hz))
+        v_err = np.abs(res["speed_mps"] - np.interp(t, truth.time_s, truth.speed_mps))
+        return res, t > 6.0, f_err, v_err
+
+    res, later, f_err, v_err = run(ImuConfig())
+    valid = res["valid"].astype(bool) & later
+    assert valid.sum() >= 0.9 * later.sum()
+    assert np.percentile(f_err[valid], 95) <= 0.1 and np.percentile(v_err[valid], 95) <= 0.15
+    wrong = ((f_err > 0.15) & (f_err > 2 * res["step_frequency_std_hz"])) | (
+        (v_err > 0.15) & (v_err > 2 * res["speed_std_mps"])
+    )
+    assert not np.any(wrong & valid)
+    restarted, later, _, _ = run(ImuConfig(max_gap_s=0.2))
+    assert np.count_nonzero(restarted["valid"].astype(bool) & later) < 0.5 * later.sum()
+
+
 def test_a_file_at_rest_is_never_valid_and_reports_no_absurd_speed():
     """A sensor at rest the whole time: never valid, the speed stays below 0.3 m/s."""
     n = 3000
