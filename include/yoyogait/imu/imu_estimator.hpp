@@ -74,7 +74,8 @@ class ImuOnlineEstimator {
     started_ = false;
     started_before_ = false;
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
-    tick_age_s_ = carry_h_s_ = dt_regular_s_ = 0.0;
+    tick_age_s_ = carry_h_s_ = dt_mean_s_ = 0.0;
+    burst_t_s_ = -std::numeric_limits<double>::infinity();
     gap_in_tick_ = false;
     phase_.reset();
     vz2_step_lp_ = yaw_rate_lp_rad_s_ = 0.0;
@@ -133,10 +134,14 @@ class ImuOnlineEstimator {
     // filter takes seconds to right it (a DOT's zero first row: 90 degrees, 7 s). Such a sample
     // starts nothing: GRAVITY, and the next one is tried (tested behind restart: no cost per sample).
     const bool restart = !started_ || dt_s > config_.max_gap_s;
-    // A regular interval: low-passed over the intervals not much longer than it (missing samples
-    // apart), for telling a gap (samples lost, up to max_gap_s) from the stream's own jitter.
-    const bool regular = dt_s <= 1.5 * dt_regular_s_ || dt_regular_s_ <= 0.0;
-    const bool gap = !regular && !restart && dt_s > kBridgeIntervals * dt_regular_s_;
+    // A gap (samples lost, up to max_gap_s): an interval longer than kBridgeIntervals mean ones,
+    // in a stream that comes sample by sample. One that comes in bursts (a wireless sensor's
+    // packets stamped as they arrive: intervals far below the mean between longer ones) is not
+    // bridged for kBurstHoldS after its last short interval: its long intervals carry the
+    // packet's samples, which the integrals take as they come.
+    if (!restart && dt_s < 0.5 * dt_mean_s_) burst_t_s_ = t_s;
+    const bool gap =
+        !restart && dt_mean_s_ > 0.0 && dt_s > kBridgeIntervals * dt_mean_s_ && t_s - burst_t_s_ > kBurstHoldS;
     // Over a gap the integrals follow the model where it holds (below).
     const bool bridged = gap && fed_ && est_.walking && !est_.acquiring;
     if (restart && !started_ && !(std::fabs(a_norm - kGravityMps2) <= config_.gravity_tolerance * kGravityMps2)) {
@@ -205,17 +210,18 @@ class ImuOnlineEstimator {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
-    if (!restart && regular && dt_s > 0.0)
-      dt_regular_s_ = dt_regular_s_ <= 0.0 ? dt_s : dt_regular_s_ + 0.05 * (dt_s - dt_regular_s_);
+    // The mean over every interval but a bridged gap's (a lost sample is no interval of the stream).
+    if (!restart && !bridged && dt_s > 0.0)
+      dt_mean_s_ = dt_mean_s_ > 0.0 ? dt_mean_s_ + 0.05 * (dt_s - dt_mean_s_) : dt_s;
     o.vx_mps = pendulum_.fed_speed_mps() + o.vx_osc_mps;
     o.input_latency_s = input_latency_s_;
 
     const bool settled = t_s - start_t_s_ >= config_.settle_s;
     if (settled && !restart) {
       if (span_s_ == 0.0) t_first_s_ = t_s;
-      // A bridged gap's end stands for one regular interval: the estimator's samples are means of
+      // A bridged gap's end stands for one mean interval: the estimator's samples are means of
       // what was measured, the model's own values over the gap are not fed back to it.
-      const double weight_s = bridged ? dt_regular_s_ : dt_s;
+      const double weight_s = bridged ? dt_mean_s_ : dt_s;
       sum_vx_ += o.vx_mps * weight_s;
       sum_vz_ += o.vz_mps * weight_s;
       sum_az2_ += o.az_mps2 * o.az_mps2 * weight_s;
@@ -338,7 +344,7 @@ class ImuOnlineEstimator {
     o.vz_mps = int_z_.bridge(o.az_mps2, dt_s, int_z_.value() * d + dz + (1.0 - d) * f0.vz_mps, dz);
     o.vx_osc_mps = int_x_.bridge(ax, dt_s, int_x_.value() * d + dx + (1.0 - d) * (f0.vx_mps - f0.speed_mps), dx);
     const double T = config_.estimator.sample_time_s;
-    const int missing = static_cast<int>(std::floor((dt_s - dt_regular_s_) / T + 0.5));
+    const int missing = static_cast<int>(std::floor((dt_s - dt_mean_s_) / T + 0.5));
     for (int k = 1; k <= missing && k <= kMaxFilledTicks; ++k)
       harmonic_.fill(estimator_.forecast(h0 + (static_cast<double>(k) - 0.5) * T, false).vz_mps);
     gap_in_tick_ = true;
@@ -505,9 +511,12 @@ class ImuOnlineEstimator {
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, sum_az2_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0;
-  double dt_regular_s_ = 0.0;  ///< the stream's regular sample interval (low-passed) [s]
+  double dt_mean_s_ = 0.0;  ///< the stream's mean sample interval (low-passed) [s]
+  double burst_t_s_ = -std::numeric_limits<double>::infinity();  ///< the last interval below half the mean [s]
+  /// After an interval below half the mean (a burst), this long without bridging [s].
+  static constexpr double kBurstHoldS = 2.0;
   imu::Vec3 gyr_last_{};       ///< the last sample's angular rate [rad/s]
-  /// An interval longer than this many regular ones is a gap the integrals are bridged over.
+  /// An interval longer than this many mean ones is a gap the integrals are bridged over.
   static constexpr double kBridgeIntervals = 2.5;
   static constexpr int kMaxFilledTicks = 64;  ///< a bound on the ring's fill per gap (no loop grows with the input)
   bool gap_in_tick_ = false;  ///< a bridged gap since the last estimator sample
