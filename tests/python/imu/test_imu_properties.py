@@ -29,7 +29,7 @@ VALUES = st.sampled_from(
 @st.composite
 def sequences(draw):
     """Runs of samples: a stretch of a SYNTHETIC walk, a constant vector (zeros, gravity, extremes, NaN, inf), or
-    a walk with its acceleration scaled (a unit error, saturation); times regular, repeated, backwards or jumping."""
+    a walk with its acceleration scaled (a unit error, saturation); times regular, repeated, backwards, short of samples or jumping."""
     t, acc, gyr = [], [], []
     now = 0.0
     for _ in range(draw(st.integers(1, 6))):
@@ -44,7 +44,8 @@ def sequences(draw):
             g = WALK.gyr_rad_s[start : start + n].copy()
             if kind == "scaled":
                 a *= draw(st.sampled_from([1 / GRAVITY_MPS2, 10.0, -1.0, 1e6]))
-        step = draw(st.sampled_from([0.01, 0.01, 0.01, 0.0, -0.01, 0.5, 5.0]))
+        # 0.05 and 0.2: samples lost, bridged; 0.5 and 5: a gap that restarts.
+        step = draw(st.sampled_from([0.01, 0.01, 0.01, 0.0, -0.01, 0.05, 0.2, 0.5, 5.0]))
         for k in range(n):
             now += step if k == 0 else 0.01
             t.append(now)
