@@ -75,6 +75,7 @@ class ImuOnlineEstimator {
     started_before_ = false;
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
     tick_age_s_ = carry_h_s_ = dt_mean_s_ = 0.0;
+    gap_min_s_ = std::numeric_limits<double>::infinity();
     burst_t_s_ = -std::numeric_limits<double>::infinity();
     gap_in_tick_ = false;
     phase_.reset();
@@ -139,9 +140,7 @@ class ImuOnlineEstimator {
     // packets stamped as they arrive: intervals far below the mean between longer ones) is not
     // bridged for kBurstHoldS after its last short interval: its long intervals carry the
     // packet's samples, which the integrals take as they come.
-    if (!restart && dt_s < 0.5 * dt_mean_s_) burst_t_s_ = t_s;
-    const bool gap =
-        !restart && dt_mean_s_ > 0.0 && dt_s > kBridgeIntervals * dt_mean_s_ && t_s - burst_t_s_ > kBurstHoldS;
+    const bool gap = !restart && dt_s > gap_min_s_ && t_s - burst_t_s_ > kBurstHoldS;
     // Over a gap the integrals follow the model where it holds (below).
     const bool bridged = gap && fed_ && est_.walking && !est_.acquiring;
     if (restart && !started_ && !(std::fabs(a_norm - kGravityMps2) <= config_.gravity_tolerance * kGravityMps2)) {
@@ -210,9 +209,9 @@ class ImuOnlineEstimator {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
-    // The mean over every interval but a bridged gap's (a lost sample is no interval of the stream).
-    if (!restart && !bridged && dt_s > 0.0)
-      dt_mean_s_ = dt_mean_s_ > 0.0 ? dt_mean_s_ + 0.05 * (dt_s - dt_mean_s_) : dt_s;
+    // The mean over every interval but a bridged gap's (a lost sample is no interval of the stream);
+    // a stream at its rate leaves it as it is, at no cost per sample.
+    if (!restart && !bridged && !(std::fabs(dt_s - dt_mean_s_) <= 1e-6 * dt_mean_s_)) track_interval(t_s, dt_s);
     o.vx_mps = pendulum_.fed_speed_mps() + o.vx_osc_mps;
     o.input_latency_s = input_latency_s_;
 
@@ -319,6 +318,13 @@ class ImuOnlineEstimator {
     heading_tick_ = heading_;
     start_t_s_ = t_s;
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
+  }
+
+  // The stream's mean interval from one more (dt_s > 0 at t_s), the gap and burst thresholds with it.
+  void track_interval(double t_s, double dt_s) noexcept {
+    if (dt_s < 0.5 * dt_mean_s_) burst_t_s_ = t_s;
+    dt_mean_s_ = dt_mean_s_ > 0.0 ? dt_mean_s_ + 0.05 * (dt_s - dt_mean_s_) : dt_s;
+    gap_min_s_ = kBridgeIntervals * dt_mean_s_;
   }
 
   // Over a gap the rate's mean is the unbiased guess of the two ends' (the pelvis's rate oscillates
@@ -512,6 +518,7 @@ class ImuOnlineEstimator {
   double sum_vx_ = 0.0, sum_vz_ = 0.0, sum_az2_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0;
   double dt_mean_s_ = 0.0;  ///< the stream's mean sample interval (low-passed) [s]
+  double gap_min_s_ = std::numeric_limits<double>::infinity();  ///< longer intervals are gaps (kBridgeIntervals means) [s]
   double burst_t_s_ = -std::numeric_limits<double>::infinity();  ///< the last interval below half the mean [s]
   /// After an interval below half the mean (a burst), this long without bridging [s].
   static constexpr double kBurstHoldS = 2.0;

@@ -29,7 +29,8 @@ VALUES = st.sampled_from(
 @st.composite
 def sequences(draw):
     """Runs of samples: a stretch of a SYNTHETIC walk, a constant vector (zeros, gravity, extremes, NaN, inf), or
-    a walk with its acceleration scaled (a unit error, saturation); times regular, repeated, backwards, short of samples or jumping."""
+    a walk with its acceleration scaled (a unit error, saturation); times regular, repeated, backwards, short of
+    samples or jumping."""
     t, acc, gyr = [], [], []
     now = 0.0
     for _ in range(draw(st.integers(1, 6))):
