@@ -9,4 +9,5 @@
 #include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"
+#include "yoyogait/imu/sample_gaps.hpp"
 #include "yoyogait/imu/speed_variance.hpp"

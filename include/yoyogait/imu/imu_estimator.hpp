@@ -26,6 +26,7 @@
 #include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"
+#include "yoyogait/imu/sample_gaps.hpp"
 #include "yoyogait/imu/speed_variance.hpp"
 #include "yoyogait/math.hpp"
 #include "yoyogait/online/gait_phase.hpp"
@@ -74,9 +75,8 @@ class ImuOnlineEstimator {
     started_ = false;
     started_before_ = false;
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
-    tick_age_s_ = carry_h_s_ = dt_mean_s_ = 0.0;
-    gap_min_s_ = std::numeric_limits<double>::infinity();
-    burst_t_s_ = -std::numeric_limits<double>::infinity();
+    tick_age_s_ = carry_h_s_ = 0.0;
+    gaps_.reset();
     gap_in_tick_ = false;
     phase_.reset();
     vz2_step_lp_ = yaw_rate_lp_rad_s_ = 0.0;
@@ -135,13 +135,8 @@ class ImuOnlineEstimator {
     // filter takes seconds to right it (a DOT's zero first row: 90 degrees, 7 s). Such a sample
     // starts nothing: GRAVITY, and the next one is tried (tested behind restart: no cost per sample).
     const bool restart = !started_ || dt_s > config_.max_gap_s;
-    // A gap (samples lost, up to max_gap_s): an interval longer than kBridgeIntervals mean ones,
-    // in a stream that comes sample by sample. One that comes in bursts (a wireless sensor's
-    // packets stamped as they arrive: intervals far below the mean between longer ones) is not
-    // bridged for kBurstHoldS after its last short interval: its long intervals carry the
-    // packet's samples, which the integrals take as they come.
-    const bool gap = !restart && dt_s > gap_min_s_ && t_s - burst_t_s_ > kBurstHoldS;
-    // Over a gap the integrals follow the model where it holds (below).
+    // Samples lost, up to max_gap_s (imu::SampleGaps): the integrals follow the model where it holds.
+    const bool gap = !restart && gaps_.gap(t_s, dt_s);
     const bool bridged = gap && fed_ && est_.walking && !est_.acquiring;
     if (restart && !started_ && !(std::fabs(a_norm - kGravityMps2) <= config_.gravity_tolerance * kGravityMps2)) {
       o.reason = ImuReason::kGravity;
@@ -173,15 +168,12 @@ class ImuOnlineEstimator {
           heading_absolute_ = true;
         }
       }
-      // Over a gap the rate's mean is the unbiased guess of the two ends' (the pelvis's rate
-      // oscillates over the step: the end's alone turns the estimate by its value over the gap).
-      if (gap)
-        gap_rate(w);
+      if (gap) gaps_.rate_over_gap(w);
       mahony_.step(a, w, dt_s, !saturated, yaw_error, config_.mag_kp_per_s);
       acc_norm_lp_ += gravity_gain_(dt_s) * (a_norm - acc_norm_lp_);
     }
 
-    gyr_last_ = {gyr[0], gyr[1], gyr[2]};  // as measured (w is the gap's mean over a gap)
+    gaps_.note_rate(gyr);  // as measured (w is the gap's mean over a gap)
 
     // The specific force in the world frame, gravity removed; the heading of the forward axis.
     const imu::Vec3 f_w = mahony_.to_world(a);
@@ -209,9 +201,7 @@ class ImuOnlineEstimator {
       o.vz_mps = int_z_.step(o.az_mps2, dt_s);
       o.vx_osc_mps = int_x_.step(ax, dt_s);
     }
-    // The mean over every interval but a bridged gap's (a lost sample is no interval of the stream);
-    // a stream at its rate leaves it as it is, at no cost per sample.
-    if (!restart && !bridged && !(std::fabs(dt_s - dt_mean_s_) <= 1e-6 * dt_mean_s_)) track_interval(t_s, dt_s);
+    if (!restart && !bridged) gaps_.track(t_s, dt_s);
     o.vx_mps = pendulum_.fed_speed_mps() + o.vx_osc_mps;
     o.input_latency_s = input_latency_s_;
 
@@ -220,7 +210,7 @@ class ImuOnlineEstimator {
       if (span_s_ == 0.0) t_first_s_ = t_s;
       // A bridged gap's end stands for one mean interval: the estimator's samples are means of
       // what was measured, the model's own values over the gap are not fed back to it.
-      const double weight_s = bridged ? dt_mean_s_ : dt_s;
+      const double weight_s = bridged ? gaps_.mean_s() : dt_s;
       sum_vx_ += o.vx_mps * weight_s;
       sum_vz_ += o.vz_mps * weight_s;
       sum_az2_ += o.az_mps2 * o.az_mps2 * weight_s;
@@ -320,20 +310,6 @@ class ImuOnlineEstimator {
     sum_vx_ = sum_vz_ = sum_az2_ = span_s_ = sum_age_s2_ = 0.0;
   }
 
-  // The stream's mean interval from one more (dt_s > 0 at t_s), the gap and burst thresholds with it.
-  void track_interval(double t_s, double dt_s) noexcept {
-    if (dt_s < 0.5 * dt_mean_s_) burst_t_s_ = t_s;
-    dt_mean_s_ = dt_mean_s_ > 0.0 ? dt_mean_s_ + 0.05 * (dt_s - dt_mean_s_) : dt_s;
-    gap_min_s_ = kBridgeIntervals * dt_mean_s_;
-  }
-
-  // Over a gap the rate's mean is the unbiased guess of the two ends' (the pelvis's rate oscillates
-  // over the step: the end's alone turns the estimate by its value over the gap). Off the
-  // per-sample path, as bridge_gap.
-  YOYOGAIT_COLD void gap_rate(imu::Vec3& w) const noexcept {
-    for (std::size_t i = 0; i < 3; ++i) w[i] = 0.5 * (w[i] + gyr_last_[i]);
-  }
-
   // Samples missing over a fraction of a step (a wireless link's dropout) while the model holds:
   // the integrals at the gap's end (t_s, dt_s after the last sample; ax the forward acceleration,
   // out_.az_mps2 the vertical) are the model's values there plus what the integrals held beyond the
@@ -345,13 +321,10 @@ class ImuOnlineEstimator {
     const double h0 = (t_s - dt_s - t_tick_s_) + tick_age_s_, h1 = h0 + dt_s;
     const Forecast f0 = estimator_.forecast(h0 > 0.0 ? h0 : 0.0, false);
     const Forecast f1 = estimator_.forecast(h1 > 0.0 ? h1 : 0.0, false);
-    const double d = int_z_.decay(dt_s), dz = f1.vz_mps - f0.vz_mps,
-                 dx = (f1.vx_mps - f1.speed_mps) - (f0.vx_mps - f0.speed_mps);
-    o.vz_mps = int_z_.bridge(o.az_mps2, dt_s, int_z_.value() * d + dz + (1.0 - d) * f0.vz_mps, dz);
-    o.vx_osc_mps = int_x_.bridge(ax, dt_s, int_x_.value() * d + dx + (1.0 - d) * (f0.vx_mps - f0.speed_mps), dx);
+    o.vz_mps = int_z_.bridge(o.az_mps2, dt_s, f0.vz_mps, f1.vz_mps);
+    o.vx_osc_mps = int_x_.bridge(ax, dt_s, f0.vx_mps - f0.speed_mps, f1.vx_mps - f1.speed_mps);
     const double T = config_.estimator.sample_time_s;
-    const int missing = static_cast<int>(std::floor((dt_s - dt_mean_s_) / T + 0.5));
-    for (int k = 1; k <= missing && k <= kMaxFilledTicks; ++k)
+    for (int k = 1, n = gaps_.swallowed(dt_s, T); k <= n; ++k)
       harmonic_.fill(estimator_.forecast(h0 + (static_cast<double>(k) - 0.5) * T, false).vz_mps);
     gap_in_tick_ = true;
   }
@@ -369,98 +342,14 @@ class ImuOnlineEstimator {
 
   // After each estimator sample: its stds made honest (as OnlineEstimator does: scaled by the
   // innovations' excess, plus what a transient adds, at least Validity::pinned_std_hz() at a bound of the range;
-  // the speed's the pendulum's terms, imu::SpeedVariance) and the harmonic check on the fed v_z.
-  void sampled(const GaitState& prior, double dt_s, double vz_mean, double az2_mean, double check_dt_s) noexcept {
-    const double correction =
-        online::phase_correction_rad(prior, est_.gait_state, est_.walking, est_.acquiring, dt_s);
-    // The transients are those of the speed reported (the pendulum's once it runs, carry_estimate),
-    // as the marker path's Validity sees the speed it reports: the estimator's A0 follows the fed
-    // speed only over seconds and missed the reported speed's changes (its fall at a stop, its step
-    // at the lock).
-    const double speed_mps = pendulum_.speed_mps() > 0.0 ? pendulum_.speed_mps() : est_.speed_mps;
-    validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, speed_mps, correction);
-    check_harmonic(vz_mean, check_dt_s);
-    const double k = validity_.std_inflation();
-    const double sp = speed_mps > 0.3 ? speed_mps : 0.3, fs = est_.step_frequency_hz / sp;
-    const double tv_s = validity_.transient_var_speed();
-    double f_var = k * k * est_.step_frequency_std_hz * est_.step_frequency_std_hz + validity_.transient_var_f() +
-                   fs * fs * tv_s;
-    const double pinned_std_hz = validity_.pinned_std_hz();
-    if (est_.walking && validity_.pinned(est_.step_frequency_hz) && f_var < pinned_std_hz * pinned_std_hz)
-      f_var = pinned_std_hz * pinned_std_hz;
-    // Turning: the steps of a turn (on the spot, a pivot) are not the walk's; the lock holds the
-    // walk's cadence for a while. The yaw rate from the heading's change since the last estimator
-    // sample, low-passed (kTurnTauS; the pelvis's own rotation at the stride leaks in at 0.01 Hz).
-    const double turn_gain = turn_gain_(dt_s);
-    const double dpsi = atan2_fast(heading_tick_[0] * heading_[1] - heading_tick_[1] * heading_[0],
-                                   heading_tick_[0] * heading_[0] + heading_tick_[1] * heading_[1]);
-    heading_tick_ = heading_;
-    if (dt_s > 0.0) yaw_rate_lp_rad_s_ += turn_gain * (dpsi / dt_s - yaw_rate_lp_rad_s_);
-    const double turn_std_hz = config_.turn_f_std_hz_per_rad_s * yaw_rate_lp_rad_s_;
-    f_var += turn_std_hz * turn_std_hz;
-    // Locked on a wrong harmonic: the truth is f / 2 or 2 f away.
-    if (harmonic_off_) f_var += 0.25 * est_.step_frequency_hz * est_.step_frequency_hz;
-    // The bank still choosing: any of its members may win; the range's half-width.
-    if (est_.acquiring) {
-      const double half = 0.5 * (config_.estimator.gait_filter.f_max_hz - config_.estimator.gait_filter.f_min_hz);
-      f_var += half * half;
-    }
-    imu::SpeedVariance::Sample sv;
-    sv.std_inflation = k;
-    sv.transient_var = tv_s;
-    sv.f_hz = est_.step_frequency_hz;
-    sv.f_var_hz2 = f_var;
-    sv.est_speed_mps = est_.speed_mps;
-    sv.est_speed_std_mps = est_.speed_std_mps;
-    sv.walking = est_.walking;
-    sv.locked = !(harmonic_off_ || est_.acquiring);
-    sv.vz_mean_mps = vz_mean;
-    sv.az2_mean_m2_per_s4 = az2_mean;
-    const double s_var = speed_var_.sample(pendulum_, sv, dt_s);
-    vz2_step_lp_ += step_gain_(dt_s) * (vz_mean * vz_mean - vz2_step_lp_);
-    f_std_ = std::sqrt(f_var);
-    s_std_ = std::sqrt(s_var);
-  }
-
+  // the speed's the pendulum's terms, imu::SpeedVariance) and the harmonic check on the fed v_z, whose
+  // lags are in intervals of check_dt_s. imu/imu_sampled.hpp.
+  void sampled(const GaitState& prior, double dt_s, double vz_mean, double az2_mean, double check_dt_s) noexcept;
   // The filter's variance of |Z| along Z (0 at Z = 0: the pendulum then takes 4, its bound).
-  double amplitude_var() const noexcept {
-    const GaitState& x = est_.gait_state;
-    const double z1 = x[gait::kZ1], z2 = x[gait::kZ2], a2 = z1 * z1 + z2 * z2;
-    if (!(a2 > 0.0)) return 0.0;
-    const double p11 = estimator_.gait_covariance(gait::kZ1, gait::kZ1);
-    const double p12 = estimator_.gait_covariance(gait::kZ1, gait::kZ2);
-    const double p22 = estimator_.gait_covariance(gait::kZ2, gait::kZ2);
-    return (z1 * z1 * p11 + 2.0 * z1 * z2 * p12 + z2 * z2 * p22) / a2;
-  }
-
+  double amplitude_var() const noexcept;  // imu/imu_sampled.hpp
   // Whether the estimator sits on a wrong harmonic of the step: by the fed v_z's autocorrelation
   // (imu::HarmonicCheck) or by the walk ratio; held kHarmonicRestartS, the estimator restarts.
-  void check_harmonic(double vz, double dt_s) noexcept {
-    const double f = est_.step_frequency_hz;
-    const bool locked = est_.walking && !est_.acquiring && f > 0.0 && dt_s > 0.0;
-    const bool acf_off = harmonic_.update(vz, f, locked, dt_s);
-    // A stride lock reads half the cadence and about twice the step length: a walk ratio (step
-    // length per step frequency in steps/min) no walker has, whatever the autocorrelation says (an
-    // asymmetric gait's v_z repeats over the stride too). Every sample: it costs a comparison.
-    const double wr_max = config_.max_walk_ratio_m_per_spm;
-    const bool off = acf_off || (locked && wr_max > 0.0 && pendulum_.step_length_m() > wr_max * 60.0 * f);
-    // Valid only while the last steps repeat at the period (a pause mid-bout, the steps of a turn on
-    // the spot: the lock holds the walk's cadence over strides that are not the walk's).
-    irregular_ = locked && config_.min_periodicity > -1.0 &&
-                 harmonic_.periodicity(f, dt_s, config_.periodicity_steps) < config_.min_periodicity;
-    if (off && !harmonic_off_) harmonic_off_s_ = 0.0;
-    harmonic_off_ = off;
-    if (off) {
-      harmonic_off_s_ += dt_s;
-      if (harmonic_off_s_ >= kHarmonicRestartS) {  // it stays there: acquire afresh
-        estimator_.reset();
-        restart_estimate();
-        harmonic_off_ = true;  // not valid until the check has run again
-        harmonic_.restart(true);
-        pendulum_.clear(true);
-      }
-    }
-  }
+  void check_harmonic(double vz, double dt_s) noexcept;  // imu/imu_sampled.hpp
 
   // The estimator's last estimate carried to t_s by its own forecast (as OnlineEstimator does).
   void carry_estimate(double t_s) noexcept {
@@ -517,15 +406,7 @@ class ImuOnlineEstimator {
   double t_last_s_ = 0.0, start_t_s_ = 0.0, t_tick_s_ = 0.0, t_first_s_ = 0.0;
   double sum_vx_ = 0.0, sum_vz_ = 0.0, sum_az2_ = 0.0, span_s_ = 0.0, sum_age_s2_ = 0.0;
   double tick_age_s_ = 0.0, carry_h_s_ = 0.0;
-  double dt_mean_s_ = 0.0;  ///< the stream's mean sample interval (low-passed) [s]
-  double gap_min_s_ = std::numeric_limits<double>::infinity();  ///< longer intervals are gaps (kBridgeIntervals means) [s]
-  double burst_t_s_ = -std::numeric_limits<double>::infinity();  ///< the last interval below half the mean [s]
-  /// After an interval below half the mean (a burst), this long without bridging [s].
-  static constexpr double kBurstHoldS = 2.0;
-  imu::Vec3 gyr_last_{};       ///< the last sample's angular rate [rad/s]
-  /// An interval longer than this many mean ones is a gap the integrals are bridged over.
-  static constexpr double kBridgeIntervals = 2.5;
-  static constexpr int kMaxFilledTicks = 64;  ///< a bound on the ring's fill per gap (no loop grows with the input)
+  imu::SampleGaps gaps_;
   bool gap_in_tick_ = false;  ///< a bridged gap since the last estimator sample
   online::GaitPhase phase_;
   imu::Pendulum pendulum_;
@@ -556,3 +437,6 @@ class ImuOnlineEstimator {
 };
 
 }  // namespace yoyogait
+
+// What follows each estimator sample (sampled, amplitude_var, check_harmonic): imu/imu_sampled.hpp.
+#include "yoyogait/imu/imu_sampled.hpp"

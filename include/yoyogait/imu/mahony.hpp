@@ -187,20 +187,16 @@ class LeakyIntegrator {
   double value() const noexcept { return v_; }
 
   /// A step over dt_s without samples (a gap in the stream) to the sample x at its end, given what
-  /// the caller knows of the integral there (v_end) and of its change over the gap (dv): the
-  /// rectangle step() would take over a fraction of a step's period misses the oscillation between.
-  /// The high-pass is x less its low-pass; that moved by (1 - decay) times the input's mean over
-  /// the gap less it, which the integral's change tells: dv / dt_s.
-  double bridge(double x, double dt_s, double v_end, double dv) noexcept {
-    hp_ += x - x_prev_ - (1.0 - decay(dt_s)) * dv / dt_s;
+  /// a model of the integral says it is at the gap's start (m0) and end (m1): the rectangle step()
+  /// would take over a fraction of a step's period misses the oscillation between. The integral is
+  /// m1 plus its excess over m0 at the start, decayed; the high-pass is x less its low-pass, which
+  /// moved by (1 - decay) times the input's mean over the gap less it: the model's (m1 - m0) / dt_s.
+  double bridge(double x, double dt_s, double m0, double m1) noexcept {
+    const double d = std::fabs(dt_s - dt_s_) <= 1e-9 * dt_s_ ? decay_ : std::exp(-dt_s / tau_);
+    hp_ += x - x_prev_ - (1.0 - d) * (m1 - m0) / dt_s;
     x_prev_ = x;
-    v_ = v_end;
+    v_ = m1 + d * (v_ - m0);
     return v_;
-  }
-  /// The factor exp(-dt_s / tau) the integral decays by over dt_s (the one step() used last, when
-  /// dt_s is its interval).
-  double decay(double dt_s) const noexcept {
-    return std::fabs(dt_s - dt_s_) <= 1e-9 * dt_s_ ? decay_ : std::exp(-dt_s / tau_);
   }
 
   /// Delay of the output behind the true integral at f_hz [s] (negative: it leads).

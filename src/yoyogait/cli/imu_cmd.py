@@ -110,7 +110,8 @@ def inspect_imu(
     dt = np.diff(rec.time_s)
     nominal_s = 1.0 / rec.rate_hz if rec.rate_hz else float(np.median(dt))
     gaps = dt[dt > 1.5 * nominal_s]
-    restarts = int(np.count_nonzero(gaps > ImuConfig().max_gap_s))
+    max_gap_s = ImuConfig().max_gap_s  # the estimator's (inspect runs the defaults)
+    restarts = int(np.count_nonzero(gaps > max_gap_s))
     reasons = np.asarray(res["reason"])[~valid]
     why = {ImuReason(int(r)).name: float(np.count_nonzero(reasons == r)) / len(res) for r in np.unique(reasons)}
     g = float(np.nanmedian(np.linalg.norm(rec.acc_mps2, axis=1)))
@@ -167,9 +168,8 @@ def inspect_imu(
             ("zero rows", f"{rec.metadata['zero_rows']} (all six channels exactly 0: no measurement, ignored)")
         )
     if gaps.size:
-        max_gap = ImuConfig().max_gap_s
         what = (
-            f"{gaps.size - restarts} up to {max_gap:g} s bridged (by the model while walking), "
+            f"{gaps.size - restarts} up to {max_gap_s:g} s bridged (by the model while walking), "
             f"{restarts} longer: the front-end restarts after each (GAP)"
         )
         lines.append(("gaps", f"{gaps.size} (longest {gaps.max():.2f} s): {what}"))
