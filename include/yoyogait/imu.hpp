@@ -6,6 +6,7 @@
 #include "yoyogait/imu/imu_config.hpp"
 #include "yoyogait/imu/imu_estimate.hpp"
 #include "yoyogait/imu/imu_estimator.hpp"
+#include "yoyogait/imu/leaky_integrator.hpp"
 #include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"

@@ -23,6 +23,7 @@
 #include "yoyogait/imu/harmonic_check.hpp"
 #include "yoyogait/imu/imu_config.hpp"
 #include "yoyogait/imu/imu_estimate.hpp"
+#include "yoyogait/imu/leaky_integrator.hpp"
 #include "yoyogait/imu/mag_gate.hpp"
 #include "yoyogait/imu/mahony.hpp"
 #include "yoyogait/imu/pendulum.hpp"

@@ -143,11 +143,23 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
         chosen = _choose_csv_sensor(sensors, sensor, p)
         if chosen:
             metadata["sensor"] = chosen
-        acc_cols, acc_scale = _columns(sensors[chosen], "acc", ACC_UNITS, acc_unit, "acc_unit", p)
-        gyr_cols, gyr_scale = _columns(sensors[chosen], "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
+        acc_cols, acc_said = _columns(sensors[chosen], "acc", ACC_UNITS, acc_unit, "acc_unit", p)
+        gyr_cols, gyr_said = _columns(sensors[chosen], "gyr", GYR_UNITS, gyr_unit, "gyr_unit", p)
         tcol = next((lower.index(n) for n in TIME_COLUMN_NAMES if n in lower), None)
+        # What the user must give, all of it in one line (not one option per run).
+        missing = [
+            f"the {kind} columns carry no unit: pass {option} ({_flag(option)}) {' or '.join(_plain(units))}"
+            for kind, scale, option, units in (
+                ("acc", acc_said, "acc_unit", ACC_UNITS),
+                ("gyr", gyr_said, "gyr_unit", GYR_UNITS),
+            )
+            if scale is None
+        ]
         if tcol is None and not rate_hz:
-            raise InputError(f"{p}: no time column (time_s); give the sample rate with rate_hz (--capture-rate-hz)")
+            missing.append("no time column (time_s): give the sample rate with rate_hz (--capture-rate-hz)")
+        if missing or acc_said is None or gyr_said is None:
+            raise InputError(f"{p}: " + "; ".join(missing))
+        acc_scale, gyr_scale = acc_said, gyr_said
         metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
     # Only the columns used are read: a ROS export's frame_id, a log's text columns stay out.
     used = ([] if tcol is None else [tcol]) + acc_cols + gyr_cols
@@ -206,9 +218,19 @@ def _choose_csv_sensor(sensors: dict, sensor, p: Path) -> str:
     )
 
 
-def _columns(sensor_cols, kind, units, override, option, where) -> tuple[list[int], float]:
-    """The columns of x, y, z of one kind of a sensor (_imu_sensors) and the scale of their unit."""
-    flag = "--" + option.replace("_", "-")
+def _flag(option: str) -> str:
+    return "--" + option.replace("_", "-")
+
+
+def _plain(units) -> list[str]:
+    """A unit table's names to type on a command line (not the ones with a slash)."""
+    return sorted(set(units) - {"m/s^2", "rad/s", "deg/s"})
+
+
+def _columns(sensor_cols, kind, units, override, option, where) -> tuple[list[int], float | None]:
+    """The columns of x, y, z of one kind of a sensor (_imu_sensors) and the scale of their unit
+    (None: neither the columns nor ``override`` give one)."""
+    flag = _flag(option)
     cols, scales = [], set()
     for a in AXES:
         i, unit = sensor_cols[(kind, a)]
@@ -223,10 +245,7 @@ def _columns(sensor_cols, kind, units, override, option, where) -> tuple[list[in
         return cols, scales.pop()
     if len(scales) > 1:
         raise InputError(f"{where}: the {kind} columns disagree on their unit; pass {option} ({flag})")
-    raise InputError(
-        f"{where}: the {kind} columns carry no unit; pass {option} ({flag}) "
-        f"{' or '.join(sorted(set(units) - {'m/s^2', 'rad/s', 'deg/s'}))}"
-    )
+    return cols, None
 
 
 def _mobgap_sensor_height(p: Path) -> float | None:

@@ -140,9 +140,8 @@ def _scale(units: set[str], table: dict[str, float], override: str | None, optio
             raise InputError(f"{flag} must be one of {', '.join(sorted(OPTION_UNITS))}, not {override!r}")
         return OPTION_UNITS[override], override
     keys = {u.strip().lower().replace(" ", "") for u in units}
-    if not keys:
-        choices = "mps2 or g" if option == "acc_unit" else "rad_s or deg_s"
-        raise InputError(f"stream {name!r}: its {what} channels carry no unit; pass {flag} ({choices})")
+    if not keys:  # asked for by the caller, with the other kind's if it has none either
+        return None, ""
     unknown = sorted(k for k in keys if k not in table)
     if unknown:
         raise InputError(f"stream {name!r}: {what} unit {', '.join(unknown)} not understood; pass {flag}")
@@ -180,6 +179,16 @@ def read_imu_layout(
 
     acc_scale, acc_said = _scale(units(acc), ACC_UNIT_NAMES, acc_unit, "acc_unit", "acceleration", name)
     gyr_scale, gyr_said = _scale(units(gyr), GYR_UNIT_NAMES, gyr_unit, "gyr_unit", "angular rate", name)
+    unitless = [
+        f"its {what} channels carry no unit; pass {flag} ({choices})"
+        for scale, what, flag, choices in (
+            (acc_scale, "acceleration", "--acc-unit", "mps2 or g"),
+            (gyr_scale, "angular rate", "--gyr-unit", "rad_s or deg_s"),
+        )
+        if scale is None
+    ]
+    if unitless:  # both kinds in one line, not one option per attempt
+        raise InputError(f"stream {name!r}: " + "; ".join(unitless))
     time_channel = labels.index(TIME_CHANNEL) if TIME_CHANNEL in labels else None
     height = sensor_height_m
     said = child_text(info.desc().child("setup"), "sensor_height_m")

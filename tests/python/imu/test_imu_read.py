@@ -130,6 +130,23 @@ def test_sensor_named_columns_read_the_lower_backs_sensor(tmp_path):
         read_imu(p, acc_unit="g", gyr_unit="deg_s", rate_hz=100.0, sensor="wrist")
 
 
+def test_a_table_missing_units_and_rate_asks_for_all_of_them_in_one_line(tmp_path):
+    """No unit on either kind of column and no time column: one line naming --acc-unit, --gyr-unit and
+    --capture-rate-hz (not one option per attempt); what is given is no longer asked for."""
+    rec = make_imu_walk(duration_s=2.0).recording
+    p = tmp_path / "sensors.csv"
+    _sensors_csv(p, rec, ["pelvis"])
+    with pytest.raises(InputError) as err:
+        read_imu(p)
+    line = str(err.value)
+    assert "\n" not in line
+    for option in ("--acc-unit", "--gyr-unit", "--capture-rate-hz"):
+        assert option in line, option
+    with pytest.raises(InputError) as err:
+        read_imu(p, acc_unit="g")
+    assert "--acc-unit" not in str(err.value) and "--gyr-unit" in str(err.value)
+
+
 def test_sensor_named_columns_of_no_lower_back_ask_for_the_sensor(tmp_path):
     """Several sensors, none named as the lower back's: one line naming them and sensor= (--sensor)."""
     rec = make_imu_walk(duration_s=2.0).recording

@@ -321,7 +321,11 @@ def _cli_on_stream(name, info, samples, args=(), timeout_s=20.0):
             r"a foot or a leg\?",
         ),
         ("no gyro", r"no gyr_x, gyr_y, gyr_z channel; expected channels labelled acc_x"),
-        ("no units", r"its acceleration channels carry no unit; pass --acc-unit \(mps2 or g\)"),
+        (
+            "no units",
+            r"its acceleration channels carry no unit; pass --acc-unit \(mps2 or g\); its angular rate channels carry "
+            r"no unit; pass --gyr-unit \(rad_s or deg_s\)",
+        ),
     ],
 )
 def test_bad_imu_streams_end_live_with_one_line_naming_the_stream_and_what_was_expected(case, message, tmp_path):
