@@ -109,7 +109,8 @@ void bind_imu(nb::module_& m) {
       .value("ACQUIRING", yoyogait::ImuReason::kAcquiring)
       .value("NOT_WALKING", yoyogait::ImuReason::kNotWalking)
       .value("SPEED_IMPLAUSIBLE", yoyogait::ImuReason::kSpeedImplausible)
-      .value("IRREGULAR", yoyogait::ImuReason::kIrregular);
+      .value("IRREGULAR", yoyogait::ImuReason::kIrregular)
+      .value("UNCERTAIN", yoyogait::ImuReason::kUncertain);
 
   auto estimate_cls = nb::class_<ImuEstimate>(m, "ImuEstimate");
 #define YOYO_RO(type, name, ...) estimate_cls.def_ro(#name, &ImuEstimate::name);

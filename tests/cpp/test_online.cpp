@@ -690,6 +690,21 @@ TEST(Validity, HeadingLagLossIsInTheSpeedVariance) {
   EXPECT_NEAR(std::sqrt(v.transient_var_speed()), loss, 0.02 * loss);
 }
 
+// A jump of the speed reported from one source to another (the IMU's pendulum taking over from A0) is
+// no transient: after rebase_speed the speed's rate starts from the new value; the same jump without it is one.
+TEST(Validity, ASpeedSourceSwitchIsNoTransient) {
+  online::Validity rebased{online::Validity::Settings{}}, jumped{online::Validity::Settings{}};
+  for (int k = 0; k < 25; ++k) {  // 1 s at the old source's 0.05 m/s
+    rebased.sample(0.04, 2.0, 1.8, 0.05, 0.0);
+    jumped.sample(0.04, 2.0, 1.8, 0.05, 0.0);
+  }
+  rebased.rebase_speed(1.0);
+  rebased.sample(0.04, 2.0, 1.8, 1.0, 0.0);
+  jumped.sample(0.04, 2.0, 1.8, 1.0, 0.0);
+  EXPECT_EQ(rebased.transient_var_speed(), 0.0);
+  EXPECT_GT(std::sqrt(jumped.transient_var_speed()), 1.0);  // 0.95 m/s in 0.04 s, low-passed over 0.5 s: 1.8 m/s^2
+}
+
 // The v_x innovations' mean (a speed the filter has not followed yet) is in the speed's transient variance.
 TEST(Validity, InnovationMeanIsInTheSpeedVariance) {
   online::Validity v{online::Validity::Settings{}};

@@ -21,6 +21,7 @@ enum class ImuReason : std::uint8_t {
   kNotWalking = 7,         ///< the estimator's walking detector says standing, or the vertical motion is smaller than a walker's
   kSpeedImplausible = 8,   ///< the speed is negative or above max_speed_mps
   kIrregular = 9,          ///< the last steps do not repeat at the estimate's period (a pause, a turn's steps)
+  kUncertain = 10,         ///< a std as large as a value spread evenly over its range: f's over [f_min_hz, f_max_hz], the speed's over [0, max_speed_mps]
 };
 
 /// The fields of ImuEstimate, declared once: X(type, name, default, "unit", scope, "doc") (scope

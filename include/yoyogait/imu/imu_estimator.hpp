@@ -55,6 +55,7 @@ class ImuOnlineEstimator {
     input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
     f_locked_min_hz_ = locked_min_hz(config_);
     f_locked_max_hz_ = 0.98 * config_.estimator.gait_filter.f_max_hz;
+    uninformative_speed_std_mps_ = config_.max_speed_mps * 0.28867513459481287;  // 1 / sqrt(12)
     online::Validity::Settings vs;
     vs.f_min_hz = config_.estimator.gait_filter.f_min_hz;
     vs.f_max_hz = config_.estimator.gait_filter.f_max_hz;
@@ -255,6 +256,8 @@ class ImuOnlineEstimator {
       o.reason = ImuReason::kAcquiring;
     else if (irregular_)
       o.reason = ImuReason::kIrregular;
+    else if (!(o.step_frequency_std_hz < validity_.pinned_std_hz() && o.speed_std_mps < uninformative_speed_std_mps_))
+      o.reason = ImuReason::kUncertain;  // it says no more than the range does: no estimate to act on
     else if (!(o.speed_mps >= 0.0 && o.speed_mps <= config_.max_speed_mps))
       o.reason = ImuReason::kSpeedImplausible;
     else {
@@ -334,6 +337,7 @@ class ImuOnlineEstimator {
   // front-end's, cleared at a start of the front-end).
   void restart_estimate() noexcept {
     validity_.reset();
+    speed_from_pendulum_ = false;
     harmonic_.restart(false);
     harmonic_off_ = false;
     harmonic_off_s_ = 0.0;
@@ -399,6 +403,7 @@ class ImuOnlineEstimator {
   double fwd_sign_ = 1.0;  ///< the forward direction is +1 or -1 times forward_axis
   double input_latency_s_ = 0.0;  ///< the integrators' delay at latency_f_hz (constant)
   double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
+  double uninformative_speed_std_mps_ = 1e9;  ///< the std of a speed spread evenly over [0, max_speed_mps]
   Estimate est_{};
   gait::HorizonDecay carry_decay_;  ///< the carry's forecast factors at its last horizons
   ImuEstimate out_{};
@@ -414,6 +419,7 @@ class ImuOnlineEstimator {
   imu::SpeedVariance speed_var_;
   online::Validity validity_{};
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
+  bool speed_from_pendulum_ = false;  ///< the speed reported at the last estimator sample was the pendulum's
   /// A wrong harmonic held this long: the estimator restarts [s].
   static constexpr double kHarmonicRestartS = 1.0;
   /// The low-pass of the fed v_z's square over about a step, against min_vz_rms_mps [s]: once the

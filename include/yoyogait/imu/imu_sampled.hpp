@@ -18,7 +18,10 @@ inline void ImuOnlineEstimator::sampled(const GaitState& prior, double dt_s, dou
   // as the marker path's Validity sees the speed it reports: the estimator's A0 follows the fed
   // speed only over seconds and missed the reported speed's changes (its fall at a stop, its step
   // at the lock).
-  const double speed_mps = pendulum_.speed_mps() > 0.0 ? pendulum_.speed_mps() : est_.speed_mps;
+  const bool from_pendulum = pendulum_.speed_mps() > 0.0;
+  const double speed_mps = from_pendulum ? pendulum_.speed_mps() : est_.speed_mps;
+  if (from_pendulum != speed_from_pendulum_) validity_.rebase_speed(speed_mps);
+  speed_from_pendulum_ = from_pendulum;
   validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, speed_mps, correction);
   check_harmonic(vz_mean, check_dt_s);
   const double k = validity_.std_inflation();

@@ -214,6 +214,14 @@ class Validity {
     }
   }
 
+  /// The speed reported takes its value from another source from now on (the IMU's pendulum taking
+  /// over from the estimator's A0): the next sample's rate starts from speed_mps, and the rate of the
+  /// old source is dropped; a jump from one source to the other is no transient of the walk.
+  void rebase_speed(double speed_mps) noexcept {
+    last_speed_mps_ = speed_mps;
+    s_rate_lp_ = 0.0;
+  }
+
   /// The variance a transient adds to f [Hz^2] and to the speed [(m/s)^2]: (kTransientLagS x the
   /// low-passed rate)^2, how far an estimate that lags by kTransientLagS is behind a change; for f,
   /// also (kPhaseGain x the low-passed phase correction rate / 2 pi)^2, or, when larger, the same of

@@ -29,7 +29,7 @@ __all__ = [
 
 ImuReason = _core.ImuReason
 """Why an estimate is not valid: OK, NON_FINITE, TIME_NOT_INCREASING, SATURATED, GAP, GRAVITY,
-ACQUIRING, NOT_WALKING, IRREGULAR, SPEED_IMPLAUSIBLE (include/yoyogait/imu/imu_estimate.hpp)."""
+ACQUIRING, NOT_WALKING, IRREGULAR, UNCERTAIN, SPEED_IMPLAUSIBLE (include/yoyogait/imu/imu_estimate.hpp)."""
 
 #: The fields of ImuEstimate as its C++ table declares them: (name, unit, doc), in the table's order.
 IMU_ESTIMATE_FIELDS: tuple[tuple[str, str, str], ...] = tuple(tuple(f) for f in _core.imu_estimate_fields())

@@ -267,14 +267,15 @@ def test_the_speed_std_carries_the_frequency_std():
 
 
 def test_a_turn_widens_the_frequency_std_by_the_yaw_rate_and_changes_nothing_else():
-    """On the figure-eight the f std squared grows by (turn_f_std_hz_per_rad_s x yaw rate)^2; nothing else moves."""
+    """On the figure-eight the f std squared grows by (turn_f_std_hz_per_rad_s x yaw rate)^2; nothing else moves
+    but validity where the wider std reaches the range's (UNCERTAIN)."""
     walk = make_imu_walk(walk_type="4-figure-eight", duration_s=30.0)
     on = _run(walk)
     off = _run(walk, dataclasses.replace(ImuConfig(), turn_f_std_hz_per_rad_s=0.0))
     m = (on.time_s >= SETTLED_S) & on["valid"].astype(bool)
-    assert np.array_equal(on["valid"], off["valid"]) and np.array_equal(
-        on["step_frequency_hz"], off["step_frequency_hz"]
-    )
+    moved = on["valid"] != off["valid"]
+    assert np.all(on["reason"][moved] == int(ImuReason.UNCERTAIN)) and not np.any(on["valid"][moved])
+    assert np.array_equal(on["step_frequency_hz"], off["step_frequency_hz"])
     added = np.sqrt(np.maximum(on["step_frequency_std_hz"][m] ** 2 - off["step_frequency_std_hz"][m] ** 2, 0.0))
     t = on.time_s
     rate = np.abs(np.gradient(np.unwrap(on["heading_rad"]), t))  # the yaw rate of the estimator's own heading
@@ -287,6 +288,38 @@ def test_a_turn_widens_the_frequency_std_by_the_yaw_rate_and_changes_nothing_els
     assert (
         np.median(s_on["step_frequency_std_hz"][ms] - s_off["step_frequency_std_hz"][ms]) < 0.1 * expected
     )  # the pelvis's rotation at the stride leaks in a little
+
+
+@pytest.mark.parametrize("subject", SUBJECTS, ids=lambda s: s.name)
+@pytest.mark.parametrize("start_standing_s", [0.0, 3.0])
+def test_the_pendulum_taking_over_the_speed_is_no_transient_of_the_walk(subject, start_standing_s):
+    """At the lock the reported speed switches from the estimator's A0 to the pendulum's (about 1 m/s in one
+    sample); the stds do not take that for the walker's acceleration: the first valid estimate comes within 0.5 s
+    of the pendulum's first speed (0.6-1.0 s later when they did, UNCERTAIN meanwhile) and covers the error."""
+    walk = make_imu_walk(subject, duration_s=12.0, start_standing_s=start_standing_s)
+    res = _run(walk)
+    t = res.time_s
+    lock = np.flatnonzero(res["pendulum_speed_mps"] > 0)[0]
+    first = np.flatnonzero(res["valid"])[0]
+    assert 0.0 <= t[first] - t[lock] < 0.5
+    f_err = abs(res["step_frequency_hz"][first] - walk.truth.step_frequency_hz[first])
+    assert f_err < 2.0 * res["step_frequency_std_hz"][first]
+
+
+def test_an_estimate_no_more_certain_than_its_range_is_not_valid():
+    """A step-frequency std at or above that of a frequency anywhere in [f_min_hz, f_max_hz] (here made so in
+    turns by a large turn_f_std_hz_per_rad_s) or a speed std at or above that of a speed anywhere in
+    [0, max_speed_mps]: valid 0, UNCERTAIN."""
+    walk = make_imu_walk(walk_type="4-figure-eight", duration_s=30.0)
+    res = _run(walk, dataclasses.replace(ImuConfig(), turn_f_std_hz_per_rad_s=5.0))
+    cfg = ImuConfig().estimator.gait_filter
+    range_std_hz = (cfg.f_max_hz - cfg.f_min_hz) / np.sqrt(12.0)
+    wide = res["step_frequency_std_hz"] >= range_std_hz
+    uncertain = res["reason"] == int(ImuReason.UNCERTAIN)
+    assert uncertain.sum() > 100  # the turns
+    assert not np.any(res["valid"] & wide)
+    assert not np.any(res["valid"] & (res["speed_std_mps"] >= ImuConfig().max_speed_mps / np.sqrt(12.0)))
+    assert np.all(wide[uncertain] | (res["speed_std_mps"][uncertain] >= ImuConfig().max_speed_mps / np.sqrt(12.0)))
 
 
 @pytest.mark.parametrize("walk_type", ["1-straight", "2-fast-slow-fast", "3-rectangle", "4-figure-eight"])
