@@ -10,6 +10,7 @@ the names every reader module offers, in one place.
                        ``acc_unit``/``gyr_unit``; after a sensor's name or not
                        (``pelvis_ACCEL_x``; ``sensor`` chooses); also a ``.txt``
 ``.csv`` (ROS)         a ``sensor_msgs/Imu`` topic (``field.linear_acceleration.x``) :mod:`.imu_tables`
+                       or PlotJuggler's (``__time``, ``/imu/linear_acceleration/x``)
 ``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z``         :mod:`.xsens`
 ``.csv`` (Movella DOT) ``DeviceTag:,..`` lines, ``PacketCounter,SampleTimeFine,..``    :mod:`.xsens`
 ``.h5`` (APDM/Opal)    ``/Sensors/<id>/Accelerometer`` (v5), ``/<case>/Calibrated``   :mod:`.apdm`

@@ -5,6 +5,7 @@ section 4; the marker CSV reads its time with :func:`time_in_seconds` too)."""
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -25,11 +26,12 @@ _MOBGAP_HEADER = ["samples", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z
 #: ``LowerBack_Acc_X``), acc/accel or gyr/gyro, the axis, and a unit when given (``acc_x_g``,
 #: ``gyr_x[deg/s]``, ``acc_x (m/s^2)``); the short names of microcontroller logs, ``ax``.. ``gz``; or
 #: sensor_msgs/Imu's fields as ROS tools write them to CSV (``field.linear_acceleration.x``,
-#: ``angular_velocity.z``), in REP 145's units unless the column says otherwise.
+#: ``angular_velocity.z``; PlotJuggler's export ``/imu/data/linear_acceleration/x``, the topic taken
+#: as the sensor's name), in REP 145's units unless the column says otherwise.
 _IMU_KINDS = {"acc": r"acc(?:el)?|(?P<ros>linear_acceleration)", "gyr": r"gyr(?:o)?|(?P<ros>angular_velocity)"}
 _IMU_COLUMN = {
     (kind, a): re.compile(
-        rf"^(?:(?:(?P<sensor>.+?)[_ .:\-])?(?:{_IMU_KINDS[kind]})[_ .:]?{_AXIS_NAMES[a]}|{kind[0]}{a}(?![a-z0-9]))"
+        rf"^(?:(?:(?P<sensor>.+?)[_ .:/\-])?(?:{_IMU_KINDS[kind]})[_ .:/]?{_AXIS_NAMES[a]}|{kind[0]}{a}(?![a-z0-9]))"
         rf"(?:[_ ]?[\[(]?(?P<unit>[a-z0-9/^_]+?)[\])]?)?$"
     )
     for kind in ("acc", "gyr")
@@ -39,10 +41,11 @@ _IMU_COLUMN = {
 _ROS_UNITS = {"acc": "m/s^2", "gyr": "rad/s"}
 _ROS_PREFIX = "field"
 #: Time columns of a generic IMU CSV and their unit in seconds, the first found taken (a ROS message's
-#: header stamp before the time it was recorded); ``timestamp`` alone: see _timestamp_unit.
+#: header stamp before the time it was recorded; PlotJuggler's ``__time``, in seconds); ``timestamp``
+#: alone: see _timestamp_unit.
 TIME_COLUMNS_S = {
     "time_s": 1.0, "time": 1.0, "t": 1.0, "t_s": 1.0, "timestamp_s": 1.0,
-    "field.header.stamp": 1e-9, "%time": 1e-9,
+    "field.header.stamp": 1e-9, "%time": 1e-9, "__time": 1.0,
     "time_ms": 1e-3, "timestamp_ms": 1e-3, "t_ms": 1e-3, "millis": 1e-3,
     "time_us": 1e-6, "timestamp_us": 1e-6, "t_us": 1e-6, "micros": 1e-6,
     "time_ns": 1e-9, "timestamp_ns": 1e-9,
@@ -163,10 +166,23 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
         metadata["layout"] = "yoyogait" if "time_s" in lower else "generic"
     # Only the columns used are read: a ROS export's frame_id, a log's text columns stay out.
     used = ([] if tcol is None else [tcol]) + acc_cols + gyr_cols
+
+    def load(**converters):
+        return np.loadtxt(p, delimiter=delimiter, skiprows=first + 1, ndmin=2, comments="#", usecols=used, **converters)
+
     try:
-        table = np.loadtxt(p, delimiter=delimiter, skiprows=first + 1, ndmin=2, comments="#", usecols=used)
+        try:
+            table = load()
+        except ValueError:  # empty cells? (a cell per Python call: only then)
+            table = load(converters=_number)
     except ValueError as exc:
         raise InputError(f"{p}: not a numeric table after the header ({exc})") from None
+    # An export of several topics at their own rates (PlotJuggler's) leaves this sensor's cells empty on
+    # the other topics' rows: those rows are not samples of it.
+    complete = ~np.isnan(table).any(axis=1)
+    if not complete.all():
+        metadata["rows_without_a_sample"] = int((~complete).sum())
+        table = table[complete]
     if table.shape[0] < 2:
         raise InputError(f"{p}: fewer than two samples")
     k = 0 if tcol is None else 1
@@ -184,6 +200,11 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
         time_s = np.arange(table.shape[0]) / rate
     acc, gyr = table[:, acc_cols] * acc_scale, table[:, gyr_cols] * gyr_scale
     return reading(p, time_s, acc, gyr, rate, gyr_scale, metadata, sensor_height_m=sensor_height)
+
+
+def _number(cell: str) -> float:
+    """A table's cell: a number, an empty cell NaN (no sample of this column on that row)."""
+    return float(cell) if cell.strip() else math.nan
 
 
 def _timestamp_unit(values: np.ndarray, p: Path) -> str:

@@ -97,6 +97,31 @@ def test_estimate_of_a_ros_export_keeps_its_epoch_clock_to_the_microsecond(tmp_p
     )
 
 
+def test_a_plotjuggler_export_of_an_imu_topic_reads_beside_other_topics(tmp_path, capsys, monkeypatch):
+    """A sensor_msgs/Imu topic as PlotJuggler exports it to CSV (`__time` in s, `/imu/data/linear_acceleration/x`..,
+    the topic as the sensor's name, REP 145 units) beside another topic whose rows leave the IMU's cells empty:
+    read without options, every IMU sample and only those, and estimated."""
+    monkeypatch.chdir(tmp_path)
+    rec = make_imu_walk(duration_s=8.0).recording
+    topic = "/imu/data"
+    cols = ["__time"] + [f"{topic}/{k}/{a}" for k in ("angular_velocity", "linear_acceleration") for a in "xyz"]
+    lines = [",".join(cols + [f"{topic}/header/stamp", "/odom/twist/twist/linear/x"])]
+    for i, (t, g, a) in enumerate(zip(1.7e9 + rec.time_s, rec.gyr_rad_s, rec.acc_mps2)):
+        lines.append(",".join([f"{t:.6f}", *map(repr, g.tolist()), *map(repr, a.tolist()), f"{t:.6f}", ""]))
+        if i % 3 == 0:  # the odometry's row between two IMU samples
+            lines.append(",".join([f"{t + 0.004:.6f}"] + [""] * 7 + ["0.5"]))
+    (tmp_path / "layout.csv").write_text("\n".join(lines) + "\n")
+    back = read_imu(tmp_path / "layout.csv")
+    assert back.metadata["sensor"] == topic and back.n_samples == rec.n_samples
+    np.testing.assert_allclose(back.acc_mps2, rec.acc_mps2) and np.testing.assert_allclose(
+        back.gyr_rad_s, rec.gyr_rad_s
+    )
+    np.testing.assert_allclose(back.time_s - 1.7e9, rec.time_s, atol=2e-6)
+    assert main(["estimate", "layout.csv", "--out", "est.csv"]) == 0
+    with open(tmp_path / "est.csv") as f:
+        assert sum(r["valid"] == "1" for r in csv.DictReader(f)) > 300
+
+
 def test_estimate_does_not_overwrite_without_force(tmp_path, capsys, monkeypatch):
     """An existing --out is left alone without --force: one line, exit non-zero; with --force it is replaced."""
     monkeypatch.chdir(tmp_path)
