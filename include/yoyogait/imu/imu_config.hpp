@@ -34,6 +34,8 @@ namespace yoyogait {
     "a step length (the pendulum's) per step frequency above this is a lock on the stride, not the step (walkers: 0.004-0.008; 0: not checked)") \
   X(double, turn_f_std_hz_per_rad_s, 0.21, "Hz/(rad/s)", "[", 0.0, 100.0, "]",                                     \
     "the step frequency's std grows by this times the yaw rate (low-passed over 0.5 s): in a turn the steps are not the walk's (0.0037 Hz per deg/s, calibrated on one participant, docs/imu.md; 0: not added)") \
+  X(double, lock_f_rel_std, 0.1, "", "[", 0.0, 10.0, "]",                                                           \
+    "a fresh lock's step frequency has this relative std more, decaying over 1.5 s from the lock (the pendulum's start): gait initiation raises the cadence 3-8 % over the first strides, and the wrong locks are fresh ones (chosen on one participant, docs/imu.md; 0: not added)") \
   X(double, min_periodicity, 0.2, "", "[", -1.0, 1.0, "]",                                                          \
     "valid only while the fed v_z's autocorrelation at the estimate's period over the last periodicity_steps steps is at least this: the last steps repeat at it (a pause, steps of a turn do not; chosen on one participant, docs/imu.md; -1: not checked)") \
   X(double, periodicity_steps, 1.5, "steps", "(", 0.0, 3.0, "]",                                                   \

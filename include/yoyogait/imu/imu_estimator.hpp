@@ -338,6 +338,7 @@ class ImuOnlineEstimator {
   void restart_estimate() noexcept {
     validity_.reset();
     speed_from_pendulum_ = false;
+    lock_scale_ = 0.0;
     harmonic_.restart(false);
     harmonic_off_ = false;
     harmonic_off_s_ = 0.0;
@@ -420,6 +421,10 @@ class ImuOnlineEstimator {
   online::Validity validity_{};
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
   bool speed_from_pendulum_ = false;  ///< the speed reported at the last estimator sample was the pendulum's
+  /// A fresh lock's share of the step frequency's std decays over this [s] (lock_f_rel_std).
+  static constexpr double kLockTauS = 1.5;
+  double lock_scale_ = 0.0;  ///< exp(-time since the lock / kLockTauS); 0 without a lock
+  ExpGain lock_gain_{kLockTauS};
   /// A wrong harmonic held this long: the estimator restarts [s].
   static constexpr double kHarmonicRestartS = 1.0;
   /// The low-pass of the fed v_z's square over about a step, against min_vz_rms_mps [s]: once the

@@ -20,7 +20,10 @@ inline void ImuOnlineEstimator::sampled(const GaitState& prior, double dt_s, dou
   // at the lock).
   const bool from_pendulum = pendulum_.speed_mps() > 0.0;
   const double speed_mps = from_pendulum ? pendulum_.speed_mps() : est_.speed_mps;
-  if (from_pendulum != speed_from_pendulum_) validity_.rebase_speed(speed_mps);
+  if (from_pendulum != speed_from_pendulum_) {
+    validity_.rebase_speed(speed_mps);
+    lock_scale_ = from_pendulum ? 1.0 : 0.0;  // the pendulum starts at a lock
+  }
   speed_from_pendulum_ = from_pendulum;
   validity_.sample(dt_s, estimator_.innovation().nis, est_.step_frequency_hz, speed_mps, correction);
   check_harmonic(vz_mean, check_dt_s);
@@ -42,6 +45,12 @@ inline void ImuOnlineEstimator::sampled(const GaitState& prior, double dt_s, dou
   if (dt_s > 0.0) yaw_rate_lp_rad_s_ += turn_gain * (dpsi / dt_s - yaw_rate_lp_rad_s_);
   const double turn_std_hz = config_.turn_f_std_hz_per_rad_s * yaw_rate_lp_rad_s_;
   f_var += turn_std_hz * turn_std_hz;
+  // A fresh lock: the bank chose on the first strides, whose cadence is still rising (lock_f_rel_std).
+  if (lock_scale_ > 0.0) {
+    const double lock_std_hz = config_.lock_f_rel_std * lock_scale_ * est_.step_frequency_hz;
+    f_var += lock_std_hz * lock_std_hz;
+    lock_scale_ *= 1.0 - lock_gain_(dt_s);
+  }
   // Locked on a wrong harmonic: the truth is f / 2 or 2 f away.
   if (harmonic_off_) f_var += 0.25 * est_.step_frequency_hz * est_.step_frequency_hz;
   // The bank still choosing: any of its members may win; the range's half-width.

@@ -650,6 +650,7 @@ class ImuConfig(_ConfigFile):
     speed_rel_std: float = _field(IMU_SECTION, "speed_rel_std")
     max_walk_ratio_m_per_spm: float = _field(IMU_SECTION, "max_walk_ratio_m_per_spm")
     turn_f_std_hz_per_rad_s: float = _field(IMU_SECTION, "turn_f_std_hz_per_rad_s")
+    lock_f_rel_std: float = _field(IMU_SECTION, "lock_f_rel_std")
     min_periodicity: float = _field(IMU_SECTION, "min_periodicity")
     periodicity_steps: float = _field(IMU_SECTION, "periodicity_steps")
     min_vz_rms_mps: float = _field(IMU_SECTION, "min_vz_rms_mps")

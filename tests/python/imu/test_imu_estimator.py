@@ -306,6 +306,24 @@ def test_the_pendulum_taking_over_the_speed_is_no_transient_of_the_walk(subject,
     assert f_err < 2.0 * res["step_frequency_std_hz"][first]
 
 
+def test_a_fresh_lock_widens_the_frequency_std_by_lock_f_rel_std_decaying_over_1_5_s():
+    """From the lock (the pendulum's first speed) the f variance holds (lock_f_rel_std f exp(-age / 1.5 s))^2 more;
+    the estimates themselves do not move."""
+    walk = make_imu_walk(duration_s=20.0)
+    on = _run(walk)
+    off = _run(walk, dataclasses.replace(ImuConfig(), lock_f_rel_std=0.0))
+    assert np.array_equal(on["step_frequency_hz"], off["step_frequency_hz"])
+    t = on.time_s
+    lock = t[np.flatnonzero(on["pendulum_speed_mps"] > 0)[0]]
+    for age_s in (0.2, 1.0, 2.0):
+        i = np.flatnonzero(on["estimator_fed"] & (t >= lock + age_s))[0]
+        added = np.sqrt(on["step_frequency_std_hz"][i] ** 2 - off["step_frequency_std_hz"][i] ** 2)
+        expected = ImuConfig().lock_f_rel_std * on["step_frequency_hz"][i] * np.exp(-(t[i] - lock) / 1.5)
+        assert added == pytest.approx(expected, rel=0.05), age_s
+    late = t >= lock + 10.0
+    assert np.max(on["step_frequency_std_hz"][late] - off["step_frequency_std_hz"][late]) < 1e-3
+
+
 def test_an_estimate_no_more_certain_than_its_range_is_not_valid():
     """A step-frequency std at or above that of a frequency anywhere in [f_min_hz, f_max_hz] (here made so in
     turns by a large turn_f_std_hz_per_rad_s) or a speed std at or above that of a speed anywhere in
