@@ -41,6 +41,10 @@ namespace yoyogait {
 inline constexpr double kTwoPi = 6.283185307179586476925286766559;
 inline constexpr double kInvTwoPi = 0.15915494309189533576888376337251;
 
+/// The std of a value spread evenly over a range of this width (width / sqrt 12): an estimate whose
+/// std is that wide says no more than the range does.
+inline constexpr double uniform_std(double width) noexcept { return width * 0.28867513459481287; }
+
 namespace detail {
 /// min(a, b) and max(a, b) as Python's: the first argument unless the second is strictly
 /// smaller (larger). Unlike std::fmin/fmax they compile to one instruction, no libm call.

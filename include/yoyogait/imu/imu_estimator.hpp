@@ -55,7 +55,6 @@ class ImuOnlineEstimator {
     input_latency_s_ = int_z_.delay_s(config_.latency_f_hz);
     f_locked_min_hz_ = locked_min_hz(config_);
     f_locked_max_hz_ = 0.98 * config_.estimator.gait_filter.f_max_hz;
-    uninformative_speed_std_mps_ = config_.max_speed_mps * 0.28867513459481287;  // 1 / sqrt(12)
     online::Validity::Settings vs;
     vs.f_min_hz = config_.estimator.gait_filter.f_min_hz;
     vs.f_max_hz = config_.estimator.gait_filter.f_max_hz;
@@ -256,8 +255,8 @@ class ImuOnlineEstimator {
       o.reason = ImuReason::kAcquiring;
     else if (irregular_)
       o.reason = ImuReason::kIrregular;
-    else if (!(o.step_frequency_std_hz < validity_.pinned_std_hz() && o.speed_std_mps < uninformative_speed_std_mps_))
-      o.reason = ImuReason::kUncertain;  // it says no more than the range does: no estimate to act on
+    else if (uncertain_)
+      o.reason = ImuReason::kUncertain;
     else if (!(o.speed_mps >= 0.0 && o.speed_mps <= config_.max_speed_mps))
       o.reason = ImuReason::kSpeedImplausible;
     else {
@@ -344,6 +343,7 @@ class ImuOnlineEstimator {
     harmonic_off_s_ = 0.0;
     irregular_ = false;
     f_std_ = s_std_ = std::numeric_limits<double>::infinity();
+    uncertain_ = true;
   }
 
   // After each estimator sample: its stds made honest (as OnlineEstimator does: scaled by the
@@ -404,7 +404,6 @@ class ImuOnlineEstimator {
   double fwd_sign_ = 1.0;  ///< the forward direction is +1 or -1 times forward_axis
   double input_latency_s_ = 0.0;  ///< the integrators' delay at latency_f_hz (constant)
   double f_locked_min_hz_ = 0.0, f_locked_max_hz_ = 1e9, az_last_ = 0.0, ax_last_ = 0.0;
-  double uninformative_speed_std_mps_ = 1e9;  ///< the std of a speed spread evenly over [0, max_speed_mps]
   Estimate est_{};
   gait::HorizonDecay carry_decay_;  ///< the carry's forecast factors at its last horizons
   ImuEstimate out_{};
@@ -420,6 +419,9 @@ class ImuOnlineEstimator {
   imu::SpeedVariance speed_var_;
   online::Validity validity_{};
   double f_std_ = 0.0, s_std_ = 0.0;  ///< the reported stds until the next estimator sample
+  /// The stds say no more than the ranges do (a std of f at least uniform_std of its range, of the
+  /// speed at least uniform_std of [0, max_speed_mps]): no estimate to act on (UNCERTAIN).
+  bool uncertain_ = true;
   bool speed_from_pendulum_ = false;  ///< the speed reported at the last estimator sample was the pendulum's
   /// A fresh lock's share of the step frequency's std decays over this [s] (lock_f_rel_std).
   static constexpr double kLockTauS = 1.5;

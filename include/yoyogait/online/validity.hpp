@@ -354,7 +354,7 @@ class Validity {
   /// The frequency std reported at a bound of the range, at least [Hz]: a bound is no estimate, so
   /// what is known is the range alone, the std of a frequency spread evenly over it ((f_max - f_min)
   /// / sqrt 12: 0.89 Hz for the default 0.4-3.5 Hz; 2 std from a bound reach past the middle of the range).
-  double pinned_std_hz() const noexcept { return (s_.f_max_hz - s_.f_min_hz) * 0.28867513459481287; }
+  double pinned_std_hz() const noexcept { return uniform_std(s_.f_max_hz - s_.f_min_hz); }
   /// Whether the frequency lies at a bound of its range (within 2 % of the range).
   bool pinned(double f_hz) const noexcept {
     const double margin = 0.02 * (s_.f_max_hz - s_.f_min_hz);

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .imu_checks import ACC_UNITS, GYR_UNITS, pick_sensor, reading, unit_scale
+from .imu_checks import ACC_UNITS, GYR_UNITS, option_flag, pick_sensor, reading, unit_scale
 from .imu_recording import GRAVITY_MPS2, ImuRecording
 
 __all__ = ["APDM_ACC_UNITS", "APDM_GYR_UNITS", "choose_sensor", "read_apdm_h5"]
@@ -104,8 +104,7 @@ def _apdm_unit(ds, table: dict, override, option: str, default: float, p: Path) 
         return default
     key = said.lower().replace(" ", "").replace("\u00b2", "^2")
     if key not in table:
-        flag = "--" + option.replace("_", "-")
-        raise InputError(f"{p}: unit {said!r} of {ds.name} not understood; pass {option} ({flag})")
+        raise InputError(f"{p}: unit {said!r} of {ds.name} not understood; pass {option} ({option_flag(option)})")
     return table[key]
 
 

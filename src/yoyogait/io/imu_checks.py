@@ -34,6 +34,11 @@ GYR_UNITS = {"rad_s": 1.0, "rad/s": 1.0, "deg_s": np.pi / 180.0, "deg/s": np.pi 
 LOWER_BACK_LABELS = ("lumbar", "lowerback", "sacrum", "sacral", "pelvis", "l5", "l4l5", "waist", "lowback")
 
 
+def option_flag(option: str) -> str:
+    """The command line's flag of a reader option: ``acc_unit`` -> ``--acc-unit``."""
+    return "--" + option.replace("_", "-")
+
+
 def unit_scale(value, table: dict, option: str, where) -> float:
     """The scale of a unit the user gave (``value``, a key of ``table``) to the SI unit; 0.0 when none was
     given (the caller's default then); InputError naming ``option`` and the units it takes."""

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .imu_checks import ACC_UNITS, GYR_UNITS, median_rate_hz, pick_sensor, reading, unit_scale
+from .imu_checks import ACC_UNITS, GYR_UNITS, median_rate_hz, option_flag, pick_sensor, reading, unit_scale
 from .imu_recording import GRAVITY_MPS2, ImuRecording
 
 __all__ = ["TIME_COLUMN_NAMES", "first_data_header", "is_imu_header", "read_imu_csv", "time_in_seconds"]
@@ -151,7 +151,7 @@ def read_imu_csv(path, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor=Non
         tcol = next((lower.index(n) for n in TIME_COLUMN_NAMES if n in lower), None)
         # What the user must give, all of it in one line (not one option per run).
         missing = [
-            f"the {kind} columns carry no unit: pass {option} ({_flag(option)}) {' or '.join(_plain(units))}"
+            f"the {kind} columns carry no unit: pass {option} ({option_flag(option)}) {' or '.join(_plain(units))}"
             for kind, scale, option, units in (
                 ("acc", acc_said, "acc_unit", ACC_UNITS),
                 ("gyr", gyr_said, "gyr_unit", GYR_UNITS),
@@ -239,10 +239,6 @@ def _choose_csv_sensor(sensors: dict, sensor, p: Path) -> str:
     )
 
 
-def _flag(option: str) -> str:
-    return "--" + option.replace("_", "-")
-
-
 def _plain(units) -> list[str]:
     """A unit table's names to type on a command line (not the ones with a slash)."""
     return sorted(set(units) - {"m/s^2", "rad/s", "deg/s"})
@@ -251,7 +247,7 @@ def _plain(units) -> list[str]:
 def _columns(sensor_cols, kind, units, override, option, where) -> tuple[list[int], float | None]:
     """The columns of x, y, z of one kind of a sensor (_imu_sensors) and the scale of their unit
     (None: neither the columns nor ``override`` give one)."""
-    flag = _flag(option)
+    flag = option_flag(option)
     cols, scales = [], set()
     for a in AXES:
         i, unit = sensor_cols[(kind, a)]

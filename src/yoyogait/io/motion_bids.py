@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from .apdm import APDM_ACC_UNITS, APDM_GYR_UNITS, choose_sensor
-from .imu_checks import ACC_UNITS, GYR_UNITS, reading, unit_scale
+from .imu_checks import ACC_UNITS, GYR_UNITS, option_flag, reading, unit_scale
 from .imu_recording import ImuRecording
 from .recording import Recording, number_row, read_text, uniform_time, unique_names
 
@@ -225,9 +225,8 @@ def read_motion_bids_imu(path, *, sensor=None, acc_unit=None, gyr_unit=None, rat
             continue
         units = chosen["units"][kind]
         if len(units) != 1 or next(iter(units)) not in table:
-            flag = "--" + option.replace("_", "-")
             said = ", ".join(sorted(units))
-            raise InputError(f"{channels_path}: {kind} channels in {said!r}; pass {option} ({flag})")
+            raise InputError(f"{channels_path}: {kind} channels in {said!r}; pass {option} ({option_flag(option)})")
         scales.append(table[next(iter(units))])
     acc = data[:, [chosen["ACCEL"][a] for a in "xyz"]] * scales[0]
     gyr = data[:, [chosen["GYRO"][a] for a in "xyz"]] * scales[1]

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import InputError
+from ..io.imu_checks import option_flag
 from ..io.imu_recording import GRAVITY_MPS2
 from ._lsl import child_text, children, pylsl
 
@@ -134,7 +135,7 @@ def is_imu_info(info: Any) -> bool:
 
 
 def _scale(units: set[str], table: dict[str, float], override: str | None, option: str, what: str, name: str):
-    flag = "--" + option.replace("_", "-")
+    flag = option_flag(option)
     if override is not None:
         if override not in OPTION_UNITS:
             raise InputError(f"{flag} must be one of {', '.join(sorted(OPTION_UNITS))}, not {override!r}")
@@ -180,10 +181,10 @@ def read_imu_layout(
     acc_scale, acc_said = _scale(units(acc), ACC_UNIT_NAMES, acc_unit, "acc_unit", "acceleration", name)
     gyr_scale, gyr_said = _scale(units(gyr), GYR_UNIT_NAMES, gyr_unit, "gyr_unit", "angular rate", name)
     unitless = [
-        f"its {what} channels carry no unit; pass {flag} ({choices})"
-        for scale, what, flag, choices in (
-            (acc_scale, "acceleration", "--acc-unit", "mps2 or g"),
-            (gyr_scale, "angular rate", "--gyr-unit", "rad_s or deg_s"),
+        f"its {what} channels carry no unit; pass {option_flag(option)} ({choices})"
+        for scale, what, option, choices in (
+            (acc_scale, "acceleration", "acc_unit", "mps2 or g"),
+            (gyr_scale, "angular rate", "gyr_unit", "rad_s or deg_s"),
         )
         if scale is None
     ]
