@@ -133,6 +133,7 @@ def inspect_imu(
         "references": {k: len(v) for k, v in rec.references.items()},
         "not_valid": why,
         "zero_rows": int(rec.metadata.get("zero_rows", 0)),
+        "repeated_packets": int(rec.metadata.get("repeated_packets", 0)),
         "gaps": int(gaps.size),
         "gap_restarts": restarts,
         "longest_gap_s": float(gaps.max()) if gaps.size else 0.0,
@@ -167,6 +168,9 @@ def inspect_imu(
         lines.append(
             ("zero rows", f"{rec.metadata['zero_rows']} (all six channels exactly 0: no measurement, ignored)")
         )
+    if rec.metadata.get("repeated_packets"):
+        n = rec.metadata["repeated_packets"]
+        lines.append(("repeated", f"{n} packet{'s' if n > 1 else ''} received twice (the later copy dropped)"))
     if gaps.size:
         what = (
             f"{gaps.size - restarts} up to {max_gap_s:g} s bridged (by the model while walking), "

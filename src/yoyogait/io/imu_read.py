@@ -11,7 +11,8 @@ the names every reader module offers, in one place.
                        (``pelvis_ACCEL_x``; ``sensor`` chooses); also a ``.txt``
 ``.csv`` (ROS)         a ``sensor_msgs/Imu`` topic (``field.linear_acceleration.x``) :mod:`.imu_tables`
                        or PlotJuggler's (``__time``, ``/imu/linear_acceleration/x``)
-``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z``         :mod:`.xsens`
+``.txt`` (Xsens)       MT Manager export: ``PacketCounter Acc_X ... Gyr_Z`` after  :mod:`.xsens`
+                       any preamble (``// Update Rate: 100.0Hz``)
 ``.csv`` (Movella DOT) ``DeviceTag:,..`` lines, ``PacketCounter,SampleTimeFine,..``    :mod:`.xsens`
 ``.h5`` (APDM/Opal)    ``/Sensors/<id>/Accelerometer`` (v5), ``/<case>/Calibrated``   :mod:`.apdm`
 ``.tsv`` (Motion-BIDS) a tracked point's ACCEL and GYRO channels                     :mod:`.motion_bids`
@@ -35,7 +36,7 @@ from .imu_recording import ImuRecording
 from .imu_tables import TIME_COLUMN_NAMES, first_data_header, is_imu_header, read_imu_csv, time_in_seconds
 from .mobilised import read_mobilised_mat, read_mobilised_trials
 from .motion_bids import channel_types, read_motion_bids_imu
-from .xsens import dot_layout, read_dot, read_dot_csv, read_xsens_txt
+from .xsens import dot_layout, read_dot, read_dot_csv, read_xsens_txt, xsens_txt_header
 
 __all__ = [
     "ACC_UNITS",
@@ -68,11 +69,11 @@ def is_imu_file(path) -> bool:
     if ext == ".tsv":  # Motion-BIDS with accelerometer and gyro channels (and no positions)
         types = channel_types(p)
         return {"ACCEL", "GYRO"} <= types and "POS" not in types
+    if ext == ".txt" and xsens_txt_header(p) is not None:
+        return True
     if ext in (".csv", ".txt"):
         header = first_data_header(p)
-        return (header is not None and (is_imu_header(header) or "PacketCounter" in header)) or (
-            ext == ".csv" and dot_layout(p) is not None
-        )
+        return (header is not None and is_imu_header(header)) or (ext == ".csv" and dot_layout(p) is not None)
     return False
 
 
@@ -88,8 +89,7 @@ def read_imu(
     if ext == ".mat":
         rec = read_mobilised_mat(p, trial=trial)
     elif ext == ".txt":
-        header = first_data_header(p) or []
-        if "PacketCounter" not in header and is_imu_header(header):  # a log of IMU columns, as a CSV
+        if xsens_txt_header(p) is None and is_imu_header(first_data_header(p) or []):  # IMU columns, as a CSV
             rec = read_imu_csv(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz, sensor=sensor)
         else:
             rec = read_xsens_txt(p, acc_unit=acc_unit, gyr_unit=gyr_unit, rate_hz=rate_hz)

@@ -11,28 +11,52 @@ from ..errors import InputError
 from .imu_checks import ACC_UNITS, GYR_UNITS, median_rate_hz, reading, unit_scale
 from .imu_recording import ImuRecording
 
-__all__ = ["dot_layout", "read_dot", "read_dot_csv", "read_xsens_txt"]
+__all__ = ["dot_layout", "read_dot", "read_dot_csv", "read_xsens_txt", "xsens_txt_header"]
 
 #: The calibrated channels of Xsens exports (MT Manager and Movella DOT name them alike).
 _XSENS_CHANNELS = ("Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z")
 
 
+#: The rate in an export's preamble: MT Manager's ``// Update Rate: 100.0Hz``, or a line such as
+#: ``Acquisition frequency: 100 Hz`` that other tools (and published data sets) write before the header.
+_RATE_LINE = re.compile(r"(?:update rate|frequency|sampl\w* rate)\s*[:=]?\s*([0-9]+(?:\.[0-9]*)?)\s*hz", re.IGNORECASE)
+
+
+def xsens_txt_header(path) -> int | None:
+    """The line index of an Xsens text export's column header (the first line among the first 50 with a
+    ``PacketCounter`` cell; any lines before it are its preamble), None without one."""
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as f:
+            for i in range(50):
+                line = f.readline()
+                if not line:
+                    return None
+                if "PacketCounter" in line.replace(",", " ").split():
+                    return i
+    except OSError:
+        return None
+    return None
+
+
 def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
-    """An Xsens MT Manager / Awinda text export: ``//`` comment lines (``// Update Rate: 100.0Hz``),
-    a tab-separated header with ``PacketCounter``, ``Acc_X``..``Acc_Z``, ``Gyr_X``..``Gyr_Z``
-    (MT Manager's units: m/s^2 and rad/s unless ``acc_unit``/``gyr_unit`` say otherwise)."""
+    """An Xsens MT Manager / Awinda text export: a preamble (MT Manager's ``//`` comment lines with
+    ``// Update Rate: 100.0Hz``, or other text such as ``Acquisition frequency: 100 Hz``), then a
+    tab-separated header with ``PacketCounter``, ``Acc_X``..``Acc_Z``, ``Gyr_X``..``Gyr_Z`` (MT
+    Manager's units: m/s^2 and rad/s unless ``acc_unit``/``gyr_unit`` say otherwise)."""
     p = Path(path)
     rate = float(rate_hz) if rate_hz else None
-    header, rows = None, []
+    first = xsens_txt_header(p)
+    header: list[str] | None = None
+    rows = []
     with open(p, encoding="utf-8-sig", errors="replace") as f:
-        for line in f:
+        for i, line in enumerate(f):
             s = line.strip()
-            if not s:
-                continue
-            if s.startswith("//"):
-                m = re.search(r"Update Rate:\s*([0-9.]+)\s*Hz", s)
+            if first is None or i < first:  # the preamble
+                m = _RATE_LINE.search(s)
                 if m and rate is None:
                     rate = float(m.group(1))
+                continue
+            if not s or s.startswith("//"):
                 continue
             parts = s.split("\t") if "\t" in s else s.split()
             if header is None:
@@ -46,7 +70,10 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
     if missing:
         raise InputError(f"{p}: the export lacks {', '.join(missing)} (export calibrated data)")
     if rate is None:
-        raise InputError(f"{p}: no '// Update Rate' line; give the sample rate with rate_hz (--capture-rate-hz)")
+        raise InputError(
+            f"{p}: no rate before the header (// Update Rate: 100Hz): give the sample rate with rate_hz "
+            "(--capture-rate-hz)"
+        )
     cols = [header.index(n) for n in ["PacketCounter", *need]]
     try:
         table = np.array([[float(r[c]) if c < len(r) and r[c] != "" else np.nan for c in cols] for r in rows])
@@ -55,12 +82,17 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
     if table.shape[0] < 2:
         raise InputError(f"{p}: fewer than two samples")
     counter = np.unwrap(table[:, 0], period=65536.0)
+    # The counter numbers packets: one that comes twice (a wireless retransmission; in published Awinda
+    # recordings) is one sample, its later copy dropped. A counter going back is still refused.
+    first_copy = np.concatenate([[True], np.diff(counter) != 0])
+    metadata: dict = {"layout": "xsens"}
+    if not first_copy.all():
+        metadata["repeated_packets"] = int(np.count_nonzero(~first_copy))
+        table, counter = table[first_copy], counter[first_copy]
     acc_scale = unit_scale(acc_unit, ACC_UNITS, "acc_unit", p) or 1.0
     gyr_scale = unit_scale(gyr_unit, GYR_UNITS, "gyr_unit", p) or 1.0
     time_s = (counter - counter[0]) / rate
-    return reading(
-        p, time_s, table[:, 1:4] * acc_scale, table[:, 4:7] * gyr_scale, rate, gyr_scale, {"layout": "xsens"}
-    )
+    return reading(p, time_s, table[:, 1:4] * acc_scale, table[:, 4:7] * gyr_scale, rate, gyr_scale, metadata)
 
 
 # ------------------------------------------------------------------------------------ Movella DOT

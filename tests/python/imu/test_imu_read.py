@@ -219,6 +219,40 @@ def test_xsens_mt_manager_txt(tmp_path):
     assert np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-5)
 
 
+def test_xsens_txt_after_a_free_text_preamble_takes_its_rate_from_it(tmp_path):
+    """An Xsens export whose header follows a line of free text (``Acquisition frequency: 100 Hz``, as a
+    published Awinda data set writes it) is found among .txt files and read at that rate."""
+    rec = make_imu_walk(duration_s=6.0).recording
+    p = tmp_path / "1-1_lb.txt"
+    _xsens(p, rec, rate="60")
+    lines = p.read_text().splitlines()
+    p.write_text("\n".join(["Acquisition frequency: 100 Hz", *lines[3:]]) + "\n")
+    assert is_imu_file(p)
+    back = read_imu(p)
+    assert back.rate_hz == 100.0 and np.allclose(np.diff(back.time_s), 0.01)
+    assert np.allclose(back.gyr_rad_s, rec.gyr_rad_s, atol=1e-5)
+    p.write_text("\n".join(["Recorded with a wireless sensor", *lines[3:]]) + "\n")
+    with pytest.raises(InputError, match="--capture-rate-hz"):
+        read_imu(p)
+
+
+def test_xsens_packet_received_twice_is_one_sample_and_a_counter_going_back_is_refused(tmp_path):
+    """A packet counter repeated (a retransmitted packet) keeps its first copy and says so; one that goes
+    back is still an error."""
+    rec = make_imu_walk(duration_s=6.0).recording
+    p = tmp_path / "MT.txt"
+    _xsens(p, rec)
+    lines = p.read_text().splitlines()
+    head = 4  # the header's line: samples start after it
+    p.write_text("\n".join([*lines[: head + 300], lines[head + 299], *lines[head + 300 :]]) + "\n")
+    back = read_imu(p)
+    assert back.n_samples == rec.n_samples and back.metadata["repeated_packets"] == 1
+    assert np.all(np.diff(back.time_s) > 0) and np.allclose(back.acc_mps2, rec.acc_mps2, atol=1e-5)
+    p.write_text("\n".join([*lines[: head + 300], lines[head + 290], *lines[head + 300 :]]) + "\n")
+    with pytest.raises(InputError, match="timestamps do not increase"):
+        read_imu(p)
+
+
 def _dot(path, rec, columns=("Acc_X", "Acc_Y", "Acc_Z", "Gyr_X", "Gyr_Y", "Gyr_Z"), start_tick=4294000000, app=True):
     """rec as a Movella DOT app's CSV: metadata lines, SampleTimeFine in microseconds (wrapping), deg/s;
     ``app=False``: as the SDK writes it, the column header alone."""
