@@ -17,6 +17,7 @@ __all__ = [
     "check_imu_plausible",
     "clipped_ranges",
     "finish_reading",
+    "head_lines",
     "label_key",
     "median_rate_hz",
     "pick_sensor",
@@ -37,6 +38,16 @@ LOWER_BACK_LABELS = ("lumbar", "lowerback", "sacrum", "sacral", "pelvis", "l5", 
 def option_flag(option: str) -> str:
     """The command line's flag of a reader option: ``acc_unit`` -> ``--acc-unit``."""
     return "--" + option.replace("_", "-")
+
+
+def head_lines(path, n: int = 50) -> list[str]:
+    """The first ``n`` lines of a text file, where a reader looks for its header (fewer at the file's
+    end; none when it cannot be read)."""
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as f:
+            return [line for _, line in zip(range(n), f)]
+    except OSError:
+        return []
 
 
 def unit_scale(value, table: dict, option: str, where) -> float:

@@ -12,7 +12,16 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .imu_checks import ACC_UNITS, GYR_UNITS, median_rate_hz, option_flag, pick_sensor, reading, unit_scale
+from .imu_checks import (
+    ACC_UNITS,
+    GYR_UNITS,
+    head_lines,
+    median_rate_hz,
+    option_flag,
+    pick_sensor,
+    reading,
+    unit_scale,
+)
 from .imu_recording import GRAVITY_MPS2, ImuRecording
 
 __all__ = ["TIME_COLUMN_NAMES", "first_data_header", "is_imu_header", "read_imu_csv", "time_in_seconds"]
@@ -94,19 +103,12 @@ def _header_of(path: Path) -> tuple[int, list[str], str | None] | None:
     """(its line's index, its cells, the separator: a tab, a comma, or None for spaces) of a table's header,
     its first line within the first 50 that is neither blank nor a comment (``#``, ``//``); None if there
     is none or the file cannot be read."""
-    try:
-        with open(path, encoding="utf-8-sig", errors="replace") as f:
-            for i in range(50):
-                line = f.readline()
-                if not line:
-                    return None
-                s = line.strip()
-                if not s or s.startswith(("#", "//")):
-                    continue
-                sep = "\t" if "\t" in s else ("," if "," in s else None)
-                return i, [c.strip() for c in (s.split(sep) if sep else s.split())], sep
-    except OSError:
-        return None
+    for i, line in enumerate(head_lines(path)):
+        s = line.strip()
+        if not s or s.startswith(("#", "//")):
+            continue
+        sep = "\t" if "\t" in s else ("," if "," in s else None)
+        return i, [c.strip() for c in (s.split(sep) if sep else s.split())], sep
     return None
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .imu_checks import ACC_UNITS, GYR_UNITS, median_rate_hz, reading, unit_scale
+from .imu_checks import ACC_UNITS, GYR_UNITS, head_lines, median_rate_hz, reading, unit_scale
 from .imu_recording import ImuRecording
 
 __all__ = ["dot_layout", "read_dot", "read_dot_csv", "read_xsens_txt", "xsens_txt_header"]
@@ -25,17 +25,8 @@ _RATE_LINE = re.compile(r"(?:update rate|frequency|sampl\w* rate)\s*[:=]?\s*([0-
 def xsens_txt_header(path) -> int | None:
     """The line index of an Xsens text export's column header (the first line among the first 50 with a
     ``PacketCounter`` cell; any lines before it are its preamble), None without one."""
-    try:
-        with open(path, encoding="utf-8-sig", errors="replace") as f:
-            for i in range(50):
-                line = f.readline()
-                if not line:
-                    return None
-                if "PacketCounter" in line.replace(",", " ").split():
-                    return i
-    except OSError:
-        return None
-    return None
+    lines = head_lines(path)
+    return next((i for i, line in enumerate(lines) if "PacketCounter" in line.replace(",", " ").split()), None)
 
 
 def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRecording:
@@ -106,18 +97,12 @@ def dot_layout(p: Path) -> tuple[int, list[str], dict[str, str]] | None:
     """(line index of the column header, its names, the ``Key:,value`` lines before it) of a Movella
     (Xsens) DOT CSV export, whose column header holds PacketCounter and SampleTimeFine; else None."""
     meta: dict[str, str] = {}
-    try:
-        with open(p, encoding="utf-8-sig", errors="replace") as f:
-            for i, line in enumerate(f):
-                if i >= 60:
-                    return None
-                cells = [c.strip() for c in line.strip().split(",")]
-                if "PacketCounter" in cells and "SampleTimeFine" in cells:
-                    return i, cells, meta
-                if cells and cells[0].endswith(":"):
-                    meta[cells[0][:-1].strip()] = cells[1] if len(cells) > 1 else ""
-    except OSError:
-        return None
+    for i, line in enumerate(head_lines(p, 60)):
+        cells = [c.strip() for c in line.strip().split(",")]
+        if "PacketCounter" in cells and "SampleTimeFine" in cells:
+            return i, cells, meta
+        if cells and cells[0].endswith(":"):
+            meta[cells[0][:-1].strip()] = cells[1] if len(cells) > 1 else ""
     return None
 
 
