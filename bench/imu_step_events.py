@@ -2,7 +2,7 @@
 Voisard et al.'s reference data set for healthy gait with IMUs (IPOL 2023, article 497; the folder
 ``GaitData`` of github.com/CyrilVoisard/ipol_dataset_1, AGPL-3.0; not shipped with yoyogait).
 
-    python bench/imu_step_events.py --data PATH/TO/GaitData [--jobs 2] [--sensor-height-ratio 0.60]
+    python bench/imu_step_events.py --data PATH/TO/GaitData [--jobs 2] [--sensor-height-ratio 0.60] [--no-mobgap]
 
 110 trials of 19 healthy adults: standing, 10 m of walking, a U-turn, 10 m back, stopping; an Xsens
 Awinda sensor at L5 (``N-K_lb.txt``, read by ``yoyogait.read_imu`` as any user's file) and, per trial,
@@ -20,7 +20,12 @@ U-turn's boundaries and the participant's height. Printed:
 * start-up: steps from the first footstep to the first valid sample;
 * the median speed while valid on the straights beside 20 m over the trial's time less the U-turn's
   (the data set's own walking speed is 20 m over the whole trial): an approximate reference that
-  includes the start and the stop, so a steady speed reads above it.
+  includes the start and the stop, so a steady speed reads above it;
+* with mobgap installed (``pip install 'yoyogait[mobgap]'``; ``--no-mobgap`` leaves it out), its
+  offline pipeline for healthy walkers as the peer, as bench/imu.py runs it: the samples put on the
+  packet counter's 100 Hz grid (the few lost packets interpolated), acc in m/s^2 and gyr in deg/s as
+  mobgap takes them; its walking bouts' cadence and speed weighted by their overlap with the trial,
+  against the trial's reference (the mean over all its straight strides).
 
 The sensor height is ``--sensor-height-ratio`` times the participant's height (0.60: SensorHeight over
 Height of the three Mobilise-D participants of imu_mobgap reads 0.58-0.62); 0.95 m where a trial gives
@@ -57,9 +62,39 @@ def _strides(meta: dict, t0: float, t1: float, u0: float, u1: float) -> list[tup
     return out
 
 
-def evaluate_trial(args: tuple[Path, Path, float]) -> dict:
+def _mobgap_trial(rec, height_m: float, ratio: float, t0: float, t1: float) -> tuple[float, float]:
+    """(cadence [steps/min], speed [m/s]) of mobgap's healthy pipeline over the trial [t0, t1]: its walking
+    bouts weighted by their overlap with it (NaN without one)."""
+    import warnings
+
+    import pandas as pd
+    from mobgap.data import GaitDatasetFromData
+    from mobgap.pipeline import MobilisedPipelineHealthy
+
+    grid = np.arange(rec.time_s[0], rec.time_s[-1] + 1e-9, 1.0 / RATE_HZ)
+    cols = {f"acc_{a}": np.interp(grid, rec.time_s, rec.acc_mps2[:, i]) for i, a in enumerate("xyz")}
+    cols |= {f"gyr_{a}": np.degrees(np.interp(grid, rec.time_s, rec.gyr_rad_s[:, i])) for i, a in enumerate("xyz")}
+    participant = {"height_m": height_m, "sensor_height_m": ratio * height_m, "cohort": "HA"}
+    with warnings.catch_warnings():  # the peer's own warnings (scikit-learn versions of its models)
+        warnings.simplefilter("ignore")
+        ds = GaitDatasetFromData({"trial": {"LowerBack": pd.DataFrame(cols)}}, RATE_HZ, {"trial": participant},
+                                 {"trial": {"measurement_condition": "laboratory"}})  # fmt: skip
+        wb = MobilisedPipelineHealthy().safe_run(ds[0]).per_wb_parameters_
+    w, cad, speed = [], [], []
+    for _, row in wb.iterrows():
+        overlap = min(float(row["end"]) / RATE_HZ, t1) - max(float(row["start"]) / RATE_HZ, t0)
+        if overlap > 0:
+            w.append(overlap)
+            cad.append(float(row.get("cadence_spm", math.nan)))
+            speed.append(float(row.get("walking_speed_mps", math.nan)))
+    if not w:
+        return math.nan, math.nan
+    return float(np.average(cad, weights=w)), float(np.average(speed, weights=w))
+
+
+def evaluate_trial(args: tuple[Path, Path, float, bool]) -> dict:
     """The figures of one trial (the module's text)."""
-    lb, meta_path, ratio = args
+    lb, meta_path, ratio, with_mobgap = args
     meta = json.loads(meta_path.read_text())
     height_cm = meta.get("Height")
     sensor_height_m = ratio * height_cm / 100.0 if isinstance(height_cm, (int, float)) and height_cm > 0 else None
@@ -89,8 +124,15 @@ def evaluate_trial(args: tuple[Path, Path, float]) -> dict:
     starts = np.sort([e[0] / RATE_HZ for k in ("LeftFootEvents", "RightFootEvents") for e in meta[k]])
     walking = (t >= t0) & (t <= t1) & ~((t >= u0) & (t <= u1))
     ref_speed = 20.0 / ((t1 - t0) - (u1 - u0))
+    straight_ref = [2.0 / (s1 - s0) for s0, s1, turn in strides if not turn]
+    peer = (math.nan, math.nan)
+    if with_mobgap:
+        peer = _mobgap_trial(rec, (height_cm / 100.0) if sensor_height_m else 0.95 / ratio, ratio, t0, t1)
     return {
         "trial": lb.name,
+        "ref_cadence_spm": 60.0 * float(np.mean(straight_ref)) if straight_ref else math.nan,
+        "mobgap_cadence_err": peer[0] - 60.0 * float(np.mean(straight_ref)) if straight_ref else math.nan,
+        "mobgap_speed_err": peer[1] - ref_speed,
         "rows": rows,
         "valid": metrics.flag_fraction(valid, straight),
         "coverage": metrics.coverage_fraction(f, f_std, f_ref, straight & valid),
@@ -108,11 +150,21 @@ def main() -> None:
     ap.add_argument("--data", required=True, type=Path, help="the data set's GaitData folder")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--sensor-height-ratio", type=float, default=0.60)
+    ap.add_argument("--no-mobgap", action="store_true", help="leave the peer out")
     a = ap.parse_args()
+    with_mobgap = not a.no_mobgap
+    if with_mobgap:
+        try:
+            import mobgap  # noqa: F401
+        except ImportError:
+            print("mobgap is not installed (pip install 'yoyogait[mobgap]'): the peer is left out\n")
+            with_mobgap = False
     trials = sorted(a.data.glob("*_lb.txt"))
     if not trials:
         raise SystemExit(f"{a.data}: no *_lb.txt (the data set's GaitData folder?)")
-    jobs = [(lb, lb.with_name(lb.name[: -len("_lb.txt")] + ".json"), a.sensor_height_ratio) for lb in trials]
+    jobs = [
+        (lb, lb.with_name(lb.name[: -len("_lb.txt")] + ".json"), a.sensor_height_ratio, with_mobgap) for lb in trials
+    ]
     with ProcessPoolExecutor(a.jobs) as pool:
         out = list(pool.map(evaluate_trial, jobs))
     print(f"# Lower-back IMU on {len(out)} trials of the IPOL healthy-gait data set (not used for any setting)\n")
@@ -150,6 +202,14 @@ def main() -> None:
     print(f"| start-up, steps from the first footstep to valid | {np.nanmedian(st):.0f} | {np.nanmax(st):.0f} | <= 2 |")
     print(f"| speed while valid minus 20 m / (trial - U-turn time), m/s (approximate) | {np.nanmedian(se):+.3f} | "
           f"{se[np.nanargmax(np.abs(se))]:+.3f} | |")  # fmt: skip
+    if with_mobgap:
+        mc = np.array([o["mobgap_cadence_err"] for o in out])
+        ms = np.array([o["mobgap_speed_err"] for o in out])
+        missed = int(np.count_nonzero(~np.isfinite(mc)))
+        print(f"| mobgap (offline, healthy pipeline): cadence error, steps/min ({mc.size - missed} of {len(out)} "
+              f"trials with a bout) | {np.nanmedian(np.abs(mc)):.2f} | {np.nanmax(np.abs(mc)):.2f} | |")  # fmt: skip
+        print(f"| mobgap: speed minus 20 m / (trial - U-turn time), m/s (approximate) | {np.nanmedian(ms):+.3f} | "
+              f"{ms[np.nanargmax(np.abs(ms))]:+.3f} | |")  # fmt: skip
 
 
 if __name__ == "__main__":
