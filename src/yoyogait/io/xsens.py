@@ -38,7 +38,7 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
     rate = float(rate_hz) if rate_hz else None
     first = xsens_txt_header(p)
     header: list[str] | None = None
-    rows = []
+    rows, lines = [], []  # the samples' cells and their line numbers (1-based, for a message)
     with open(p, encoding="utf-8-sig", errors="replace") as f:
         for i, line in enumerate(f):
             s = line.strip()
@@ -54,6 +54,7 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
                 header = [h.strip() for h in parts]
                 continue
             rows.append(parts)
+            lines.append(i + 1)
     if header is None or "PacketCounter" not in header:
         raise InputError(f"{p}: no PacketCounter header line: not an Xsens MT Manager export")
     need = list(_XSENS_CHANNELS)
@@ -66,10 +67,14 @@ def read_xsens_txt(path, *, acc_unit=None, gyr_unit=None, rate_hz=None) -> ImuRe
             "(--capture-rate-hz)"
         )
     cols = [header.index(n) for n in ["PacketCounter", *need]]
-    try:
-        table = np.array([[float(r[c]) if c < len(r) and r[c] != "" else np.nan for c in cols] for r in rows])
-    except ValueError as exc:
-        raise InputError(f"{p}: a value is not a number ({exc})") from None
+    table = np.full((len(rows), len(cols)), np.nan)
+    for k, r in enumerate(rows):
+        for j, c in enumerate(cols):
+            if c < len(r) and r[c] != "":
+                try:
+                    table[k, j] = float(r[c])
+                except ValueError:
+                    raise InputError(f"{p}: line {lines[k]}: {header[c]} {r[c]!r} is not a number") from None
     if table.shape[0] < 2:
         raise InputError(f"{p}: fewer than two samples")
     counter = np.unwrap(table[:, 0], period=65536.0)

@@ -327,6 +327,15 @@ def test_xsens_without_gyro_says_what_to_export(tmp_path):
         read_imu(p)
 
 
+def test_xsens_cell_that_is_not_a_number_is_named_with_its_line_and_channel(tmp_path):
+    """A cell that is not a number: one line naming the file's line and the channel."""
+    p = tmp_path / "MT.txt"
+    p.write_text("//  Update Rate: 100.0Hz\nPacketCounter\tAcc_X\tAcc_Y\tAcc_Z\tGyr_X\tGyr_Y\tGyr_Z\n"
+                 "1\t9.8\t0\t0\t0\t0\t0\n2\t9.8\t0\tn/a\t0\t0\t0\n")  # fmt: skip
+    with pytest.raises(InputError, match=r"MT.txt: line 4: Acc_Z 'n/a' is not a number"):
+        read_imu(p)
+
+
 def _bids_imu(folder, rec, points=("pelvis", "left_foot"), acc_unit="g", gyr_unit="deg/s"):
     """rec as a Motion-BIDS IMU file (KeepControl's layout): ACCEL and GYRO channels per tracked point, the rate
     in the JSON sidecar; every point the same signals."""
