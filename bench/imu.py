@@ -122,6 +122,20 @@ def real(data: Path, peer: bool, peer_cache: Path | None = None) -> list[str]:
         )
         + "."
     )
+    out.append("")
+    out.append(
+        "The speed's target is scored against the bout's walking speed, the reference's mean over every stride it "
+        "measured, as mobgap's bouts are; the cadence is scored over the strides the estimate is valid over. The "
+        "speed scored like the cadence, against the reference's own speeds of those strides (for information; "
+        "the target stays as above): "
+        + ", ".join(
+            f"{r} {summ[(r, 'yoyogait-imu')]['median_abs_stride_speed_error_mps']:.3f} m/s "
+            f"(worst {summ[(r, 'yoyogait-imu')]['max_abs_stride_speed_error_mps']:.3f}; against the bout's "
+            f"{summ[(r, 'yoyogait-imu')]['median_abs_speed_error_mps']:.3f})"
+            for r in refs
+        )
+        + "."
+    )
     out += ["", "## Real data: the calibration participant (HA/001) and the held-out ones apart", "",
             "| participants | reference | bouts scored (missed) | cadence | stride time | speed |",
             "|---|---|---|---|---|---|"]  # fmt: skip

@@ -287,13 +287,14 @@ def evaluate_imu(dataset, out, *, force=False, figures=True, config_file=None, p
         with open(tmp / "bouts.csv", "w", newline="", encoding="utf-8") as f:
             w = csv.writer(f)
             keys = ["recording", "reference", "bout", "estimator", "start_s", "end_s", "ref_cadence_spm",
-                    "cadence_spm", "ref_speed_mps", "speed_mps", "ref_stride_time_s", "stride_time_s", "strides",
-                    "ref_strides"]  # fmt: skip
-            w.writerow(keys + ["cadence_error_spm", "speed_error_mps", "stride_time_error_s"])
+                    "cadence_spm", "ref_speed_mps", "ref_stride_speed_mps", "speed_mps", "ref_stride_time_s",
+                    "stride_time_s", "strides", "ref_strides"]  # fmt: skip
+            errors = ["cadence_error_spm", "speed_error_mps", "stride_speed_error_mps", "stride_time_error_s"]
+            w.writerow(keys + errors)
             for row in rows:
-                vals = [getattr(row, k) for k in keys]
+                vals = [getattr(row, k) for k in keys + errors]
                 vals[0] = vals[0].split("example_data/")[-1]
-                w.writerow(vals + [row.cadence_error_spm, row.speed_error_mps, row.stride_time_error_s])
+                w.writerow(vals)
         summ = ev.summary(rows)
         lines = ["# IMU evaluation: per reference walking bout", "",
                  f"Data set: {dataset} ({len(recs)} recordings). Median (worst) absolute error over the bouts. "

@@ -79,6 +79,8 @@ class BoutRow:
     stride_time_s: float
     strides: int = 0  # the reference's strides the values are taken over
     ref_strides: int = 0  # the reference's strides in the bout
+    #: The reference's own stride speeds over the strides the values are taken over (NaN without them).
+    ref_stride_speed_mps: float = math.nan
 
     @property
     def cadence_error_spm(self) -> float:
@@ -87,6 +89,12 @@ class BoutRow:
     @property
     def speed_error_mps(self) -> float:
         return self.speed_mps - self.ref_speed_mps
+
+    @property
+    def stride_speed_error_mps(self) -> float:
+        """The speed against the reference's over the same strides (as the cadence is scored), where
+        ``speed_error_mps`` takes the bout's: its mean over every stride it measured."""
+        return self.speed_mps - self.ref_stride_speed_mps
 
     @property
     def stride_time_error_s(self) -> float:
@@ -121,11 +129,13 @@ def bout_strides(bout: ImuBout) -> tuple[np.ndarray, np.ndarray]:
 
 def _bout_values(time_s, f_hz, speed, valid, bout: ImuBout, min_valid: float = 0.5):
     """(cadence, speed, stride time, reference cadence, reference stride time, strides counted,
-    strides) of an estimate over the reference's strides of a bout (the module's text)."""
+    strides, reference speed over the strides counted) of an estimate over the reference's strides
+    of a bout (the module's text)."""
     a, e = bout_strides(bout)
     ok = np.asarray(valid, dtype=bool) & (np.asarray(f_hz) > 0)
-    cad, spd, stride, ref_cad, ref_stride = [], [], [], [], []
-    for s0, s1 in zip(a, e):
+    speeds = bout.stride_speeds_mps if bout.stride_speeds_mps.size == a.size else np.full(a.size, math.nan)
+    cad, spd, stride, ref_cad, ref_stride, ref_spd = [], [], [], [], [], []
+    for s0, s1, ref_v in zip(a, e, speeds):
         i0, i1 = np.searchsorted(time_s, [s0, s1])
         if i1 <= i0:
             continue
@@ -138,10 +148,11 @@ def _bout_values(time_s, f_hz, speed, valid, bout: ImuBout, min_valid: float = 0
         spd.append(float(np.mean(speed[i0:i1][m])))
         ref_cad.append(120.0 / (s1 - s0))
         ref_stride.append(s1 - s0)
+        ref_spd.append(float(ref_v))
     if not cad:
-        return (math.nan,) * 5 + (0, a.size)
+        return (math.nan,) * 5 + (0, a.size, math.nan)
     return (float(np.mean(cad)), float(np.mean(spd)), float(np.mean(stride)), float(np.mean(ref_cad)),
-            float(np.mean(ref_stride)), len(cad), a.size)  # fmt: skip
+            float(np.mean(ref_stride)), len(cad), a.size, float(np.mean(ref_spd)))  # fmt: skip
 
 
 def _oscillator(result: ImuResult):
@@ -180,10 +191,10 @@ def evaluate_recording(rec: ImuRecording, config: ImuConfig | None = None, mobga
                 ("yoyogait-imu", t, result["step_frequency_hz"], result["speed_mps"], result["valid"]),
                 ("oscillator-imu", osc_t, osc_f, osc_v, np.ones(osc_t.size, bool)),
             ):
-                c, sp, st, rc, rs, n, nref = _bout_values(tt, f, v, ok, b)
+                c, sp, st, rc, rs, n, nref, rv = _bout_values(tt, f, v, ok, b)
                 row = {**base, "ref_cadence_spm": rc, "ref_stride_time_s": rs}
                 rows.append(BoutRow(estimator=name, cadence_spm=c, speed_mps=sp, stride_time_s=st, strides=n,
-                                    ref_strides=nref, **row))  # fmt: skip
+                                    ref_strides=nref, ref_stride_speed_mps=rv, **row))  # fmt: skip
             if mobgap is not None:
                 # The peer's values are per its own walking bouts: against the reference's whole bout.
                 c, v, s = _peer_bout(mobgap, b)
@@ -273,7 +284,7 @@ def summary(rows: list[BoutRow]) -> list[dict]:
             d: dict = {"reference": ref, "estimator": est, "bouts": len(sel)}
             d["missed"] = sum(1 for r in sel if not math.isfinite(r.cadence_spm))
             d["scored"] = d["bouts"] - d["missed"]
-            for key in ("cadence_error_spm", "speed_error_mps", "stride_time_error_s"):
+            for key in ("cadence_error_spm", "speed_error_mps", "stride_speed_error_mps", "stride_time_error_s"):
                 e_all = np.abs(np.array([getattr(r, key) for r in sel], dtype=float))
                 e = e_all[np.isfinite(e_all)]
                 d[f"median_abs_{key}"] = float(np.median(e)) if e.size else math.nan

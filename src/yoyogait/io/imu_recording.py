@@ -15,7 +15,9 @@ GRAVITY_MPS2 = 9.80665
 @dataclass
 class ImuBout:
     """One walking bout of a reference system: its span, its mean values, its initial contacts and the
-    strides it measured (``strides_s``: start and end of each, N x 2; empty when the source lists none).
+    strides it measured (``strides_s``: start and end of each, N x 2; empty when the source lists none)
+    with their speeds (``stride_speeds_mps``, one per row of ``strides_s``; empty when the source gives
+    none: the bout's ``speed_mps`` is their mean, as its cadence is the strides').
 
     A reference does not measure every stride between its contacts: where a contact is missed or
     counted twice (a turn, a pause), its stride is left out of its means; ``strides_s`` holds those
@@ -28,6 +30,7 @@ class ImuBout:
     stride_time_s: float
     contact_times_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
     strides_s: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    stride_speeds_mps: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 @dataclass

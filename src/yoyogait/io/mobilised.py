@@ -105,6 +105,9 @@ def _bouts(micro, rate_hz=None) -> list[ImuBout]:
         try:
             stride = np.asarray(b.get("Stride_Duration", []), dtype=float).reshape(-1)
             ic = np.asarray(b.get("InitialContact_Event", []), dtype=float).reshape(-1)
+            strides, known = _measured(b.get("Stride_InitialContacts"), stride, rate_hz)
+            speeds = np.asarray(b.get("Stride_Speed", []), dtype=float).reshape(-1)
+            speeds = speeds[known] if speeds.size == stride.size and strides.size else np.zeros(0)
             out.append(
                 ImuBout(
                     start_s=float(b["Start"]),
@@ -113,7 +116,8 @@ def _bouts(micro, rate_hz=None) -> list[ImuBout]:
                     speed_mps=float(b["WalkingSpeed"]),
                     stride_time_s=float(np.nanmean(stride)) if stride.size else float("nan"),
                     contact_times_s=ic,
-                    strides_s=_measured_strides(b.get("Stride_InitialContacts"), stride, rate_hz),
+                    strides_s=strides,
+                    stride_speeds_mps=speeds,
                 )
             )
         except (KeyError, TypeError, ValueError):
@@ -121,12 +125,13 @@ def _bouts(micro, rate_hz=None) -> list[ImuBout]:
     return out
 
 
-def _measured_strides(contacts, duration_s: np.ndarray, rate_hz) -> np.ndarray:
+def _measured(contacts, duration_s: np.ndarray, rate_hz) -> tuple[np.ndarray, np.ndarray]:
     """The strides a Mobilise-D standard measured: its ``Stride_InitialContacts`` (N x 2) where its
     ``Stride_Duration`` is known (NaN marks a stride over a missed or doubled contact, left out of
-    its ``Cadence``), in seconds. The standards store them in seconds or in samples at their ``Fs``;
-    the scale is the one whose strides last their ``Stride_Duration``. Empty when neither does."""
-    none = np.zeros((0, 2))
+    its ``Cadence``), in seconds, and which of its strides they are (a mask over the N). The
+    standards store them in seconds or in samples at their ``Fs``; the scale is the one whose strides
+    last their ``Stride_Duration``. Empty when neither does."""
+    none = np.zeros((0, 2)), np.zeros(duration_s.size, dtype=bool)
     try:
         c = np.asarray(contacts, dtype=float)
     except (TypeError, ValueError):  # absent or not numbers: the strides from the contacts instead
@@ -140,5 +145,5 @@ def _measured_strides(contacts, duration_s: np.ndarray, rate_hz) -> np.ndarray:
     scales = [1.0] + ([1.0 / float(rate_hz)] if rate_hz and float(rate_hz) > 0 else [])
     for scale in scales:
         if np.max(np.abs((c[known, 1] - c[known, 0]) * scale - duration_s[known])) < 1e-3:
-            return c[known] * scale
+            return c[known] * scale, known
     return none

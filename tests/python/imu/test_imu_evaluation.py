@@ -44,7 +44,7 @@ def test_a_cadence_change_within_a_bout_compares_like_with_like():
     rec.references = {"R": [b]}
     t = rec.time_s
     f = np.nan_to_num(ev.reference_at(rec, "R", t)[0])  # the strides under way
-    cad, _, stride, ref_cad, ref_stride, n, nref = ev._bout_values(t, f, np.ones(t.size), np.ones(t.size, bool), b)
+    cad, _, stride, ref_cad, ref_stride, n, nref, _ = ev._bout_values(t, f, np.ones(t.size), np.ones(t.size, bool), b)
     assert n == nref == contacts.size - 2
     assert ref_cad == pytest.approx(b.cadence_spm) and ref_stride == pytest.approx(b.stride_time_s)
     assert abs(cad - ref_cad) < 1.0 and abs(stride - ref_stride) < 0.02
@@ -62,6 +62,25 @@ def test_strides_not_valid_are_left_out_and_the_reference_follows():
     assert 0 < out[5] < out[6]
     none = ev._bout_values(t, np.full(t.size, 2.0), np.ones(t.size), np.zeros(t.size, bool), b)
     assert none[5] == 0 and math.isnan(none[0])
+
+
+def test_the_speed_over_the_strides_scored_is_against_the_references_speeds_of_those_strides():
+    """A walk slow in its first half and fast in its second, valid over the second only: against the
+    reference's own speeds of the strides scored the error is 0, against the bout's mean speed it is not;
+    a bout without stride speeds has none."""
+    contacts = np.arange(1.0, 8.0, 0.5)
+    b = _bout(contacts)
+    b.strides_s = np.column_stack([contacts[:-2], contacts[2:]])
+    b.stride_speeds_mps = np.where(b.strides_s[:, 0] < 4.0, 0.6, 1.2)
+    b.speed_mps = float(np.mean(b.stride_speeds_mps))
+    t = np.arange(0.0, 9.0, 0.01)
+    speed = np.where(t < 4.0, 0.6, 1.2)
+    out = ev._bout_values(t, np.full(t.size, 2.0), speed, t >= 4.05, b)  # the stride from 3.5 s: not half valid
+    row = ev.BoutRow("r", "R", 0, "yoyogait-imu", b.start_s, b.end_s, out[3], b.speed_mps, out[4], out[0], out[1],
+                     out[2], out[5], out[6], out[7])  # fmt: skip
+    assert row.stride_speed_error_mps == pytest.approx(0.0, abs=1e-12) and row.speed_error_mps > 0.2
+    b.stride_speeds_mps = np.zeros(0)
+    assert math.isnan(ev._bout_values(t, np.full(t.size, 2.0), speed, t >= 4.05, b)[7])
 
 
 def test_coverage_counts_every_sample_inside_the_bouts():
@@ -103,10 +122,11 @@ def test_startup_in_steps_from_the_first_contact():
 
 
 @pytest.mark.parametrize("participant", ["HA/001", "HA/002", "MS/001"])
-def test_reference_strides_reproduce_the_mobilised_cadence_and_stride_time(datasets_dir, participant):
-    """The reference strides of every bout give its Mobilise-D Cadence and mean Stride_Duration, also on
-    the daily-living course, where a standard leaves out the strides over a contact it missed or
-    counted twice (INDIP's in samples, Stereophoto's in seconds)."""
+def test_reference_strides_reproduce_the_mobilised_cadence_stride_time_and_speed(datasets_dir, participant):
+    """The reference strides of every bout give its Mobilise-D Cadence, mean Stride_Duration and
+    WalkingSpeed (the mean of their Stride_Speed), also on the daily-living course, where a standard
+    leaves out the strides over a contact it missed or counted twice (INDIP's in samples,
+    Stereophoto's in seconds)."""
     left_out = 0
     for rec in read_mobilised_trials(datasets_dir / MOBGAP / f"data/lab/{participant}/data.mat"):
         for bouts in rec.references.values():
@@ -114,6 +134,8 @@ def test_reference_strides_reproduce_the_mobilised_cadence_and_stride_time(datas
                 a, e = ev.bout_strides(b)
                 assert np.mean(120.0 / (e - a)) == pytest.approx(b.cadence_spm, abs=0.05)
                 assert np.mean(e - a) == pytest.approx(b.stride_time_s, abs=0.005)
+                assert b.stride_speeds_mps.size == a.size
+                assert np.mean(b.stride_speeds_mps) == pytest.approx(b.speed_mps, abs=0.005)
                 assert np.all((a >= b.start_s - 0.01) & (e <= b.end_s + 0.01))
                 left_out += b.contact_times_s.size - 2 - a.size
     assert left_out > 0  # every participant's course has such strides
@@ -130,9 +152,13 @@ def test_a_standards_stride_list_is_read_in_seconds_or_samples_and_only_where_it
     in_seconds = _bouts({**base, "Stride_InitialContacts": [[1.0, 2.2], [1.6, 4.0]], "Stride_Duration": durations}, 100)
     for (b,) in (in_samples, in_seconds):
         np.testing.assert_allclose(b.strides_s, [[1.0, 2.2]])
+    (b,) = _bouts({**base, "Stride_InitialContacts": [[1.0, 2.2], [1.6, 4.0]], "Stride_Duration": durations,
+                   "Stride_Speed": [0.9, 0.4]}, 100)  # fmt: skip
+    np.testing.assert_allclose(b.stride_speeds_mps, [0.9])  # the speed of the stride kept
     for wrong in ([[1.0, 2.5], [1.6, 4.0]], [["a", "b"], ["c", "d"]], [1.0, 2.2, 3.0]):
-        (b,) = _bouts({**base, "Stride_InitialContacts": wrong, "Stride_Duration": durations}, 100)
-        assert b.strides_s.shape == (0, 2) and b.cadence_spm == 100.0
+        (b,) = _bouts({**base, "Stride_InitialContacts": wrong, "Stride_Duration": durations,
+                       "Stride_Speed": [0.9, 0.4]}, 100)  # fmt: skip
+        assert b.strides_s.shape == (0, 2) and b.stride_speeds_mps.size == 0 and b.cadence_spm == 100.0
 
 
 def test_strides_from_the_contacts_when_the_reference_lists_none():
