@@ -101,6 +101,16 @@ def _sensor_name(metadata: dict) -> str:
     return name if sid is None or str(sid) == name else f"{name} ({sid})"
 
 
+def _never_valid_why(why: dict[str, float]) -> str:
+    """What a recording never valid most likely is, from the shares of its reasons."""
+    top = max(why, key=lambda k: why[k]) if why else ""
+    if why.get("GRAVITY", 0.0) >= 0.25:  # the median norm passed the readers' check: the low-passed one strays
+        return "the acceleration's low-passed norm strays from 9.81 m/s^2 while it moves: a sensor on a foot or a limb?"
+    if top == "ACQUIRING":
+        return "walking too short or too irregular to lock on"
+    return "a sensor at rest, a walk too short"
+
+
 def inspect_imu(
     file, *, acc_unit=None, gyr_unit=None, rate_hz=None, sensor_height_m=None, trial=None, sensor=None, as_json=False
 ) -> None:
@@ -158,7 +168,7 @@ def inspect_imu(
         ("valid", f"{report['valid_s']:.2f} s of valid online estimates (walking)"),
     ]
     if not valid.any():
-        lines.append(("walking", "none found: the estimate never became valid (a sensor at rest, a walk too short)"))
+        lines.append(("walking", "none found: the estimate never became valid (" + _never_valid_why(why) + ")"))
     if why:
         shown = ", ".join(
             f"{k} {100 * v:.0f} %" if v >= 0.01 else f"{k} {100 * v:.1g} %"

@@ -283,3 +283,21 @@ def test_estimate_a_trial_of_a_data_mat(datasets_dir, tmp_path, capsys):
     code = main(["estimate", mat, "--trial", "Test12/Trial1", "--out", str(tmp_path / "u.csv")])
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1 and "--trial" in err
+
+
+def test_inspect_says_a_sensor_whose_norm_strays_while_moving_may_be_on_a_limb(tmp_path, capsys):
+    """A recording never valid because its low-passed norm strays from gravity while it moves (a foot's
+    swing: a 0.25 s burst of 30 m/s^2 once a stride), though its median norm passes the readers' check (the
+    foot still in stance): inspect says it may be on a foot or a limb, not that it is at rest."""
+    rec = make_imu_walk(duration_s=10.0).recording
+    t = rec.time_s
+    phase = np.mod(t, 1.1)
+    acc = rec.acc_mps2.copy()
+    acc[:, 2] += np.where(phase < 0.25, 30.0 * np.sin(np.pi * phase / 0.25), 0.0)
+    p = tmp_path / "foot.csv"
+    cols = ["time_s", "acc_x_mps2", "acc_y_mps2", "acc_z_mps2", "gyr_x_rad_s", "gyr_y_rad_s", "gyr_z_rad_s"]
+    np.savetxt(p, np.column_stack([rec.time_s, acc, rec.gyr_rad_s]), delimiter=",", header=",".join(cols),
+               comments="")  # fmt: skip
+    assert main(["inspect", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "GRAVITY" in out and "a sensor on a foot or a limb?" in out, out
