@@ -73,7 +73,7 @@ inline void ImuOnlineEstimator::sampled(const GaitState& prior, double dt_s, dou
   vz2_step_lp_ += step_gain_(dt_s) * (vz_mean * vz_mean - vz2_step_lp_);
   f_std_ = std::sqrt(f_var);
   s_std_ = std::sqrt(s_var);
-  uncertain_ = !(f_std_ < validity_.pinned_std_hz() && s_std_ < uniform_std(config_.max_speed_mps));
+  uncertain_ = !(f_std_ < pinned_std_hz && s_std_ < uniform_std(config_.max_speed_mps));
 }
 
 inline double ImuOnlineEstimator::amplitude_var() const noexcept {

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "yoyogait/math.hpp"
+
 namespace yoyogait::imu {
 
 /// High-pass (first order) followed by a leaky integrator, both with time constant tau: the
@@ -55,7 +57,7 @@ class LeakyIntegrator {
 
   /// Delay of the output behind the true integral at f_hz [s] (negative: it leads).
   double delay_s(double f_hz) const noexcept {
-    const double w = 6.283185307179586 * f_hz;
+    const double w = kTwoPi * f_hz;
     return -2.0 * std::atan(1.0 / (w * tau_)) / w;
   }
 

@@ -103,10 +103,9 @@ def _sensor_name(metadata: dict) -> str:
 
 def _never_valid_why(why: dict[str, float]) -> str:
     """What a recording never valid most likely is, from the shares of its reasons."""
-    top = max(why, key=lambda k: why[k]) if why else ""
     if why.get("GRAVITY", 0.0) >= 0.25:  # the median norm passed the readers' check: the low-passed one strays
         return "the acceleration's low-passed norm strays from 9.81 m/s^2 while it moves: a sensor on a foot or a limb?"
-    if top == "ACQUIRING":
+    if why and max(why, key=lambda k: why[k]) == "ACQUIRING":
         return "walking too short or too irregular to lock on"
     return "a sensor at rest, a walk too short"
 
