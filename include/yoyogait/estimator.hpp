@@ -113,9 +113,13 @@ class Estimator {
   /// The model's forecast horizon_s [s] after the last sample (yoyogait::Forecast), rates included,
   /// with standard deviations when with_std. gait: GaitFilter::forecast. paper: predict_ahead's velocities, the phase
   /// advance w h, the stds NaN (the paper's filter has no rates to propagate).
-  /// decay: the caller's cache of the gait filter's exp factors (GaitFilter::forecast).
-  Forecast forecast(double horizon_s, bool with_std = true, gait::HorizonDecay* decay = nullptr) const noexcept {
-    if (!is_paper_) return decay ? gait_.forecast(horizon_s, with_std, *decay) : gait_.forecast(horizon_s, with_std);
+  /// decay: the caller's cache of the gait filter's exp factors (GaitFilter::forecast);
+  /// phase_var_scale: the factor on the phase's variance (GaitFilter::forecast).
+  Forecast forecast(double horizon_s, bool with_std = true, gait::HorizonDecay* decay = nullptr,
+                    double phase_var_scale = 1.0) const noexcept {
+    if (!is_paper_)
+      return decay ? gait_.forecast(horizon_s, with_std, *decay, phase_var_scale)
+                   : gait_.forecast(horizon_s, with_std, phase_var_scale);
     Forecast f;
     const Velocity v = predict_ahead(horizon_s);
     const State x = paper_.state();

@@ -60,20 +60,23 @@ inline GaitFilter::Prediction GaitFilter::turned(double angle_rad, double A0, bo
 // Jacobian and process noise, sec. 2.1-2.2) in steps of at most sample_time_s, scaled by the std
 // scale lambda. Copies only; no allocation. With decay, its exp factors are the caller's cache (no
 // expm1 at a repeated h_s).
-inline Forecast GaitFilter::forecast(double h_s, bool with_std) const noexcept {
+inline Forecast GaitFilter::forecast(double h_s, bool with_std, double phase_var_scale) const noexcept {
   const GaitFilterConfig& g = cfg_.gait_filter;
-  return forecast_at(h_s, with_std, -std::expm1(-h_s / g.accel_tau_s), -std::expm1(-h_s / g.omega_rate_tau_s));
+  return forecast_at(h_s, with_std, -std::expm1(-h_s / g.accel_tau_s), -std::expm1(-h_s / g.omega_rate_tau_s),
+                     phase_var_scale);
 }
 
-inline Forecast GaitFilter::forecast(double h_s, bool with_std, gait::HorizonDecay& decay) const noexcept {
+inline Forecast GaitFilter::forecast(double h_s, bool with_std, gait::HorizonDecay& decay,
+                                     double phase_var_scale) const noexcept {
   const GaitFilterConfig& g = cfg_.gait_filter;
   double ea, eb;
   decay.at(h_s, g.accel_tau_s, g.omega_rate_tau_s, ea, eb);
-  return forecast_at(h_s, with_std, ea, eb);
+  return forecast_at(h_s, with_std, ea, eb, phase_var_scale);
 }
 
 // ea, eb: 1 - exp(-h_s / tau) of accel_tau_s and omega_rate_tau_s.
-inline Forecast GaitFilter::forecast_at(double h_s, bool with_std, double ea, double eb) const noexcept {
+inline Forecast GaitFilter::forecast_at(double h_s, bool with_std, double ea, double eb,
+                                        double phase_var_scale) const noexcept {
   using namespace gait;
   const Ekf& f = active();
   const GaitState& x = f.x;
@@ -95,8 +98,10 @@ inline Forecast GaitFilter::forecast_at(double h_s, bool with_std, double ea, do
     // from P_ww, P_w,dw, P_dwdw and the random walks of w and of the phase over h (q_omega h^3 / 3,
     // q_phase h), so that a far or uncertain forecast tends to the mean velocity instead of
     // extrapolating a phase it does not know. At frame-time horizons (tens of ms) it is ~1.
+    // The estimate's share scaled by phase_var_scale, as the stds are where the model holds less.
     const double h2 = h_s * h_s;
-    const double var_turn = lam * (f.P[kW][kW] * h2 + f.P[kW][kDW] * h2 * h_s + 0.25 * f.P[kDW][kDW] * h2 * h2) +
+    const double var_turn = phase_var_scale * lam *
+                                (f.P[kW][kW] * h2 + f.P[kW][kDW] * h2 * h_s + 0.25 * f.P[kDW][kDW] * h2 * h2) +
                             (acquiring_ ? bank_model_ : model_).q_omega * h2 * h_s * (1.0 / 3.0) + model_.q_phase * h_s;
     // exp(-v / 2); below 1e-3 its second-order series (within 1e-10, no exp on the per-frame path).
     const double coherence =

@@ -177,8 +177,10 @@ class GaitFilter {
 
   /// The model's forecast h_s >= 0 ahead (yoyogait::Forecast, rates included; with_std: the covariance
   /// too). Defined and described in gait/forecast.hpp. decay: the caller's cache of the exp factors.
-  Forecast forecast(double h_s, bool with_std) const noexcept;
-  Forecast forecast(double h_s, bool with_std, gait::HorizonDecay& decay) const noexcept;
+  /// phase_var_scale: a factor on the phase's variance over h_s (the square of the stds' inflation
+  /// where the innovations exceed their covariance: the model holds less than P says).
+  Forecast forecast(double h_s, bool with_std, double phase_var_scale = 1.0) const noexcept;
+  Forecast forecast(double h_s, bool with_std, gait::HorizonDecay& decay, double phase_var_scale = 1.0) const noexcept;
   /// The most covariance steps forecast takes (beyond 64 sample times, longer steps).
   static constexpr double kMaxForecastSteps = 64.0;
 
@@ -261,7 +263,8 @@ class GaitFilter {
   // phase, gets its fourth power (a Gaussian phase error of variance s2: exp(-s2 / 2), exp(-2 s2)).
   Prediction turned(double angle_rad, double A0, bool harmonics, double coherence = 1.0) const noexcept;
 
-  Forecast forecast_at(double h_s, bool with_std, double ea, double eb) const noexcept;  // gait/forecast.hpp
+  // gait/forecast.hpp
+  Forecast forecast_at(double h_s, bool with_std, double ea, double eb, double phase_var_scale = 1.0) const noexcept;
   const Ekf& active() const noexcept { return acquiring_ ? bank_.best() : main_; }
   Ekf& active() noexcept { return acquiring_ ? bank_.best() : main_; }
   const gait::Harmonic* active_harmonics() const noexcept {

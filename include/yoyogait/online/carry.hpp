@@ -27,8 +27,11 @@ inline OnlinePrediction OnlineEstimator::predict(double horizon_s) const noexcep
     return p;
   }
   const double h_s = latency_.horizon_s() + horizon_s;
-  const Forecast f = estimator_.forecast(h_s < kMaxCarryS + kMaxHorizonS ? h_s : kMaxCarryS + kMaxHorizonS, true);
+  // The stds' inflation where the innovations exceed their covariance widens the phase's spread
+  // too: the oscillation ahead tends to its mean sooner where the model holds less than P says.
   const double k = validity_.std_inflation();
+  const Forecast f = estimator_.forecast(h_s < kMaxCarryS + kMaxHorizonS ? h_s : kMaxCarryS + kMaxHorizonS, true,
+                                         nullptr, validity_.var_inflation());
   p.vx_mps = bounded(f.vx_mps);
   p.vz_mps = bounded(f.vz_mps);
   p.vx_std_mps = std::sqrt(k * k * f.vx_std_mps * f.vx_std_mps + grown_var_speed(h_s - kMaxCarryS - kMaxHorizonS));
@@ -113,7 +116,9 @@ inline void OnlineEstimator::carry_estimate(double t_s) noexcept {
   }
   if (o.belt_speed_std_mps > 0.0)  // the belt's uncertainty is the walking speed's too
     o.speed_std_mps = sqrt1(o.speed_std_mps * o.speed_std_mps + o.belt_speed_std_mps * o.belt_speed_std_mps);
-  const Forecast f = estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false, &carry_decay_);
+  // As predict() carries it (the phase's spread widened by the stds' inflation): predict(0) is this.
+  const Forecast f =
+      estimator_.forecast(h_s < kMaxCarryS ? h_s : kMaxCarryS, false, &carry_decay_, validity_.var_inflation());
   o.vx_hat_mps = bounded(f.vx_mps);
   o.vz_hat_mps = bounded(f.vz_mps);
   phase_.update(o.walking, e.gait_state[gait::kZ1], e.gait_state[gait::kZ2], f.phase_advance_rad, f.omega_rad_s,

@@ -306,6 +306,8 @@ class Validity {
   double input_noise_m() const noexcept { return std::sqrt(noise2_lp_m2_); }
   /// The factor on the reported standard deviations: sqrt(mean NIS / 2), at least 1.
   double std_inflation() const noexcept { return nis_lp_ > 2.0 ? sqrt1(0.5 * nis_lp_) : 1.0; }
+  /// Its square, the factor on variances (no square root per frame).
+  double var_inflation() const noexcept { return nis_lp_ > 2.0 ? 0.5 * nis_lp_ : 1.0; }
   /// An estimate below this fraction of the step frequency the centre's extrema show is below the
   /// steps the walker makes (a lock on a start's slow first steps, or on half the steps): the model
   /// does not hold. On the shared recordings and the SYNTHETIC walks the valid estimates lie at 0.71
