@@ -491,6 +491,25 @@ TEST(GaitEstimator, PredictionAheadFollowsTheWalk) {
   EXPECT_LT(worst, 0.02);
 }
 
+TEST(GaitForecast, AWiderPhaseSpreadPullsTheOscillationAheadTowardsTheMeanAndNothingElse) {
+  // phase_var_scale 1 is the default call bit for bit; a larger one shrinks the forecast oscillation
+  // (v_z ahead, v_x about A0) and leaves the speed, the phase advance and the stds as they were.
+  const Walk w = make_walk(20.0, 1.8, 1.3, 0.02, kPi, 0.002, 5);
+  Estimator est;
+  for (std::size_t i = 0; i < w.vx.size(); ++i) est.step(w.vx[i], w.vz[i]);
+  for (const double h : {0.2, 0.5, 1.0}) {
+    const Forecast base = est.forecast(h), one = est.forecast(h, true, nullptr, 1.0);
+    const Forecast wide = est.forecast(h, true, nullptr, 1e6);
+    EXPECT_EQ(one.vz_mps, base.vz_mps);
+    EXPECT_EQ(one.vx_mps, base.vx_mps);
+    EXPECT_LT(std::fabs(wide.vz_mps), std::fabs(base.vz_mps));
+    EXPECT_LT(std::fabs(wide.vx_mps - wide.speed_mps), std::fabs(base.vx_mps - base.speed_mps));
+    EXPECT_EQ(wide.speed_mps, base.speed_mps);
+    EXPECT_EQ(wide.phase_advance_rad, base.phase_advance_rad);
+    EXPECT_EQ(wide.vz_std_mps, base.vz_std_mps);
+  }
+}
+
 TEST(GaitForecast, KnownPartKeepsAKnownRateAndDropsOneLostInItsStd) {
   // known_part(x, var): x itself when var = 0, 0 for x = 0, and shrinking towards 0 as var grows past x^2.
   EXPECT_EQ(known_part(0.3, 0.0), 0.3);
