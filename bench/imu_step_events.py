@@ -35,6 +35,7 @@ no height. A benchmark, not a test: the figures are measured, the targets those 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 from concurrent.futures import ProcessPoolExecutor
@@ -44,8 +45,10 @@ import numpy as np
 
 from yoyogait import ImuConfig, ImuOnlineEstimator
 from yoyogait.evaluation import metrics
+from yoyogait.evaluation.imu import reference_at
 from yoyogait.evaluation.online import WRONG_F_HZ  # the confidently-wrong tolerance (docs/evaluation.md)
 from yoyogait.io.imu_read import read_imu
+from yoyogait.io.imu_recording import ImuBout
 
 RATE_HZ = 100.0  # the events are sample indices of the 100 Hz recordings
 
@@ -106,7 +109,6 @@ def evaluate_trial(args: tuple[Path, Path, float, bool]) -> dict:
     u0, u1 = (b / RATE_HZ for b in meta["UTurnBoundaries"])
     strides = _strides(meta, t0, t1, u0, u1)
     rows = []
-    f_sum, f_n = np.zeros(t.size), np.zeros(t.size)
     for s0, s1, turn in strides:
         i0, i1 = np.searchsorted(t, [s0, s1])
         if i1 <= i0:
@@ -114,24 +116,27 @@ def evaluate_trial(args: tuple[Path, Path, float, bool]) -> dict:
         ok = valid[i0:i1]
         est = float(np.mean(f[i0:i1][ok])) if ok.mean() >= 0.5 else math.nan
         rows.append({"turn": turn, "ref_hz": 2.0 / (s1 - s0), "est_hz": est})
-        if not turn:
-            f_sum[i0:i1] += 2.0 / (s1 - s0)
-            f_n[i0:i1] += 1.0
-    f_ref = np.where(f_n > 0, f_sum / np.maximum(f_n, 1.0), np.nan)
-    straight = (t >= t0) & (t <= t1) & (f_n > 0)
+    # The per-sample reference over the straight strides, as the Mobilise-D evaluation takes its own.
+    straight_s = np.array([(s0, s1) for s0, s1, turn in strides if not turn]).reshape(-1, 2)
+    bout = ImuBout(start_s=t0, end_s=t1, cadence_spm=math.nan, speed_mps=math.nan, stride_time_s=math.nan,
+                   strides_s=straight_s)  # fmt: skip
+    f_ref, _ = reference_at(dataclasses.replace(rec, references={"events": [bout]}), "events", t)
+    straight = (t >= t0) & (t <= t1) & np.isfinite(f_ref)
     first = min(ev[0][0] for ev in (meta["LeftFootEvents"], meta["RightFootEvents"])) / RATE_HZ
     after = np.flatnonzero(valid & (t >= first))
     starts = np.sort([e[0] / RATE_HZ for k in ("LeftFootEvents", "RightFootEvents") for e in meta[k]])
     walking = (t >= t0) & (t <= t1) & ~((t >= u0) & (t <= u1))
     ref_speed = 20.0 / ((t1 - t0) - (u1 - u0))
-    straight_ref = [2.0 / (s1 - s0) for s0, s1, turn in strides if not turn]
+    ref_cadence_spm = (
+        60.0 * float(np.mean(2.0 / (straight_s[:, 1] - straight_s[:, 0]))) if straight_s.size else math.nan
+    )
     peer = (math.nan, math.nan)
     if with_mobgap:
         peer = _mobgap_trial(rec, (height_cm / 100.0) if sensor_height_m else 0.95 / ratio, ratio, t0, t1)
     return {
         "trial": lb.name,
-        "ref_cadence_spm": 60.0 * float(np.mean(straight_ref)) if straight_ref else math.nan,
-        "mobgap_cadence_err": peer[0] - 60.0 * float(np.mean(straight_ref)) if straight_ref else math.nan,
+        "ref_cadence_spm": ref_cadence_spm,
+        "mobgap_cadence_err": peer[0] - ref_cadence_spm,
         "mobgap_speed_err": peer[1] - ref_speed,
         "rows": rows,
         "valid": metrics.flag_fraction(valid, straight),
